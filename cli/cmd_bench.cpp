@@ -1,0 +1,62 @@
+// `semlb bench policies`: cost of one decision per policy (median over repetitions), printed as a table.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "commands.hpp"
+#include "controllers/features.hpp"
+#include "controllers/gru.hpp"
+#include "surrogate/rollout.hpp"
+
+namespace semlb::cli {
+namespace {
+
+int bench_policies(int ranks, int events, int repeats, uint64_t seed, const std::string& weights) {
+  const auto scenario = surrogate::make_scenario(seed, ranks);
+  std::string gru_file = weights;
+  if (gru_file.empty()) {  // no weights given: time an untrained (zero-head) GRU of the shipped shape
+    gru_file = (std::filesystem::temp_directory_path() / "semlb_bench_gru.h5").string();
+    save_gru_weights(gru_file, GruWeights::random_zero_head(24, kFeatureCount, 1));
+  }
+  std::printf("# semlb bench policies: P=%d, %d slices, min_width %d, %d events x %d repeats (median)\n", ranks,
+              scenario.slices, scenario.min_width, events, repeats);
+  std::printf("%-12s %14s %16s\n", "policy", "us/decision", "decisions/s");
+  for (const auto& name : policy_names()) {
+    PolicyParams params;
+    if (name == "gru") params.set("weights", gru_file);
+    std::vector<double> us;
+    for (int r = 0; r < repeats; ++r) {
+      auto policy = make_policy(name, params);
+      us.push_back(surrogate::rollout(scenario, *policy, events).us_per_decision);
+    }
+    std::nth_element(us.begin(), us.begin() + us.size() / 2, us.end());
+    const double med = us[us.size() / 2];
+    std::printf("%-12s %14.2f %16.0f\n", name.c_str(), med, med > 0 ? 1e6 / med : 0.0);
+  }
+  if (weights.empty()) std::filesystem::remove(gru_file);
+  return 0;
+}
+
+}  // namespace
+
+Action add_bench(CLI::App& app) {
+  struct Opts {
+    std::string what, weights;
+    int ranks = 16, events = 200, repeats = 5;
+    uint64_t seed = 9000;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* sub = app.add_subcommand("bench", "Benchmarks that print a table");
+  sub->add_option("what", o->what, "What to benchmark: policies")->required()->check(CLI::IsMember({"policies"}));
+  sub->add_option("--ranks", o->ranks, "Ranks")->capture_default_str()->check(CLI::Range(1, 4096));
+  sub->add_option("--events", o->events, "Events per rollout")->capture_default_str()->check(CLI::PositiveNumber);
+  sub->add_option("--repeats", o->repeats, "Repetitions (the median is printed)")->capture_default_str()->check(CLI::PositiveNumber);
+  sub->add_option("--seed", o->seed, "Scenario seed")->capture_default_str();
+  sub->add_option("--weights", o->weights, "GRU weights (default: a random zero-head GRU of the shipped shape)");
+  return [o, sub] {
+    if (!*sub) return -1;  // not the chosen subcommand
+    return bench_policies(o->ranks, o->events, o->repeats, o->seed, o->weights);
+  };
+}
+
+}  // namespace semlb::cli

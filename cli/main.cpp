@@ -1,0 +1,42 @@
+// semlb: one binary, CLI11 subcommands. Exit codes: 0 ok, 1 runtime failure, 2 bad input.
+#include <iostream>
+
+#include "commands.hpp"
+#include "controllers/errors.hpp"
+
+namespace semlb::cli {
+namespace {
+std::string g_command_line;
+}
+std::string command_line() { return g_command_line; }
+void set_command_line(int argc, char** argv) {
+  for (int i = 0; i < argc; ++i) g_command_line += (i ? " " : "") + std::string(argv[i]);
+}
+}  // namespace semlb::cli
+
+int main(int argc, char** argv) {
+  using namespace semlb::cli;
+  set_command_line(argc, argv);
+  CLI::App app{"semlb: multi-GPU subcellular-element simulation with learned load balancing"};
+  app.require_subcommand(1);
+  const std::vector<Action> actions = {add_surrogate(app), add_replay(app), add_sweep(app), add_bench(app)};
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "semlb: " << e.what() << " (see semlb --help)\n";
+    return 2;
+  }
+  try {
+    for (const auto& action : actions)
+      if (const int rc = action(); rc >= 0) return rc;
+  } catch (const semlb::InputError& e) {
+    std::cerr << "semlb: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "semlb: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 2;
+}

@@ -1,0 +1,34 @@
+// GRU input features per boundary (paper Sec. IV-C): dimensionless, clamped; one implementation for
+// the Eigen controller and the trainer. The list and formulas are documented in docs/controllers.md.
+#pragma once
+#include <array>
+#include <string>
+
+namespace semlb {
+
+inline constexpr int kFeatureCount = 12;
+inline constexpr const char* kFeatureSet = "boundary-v1";
+
+// Everything one boundary's features are computed from. Real-valued so that a soft (relaxed) rollout
+// can use the same code.
+struct BoundaryState {
+  double local_imbalance = 0;       // I_t at this boundary
+  double prev_local_imbalance = 0;  // I_{t-1} (equal to I_t at the first event)
+  double global_imbalance = 0;      // (T_max - T_min) / T_mean
+  double width_left = 0, width_right = 0;  // slices of the two adjacent ranks
+  double min_width = 1, mean_width = 1;    // min_width and slices / P
+  double last_move = 0;             // signed slices this boundary moved at the previous event
+  double growth_phase = 0;          // [0, 1)
+  bool growth_event = false;
+  double proposal = 0;              // signed reactive proposal Δs_r (slices, + = right)
+  double ds_max = 1;                // bound of one event's move at this boundary (slices)
+};
+
+using FeatureVector = std::array<double, kFeatureCount>;
+FeatureVector boundary_features(const BoundaryState& s);
+
+// Names in order, e.g. "local_imbalance"; joined with commas in the weights file's metadata.
+const std::array<std::string, kFeatureCount>& feature_names();
+std::string feature_list();
+
+}  // namespace semlb

@@ -1,0 +1,214 @@
+// GRU controller: Eigen inference, HDF5 weights (format v1), and the registered "gru" policy.
+#include "gru.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "errors.hpp"
+#include "features.hpp"
+#include "h5.hpp"
+#include "metrics.hpp"
+#include "partition.hpp"
+#include "policy.hpp"
+#include "reactive.hpp"
+
+#ifndef SEMLB_DEFAULT_WEIGHTS
+#define SEMLB_DEFAULT_WEIGHTS "controllers/weights/gru_default.h5"
+#endif
+
+namespace semlb {
+
+GruWeights GruWeights::random_zero_head(int hidden, int inputs, uint64_t seed) {
+  GruWeights w;
+  w.hidden = hidden;
+  w.inputs = inputs;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0 / std::sqrt(hidden), 1.0 / std::sqrt(hidden));
+  auto fill = [&](auto& m) { for (Eigen::Index i = 0; i < m.size(); ++i) m.data()[i] = u(rng); };
+  w.w_ih.resize(3 * hidden, inputs);
+  w.w_hh.resize(3 * hidden, hidden);
+  w.b_ih.resize(3 * hidden);
+  w.b_hh.resize(3 * hidden);
+  fill(w.w_ih), fill(w.w_hh), fill(w.b_ih), fill(w.b_hh);
+  w.head_w = Eigen::VectorXd::Zero(hidden);
+  return w;
+}
+
+long GruWeights::parameter_count() const {
+  return w_ih.size() + w_hh.size() + b_ih.size() + b_hh.size() + head_w.size() + 1;
+}
+
+Eigen::VectorXd gru_step(const GruWeights& w, const Eigen::VectorXd& x, const Eigen::VectorXd& h) {
+  const int H = w.hidden;
+  const Eigen::VectorXd gi = w.w_ih * x + w.b_ih;
+  const Eigen::VectorXd gh = w.w_hh * h + w.b_hh;
+  auto sigmoid = [](double v) { return 1.0 / (1.0 + std::exp(-v)); };
+  const Eigen::VectorXd r = (gi.segment(0, H) + gh.segment(0, H)).unaryExpr(sigmoid);
+  const Eigen::VectorXd z = (gi.segment(H, H) + gh.segment(H, H)).unaryExpr(sigmoid);
+  const Eigen::VectorXd n =
+      (gi.segment(2 * H, H) + r.cwiseProduct(gh.segment(2 * H, H))).unaryExpr([](double v) { return std::tanh(v); });
+  return (Eigen::VectorXd::Ones(H) - z).cwiseProduct(n) + z.cwiseProduct(h);
+}
+
+double gru_head(const GruWeights& w, const Eigen::VectorXd& h) { return w.head_w.dot(h) + w.head_b; }
+
+double residual_magnitude(double reactive_magnitude, double ds_max, double residual) {
+  if (ds_max <= 0.0) return 0.0;
+  if (residual == 0.0) return std::min(reactive_magnitude, ds_max);
+  const double u = std::clamp(reactive_magnitude / ds_max, 0.0, 1.0 - 1e-6);
+  return std::max(0.0, ds_max * std::tanh(std::atanh(u) + residual));
+}
+
+namespace {
+
+using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+Eigen::MatrixXd read_matrix(const h5::File& f, const std::string& name, hsize_t rows, hsize_t cols, bool vector) {
+  std::vector<hsize_t> dims;
+  const auto data = f.read(name, dims);
+  const std::vector<hsize_t> want = vector ? std::vector<hsize_t>{rows} : std::vector<hsize_t>{rows, cols};
+  if (dims != want) {
+    auto shape = [](const std::vector<hsize_t>& d) {
+      std::string s;
+      for (auto v : d) s += (s.empty() ? "" : "x") + std::to_string(v);
+      return s.empty() ? std::string("scalar") : s;
+    };
+    throw InputError(f.path() + ": dataset " + name + " has shape " + shape(dims) + ", expected " + shape(want));
+  }
+  for (size_t i = 0; i < data.size(); ++i)
+    if (!std::isfinite(data[i]))
+      throw InputError(f.path() + ": dataset " + name + " holds a non-finite value at index " + std::to_string(i));
+  return Eigen::Map<const RowMajor>(data.data(), rows, vector ? 1 : cols);
+}
+
+void expect_text(const h5::File& f, const std::string& attr, const std::string& want) {
+  const auto got = f.read_text_attr(attr);
+  if (got != want)
+    throw InputError(f.path() + ": attribute '" + attr + "' is '" + got + "', this build expects '" + want + "'");
+}
+
+}  // namespace
+
+GruWeights load_gru_weights(const std::string& path) {
+  const auto f = h5::File::open_read(path);
+  expect_text(f, "format", "semlb-gru");
+  if (const long v = f.read_int_attr("version"); v != kGruFormatVersion)
+    throw InputError(path + ": attribute 'version' is " + std::to_string(v) + ", this build reads version " +
+                     std::to_string(kGruFormatVersion));
+  expect_text(f, "feature_set", kFeatureSet);
+  expect_text(f, "features", feature_list());
+  GruWeights w;
+  w.hidden = static_cast<int>(f.read_int_attr("hidden"));
+  w.inputs = kFeatureCount;
+  w.ds_max_frac = f.read_real_attr("ds_max_frac");
+  if (w.hidden < 1 || w.hidden > 4096) throw InputError(path + ": attribute 'hidden' = " + std::to_string(w.hidden) + " is out of range");
+  if (!(w.ds_max_frac > 0.0 && w.ds_max_frac <= 1.0)) throw InputError(path + ": attribute 'ds_max_frac' must be in (0, 1]");
+  const hsize_t G = 3 * w.hidden, H = w.hidden, F = kFeatureCount;
+  w.w_ih = read_matrix(f, "/gru/weight_ih", G, F, false);
+  w.w_hh = read_matrix(f, "/gru/weight_hh", G, H, false);
+  w.b_ih = read_matrix(f, "/gru/bias_ih", G, 1, true);
+  w.b_hh = read_matrix(f, "/gru/bias_hh", G, 1, true);
+  w.head_w = read_matrix(f, "/head/weight", 1, H, false).transpose();
+  w.head_b = read_matrix(f, "/head/bias", 1, 1, true)(0, 0);
+  return w;
+}
+
+void save_gru_weights(const std::string& path, const GruWeights& w) {
+  const std::string tmp = path + ".tmp";
+  {
+    auto f = h5::File::create(tmp);
+    f.write_attr("format", std::string("semlb-gru"));
+    f.write_attr("version", kGruFormatVersion);
+    f.write_attr("feature_set", std::string(kFeatureSet));
+    f.write_attr("features", feature_list());
+    f.write_attr("hidden", static_cast<long>(w.hidden));
+    f.write_attr("ds_max_frac", w.ds_max_frac);
+    auto put = [&](const std::string& name, const Eigen::MatrixXd& m, bool vector) {
+      const RowMajor rm = m;
+      std::vector<hsize_t> dims = vector ? std::vector<hsize_t>{static_cast<hsize_t>(m.size())}
+                                         : std::vector<hsize_t>{static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
+      f.write(name, dims, std::vector<double>(rm.data(), rm.data() + rm.size()));
+    };
+    put("/gru/weight_ih", w.w_ih, false);
+    put("/gru/weight_hh", w.w_hh, false);
+    put("/gru/bias_ih", w.b_ih, true);
+    put("/gru/bias_hh", w.b_hh, true);
+    put("/head/weight", w.head_w.transpose(), false);
+    put("/head/bias", Eigen::VectorXd::Constant(1, w.head_b), true);
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+std::string default_gru_weights_path() {
+  if (const char* env = std::getenv("SEMLB_GRU_WEIGHTS")) return env;
+  return SEMLB_DEFAULT_WEIGHTS;
+}
+
+namespace {
+
+class GruPolicy final : public Policy {
+ public:
+  GruPolicy(GruWeights w, ReactiveParams p) : w_(std::move(w)), p_(p) {}
+
+  std::vector<int> decide(const Observation& obs) override {
+    const auto proposals = reactive_proposals(obs, p_);
+    const size_t B = proposals.size();
+    if (hidden_.cols() == 0 && B > 0) start(proposals, obs);
+    if (static_cast<size_t>(hidden_.cols()) != B)
+      throw InputError("event " + std::to_string(obs.event) + ": gru: the number of boundaries changed from " +
+                       std::to_string(hidden_.cols()) + " to " + std::to_string(B));
+    const auto w = widths(obs.boundaries, obs.slices);
+    const double gimb = global_imbalance(obs.times);
+    std::vector<long> moves(B);
+    for (size_t i = 0; i < B; ++i) {
+      const auto& pr = proposals[i];
+      BoundaryState s;
+      s.local_imbalance = pr.local_imbalance;
+      s.prev_local_imbalance = prev_imbalance_[i];
+      s.global_imbalance = gimb;
+      s.width_left = w[i];
+      s.width_right = w[i + 1];
+      s.min_width = obs.min_width;
+      s.mean_width = static_cast<double>(obs.slices) / obs.ranks();
+      s.last_move = obs.boundaries[i] - prev_boundaries_[i];
+      s.growth_phase = obs.growth_phase;
+      s.growth_event = obs.growth_event;
+      s.ds_max = w_.ds_max_frac * pr.n_slow;
+      s.proposal = pr.direction * pr.magnitude;
+      const auto f = boundary_features(s);
+      hidden_.col(i) = gru_step(w_, Eigen::Map<const Eigen::VectorXd>(f.data(), kFeatureCount), hidden_.col(i));
+      moves[i] = integer_step(pr.direction, residual_magnitude(pr.magnitude, s.ds_max, gru_head(w_, hidden_.col(i))));
+      prev_imbalance_[i] = pr.local_imbalance;
+    }
+    prev_boundaries_ = obs.boundaries;
+    return apply_moves(obs.boundaries, moves, obs.slices, obs.min_width);
+  }
+
+ private:
+  void start(const std::vector<BoundaryProposal>& proposals, const Observation& obs) {
+    hidden_ = Eigen::MatrixXd::Zero(w_.hidden, static_cast<Eigen::Index>(proposals.size()));
+    for (const auto& p : proposals) prev_imbalance_.push_back(p.local_imbalance);
+    prev_boundaries_ = obs.boundaries;
+  }
+
+  GruWeights w_;
+  ReactiveParams p_;
+  Eigen::MatrixXd hidden_;  // H x B: one hidden state per boundary
+  std::vector<double> prev_imbalance_;
+  std::vector<int> prev_boundaries_;
+};
+
+const Registrar gru_registrar("gru", [](PolicyParams& params) {
+  ReactiveParams p;
+  p.tau = params.real("tau", p.tau);
+  p.alpha = params.real("alpha", p.alpha);
+  const std::string path = params.text("weights", "");
+  if (path.empty() && !std::filesystem::exists(default_gru_weights_path()))
+    throw InputError("policy 'gru': no --weights given and the shipped default " + default_gru_weights_path() +
+                     " does not exist (train one with `semlb train`)");
+  return std::make_unique<GruPolicy>(load_gru_weights(path.empty() ? default_gru_weights_path() : path), p);
+});
+
+}  // namespace
+}  // namespace semlb

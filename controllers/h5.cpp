@@ -1,0 +1,138 @@
+// RAII HDF5 handles and typed dataset/attribute helpers; errors name the file and the object.
+#include "h5.hpp"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "errors.hpp"
+
+namespace semlb::h5 {
+namespace {
+
+struct SilenceHdf5 {  // HDF5 prints its own error stack unless told not to; we report errors ourselves
+  SilenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+};
+const SilenceHdf5 silence;
+
+void check(herr_t status, const std::string& what) {
+  if (status < 0) throw std::runtime_error("HDF5: " + what + " failed");
+}
+
+}  // namespace
+
+Id::Id(hid_t id, Closer closer, const std::string& what) : id_(id), closer_(closer) {
+  if (id < 0) throw InputError(what);
+}
+
+Id::~Id() {
+  if (id_ >= 0) closer_(id_);
+}
+
+File File::open_read(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw InputError(path + ": no such file");
+  return File(Id(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, path + ": not an HDF5 file"), path);
+}
+
+File File::create(const std::string& path) {
+  return File(Id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
+                 path + ": cannot create HDF5 file"),
+              path);
+}
+
+bool File::has(const std::string& name) const {
+  // Walk the path one link at a time: H5Lexists fails on a missing intermediate group.
+  std::string prefix;
+  size_t pos = 0;
+  while (pos != std::string::npos) {
+    const size_t next = name.find('/', pos + 1);
+    prefix = name.substr(0, next);
+    if (prefix != "/" && H5Lexists(id(), prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+    pos = next;
+  }
+  return true;
+}
+
+std::vector<double> File::read(const std::string& name, std::vector<hsize_t>& dims) const {
+  if (!has(name)) throw InputError(path_ + ": dataset " + name + " is missing");
+  Id set(H5Dopen2(id(), name.c_str(), H5P_DEFAULT), H5Dclose, path_ + ": cannot open dataset " + name);
+  Id space(H5Dget_space(set.get()), H5Sclose, path_ + ": no dataspace for " + name);
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  dims.assign(std::max(rank, 0), 0);
+  if (rank > 0) H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+  Id type(H5Dget_type(set.get()), H5Tclose, path_ + ": no datatype for " + name);
+  if (H5Tget_class(type.get()) != H5T_FLOAT) throw InputError(path_ + ": dataset " + name + " is not floating-point");
+  hsize_t n = 1;
+  for (auto d : dims) n *= d;
+  std::vector<double> data(n);
+  if (n > 0) check(H5Dread(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "read " + name);
+  return data;
+}
+
+void File::write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<double>& data) {
+  Id lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose, "H5Pcreate");
+  check(H5Pset_create_intermediate_group(lcpl.get(), 1), "intermediate groups");
+  Id space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose, "dataspace " + name);
+  Id set(H5Dcreate2(id(), name.c_str(), H5T_IEEE_F64LE, space.get(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
+         H5Dclose, path_ + ": cannot create dataset " + name);
+  check(H5Dwrite(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "write " + name);
+}
+
+Id File::attr(const std::string& name) const {
+  if (H5Aexists(id(), name.c_str()) <= 0) throw InputError(path_ + ": attribute '" + name + "' is missing");
+  return Id(H5Aopen(id(), name.c_str(), H5P_DEFAULT), H5Aclose, path_ + ": cannot open attribute " + name);
+}
+
+std::string File::read_text_attr(const std::string& name) const {
+  Id a = attr(name);
+  Id type(H5Aget_type(a.get()), H5Tclose, "attribute type");
+  if (H5Tget_class(type.get()) != H5T_STRING) throw InputError(path_ + ": attribute '" + name + "' is not text");
+  if (H5Tis_variable_str(type.get()) > 0) {
+    char* raw = nullptr;
+    Id mem(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+    check(H5Tset_size(mem.get(), H5T_VARIABLE), "string size");
+    check(H5Aread(a.get(), mem.get(), &raw), "read " + name);
+    std::string s = raw ? raw : "";
+    H5free_memory(raw);
+    return s;
+  }
+  std::string s(H5Tget_size(type.get()), '\0');
+  check(H5Aread(a.get(), type.get(), s.data()), "read " + name);
+  return s.substr(0, s.find('\0'));
+}
+
+long File::read_int_attr(const std::string& name) const {
+  long v = 0;
+  check(H5Aread(attr(name).get(), H5T_NATIVE_LONG, &v), "read " + name);
+  return v;
+}
+
+double File::read_real_attr(const std::string& name) const {
+  double v = 0;
+  check(H5Aread(attr(name).get(), H5T_NATIVE_DOUBLE, &v), "read " + name);
+  return v;
+}
+
+namespace {
+void write_scalar_attr(hid_t file, const std::string& name, hid_t file_type, hid_t mem_type, const void* value) {
+  Id space(H5Screate(H5S_SCALAR), H5Sclose, "scalar dataspace");
+  Id a(H5Acreate2(file, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+       "cannot create attribute " + name);
+  check(H5Awrite(a.get(), mem_type, value), "write attribute " + name);
+}
+}  // namespace
+
+void File::write_attr(const std::string& name, const std::string& value) {
+  Id type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+  check(H5Tset_size(type.get(), value.size() + 1), "string size");
+  write_scalar_attr(id(), name, type.get(), type.get(), value.c_str());
+}
+
+void File::write_attr(const std::string& name, long value) {
+  write_scalar_attr(id(), name, H5T_STD_I64LE, H5T_NATIVE_LONG, &value);
+}
+
+void File::write_attr(const std::string& name, double value) {
+  write_scalar_attr(id(), name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value);
+}
+
+}  // namespace semlb::h5

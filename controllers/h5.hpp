@@ -1,0 +1,52 @@
+// Minimal RAII layer over the HDF5 C API: handles close themselves, every return code is checked.
+#pragma once
+#include <hdf5.h>
+
+#include <string>
+#include <vector>
+
+namespace semlb::h5 {
+
+// One owned HDF5 identifier, closed with the matching H5?close on destruction.
+class Id {
+ public:
+  using Closer = herr_t (*)(hid_t);
+  Id(hid_t id, Closer closer, const std::string& what);  // throws if id < 0
+  Id(Id&& o) noexcept : id_(o.id_), closer_(o.closer_) { o.id_ = H5I_INVALID_HID; }
+  Id(const Id&) = delete;
+  Id& operator=(const Id&) = delete;
+  Id& operator=(Id&&) = delete;
+  ~Id();
+  hid_t get() const { return id_; }
+
+ private:
+  hid_t id_;
+  Closer closer_;
+};
+
+class File {
+ public:
+  static File open_read(const std::string& path);    // throws InputError naming the path
+  static File create(const std::string& path);       // truncates
+  const std::string& path() const { return path_; }
+  hid_t id() const { return id_.get(); }
+
+  bool has(const std::string& name) const;
+  // Reads a dataset of any floating type as doubles; dims receives its shape. Missing -> InputError.
+  std::vector<double> read(const std::string& name, std::vector<hsize_t>& dims) const;
+  void write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<double>& data);
+  std::string read_text_attr(const std::string& name) const;  // attribute on the root group
+  long read_int_attr(const std::string& name) const;
+  double read_real_attr(const std::string& name) const;
+  void write_attr(const std::string& name, const std::string& value);
+  void write_attr(const std::string& name, long value);
+  void write_attr(const std::string& name, double value);
+
+ private:
+  File(Id id, std::string path) : id_(std::move(id)), path_(std::move(path)) {}
+  Id attr(const std::string& name) const;
+  Id id_;
+  std::string path_;
+};
+
+}  // namespace semlb::h5

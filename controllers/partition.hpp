@@ -1,0 +1,28 @@
+// Partition model: P contiguous slice ranges given by P-1 interior boundaries, each at least min_width wide.
+#pragma once
+#include <span>
+#include <vector>
+
+namespace semlb {
+
+// Widths of the P ranks; boundaries are interior (P-1 of them).
+std::vector<int> widths(std::span<const int> boundaries, int slices);
+
+// Throws InputError unless 0 < b_1 < ... < slices with every width >= min_width.
+void check_partition(std::span<const int> boundaries, int slices, int min_width);
+
+// Applies signed integer moves (positive = boundary moves right) in one left-to-right sweep. Each move is
+// truncated so that both neighbouring ranks keep >= min_width given the widths after the earlier moves.
+std::vector<int> apply_moves(std::span<const int> boundaries, std::span<const long> moves, int slices,
+                             int min_width);
+
+// Migration of one rebalancing event: sum over boundaries of |b_new - b_old| (slices moved).
+long migration(std::span<const int> before, std::span<const int> after);
+
+// Equal-width geometric partition (remainder spread over the first ranks).
+std::vector<int> uniform_partition(int ranks, int slices);
+
+// Per-rank sums of per-slice values (e.g. work -> times).
+std::vector<double> rank_sums(std::span<const double> per_slice, std::span<const int> boundaries);
+
+}  // namespace semlb

@@ -1,0 +1,51 @@
+// Policy interface and the by-name registry: a new policy is one .cpp with a Registrar, no core edit.
+#pragma once
+#include <functional>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "observation.hpp"
+
+namespace semlb {
+
+// A rebalancing policy. It keeps its own history (Holt state, GRU hidden states) between events.
+class Policy {
+ public:
+  virtual ~Policy() = default;
+  // Returns the interior boundaries for the next interval. obs must be valid (see validate()).
+  virtual std::vector<int> decide(const Observation& obs) = 0;
+};
+
+// key=value options of one policy (e.g. tau=0.02). Reading a key marks it used; unused keys are errors.
+class PolicyParams {
+ public:
+  PolicyParams() = default;
+  explicit PolicyParams(std::map<std::string, std::string> values) : values_(std::move(values)) {}
+
+  double real(const std::string& key, double fallback);
+  std::string text(const std::string& key, const std::string& fallback);
+  void set(const std::string& key, const std::string& value) { values_[key] = value; }
+  bool has(const std::string& key) const { return values_.count(key) != 0; }
+  // Throws InputError naming the first key no policy code read.
+  void expect_all_used(const std::string& policy) const;
+
+ private:
+  std::map<std::string, std::string> values_;
+  std::set<std::string> used_;
+};
+
+using PolicyFactory = std::function<std::unique_ptr<Policy>(PolicyParams&)>;
+
+// Registers a factory at static-initialisation time: `static Registrar reg("name", factory);`.
+struct Registrar {
+  Registrar(const std::string& name, PolicyFactory factory);
+};
+
+// Builds a registered policy; throws InputError for an unknown name or an unknown/invalid parameter.
+std::unique_ptr<Policy> make_policy(const std::string& name, PolicyParams params = {});
+std::vector<std::string> policy_names();
+
+}  // namespace semlb

@@ -1,0 +1,136 @@
+// Manifest loading (yaml-cpp) with line-accurate errors, profiles, overrides and axis expansion.
+#include "manifest.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include "controllers/errors.hpp"
+#include "surrogate/evaluate.hpp"
+
+namespace semlb::experiments {
+namespace {
+
+long line_of(const YAML::Node& n) { return n.Mark().line + 1; }
+
+std::string scalar(const YAML::Node& n, const std::string& file, const std::string& field) {
+  if (!n.IsScalar()) throw InputError(where(file, line_of(n), field) + "must be a single value");
+  return n.Scalar();
+}
+
+// An axis is a YAML list, or a scalar "A-B" / "a,b,c" (expanded like the CLI's --seeds).
+std::vector<Setting> axis_values(const YAML::Node& n, const std::string& file, const std::string& field) {
+  std::vector<Setting> out;
+  if (n.IsSequence()) {
+    for (const auto& v : n) out.push_back({scalar(v, file, field), line_of(v)});
+  } else {
+    const std::string text = scalar(n, file, field);
+    if (text.find('-') != std::string::npos && text.find_first_not_of("0123456789-, ") == std::string::npos) {
+      try {
+        for (long v : surrogate::parse_int_list(text, field)) out.push_back({std::to_string(v), line_of(n)});
+      } catch (const InputError& e) {
+        throw InputError(where(file, line_of(n), field) + e.what());
+      }
+    } else {
+      size_t pos = 0;
+      while (true) {
+        const size_t c = text.find(',', pos);
+        out.push_back({text.substr(pos, c - pos), line_of(n)});
+        if (c == std::string::npos) break;
+        pos = c + 1;
+      }
+    }
+  }
+  if (out.empty()) throw InputError(where(file, line_of(n), field) + "axis has no values");
+  return out;
+}
+
+void read_block(const YAML::Node& block, Manifest& m, const std::string& where_name) {
+  if (!block) return;
+  if (!block.IsMap()) throw InputError(where(m.path, line_of(block), where_name) + "must be a mapping");
+  for (const auto& kv : block) {
+    const std::string key = kv.first.Scalar();
+    if (key == "axes") {
+      if (!kv.second.IsMap()) throw InputError(where(m.path, line_of(kv.second), "axes") + "must be a mapping");
+      for (const auto& a : kv.second) {
+        const std::string name = a.first.Scalar();
+        auto values = axis_values(a.second, m.path, "axes." + name);
+        auto it = std::find_if(m.axes.begin(), m.axes.end(), [&](auto& p) { return p.first == name; });
+        if (it == m.axes.end()) m.axes.emplace_back(name, std::move(values)); else it->second = std::move(values);
+        m.fixed.erase(name);
+      }
+    } else if (key == "set") {
+      if (!kv.second.IsMap()) throw InputError(where(m.path, line_of(kv.second), "set") + "must be a mapping");
+      for (const auto& s : kv.second) m.fixed[s.first.Scalar()] = {scalar(s.second, m.path, "set." + s.first.Scalar()), line_of(s.second)};
+    } else if (key == "output" || key == "runner" || key == "name") {
+      const std::string v = scalar(kv.second, m.path, key);
+      (key == "output" ? m.output : key == "runner" ? m.runner : m.name) = v;
+    } else if (key != "profiles" && key != "description") {
+      throw InputError(where(m.path, line_of(kv.first), key) + "unknown manifest key (known: name, description, runner, output, axes, set, profiles)");
+    }
+  }
+}
+
+}  // namespace
+
+const Setting* Job::find(const std::string& key) const {
+  for (const auto& [k, v] : settings)
+    if (k == key) return &v;
+  return nullptr;
+}
+
+std::vector<std::string> Manifest::axis_names() const {
+  std::vector<std::string> n;
+  for (const auto& a : axes) n.push_back(a.first);
+  return n;
+}
+
+std::vector<Job> Manifest::expand() const {
+  std::vector<Job> jobs(1);
+  for (const auto& [name, values] : axes) {
+    std::vector<Job> next;
+    for (const auto& j : jobs)
+      for (const auto& v : values) {
+        Job k = j;
+        k.settings.emplace_back(name, v);
+        next.push_back(std::move(k));
+      }
+    jobs = std::move(next);
+  }
+  for (auto& j : jobs)
+    for (const auto& [k, v] : fixed) j.settings.emplace_back(k, v);
+  return jobs;
+}
+
+Manifest load_manifest(const std::string& path, const std::string& profile, const std::vector<std::string>& overrides) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path + ": cannot open manifest");
+  } catch (const YAML::Exception& e) {
+    throw InputError(where(path, e.mark.line + 1, "") + "YAML syntax error: " + e.msg);
+  }
+  Manifest m;
+  m.path = path;
+  if (!root.IsMap()) throw InputError(path + ": a manifest must be a YAML mapping");
+  read_block(root, m, "");
+  const auto profiles = root["profiles"];
+  m.profile = profile.empty() && profiles && profiles["small"] ? "small" : profile;
+  if (!m.profile.empty()) {
+    if (!profiles || !profiles[m.profile])
+      throw InputError(where(path, profiles ? line_of(profiles) : 0, "profiles") + "no profile '" + m.profile + "'");
+    read_block(profiles[m.profile], m, "profiles." + m.profile);
+  }
+  for (const auto& o : overrides) {
+    const size_t eq = o.find('=');
+    if (eq == std::string::npos || eq == 0) throw InputError("--set: '" + o + "' is not KEY=VALUE");
+    const std::string key = o.substr(0, eq);
+    auto it = std::find_if(m.axes.begin(), m.axes.end(), [&](auto& p) { return p.first == key; });
+    if (it != m.axes.end()) it->second = axis_values(YAML::Node(o.substr(eq + 1)), "--set", key);
+    else m.fixed[key] = {o.substr(eq + 1), 0};
+  }
+  for (const auto& [field, value] : {std::pair{"name", &m.name}, {"runner", &m.runner}, {"output", &m.output}})
+    if (value->empty()) throw InputError(where(path, 0, field) + "missing");
+  return m;
+}
+
+}  // namespace semlb::experiments

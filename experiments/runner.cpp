@@ -1,0 +1,30 @@
+// Runner registry.
+#include "runner.hpp"
+
+#include <map>
+
+#include "controllers/errors.hpp"
+
+namespace semlb::experiments {
+namespace {
+std::map<std::string, std::function<std::unique_ptr<Runner>()>>& registry() {
+  static std::map<std::string, std::function<std::unique_ptr<Runner>()>> r;
+  return r;
+}
+}  // namespace
+
+RunnerRegistrar::RunnerRegistrar(const std::string& name, std::function<std::unique_ptr<Runner>()> factory) {
+  registry()[name] = std::move(factory);
+}
+
+std::unique_ptr<Runner> make_runner(const std::string& name, const std::string& manifest) {
+  auto it = registry().find(name);
+  if (it == registry().end()) {
+    std::string known;
+    for (const auto& [k, v] : registry()) known += (known.empty() ? "" : ", ") + k;
+    throw InputError(where(manifest, 0, "runner") + "unknown runner '" + name + "' (known: " + known + ")");
+  }
+  return it->second();
+}
+
+}  // namespace semlb::experiments

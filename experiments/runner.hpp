@@ -1,0 +1,32 @@
+// Sweep runners registered by name (a manifest's `runner:`): each turns one Job into one CSV row.
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "manifest.hpp"
+
+namespace semlb::experiments {
+
+struct RunOptions {
+  bool timing = true;     // false: wall-clock columns are written as 0 (byte-identical reruns)
+  std::string trace_dir;  // non-empty: runners that produce traces write them here
+};
+
+class Runner {
+ public:
+  virtual ~Runner() = default;
+  virtual std::vector<std::string> columns() const = 0;
+  // Throws InputError naming the manifest line/field of a bad or unknown setting; runs nothing.
+  virtual void check(const Job& job, const std::string& manifest) const = 0;
+  virtual std::vector<std::string> run(const Job& job, const RunOptions& options) const = 0;
+};
+
+struct RunnerRegistrar {
+  RunnerRegistrar(const std::string& name, std::function<std::unique_ptr<Runner>()> factory);
+};
+
+std::unique_ptr<Runner> make_runner(const std::string& name, const std::string& manifest);
+
+}  // namespace semlb::experiments

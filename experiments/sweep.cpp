@@ -1,0 +1,243 @@
+// Sweep execution: expansion, validation, resume from the .partial file, worker threads, progress line.
+#include "sweep.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "controllers/errors.hpp"
+
+namespace semlb::experiments {
+namespace fs = std::filesystem;
+namespace {
+
+std::string csv_line(const std::vector<std::string>& cells) {
+  std::string s;
+  for (size_t i = 0; i < cells.size(); ++i) s += (i ? "," : "") + cells[i];
+  return s + "\n";
+}
+
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string cell;
+  while (std::getline(ss, cell, ',')) out.push_back(cell);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+// The sweep's own key columns (axes the runner does not write) come first, then the runner's columns.
+struct Layout {
+  std::vector<std::string> header;
+  std::vector<std::string> axes;         // resume key, in manifest order
+  std::vector<std::string> extra_axes;   // axes not among the runner's columns
+};
+
+Layout make_layout(const Manifest& m, const Runner& r) {
+  Layout l;
+  l.axes = m.axis_names();
+  const auto cols = r.columns();
+  for (const auto& a : l.axes)
+    if (std::find(cols.begin(), cols.end(), a) == cols.end()) l.extra_axes.push_back(a);
+  l.header = l.extra_axes;
+  l.header.insert(l.header.end(), cols.begin(), cols.end());
+  return l;
+}
+
+std::string key_of(const Job& j, const Layout& l) {
+  std::string k;
+  for (const auto& a : l.axes) k += j.find(a)->value + '\x1f';
+  return k;
+}
+
+std::string key_of_row(const std::vector<std::string>& row, const std::vector<std::string>& header, const Layout& l) {
+  std::string k;
+  for (const auto& a : l.axes) k += row[std::find(header.begin(), header.end(), a) - header.begin()] + '\x1f';
+  return k;
+}
+
+// Reads finished rows (key -> line) from an earlier CSV; a torn last line (no newline) is dropped.
+std::map<std::string, std::string> read_rows(const std::string& path, const Layout& l, std::vector<std::string>& order) {
+  std::map<std::string, std::string> rows;
+  std::ifstream in(path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (text.empty()) return rows;
+  if (text.back() != '\n') text.erase(text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1);
+  std::stringstream ss(text);
+  std::string line;
+  std::getline(ss, line);
+  if (csv_line(l.header) != line + "\n")
+    throw InputError(path + ":1: header differs from this manifest's columns; move the file away to start afresh");
+  long n = 1;
+  while (std::getline(ss, line)) {
+    ++n;
+    const auto cells = split_csv(line);
+    if (cells.size() != l.header.size()) throw InputError(where(path, n, "") + "row has the wrong number of columns");
+    const auto key = key_of_row(cells, l.header, l);
+    if (!rows.count(key)) order.push_back(key);
+    rows[key] = line + "\n";
+  }
+  return rows;
+}
+
+void write_file(const std::string& path, const std::string& content) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << content;
+    if (!out) throw std::runtime_error(tmp + ": write failed");
+  }
+  fs::rename(tmp, path);
+}
+
+class Appender {  // one write(2) per row with O_APPEND: a kill leaves whole rows or a torn last line
+ public:
+  explicit Appender(const std::string& path) : fd_(::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT, 0644)) {
+    if (fd_ < 0) throw std::runtime_error(path + ": cannot open for appending");
+  }
+  ~Appender() { ::close(fd_); }
+  void append(const std::string& line) {
+    if (::write(fd_, line.data(), line.size()) != static_cast<ssize_t>(line.size()))
+      throw std::runtime_error("append failed");
+  }
+
+ private:
+  int fd_;
+};
+
+void copy_manifest(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o,
+                   const std::string& csv) {
+  std::string body, head = "# " + o.command_line + "\n";
+  if (!m.path.empty()) {
+    std::ifstream in(m.path);
+    body.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    head = "# semlb sweep " + m.path + " --profile " + m.profile;
+    for (const auto& s : overrides) head += " --set " + s;
+    head += "\n";
+  }
+  head += "# git revision: " + o.git_revision + "\n";
+  write_file(fs::path(csv).replace_extension(".manifest.yaml").string(), head + body);
+}
+
+class Progress {
+ public:
+  Progress(std::string name, size_t total, size_t resumed, bool on)
+      : name_(std::move(name)), total_(total), done_(resumed), resumed_(resumed), on_(on),
+        tty_(isatty(fileno(stderr))), start_(std::chrono::steady_clock::now()) {}
+  void tick() {
+    ++done_;
+    if (!on_) return;
+    const size_t ran = done_ - resumed_, step = std::max<size_t>(1, (total_ - resumed_) / 20);
+    if (!tty_ && ran % step != 0 && done_ != total_) return;
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const double eta = ran ? s / ran * (total_ - done_) : 0.0;
+    std::fprintf(stderr, "%s[%s] %zu/%zu rows (%zu resumed)  %.1f s  ETA %.1f s%s", tty_ ? "\r" : "", name_.c_str(),
+                 done_, total_, resumed_, s, eta, tty_ && done_ != total_ ? "" : "\n");
+  }
+
+ private:
+  std::string name_;
+  size_t total_, done_, resumed_;
+  bool on_, tty_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+long kill_after_rows() {  // test hook: SEMLB_SWEEP_KILL_AFTER=N sends SIGKILL to itself after N new rows
+  const char* v = std::getenv("SEMLB_SWEEP_KILL_AFTER");
+  return v ? std::atol(v) : -1;
+}
+
+}  // namespace
+
+SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o) {
+  const auto runner = make_runner(m.runner, m.path);
+  const auto jobs = m.expand();
+  for (const auto& j : jobs) runner->check(j, m.path);
+  const Layout layout = make_layout(m, *runner);
+
+  SweepSummary sum;
+  sum.csv_path = (fs::path(o.results_dir) / m.output).string();
+  const std::string partial = sum.csv_path + ".partial";
+  fs::create_directories(fs::path(sum.csv_path).parent_path());
+  if (o.fresh) fs::remove(partial);
+  if (!fs::exists(partial)) {
+    std::string seed = csv_line(layout.header);
+    if (!o.fresh && fs::exists(sum.csv_path)) {  // reuse the rows of a finished earlier sweep
+      std::vector<std::string> order;
+      for (const auto& [k, line] : read_rows(sum.csv_path, layout, order)) seed += line;
+    }
+    write_file(partial, seed);
+  }
+  std::vector<std::string> order;
+  auto done = read_rows(partial, layout, order);
+  write_file(partial, [&] { std::string s = csv_line(layout.header); for (auto& k : order) s += done[k]; return s; }());
+
+  std::vector<size_t> todo;
+  for (size_t i = 0; i < jobs.size(); ++i)
+    if (!done.count(key_of(jobs[i], layout))) todo.push_back(i);
+  sum.rows = jobs.size();
+  sum.resumed = jobs.size() - todo.size();
+
+  Appender out(partial);
+  Progress progress(m.name, jobs.size(), sum.resumed, o.progress);
+  std::mutex mu;
+  std::atomic<size_t> next{0};
+  std::exception_ptr error;
+  const long kill_after = kill_after_rows();
+  const auto columns = runner->columns();
+  auto worker = [&] {
+    for (size_t t; (t = next++) < todo.size();) {
+      const Job& job = jobs[todo[t]];
+      try {
+        auto row = runner->run(job, o.run);
+        std::vector<std::string> cells;
+        for (const auto& a : layout.extra_axes) cells.push_back(job.find(a)->value);
+        for (size_t c = 0; c < row.size(); ++c) {  // key columns keep the manifest's spelling
+          const bool axis = std::find(layout.axes.begin(), layout.axes.end(), columns[c]) != layout.axes.end();
+          cells.push_back(axis ? job.find(columns[c])->value : row[c]);
+        }
+        const std::string line = csv_line(cells);
+        std::lock_guard lock(mu);
+        out.append(line);
+        done[key_of(job, layout)] = line;
+        ++sum.ran;
+        progress.tick();
+        if (kill_after >= 0 && static_cast<long>(sum.ran) >= kill_after) std::raise(SIGKILL);
+      } catch (...) {
+        std::lock_guard lock(mu);
+        if (!error) error = std::current_exception();
+        next = todo.size();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int i = 0; i < std::max(1, o.jobs); ++i) pool.emplace_back(worker);
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);  // the .partial file keeps every finished row for a resume
+
+  std::string final_text = csv_line(layout.header);
+  std::map<std::string, bool> used;
+  for (const auto& j : jobs) {
+    const auto k = key_of(j, layout);
+    final_text += done[k];
+    used[k] = true;
+  }
+  for (const auto& k : order)  // rows of other jobs (e.g. another profile) are kept, after this sweep's
+    if (!used.count(k)) final_text += done[k];
+  write_file(sum.csv_path, final_text);
+  fs::remove(partial);
+  copy_manifest(m, overrides, o, sum.csv_path);
+  return sum;
+}
+
+}  // namespace semlb::experiments

@@ -1,0 +1,96 @@
+// Controller evaluation: one (policy, ranks, seed) job -> one formatted CSV row, optional trace dump.
+#include "evaluate.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "controllers/errors.hpp"
+#include "rollout.hpp"
+#include "scenario.hpp"
+
+namespace semlb::surrogate {
+namespace {
+
+std::string fmt(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+void write_trace(const std::string& dir, const EvalJob& job, const RolloutResult& r) {
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/" + job.policy + "_P" + std::to_string(job.ranks) + "_s" +
+                           std::to_string(job.seed) + ".jsonl";
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    for (const auto& e : r.trace) out << to_json(e).dump() << '\n';
+    if (!out) throw std::runtime_error(tmp + ": write failed");
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+}  // namespace
+
+const std::vector<std::string>& eval_columns() {
+  static const std::vector<std::string> c = {
+      "policy", "ranks", "seed", "events", "slices", "min_width", "mean_imbalance", "migration",
+      "mean_max_over_mean", "first_quarter_imbalance", "last_quarter_imbalance", "us_per_decision"};
+  return c;
+}
+
+std::vector<std::string> run_eval_job(const EvalJob& job, const std::map<std::string, PolicyParams>& params,
+                                      bool timing, const std::string& trace_dir) {
+  const Scenario s = make_scenario(job.seed, job.ranks);
+  const auto it = params.find(job.policy);
+  auto policy = make_policy(job.policy, it == params.end() ? PolicyParams{} : it->second);
+  const RolloutResult r = rollout(s, *policy, job.events, !trace_dir.empty());
+  if (!trace_dir.empty()) write_trace(trace_dir, job, r);
+  return {job.policy,
+          std::to_string(job.ranks),
+          std::to_string(job.seed),
+          std::to_string(job.events),
+          std::to_string(s.slices),
+          std::to_string(s.min_width),
+          fmt(r.mean_imbalance),
+          std::to_string(r.migration),
+          fmt(r.mean_max_over_mean),
+          fmt(r.first_quarter_imbalance),
+          fmt(r.last_quarter_imbalance),
+          timing ? fmt(r.us_per_decision) : "0"};
+}
+
+std::vector<long> parse_int_list(const std::string& text, const std::string& flag) {
+  std::vector<long> out;
+  size_t pos = 0;
+  while (pos <= text.size()) {
+    const size_t comma = text.find(',', pos);
+    const std::string tok = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    long a = 0, b = 0;
+    int consumed = 0;
+    const bool range = std::sscanf(tok.c_str(), "%ld-%ld%n", &a, &b, &consumed) == 2 && consumed == (int)tok.size();
+    const bool single = !range && std::sscanf(tok.c_str(), "%ld%n", &a, &consumed) == 1 && consumed == (int)tok.size();
+    if ((!range && !single) || a < 0 || (range && b < a))
+      throw InputError(flag + ": '" + tok + "' is not a non-negative integer or an inclusive range A-B with A <= B");
+    if (single) b = a;
+    if (b - a > 1000000) throw InputError(flag + ": range '" + tok + "' is too long");
+    for (long v = a; v <= b; ++v) out.push_back(v);
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  return out;
+}
+
+std::map<std::string, PolicyParams> parse_policy_params(const std::vector<std::string>& options) {
+  std::map<std::string, PolicyParams> out;
+  for (const auto& o : options) {
+    const size_t dot = o.find('.'), eq = o.find('=');
+    if (dot == std::string::npos || eq == std::string::npos || dot > eq || dot == 0 || eq == dot + 1)
+      throw InputError("--param: '" + o + "' is not POLICY.KEY=VALUE");
+    out[o.substr(0, dot)].set(o.substr(dot + 1, eq - dot - 1), o.substr(eq + 1));
+  }
+  return out;
+}
+
+}  // namespace semlb::surrogate

@@ -1,0 +1,29 @@
+// Hard-integer rollouts of one policy on one scenario, and the per-rollout metrics (paper Sec. V-E).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "controllers/policy.hpp"
+#include "controllers/trace.hpp"
+#include "scenario.hpp"
+
+namespace semlb::surrogate {
+
+struct RolloutResult {
+  int events = 0;
+  double mean_imbalance = 0;      // time-averaged I_global over the K events (noise-free times)
+  double mean_max_over_mean = 0;  // time-averaged (T_max - T_mean)/T_mean
+  double first_quarter_imbalance = 0, last_quarter_imbalance = 0;
+  long migration = 0;             // M = sum over events and boundaries of |Δs|
+  double us_per_decision = 0;     // policy wall time per decide() call, microseconds
+  std::vector<double> imbalance;  // I_global per event
+  std::vector<TraceEvent> trace;  // filled when asked for
+};
+
+// Event t: the interval runs with the current boundaries under W_t (metrics from noise-free times), the
+// policy sees noisy times and work (and W_{t+1} as oracle_work), and its boundaries govern interval t+1.
+// The initial partition is the workload-aware optimal partition of W_0. Throws std::runtime_error naming
+// the event, rank and quantity if a non-finite value appears.
+RolloutResult rollout(const Scenario& s, Policy& policy, int events, bool keep_trace = false);
+
+}  // namespace semlb::surrogate

@@ -1,0 +1,122 @@
+// Scenario generation and workload evolution; every draw is keyed by (seed, stream, event, index).
+#include "scenario.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "controllers/errors.hpp"
+#include "rng.hpp"
+
+namespace semlb::surrogate {
+namespace {
+
+enum Stream : uint64_t { kSetup = 1, kHotspot, kDrift, kGrowth, kBurst, kTimeNoise, kWorkNoise, kTexture, kBias };
+constexpr double kMaxSpeed = 0.0015;  // hotspot drift, domain lengths per event
+
+double clipped_normal(uint64_t seed, uint64_t stream, uint64_t counter, uint64_t index) {
+  return std::clamp(rng::normal(seed, stream, counter, index), -3.0, 3.0);
+}
+
+}  // namespace
+
+Scenario make_scenario(uint64_t seed, int ranks) {
+  Scenario s;
+  s.seed = seed;
+  s.ranks = ranks;
+  auto u = [&](double lo, double hi, uint64_t k) { return rng::uniform(lo, hi, seed, kSetup, 0, k); };
+  s.slices = static_cast<int>(u(256, 1025, 0));
+  if (ranks < 1 || ranks > s.slices)
+    throw InputError("ranks = " + std::to_string(ranks) + " must be in [1, " + std::to_string(s.slices) + "]");
+  s.min_width = std::max(1, std::min(static_cast<int>(u(2, 7, 1)), s.slices / (2 * ranks)));
+  s.baseline = u(0.2, 0.6, 2);
+  s.growth_rate = u(0.0, 0.002, 3);
+  s.growth_period = static_cast<int>(u(8, 31, 4));
+  s.growth_offset = static_cast<int>(u(0, s.growth_period, 5));
+  s.burst_probability = u(0.02, 0.10, 6);
+  s.time_jitter = u(0.005, 0.03, 7);
+  s.work_noise = u(0.05, 0.20, 8);
+  const int n = static_cast<int>(u(2, 7, 9));
+  for (int h = 0; h < n; ++h) {
+    auto hu = [&](double lo, double hi, uint64_t k) { return rng::uniform(lo, hi, seed, kHotspot, h, k); };
+    s.hotspots.push_back({hu(0.05, 0.95, 0), std::clamp(0.0006 * clipped_normal(seed, kHotspot, h, 7), -kMaxSpeed, kMaxSpeed),
+                          hu(0.5, 2.0, 2), hu(0.05, 0.25, 3)});
+  }
+  for (int k = 0; k < 3; ++k) {
+    auto bu = [&](double lo, double hi, uint64_t i) { return rng::uniform(lo, hi, seed, kBias, k, i); };
+    s.proxy_bias.push_back({bu(0.02, 0.10, 0), bu(1.0, 4.0, 1), bu(0.0, 2.0 * std::numbers::pi, 2), bu(-0.02, 0.02, 3)});
+  }
+  s.texture.resize(s.slices);
+  for (int i = 0; i < s.slices; ++i)
+    s.texture[i] = std::clamp(1.0 + 0.15 * clipped_normal(seed, kTexture, 0, i), 0.5, 1.5);
+  return s;
+}
+
+Workload::Workload(const Scenario& s) : s_(s), hotspots_(s.hotspots), work_(s.slices) { evaluate(); }
+
+double Workload::growth_phase() const {
+  const int p = s_.growth_period;
+  return static_cast<double>(((event_ - s_.growth_offset) % p + p) % p) / p;
+}
+
+void Workload::advance() {
+  ++event_;
+  const uint64_t seed = s_.seed, t = static_cast<uint64_t>(event_);
+  growth_event_ = (event_ - s_.growth_offset) % s_.growth_period == 0;
+  for (size_t h = 0; h < hotspots_.size(); ++h) {
+    Hotspot& hs = hotspots_[h];
+    hs.velocity = std::clamp(hs.velocity + 0.0001 * clipped_normal(seed, kDrift, t, h), -kMaxSpeed, kMaxSpeed);
+    hs.centre += hs.velocity;
+    if (hs.centre < 0.02 || hs.centre > 0.98) {  // reflect at the tissue edge
+      hs.velocity = -hs.velocity;
+      hs.centre = std::clamp(hs.centre, 0.02, 0.98);
+    }
+    hs.amplitude *= 1.0 + s_.growth_rate;
+    if (growth_event_ && rng::uniform(seed, kGrowth, t, 3 * h) < 0.5) {  // a division wave in this region
+      hs.amplitude *= 1.0 + rng::uniform(0.02, 0.10, seed, kGrowth, t, 3 * h + 1);
+      hs.width = std::min(0.3, hs.width * (1.0 + rng::uniform(0.0, 0.03, seed, kGrowth, t, 3 * h + 2)));
+    }
+  }
+  std::erase_if(bursts_, [&](const Burst& b) { return std::exp(-(event_ - b.start) / b.decay) < 1e-3; });
+  if (rng::uniform(seed, kBurst, t, 0) < s_.burst_probability)
+    bursts_.push_back({rng::uniform(0.02, 0.98, seed, kBurst, t, 1), rng::uniform(0.005, 0.03, seed, kBurst, t, 2),
+                       rng::uniform(0.1, 0.6, seed, kBurst, t, 3), event_, rng::uniform(1.0, 5.0, seed, kBurst, t, 4)});
+  evaluate();
+}
+
+void Workload::evaluate() {
+  for (int i = 0; i < s_.slices; ++i) {
+    const double x = (i + 0.5) / s_.slices;
+    double d = s_.baseline;
+    for (const auto& h : hotspots_) d += h.amplitude * std::exp(-0.5 * std::pow((x - h.centre) / h.width, 2));
+    for (const auto& b : bursts_)
+      d += b.amplitude * std::exp(-(event_ - b.start) / b.decay) * std::exp(-0.5 * std::pow((x - b.centre) / b.width, 2));
+    work_[i] = d * s_.texture[i] / s_.slices;
+  }
+}
+
+namespace {
+std::vector<double> noisy(const std::vector<double>& v, double sigma, uint64_t seed, uint64_t stream, int event) {
+  std::vector<double> out(v.size());
+  for (size_t i = 0; i < v.size(); ++i)
+    out[i] = std::max(0.0, v[i] * (1.0 + sigma * clipped_normal(seed, stream, event, i)));
+  return out;
+}
+}  // namespace
+
+std::vector<double> measured_times(const Scenario& s, int event, const std::vector<double>& t) {
+  return noisy(t, s.time_jitter, s.seed, kTimeNoise, event);
+}
+
+std::vector<double> observed_work(const Scenario& s, int event, const std::vector<double>& w) {
+  auto out = noisy(w, s.work_noise, s.seed, kWorkNoise, event);
+  for (size_t i = 0; i < out.size(); ++i) {
+    const double x = (i + 0.5) / out.size();
+    double g = 0.0;
+    for (const auto& m : s.proxy_bias) g += m.amplitude * std::sin(2.0 * std::numbers::pi * m.wavenumber * x + m.phase + m.speed * event);
+    out[i] *= std::exp(g);
+  }
+  return out;
+}
+
+}  // namespace semlb::surrogate
