@@ -25,7 +25,16 @@ int main(int argc, char** argv) {
   } catch (const CLI::Success& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "semlb: " << e.what() << " (see semlb --help)\n";
+    std::string known;
+    bool is_known = false;
+    for (const auto* s : app.get_subcommands([](CLI::App*) { return true; })) {
+      known += (known.empty() ? "" : ", ") + s->get_name();
+      is_known = is_known || (argc > 1 && s->get_name() == argv[1]);
+    }
+    if (argc > 1 && argv[1][0] != '-' && !is_known)
+      std::cerr << "semlb: unknown subcommand '" << argv[1] << "' (known: " << known << ")\n";
+    else
+      std::cerr << "semlb: " << e.what() << " (see semlb --help)\n";
     return 2;
   }
   try {

@@ -13,9 +13,9 @@ struct InputError : std::runtime_error {
 // "FILE:LINE: field 'NAME': " prefix for messages about one field of one input line.
 inline std::string where(const std::string& file, long line, const std::string& field) {
   std::string s = file;
-  if (line > 0) s += ":" + std::to_string(line);
-  if (!field.empty()) s += ": field '" + field + "'";
-  return s + ": ";
+  if (line > 0) s.append(":").append(std::to_string(line));
+  if (!field.empty()) s.append(s.empty() ? "" : ": ").append("field '").append(field).append("'");
+  return s.empty() ? s : s.append(": ");
 }
 
 }  // namespace semlb

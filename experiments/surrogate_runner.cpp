@@ -37,6 +37,16 @@ class SurrogateRunner final : public Runner {
       const Setting* s = job.find("policy");
       throw InputError(where(manifest, s ? s->line : 0, "policy") + e.what());
     }
+    for (const auto& [policy, p] : params(job)) {  // parameters of policies this row does not run are checked too
+      try {
+        make_policy(policy, p);
+      } catch (const InputError& e) {
+        const Setting* s = nullptr;
+        for (const auto& [k, v] : job.settings)
+          if (k.rfind(policy + ".", 0) == 0) s = &v;
+        throw InputError(where(manifest, s ? s->line : 0, policy + ".*") + e.what());
+      }
+    }
   }
 
   std::vector<std::string> run(const Job& job, const RunOptions& options) const override {

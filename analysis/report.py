@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""Tables (markdown) and figures (PNG) from the CSVs under results/; stdlib csv + matplotlib, no pandas."""
+import argparse
+import csv
+import math
+import os
+import statistics
+import sys
+from collections import OrderedDict
+
+POLICY_ORDER = ["static", "persistence", "holt", "reactive", "gru", "oracle"]
+
+
+def read_rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def atomic_write(path, text_or_fig):
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    tmp = path + ".tmp"
+    if isinstance(text_or_fig, str):
+        with open(tmp, "w") as f:
+            f.write(text_or_fig)
+    else:
+        text_or_fig.savefig(tmp, dpi=130, format="png")
+    os.replace(tmp, path)
+
+
+def grouped(rows, value):
+    """(policy, ranks) -> list of floats, policies in the paper's order."""
+    groups = OrderedDict()
+    policies = sorted({r["policy"] for r in rows}, key=lambda p: (POLICY_ORDER.index(p) if p in POLICY_ORDER else 99, p))
+    ranks = sorted({int(r["ranks"]) for r in rows})
+    for p in policies:
+        for P in ranks:
+            vals = [float(r[value]) for r in rows if r["policy"] == p and int(r["ranks"]) == P]
+            if vals:
+                groups[(p, P)] = vals
+    return policies, ranks, groups
+
+
+def mean_sd(vals):
+    return statistics.fmean(vals), (statistics.stdev(vals) if len(vals) > 1 else 0.0)
+
+
+def controller_table(rows):
+    policies, ranks, imb = grouped(rows, "mean_imbalance")
+    _, _, mig = grouped(rows, "migration")
+    seeds = len({r["seed"] for r in rows})
+    events = sorted({r["events"] for r in rows})
+    out = ["# Controller evaluation (surrogate, held-out seeds, hard integer boundaries)", "",
+           f"{seeds} seeds per cell, {', '.join(events)}-event rollouts. Imbalance = time-averaged "
+           "I_global = (T_max - T_min)/T_mean in percent (mean ± sd over seeds); migration = slices moved "
+           "over the rollout (mean ± sd).", "",
+           "| policy | " + " | ".join(f"P={P} imbalance % | P={P} migration" for P in ranks) + " |",
+           "|---|" + "---:|---:|" * len(ranks)]
+    for p in policies:
+        cells = []
+        for P in ranks:
+            if (p, P) not in imb:
+                cells += ["", ""]
+                continue
+            mi, si = mean_sd(imb[(p, P)])
+            mm, sm = mean_sd(mig[(p, P)])
+            cells += [f"{100 * mi:.2f} ± {100 * si:.2f}", f"{mm:.0f} ± {sm:.0f}"]
+        out.append(f"| {p} | " + " | ".join(cells) + " |")
+    return "\n".join(out) + "\n"
+
+
+def controller_figure(rows):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    policies, ranks, imb = grouped(rows, "mean_imbalance")
+    _, _, mig = grouped(rows, "migration")
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    width = 0.8 / max(1, len(policies))
+    colors = plt.get_cmap("tab10")
+    for k, p in enumerate(policies):
+        for ax, data in ((axes[0], imb), (axes[1], mig)):
+            xs, ys = [], []
+            for i, P in enumerate(ranks):
+                for j, v in enumerate(data.get((p, P), [])):
+                    n = len(data[(p, P)])
+                    xs.append(i + (k - (len(policies) - 1) / 2) * width + (j / max(1, n - 1) - 0.5) * width * 0.6)
+                    ys.append(100 * v if data is imb else v)
+            ax.scatter(xs, ys, s=9, color=colors(k), label=p if ax is axes[0] else None, alpha=0.75)
+    floor = min([100 * v for vals in imb.values() for v in vals if v > 0] or [1e-3])
+    axes[0].set_yscale("log")
+    axes[0].set_ylim(bottom=floor / 2)
+    axes[0].set_ylabel("time-averaged global imbalance (%)")
+    axes[0].set_title("(a) imbalance")
+    axes[1].set_yscale("symlog", linthresh=10)
+    axes[1].set_ylabel("slices migrated over the rollout")
+    axes[1].set_title("(b) migration (linear below 10)")
+    for ax in axes:
+        ax.set_xticks(range(len(ranks)), [f"P={P}" for P in ranks])
+        ax.grid(alpha=0.3, which="both")
+    fig.legend(loc="upper center", ncol=len(policies), frameon=False)
+    fig.tight_layout(rect=(0, 0, 1, 0.92))
+    return fig
+
+
+def holt_tuning_table(rows):
+    """Mean imbalance per (alpha, beta) over training seeds and ranks; the best pair first."""
+    cells = OrderedDict()
+    for r in rows:
+        cells.setdefault((float(r["holt.alpha"]), float(r["holt.beta"])), []).append(r)
+    scored = sorted((statistics.fmean(float(r["mean_imbalance"]) for r in rs),
+                     statistics.fmean(float(r["migration"]) for r in rs), a, b) for (a, b), rs in cells.items())
+    out = ["# Holt smoothing parameters (training seeds only)", "",
+           "Mean over the grid's ranks and training seeds; sorted by imbalance (lower is better).", "",
+           "| alpha | beta | imbalance % | migration |", "|---:|---:|---:|---:|"]
+    out += [f"| {a:g} | {b:g} | {100 * i:.3f} | {m:.0f} |" for i, m, a, b in scored]
+    return "\n".join(out) + "\n"
+
+
+REPORTS = {
+    # csv (relative to results) -> [(output, builder)]
+    "controller_eval/controller_eval.csv": [("tables/controller_eval.md", controller_table),
+                                            ("figures/controller_eval.png", controller_figure)],
+    "controller_long/controller_long.csv": [("tables/controller_long.md", controller_table)],
+    "holt_tuning/holt_tuning.csv": [("tables/holt_tuning.md", holt_tuning_table)],
+}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--results", default="results", help="results directory (default: results)")
+    args = ap.parse_args()
+    made = 0
+    for rel, outputs in REPORTS.items():
+        path = os.path.join(args.results, rel)
+        if not os.path.exists(path):
+            continue
+        rows = read_rows(path)
+        if not rows:
+            print(f"report: {path}: no rows", file=sys.stderr)
+            return 2
+        for out, build in outputs:
+            atomic_write(os.path.join(args.results, out), build(rows))
+            print(f"report: wrote {os.path.join(args.results, out)}")
+            made += 1
+    if made == 0:
+        print(f"report: no known CSV under {args.results}/ (run make experiments)", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

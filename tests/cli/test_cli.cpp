@@ -1,0 +1,88 @@
+// The semlb binary: help, bad input (exit 2, one line, no output), determinism, replay == rollout.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "../run_command.hpp"
+
+using namespace semlb::test;
+namespace fs = std::filesystem;
+
+namespace {
+void expect_bad_input(const std::string& args, const std::string& message, const std::string& no_file = "") {
+  const auto r = run(semlb_bin() + " " + args);
+  EXPECT_EQ(r.rc, 2) << args << "\n" << r.out;
+  EXPECT_NE(r.out.find(message), std::string::npos) << args << "\n" << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  if (!no_file.empty()) EXPECT_FALSE(fs::exists(no_file)) << no_file;
+}
+}  // namespace
+
+TEST(Cli, HelpForEverySubcommand) {
+  for (const char* sub : {"", "surrogate", "replay", "sweep", "bench"}) {
+    const auto r = run(semlb_bin() + " " + sub + " --help");
+    EXPECT_EQ(r.rc, 0) << sub;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+  }
+}
+
+TEST(Cli, BadInputExitsTwoWithOneLineAndNoOutput) {
+  const auto dir = fresh_dir("cli_bad");
+  const std::string out = " --out " + dir + "/o";
+  expect_bad_input("surrogate --policies static,warp" + out, "unknown policy 'warp'", dir + "/o/controller_eval.csv");
+  expect_bad_input("surrogate --policies static --seeds 9005-9000" + out, "--seeds: '9005-9000'", dir + "/o/controller_eval.csv");
+  expect_bad_input("surrogate --policies static --ranks 0" + out, "ranks", dir + "/o/controller_eval.csv");
+  expect_bad_input("surrogate --policies gru --weights " + dir + "/none.h5" + out, "none.h5: no such file");
+  expect_bad_input("surrogate --policies static --param reactive.tua=1" + out, "no parameter 'tua'");
+  expect_bad_input("surrogate --policies static --events -3" + out, "--events");
+  expect_bad_input("surrogate --policies static --frobnicate" + out, "frobnicate");
+  expect_bad_input("warp", "warp");
+  write(dir + "/t.jsonl", "{\"event\":0,\"slices\":8,\"min_width\":2,\"boundaries\":[4],\"times\":[1,1]}\n\n"
+                          "{\"event\":1,\"slices\":8,\"min_width\":2,\"boundaries\":[4],\"times\":[1]}\n");
+  expect_bad_input("replay --policy reactive --trace " + dir + "/t.jsonl", "t.jsonl:3: event 1: boundaries has 1");
+  expect_bad_input("replay --policy reactive --trace " + dir + "/missing.jsonl", "missing.jsonl: cannot open trace");
+}
+
+TEST(Cli, SameSeedsGiveTheSameCsv) {
+  const auto dir = fresh_dir("cli_det");
+  const std::string args = " surrogate --policies static,reactive,persistence,holt,oracle --ranks 2,8 --seeds 9000-9002 "
+                           "--events 30 --no-timing --quiet --out ";
+  ASSERT_EQ(run(semlb_bin() + args + dir + "/a").rc, 0);
+  ASSERT_EQ(run(semlb_bin() + args + dir + "/b --jobs 2").rc, 0);
+  const auto a = slurp(dir + "/a/controller_eval.csv");
+  EXPECT_EQ(a, slurp(dir + "/b/controller_eval.csv"));
+  EXPECT_EQ(a.substr(0, a.find('\n')),
+            "policy,ranks,seed,events,slices,min_width,mean_imbalance,migration,mean_max_over_mean,"
+            "first_quarter_imbalance,last_quarter_imbalance,us_per_decision");
+  EXPECT_EQ(std::count(a.begin(), a.end(), '\n'), 1 + 5 * 2 * 3);
+}
+
+TEST(Cli, ReplayOfADumpedTraceReproducesTheRollout) {
+  const auto dir = fresh_dir("cli_replay");
+  ASSERT_EQ(run(semlb_bin() + " surrogate --policies reactive,holt,persistence,oracle --ranks 4 --seeds 9001 --events 40 "
+                "--dump-traces --quiet --out " + dir).rc, 0);
+  for (const char* policy : {"reactive", "holt", "persistence", "oracle"}) {
+    const std::string trace = dir + "/traces/" + policy + "_P4_s9001.jsonl";
+    ASSERT_TRUE(fs::exists(trace)) << trace;
+    const auto r = run(semlb_bin() + " replay --policy " + policy + " --trace " + trace);
+    ASSERT_EQ(r.rc, 0) << r.out;
+    std::istringstream replayed(r.out), recorded(slurp(trace));
+    std::string got, want;
+    int events = 0;
+    while (std::getline(recorded, want)) {
+      ASSERT_TRUE(std::getline(replayed, got));
+      const auto d = want.find("\"decision\":");
+      const std::string decision = want.substr(d + 11, want.find(']', d) - d - 10);
+      EXPECT_NE(got.find("\"boundaries\":" + decision), std::string::npos) << policy << " event " << events;
+      ++events;
+    }
+    EXPECT_EQ(events, 40);
+  }
+}
+
+TEST(Cli, BenchPrintsATableRowPerPolicy) {
+  const auto r = run(semlb_bin() + " bench policies --ranks 4 --events 10 --repeats 1");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  for (const char* p : {"static", "reactive", "persistence", "holt", "gru", "oracle"})
+    EXPECT_NE(r.out.find(std::string("\n") + p + " "), std::string::npos) << p;
+}

@@ -1,0 +1,48 @@
+// Test helper: runs a shell command, capturing exit code and combined output; temp directories.
+#pragma once
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace semlb::test {
+
+struct Result {
+  int rc;
+  std::string out;
+};
+
+inline Result run(const std::string& cmd) {
+  Result r{0, ""};
+  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
+  const int status = pclose(p);
+  r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+inline std::string semlb_bin() { return SEMLB_BINARY; }
+inline std::string source(const std::string& rel) { return std::string(SEMLB_SOURCE_DIR) + "/" + rel; }
+
+inline std::string fresh_dir(const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() / ("semlb_" + name);
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d.string();
+}
+
+inline std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+inline void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+}  // namespace semlb::test
