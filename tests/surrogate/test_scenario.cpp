@@ -38,7 +38,9 @@ TEST(Scenario, RangesHoldForManySeeds) {
       ASSERT_GE(w.growth_phase(), 0.0);
       ASSERT_LT(w.growth_phase(), 1.0);
       growth_events += w.growth_event();
-      if (w.growth_event()) ASSERT_EQ(w.growth_phase(), 0.0);
+      if (w.growth_event()) {
+        ASSERT_EQ(w.growth_phase(), 0.0);
+      }
     }
   }
   EXPECT_GT(growth_events, 60 * 100 / 31);
