@@ -5,6 +5,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "errors.hpp"
+#include "metrics.hpp"
+#include "observation.hpp"
+#include "partition.hpp"
+#include "reactive.hpp"
+
 namespace semlb {
 namespace {
 double clamp(double v, double lo, double hi) { return std::clamp(v, lo, hi); }
@@ -27,6 +33,41 @@ FeatureVector boundary_features(const BoundaryState& s) {
       s.growth_event ? 1.0 : 0.0,
       clamp(s.proposal / std::max(s.ds_max, 1e-12), -1.0, 1.0),
   };
+}
+
+std::vector<BoundaryInputs> FeatureTracker::observe(const Observation& obs, const ReactiveParams& p) {
+  const auto proposals = reactive_proposals(obs, p);
+  if (!started_) {
+    for (const auto& pr : proposals) prev_imbalance_.push_back(pr.local_imbalance);
+    prev_boundaries_ = obs.boundaries;
+    started_ = true;
+  }
+  if (proposals.size() != prev_imbalance_.size())
+    throw InputError("event " + std::to_string(obs.event) + ": gru: the number of boundaries changed from " +
+                     std::to_string(prev_imbalance_.size()) + " to " + std::to_string(proposals.size()));
+  const auto w = widths(obs.boundaries, obs.slices);
+  const double gimb = global_imbalance(obs.times);
+  std::vector<BoundaryInputs> out(proposals.size());
+  for (size_t i = 0; i < proposals.size(); ++i) {
+    const auto& pr = proposals[i];
+    BoundaryState s;
+    s.local_imbalance = pr.local_imbalance;
+    s.prev_local_imbalance = prev_imbalance_[i];
+    s.global_imbalance = gimb;
+    s.width_left = w[i];
+    s.width_right = w[i + 1];
+    s.min_width = obs.min_width;
+    s.mean_width = static_cast<double>(obs.slices) / obs.ranks();
+    s.last_move = obs.boundaries[i] - prev_boundaries_[i];
+    s.growth_phase = obs.growth_phase;
+    s.growth_event = obs.growth_event;
+    s.ds_max = ds_max_frac_ * pr.n_slow;
+    s.proposal = pr.direction * pr.magnitude;
+    out[i] = {boundary_features(s), pr.direction, pr.magnitude, s.ds_max};
+    prev_imbalance_[i] = pr.local_imbalance;
+  }
+  prev_boundaries_ = obs.boundaries;
+  return out;
 }
 
 const std::array<std::string, kFeatureCount>& feature_names() {

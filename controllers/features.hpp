@@ -3,6 +3,7 @@
 #pragma once
 #include <array>
 #include <string>
+#include <vector>
 
 namespace semlb {
 
@@ -26,6 +27,32 @@ struct BoundaryState {
 
 using FeatureVector = std::array<double, kFeatureCount>;
 FeatureVector boundary_features(const BoundaryState& s);
+
+struct Observation;
+struct ReactiveParams;
+
+// What the GRU needs at one boundary for one event: its features and the reactive pieces of eq. 6.
+struct BoundaryInputs {
+  FeatureVector features;
+  int direction = 0;              // toward the slower rank (+1 right, -1 left, 0 none)
+  double reactive_magnitude = 0;  // |Δs_r| (slices)
+  double ds_max = 0;              // ds_max_frac * N_slow (slices)
+};
+
+// Keeps the per-boundary history the features need (previous local imbalance, previously observed
+// boundaries). Used by the gru policy and by the trainer, so both compute identical inputs.
+class FeatureTracker {
+ public:
+  explicit FeatureTracker(double ds_max_frac) : ds_max_frac_(ds_max_frac) {}
+  // Throws InputError if the number of boundaries differs from the first observation's.
+  std::vector<BoundaryInputs> observe(const Observation& obs, const ReactiveParams& p);
+
+ private:
+  double ds_max_frac_;
+  bool started_ = false;
+  std::vector<double> prev_imbalance_;
+  std::vector<int> prev_boundaries_;
+};
 
 // Names in order, e.g. "local_imbalance"; joined with commas in the weights file's metadata.
 const std::array<std::string, kFeatureCount>& feature_names();

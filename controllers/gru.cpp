@@ -8,7 +8,6 @@
 #include "errors.hpp"
 #include "features.hpp"
 #include "h5.hpp"
-#include "metrics.hpp"
 #include "partition.hpp"
 #include "policy.hpp"
 #include "reactive.hpp"
@@ -149,54 +148,26 @@ namespace {
 
 class GruPolicy final : public Policy {
  public:
-  GruPolicy(GruWeights w, ReactiveParams p) : w_(std::move(w)), p_(p) {}
+  GruPolicy(GruWeights w, ReactiveParams p) : w_(std::move(w)), p_(p), tracker_(w_.ds_max_frac) {}
 
   std::vector<int> decide(const Observation& obs) override {
-    const auto proposals = reactive_proposals(obs, p_);
-    const size_t B = proposals.size();
-    if (hidden_.cols() == 0 && B > 0) start(proposals, obs);
-    if (static_cast<size_t>(hidden_.cols()) != B)
-      throw InputError("event " + std::to_string(obs.event) + ": gru: the number of boundaries changed from " +
-                       std::to_string(hidden_.cols()) + " to " + std::to_string(B));
-    const auto w = widths(obs.boundaries, obs.slices);
-    const double gimb = global_imbalance(obs.times);
-    std::vector<long> moves(B);
-    for (size_t i = 0; i < B; ++i) {
-      const auto& pr = proposals[i];
-      BoundaryState s;
-      s.local_imbalance = pr.local_imbalance;
-      s.prev_local_imbalance = prev_imbalance_[i];
-      s.global_imbalance = gimb;
-      s.width_left = w[i];
-      s.width_right = w[i + 1];
-      s.min_width = obs.min_width;
-      s.mean_width = static_cast<double>(obs.slices) / obs.ranks();
-      s.last_move = obs.boundaries[i] - prev_boundaries_[i];
-      s.growth_phase = obs.growth_phase;
-      s.growth_event = obs.growth_event;
-      s.ds_max = w_.ds_max_frac * pr.n_slow;
-      s.proposal = pr.direction * pr.magnitude;
-      const auto f = boundary_features(s);
-      hidden_.col(i) = gru_step(w_, Eigen::Map<const Eigen::VectorXd>(f.data(), kFeatureCount), hidden_.col(i));
-      moves[i] = integer_step(pr.direction, residual_magnitude(pr.magnitude, s.ds_max, gru_head(w_, hidden_.col(i))));
-      prev_imbalance_[i] = pr.local_imbalance;
+    const auto inputs = tracker_.observe(obs, p_);
+    if (hidden_.cols() != static_cast<Eigen::Index>(inputs.size()))
+      hidden_ = Eigen::MatrixXd::Zero(w_.hidden, static_cast<Eigen::Index>(inputs.size()));  // first event
+    std::vector<long> moves(inputs.size());
+    for (size_t i = 0; i < inputs.size(); ++i) {
+      const auto& in = inputs[i];
+      hidden_.col(i) = gru_step(w_, Eigen::Map<const Eigen::VectorXd>(in.features.data(), kFeatureCount), hidden_.col(i));
+      moves[i] = integer_step(in.direction, residual_magnitude(in.reactive_magnitude, in.ds_max, gru_head(w_, hidden_.col(i))));
     }
-    prev_boundaries_ = obs.boundaries;
     return apply_moves(obs.boundaries, moves, obs.slices, obs.min_width);
   }
 
  private:
-  void start(const std::vector<BoundaryProposal>& proposals, const Observation& obs) {
-    hidden_ = Eigen::MatrixXd::Zero(w_.hidden, static_cast<Eigen::Index>(proposals.size()));
-    for (const auto& p : proposals) prev_imbalance_.push_back(p.local_imbalance);
-    prev_boundaries_ = obs.boundaries;
-  }
-
   GruWeights w_;
   ReactiveParams p_;
+  FeatureTracker tracker_;
   Eigen::MatrixXd hidden_;  // H x B: one hidden state per boundary
-  std::vector<double> prev_imbalance_;
-  std::vector<int> prev_boundaries_;
 };
 
 const Registrar gru_registrar("gru", [](PolicyParams& params) {
@@ -211,4 +182,9 @@ const Registrar gru_registrar("gru", [](PolicyParams& params) {
 });
 
 }  // namespace
+
+std::unique_ptr<Policy> make_gru_policy(GruWeights w, const ReactiveParams& p) {
+  return std::make_unique<GruPolicy>(std::move(w), p);
+}
+
 }  // namespace semlb

@@ -2,6 +2,7 @@
 #pragma once
 #include <Eigen/Dense>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 namespace semlb {
@@ -31,6 +32,11 @@ double gru_head(const GruWeights& w, const Eigen::VectorXd& h);
 // Residual boundary step magnitude (paper eq. 6): Δs_max tanh(atanh(clip(|Δs_r|/Δs_max)) + r), >= 0.
 // With r == 0 the identity tanh(atanh(u)) = u is applied exactly, so a zero head reproduces reactive.
 double residual_magnitude(double reactive_magnitude, double ds_max, double residual);
+
+// A gru policy from weights in memory (the trainer validates with it); reactive parameters as given.
+struct ReactiveParams;
+class Policy;
+std::unique_ptr<Policy> make_gru_policy(GruWeights w, const ReactiveParams& p);
 
 // File I/O. Loading checks format, version, feature set and list, and every shape; errors name the file.
 GruWeights load_gru_weights(const std::string& path);
