@@ -14,6 +14,7 @@ Action add_surrogate(CLI::App& app);
 Action add_replay(CLI::App& app);
 Action add_sweep(CLI::App& app);
 Action add_bench(CLI::App& app);
+Action add_train(CLI::App& app);  // only when built with libtorch (SEMLB_WITH_TORCH)
 
 // The full command line, recorded next to results.
 std::string command_line();

@@ -113,7 +113,7 @@ GruWeights load_gru_weights(const std::string& path) {
   return w;
 }
 
-void save_gru_weights(const std::string& path, const GruWeights& w) {
+void save_gru_weights(const std::string& path, const GruWeights& w, const std::function<void(h5::File&)>& extra) {
   const std::string tmp = path + ".tmp";
   {
     auto f = h5::File::create(tmp);
@@ -135,8 +135,30 @@ void save_gru_weights(const std::string& path, const GruWeights& w) {
     put("/gru/bias_hh", w.b_hh, true);
     put("/head/weight", w.head_w.transpose(), false);
     put("/head/bias", Eigen::VectorXd::Constant(1, w.head_b), true);
+    if (extra) extra(f);
   }
   std::filesystem::rename(tmp, path);
+}
+
+double gru_parity_error(const std::string& path) {
+  const GruWeights w = load_gru_weights(path);
+  const auto f = h5::File::open_read(path);
+  std::vector<hsize_t> in_dims, out_dims;
+  const auto inputs = f.read("/parity/inputs", in_dims);
+  const auto outputs = f.read("/parity/residuals", out_dims);
+  if (in_dims.size() != 3 || in_dims[2] != static_cast<hsize_t>(w.inputs) || out_dims.size() != 2 ||
+      out_dims[0] != in_dims[0] || out_dims[1] != in_dims[1])
+    throw InputError(path + ": /parity/inputs must be [T, B, " + std::to_string(w.inputs) + "] and /parity/residuals [T, B]");
+  const hsize_t T = in_dims[0], B = in_dims[1], F = in_dims[2];
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(w.hidden, static_cast<Eigen::Index>(B));
+  double worst = 0;
+  for (hsize_t t = 0; t < T; ++t)
+    for (hsize_t b = 0; b < B; ++b) {
+      const Eigen::Map<const Eigen::VectorXd> x(inputs.data() + (t * B + b) * F, static_cast<Eigen::Index>(F));
+      h.col(b) = gru_step(w, x, h.col(b));
+      worst = std::max(worst, std::fabs(gru_head(w, h.col(b)) - outputs[t * B + b]));
+    }
+  return worst;
 }
 
 std::string default_gru_weights_path() {

@@ -2,6 +2,7 @@
 #pragma once
 #include <Eigen/Dense>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -39,8 +40,14 @@ class Policy;
 std::unique_ptr<Policy> make_gru_policy(GruWeights w, const ReactiveParams& p);
 
 // File I/O. Loading checks format, version, feature set and list, and every shape; errors name the file.
+// `extra` may add metadata or datasets before the file is renamed into place.
+namespace h5 { class File; }
 GruWeights load_gru_weights(const std::string& path);
-void save_gru_weights(const std::string& path, const GruWeights& w);
+void save_gru_weights(const std::string& path, const GruWeights& w, const std::function<void(h5::File&)>& extra = {});
+
+// Largest |residual - recorded| over the file's parity record (/parity/inputs [T,B,F], /parity/residuals
+// [T,B]), replayed through gru_step/gru_head with one hidden state per boundary. InputError if absent.
+double gru_parity_error(const std::string& path);
 
 // The shipped default weights file (may not exist yet).
 std::string default_gru_weights_path();

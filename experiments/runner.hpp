@@ -1,4 +1,4 @@
-// Sweep runners registered by name (a manifest's `runner:`): each turns one Job into one CSV row.
+// Sweep runners registered by name (a manifest's `runner:`): each turns one Job into CSV rows.
 #pragma once
 #include <functional>
 #include <memory>
@@ -20,7 +20,8 @@ class Runner {
   virtual std::vector<std::string> columns() const = 0;
   // Throws InputError naming the manifest line/field of a bad or unknown setting; runs nothing.
   virtual void check(const Job& job, const std::string& manifest) const = 0;
-  virtual std::vector<std::string> run(const Job& job, const RunOptions& options) const = 0;
+  // One or more rows (in columns() order); a job's rows are written together, so resume is per job.
+  virtual std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& options) const = 0;
 };
 
 struct RunnerRegistrar {

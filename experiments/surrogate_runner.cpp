@@ -49,8 +49,8 @@ class SurrogateRunner final : public Runner {
     }
   }
 
-  std::vector<std::string> run(const Job& job, const RunOptions& options) const override {
-    return surrogate::run_eval_job(to_eval_job(job, ""), params(job), options.timing, options.trace_dir);
+  std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& options) const override {
+    return {surrogate::run_eval_job(to_eval_job(job, ""), params(job), options.timing, options.trace_dir)};
   }
 
  private:

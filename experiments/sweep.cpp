@@ -66,7 +66,8 @@ std::string key_of_row(const std::vector<std::string>& row, const std::vector<st
   return k;
 }
 
-// Reads finished rows (key -> line) from an earlier CSV; a torn last line (no newline) is dropped.
+// Reads finished rows (job key -> its lines) from an earlier CSV; a torn last line (no newline) is dropped.
+// A job's rows are appended in one write, so a job is either complete or (torn line aside) absent.
 std::map<std::string, std::string> read_rows(const std::string& path, const Layout& l, std::vector<std::string>& order) {
   std::map<std::string, std::string> rows;
   std::ifstream in(path);
@@ -85,7 +86,7 @@ std::map<std::string, std::string> read_rows(const std::string& path, const Layo
     if (cells.size() != l.header.size()) throw InputError(where(path, n, "") + "row has the wrong number of columns");
     const auto key = key_of_row(cells, l.header, l);
     if (!rows.count(key)) order.push_back(key);
-    rows[key] = line + "\n";
+    rows[key] += line + "\n";  // a job may have several rows
   }
   return rows;
 }
@@ -199,14 +200,16 @@ SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overri
     for (size_t t; (t = next++) < todo.size();) {
       const Job& job = jobs[todo[t]];
       try {
-        auto row = runner->run(job, o.run);
-        std::vector<std::string> cells;
-        for (const auto& a : layout.extra_axes) cells.push_back(job.find(a)->value);
-        for (size_t c = 0; c < row.size(); ++c) {  // key columns keep the manifest's spelling
-          const bool axis = std::find(layout.axes.begin(), layout.axes.end(), columns[c]) != layout.axes.end();
-          cells.push_back(axis ? job.find(columns[c])->value : row[c]);
+        std::string line;  // all rows of the job, appended with one write
+        for (const auto& row : runner->run(job, o.run)) {
+          std::vector<std::string> cells;
+          for (const auto& a : layout.extra_axes) cells.push_back(job.find(a)->value);
+          for (size_t c = 0; c < row.size(); ++c) {  // key columns keep the manifest's spelling
+            const bool axis = std::find(layout.axes.begin(), layout.axes.end(), columns[c]) != layout.axes.end();
+            cells.push_back(axis ? job.find(columns[c])->value : row[c]);
+          }
+          line += csv_line(cells);
         }
-        const std::string line = csv_line(cells);
         std::lock_guard lock(mu);
         out.append(line);
         done[key_of(job, layout)] = line;

@@ -12,7 +12,7 @@ namespace semlb::surrogate {
 namespace {
 
 enum Stream : uint64_t { kSetup = 1, kHotspot, kDrift, kGrowth, kBurst, kTimeNoise, kWorkNoise, kTexture, kBias };
-constexpr double kMaxSpeed = 0.0015;  // hotspot drift, domain lengths per event
+constexpr double kMaxSpeed = 0.0005;  // hotspot drift, domain lengths per event
 
 double clipped_normal(uint64_t seed, uint64_t stream, uint64_t counter, uint64_t index) {
   return std::clamp(rng::normal(seed, stream, counter, index), -3.0, 3.0);
@@ -30,7 +30,7 @@ Scenario make_scenario(uint64_t seed, int ranks) {
     throw InputError("ranks = " + std::to_string(ranks) + " must be in [1, " + std::to_string(s.slices) + "]");
   s.min_width = std::max(1, std::min(static_cast<int>(u(2, 7, 1)), s.slices / (2 * ranks)));
   s.baseline = u(0.2, 0.6, 2);
-  s.growth_rate = u(0.0, 0.002, 3);
+  s.growth_rate = u(0.0, 0.001, 3);
   s.growth_period = static_cast<int>(u(8, 31, 4));
   s.growth_offset = static_cast<int>(u(0, s.growth_period, 5));
   s.burst_probability = u(0.02, 0.10, 6);
@@ -39,7 +39,7 @@ Scenario make_scenario(uint64_t seed, int ranks) {
   const int n = static_cast<int>(u(2, 7, 9));
   for (int h = 0; h < n; ++h) {
     auto hu = [&](double lo, double hi, uint64_t k) { return rng::uniform(lo, hi, seed, kHotspot, h, k); };
-    s.hotspots.push_back({hu(0.05, 0.95, 0), std::clamp(0.0006 * clipped_normal(seed, kHotspot, h, 7), -kMaxSpeed, kMaxSpeed),
+    s.hotspots.push_back({hu(0.05, 0.95, 0), std::clamp(0.0002 * clipped_normal(seed, kHotspot, h, 7), -kMaxSpeed, kMaxSpeed),
                           hu(0.5, 2.0, 2), hu(0.05, 0.25, 3)});
   }
   for (int k = 0; k < 3; ++k) {
@@ -65,7 +65,7 @@ void Workload::advance() {
   growth_event_ = (event_ - s_.growth_offset) % s_.growth_period == 0;
   for (size_t h = 0; h < hotspots_.size(); ++h) {
     Hotspot& hs = hotspots_[h];
-    hs.velocity = std::clamp(hs.velocity + 0.0001 * clipped_normal(seed, kDrift, t, h), -kMaxSpeed, kMaxSpeed);
+    hs.velocity = std::clamp(hs.velocity + 0.00003 * clipped_normal(seed, kDrift, t, h), -kMaxSpeed, kMaxSpeed);
     hs.centre += hs.velocity;
     if (hs.centre < 0.02 || hs.centre > 0.98) {  // reflect at the tissue edge
       hs.velocity = -hs.velocity;
@@ -73,7 +73,7 @@ void Workload::advance() {
     }
     hs.amplitude *= 1.0 + s_.growth_rate;
     if (growth_event_ && rng::uniform(seed, kGrowth, t, 3 * h) < 0.5) {  // a division wave in this region
-      hs.amplitude *= 1.0 + rng::uniform(0.02, 0.10, seed, kGrowth, t, 3 * h + 1);
+      hs.amplitude *= 1.0 + rng::uniform(0.01, 0.05, seed, kGrowth, t, 3 * h + 1);
       hs.width = std::min(0.3, hs.width * (1.0 + rng::uniform(0.0, 0.03, seed, kGrowth, t, 3 * h + 2)));
     }
   }
@@ -84,13 +84,20 @@ void Workload::advance() {
   evaluate();
 }
 
+namespace {
+// amplitude * exp(-z^2/2), z = (x - centre)/width; exactly 0 beyond 9 widths (below 3e-18 of the peak).
+double gaussian(double x, double centre, double width, double amplitude) {
+  const double z = (x - centre) / width;
+  return z * z > 81.0 ? 0.0 : amplitude * std::exp(-0.5 * z * z);
+}
+}  // namespace
+
 void Workload::evaluate() {
   for (int i = 0; i < s_.slices; ++i) {
     const double x = (i + 0.5) / s_.slices;
     double d = s_.baseline;
-    for (const auto& h : hotspots_) d += h.amplitude * std::exp(-0.5 * std::pow((x - h.centre) / h.width, 2));
-    for (const auto& b : bursts_)
-      d += b.amplitude * std::exp(-(event_ - b.start) / b.decay) * std::exp(-0.5 * std::pow((x - b.centre) / b.width, 2));
+    for (const auto& h : hotspots_) d += gaussian(x, h.centre, h.width, h.amplitude);
+    for (const auto& b : bursts_) d += gaussian(x, b.centre, b.width, b.amplitude * std::exp(-(event_ - b.start) / b.decay));
     work_[i] = d * s_.texture[i] / s_.slices;
   }
 }

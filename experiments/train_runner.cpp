@@ -1,0 +1,67 @@
+// The "train" runner: one training run per job; its rows are the run's validation log (held-out
+// imbalance and migration against steps and wall time). Job keys are training settings (see
+// surrogate/train/config.hpp); `config` names a YAML file.
+#include <filesystem>
+#include <fstream>
+
+#include "controllers/errors.hpp"
+#include "runner.hpp"
+#include "surrogate/train/trainer.hpp"
+
+namespace semlb::experiments {
+namespace {
+
+class TrainRunner final : public Runner {
+ public:
+  std::vector<std::string> columns() const override {
+    return {"step", "wall_seconds", "loss", "lr", "temperature", "val_imbalance", "val_migration",
+            "reactive_imbalance", "reactive_migration"};
+  }
+
+  void check(const Job& job, const std::string& manifest) const override { config(job, manifest); }
+
+  std::vector<std::vector<std::string>> run(const Job& job, const RunOptions&) const override {
+    const auto c = config(job, "");
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("semlb_train_runner_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(train::to_yaml(c))));
+    std::filesystem::create_directories(dir);
+    train::TrainOptions o;
+    o.out = (dir / "weights.h5").string();
+    o.log = (dir / "log.csv").string();
+    o.progress = false;
+    train::run_training(c, o);
+    std::vector<std::vector<std::string>> rows;
+    std::ifstream in(o.log);
+    std::string line;
+    std::getline(in, line);  // header: same columns as columns()
+    while (std::getline(in, line)) {
+      std::vector<std::string> cells;
+      size_t pos = 0;
+      for (size_t comma; (comma = line.find(',', pos)) != std::string::npos; pos = comma + 1) cells.push_back(line.substr(pos, comma - pos));
+      cells.push_back(line.substr(pos));
+      rows.push_back(std::move(cells));
+    }
+    std::filesystem::remove_all(dir);
+    return rows;
+  }
+
+ private:
+  static train::TrainConfig config(const Job& job, const std::string& manifest) {
+    std::string file;
+    std::vector<std::string> sets;
+    for (const auto& [k, s] : job.settings) {
+      if (k == "config") file = s.value;
+      else sets.push_back(k + "=" + s.value);
+    }
+    try {
+      return train::load_train_config(file, sets);
+    } catch (const InputError& e) {
+      throw InputError(manifest + ": " + e.what());
+    }
+  }
+};
+
+const RunnerRegistrar registrar("train", [] { return std::make_unique<TrainRunner>(); });
+
+}  // namespace
+}  // namespace semlb::experiments

@@ -1,0 +1,112 @@
+// Trainer configuration: one visitor lists every field once, for parsing and for printing.
+#include "config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <charconv>
+#include <sstream>
+
+#include "controllers/errors.hpp"
+#include "surrogate/evaluate.hpp"
+#include "surrogate/scenario.hpp"
+
+namespace semlb::train {
+namespace {
+
+template <class C, class F>
+void visit(C& c, F&& f) {
+  f("steps", c.steps), f("batch", c.batch), f("events", c.events), f("lr", c.lr), f("lr_final_frac", c.lr_final_frac);
+  f("clip", c.clip), f("temp_start", c.temp_start), f("temp_end", c.temp_end), f("spread_weight", c.spread_weight);
+  f("migration_penalty", c.migration_penalty), f("difficulty_floor", c.difficulty_floor), f("hidden", c.hidden);
+  f("ds_max_frac", c.ds_max_frac), f("ranks_min", c.ranks_min), f("ranks_max", c.ranks_max), f("seed", c.seed);
+  f("threads", c.threads), f("validate_every", c.validate_every), f("validation_seeds", c.validation_seeds);
+  f("validation_ranks", c.validation_ranks), f("validation_events", c.validation_events);
+  f("checkpoint_every", c.checkpoint_every);
+}
+
+void parse(const std::string& text, long& out) {
+  auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
+  if (ec != std::errc() || p != text.data() + text.size()) throw InputError("'" + text + "' is not an integer");
+}
+void parse(const std::string& text, double& out) {
+  size_t used = 0;
+  try {
+    out = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty()) throw InputError("'" + text + "' is not a number");
+}
+void parse(const std::string& text, std::string& out) { out = text; }
+
+void set(TrainConfig& c, const std::string& key, const std::string& value, const std::string& file, long line) {
+  bool found = false;
+  visit(c, [&](const char* name, auto& field) {
+    if (key != name) return;
+    found = true;
+    try {
+      parse(value, field);
+    } catch (const InputError& e) {
+      throw InputError(where(file, line, key) + e.what());
+    }
+  });
+  if (!found) throw InputError(where(file, line, key) + "unknown training setting");
+}
+
+void check(const TrainConfig& c) {
+  auto need = [](bool ok, const char* field, const char* what) {
+    if (!ok) throw InputError(std::string("training setting '") + field + "': " + what);
+  };
+  need(c.steps >= 0, "steps", "must be >= 0");
+  need(c.batch >= 1, "batch", "must be >= 1");
+  need(c.events >= 1, "events", "must be >= 1");
+  need(c.lr > 0 && c.lr_final_frac > 0 && c.lr_final_frac <= 1, "lr", "need lr > 0 and 0 < lr_final_frac <= 1");
+  need(c.temp_start > 0 && c.temp_end > 0, "temp_start", "temperatures must be > 0");
+  need(c.hidden >= 1 && c.hidden <= 1024, "hidden", "must be in [1, 1024]");
+  need(c.ds_max_frac > 0 && c.ds_max_frac <= 1, "ds_max_frac", "must be in (0, 1]");
+  need(c.ranks_min >= 2 && c.ranks_max >= c.ranks_min && c.ranks_max <= 64, "ranks_min", "need 2 <= ranks_min <= ranks_max <= 64");
+  need(c.threads >= 1, "threads", "must be >= 1");
+  need(c.checkpoint_every >= 1, "checkpoint_every", "must be >= 1");
+  for (long s : surrogate::parse_int_list(c.validation_seeds, "validation_seeds"))
+    need(surrogate::kValidationSeeds.contains(s), "validation_seeds", "must lie in the validation range 8000-8999");
+  surrogate::parse_int_list(c.validation_ranks, "validation_ranks");
+}
+
+}  // namespace
+
+TrainConfig load_train_config(const std::string& path, const std::vector<std::string>& overrides) {
+  TrainConfig c;
+  if (!path.empty()) {
+    YAML::Node root;
+    try {
+      root = YAML::LoadFile(path);
+    } catch (const YAML::BadFile&) {
+      throw InputError(path + ": cannot open training config");
+    } catch (const YAML::Exception& e) {
+      throw InputError(where(path, e.mark.line + 1, "") + "YAML syntax error: " + e.msg);
+    }
+    if (root && !root.IsNull()) {
+      if (!root.IsMap()) throw InputError(path + ": a training config must be a YAML mapping");
+      for (const auto& kv : root) {
+        if (!kv.second.IsScalar()) throw InputError(where(path, kv.second.Mark().line + 1, kv.first.Scalar()) + "must be a single value");
+        set(c, kv.first.Scalar(), kv.second.Scalar(), path, kv.first.Mark().line + 1);
+      }
+    }
+  }
+  for (const auto& o : overrides) {
+    const size_t eq = o.find('=');
+    if (eq == std::string::npos || eq == 0) throw InputError("--set: '" + o + "' is not KEY=VALUE");
+    set(c, o.substr(0, eq), o.substr(eq + 1), "--set", 0);
+  }
+  check(c);
+  return c;
+}
+
+std::string to_yaml(const TrainConfig& c) {
+  std::ostringstream out;
+  out.precision(17);
+  visit(c, [&](const char* name, const auto& field) { out << name << ": " << field << "\n"; });
+  return out.str();
+}
+
+}  // namespace semlb::train

@@ -1,0 +1,38 @@
+// Trainer hyper-parameters (paper Sec. IV-E defaults), loadable from YAML with --set overrides.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace semlb::train {
+
+struct TrainConfig {
+  long steps = 6000;                 // optimisation steps
+  long batch = 32;                   // episodes per step
+  long events = 50;                  // rebalancing events per training rollout (BPTT horizon)
+  double lr = 3e-3;                  // Adam initial learning rate
+  double lr_final_frac = 0.05;       // cosine annealing down to lr * lr_final_frac
+  double clip = 1.0;                 // gradient-norm clipping
+  double temp_start = 1.5;           // soft boundary-assignment temperature (slices), annealed linearly...
+  double temp_end = 0.4;             // ...to this value at the last step
+  double spread_weight = 0.3;        // weight of the normalised spread std/mean in the loss
+  double migration_penalty = 5e-4;   // L1 penalty per moved slice
+  double difficulty_floor = 0.005;   // lower bound of the per-episode difficulty scale
+  long hidden = 24;                  // GRU hidden size
+  double ds_max_frac = 0.5;          // Δs_max = ds_max_frac * N_slow
+  long ranks_min = 2, ranks_max = 16;  // episode rank counts (uniform)
+  long seed = 1;                     // model init + episode sampling
+  long threads = 1;                  // episode-generation threads (beside the training thread); any count gives the same run
+  long validate_every = 250;         // steps between validation rollouts (0: only at the end)
+  std::string validation_seeds = "8000-8007";  // validation range only (8000-8999)
+  std::string validation_ranks = "2,4,8,16";
+  long validation_events = 100;
+  long checkpoint_every = 100;       // steps between checkpoints
+};
+
+// Loads FILE (may be empty: defaults) then KEY=VALUE overrides; errors name the file, line and field.
+TrainConfig load_train_config(const std::string& path, const std::vector<std::string>& overrides);
+// Every key as "key: value" lines (stored in the weights file and checked on resume).
+std::string to_yaml(const TrainConfig& c);
+
+}  // namespace semlb::train

@@ -1,0 +1,62 @@
+// Training episode generation (hash-keyed: no RNG state to checkpoint).
+#include "episodes.hpp"
+
+#include <algorithm>
+#include <thread>
+
+#include "controllers/chains.hpp"
+#include "controllers/policy.hpp"
+#include "surrogate/rng.hpp"
+#include "controllers/metrics.hpp"
+#include "controllers/partition.hpp"
+
+namespace semlb::train {
+
+Episode make_episode(const TrainConfig& c, long step, int index) {
+  const auto& seeds = surrogate::kTrainSeeds;
+  const uint64_t key = rng::bits(static_cast<uint64_t>(c.seed), 0x7261696eull, static_cast<uint64_t>(step), index);
+  const uint64_t seed = seeds.first + key % (seeds.last - seeds.first + 1);
+  const int ranks = static_cast<int>(c.ranks_min + rng::bits(key, 1, 0) % (c.ranks_max - c.ranks_min + 1));
+  Episode e;
+  e.scenario = surrogate::make_scenario(seed, ranks);
+  surrogate::Workload w(e.scenario);
+  for (long t = 0; t <= c.events; ++t) {
+    e.work.push_back(w.work());
+    e.growth_phase.push_back(w.growth_phase());
+    e.growth_event.push_back(w.growth_event());
+    w.advance();
+  }
+  e.initial_boundaries = optimal_partition(e.work[0], ranks, e.scenario.min_width);
+  e.difficulty = std::max(c.difficulty_floor, reactive_cost(e));
+  return e;
+}
+
+double reactive_cost(const Episode& e) {
+  auto reactive = make_policy("reactive");
+  std::vector<int> b = e.initial_boundaries;
+  double sum = 0;
+  for (size_t t = 0; t + 1 < e.work.size(); ++t) {  // the surrogate rollout's loop, without the unused work proxy
+    Observation obs;
+    obs.event = static_cast<int>(t);
+    obs.slices = e.scenario.slices;
+    obs.min_width = e.scenario.min_width;
+    obs.boundaries = b;
+    obs.times = surrogate::measured_times(e.scenario, obs.event, rank_sums(e.work[t], b));
+    b = reactive->decide(obs);
+    sum += max_over_mean(rank_sums(e.work[t + 1], b));
+  }
+  return e.work.size() > 1 ? sum / (e.work.size() - 1) : 0.0;
+}
+
+std::vector<Episode> make_batch(const TrainConfig& c, long step) {
+  std::vector<Episode> batch(c.batch);
+  std::vector<std::thread> workers;
+  for (long w = 0; w < c.threads; ++w)
+    workers.emplace_back([&, w] {
+      for (long i = w; i < c.batch; i += c.threads) batch[i] = make_episode(c, step, static_cast<int>(i));
+    });
+  for (auto& t : workers) t.join();
+  return batch;
+}
+
+}  // namespace semlb::train

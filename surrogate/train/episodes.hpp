@@ -1,0 +1,29 @@
+// Training episodes: randomised scenarios from TRAINING seeds only, their noise-free workload trajectory,
+// and the per-episode difficulty scale (the reactive rule's imbalance on the same episode).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "config.hpp"
+#include "surrogate/scenario.hpp"
+
+namespace semlb::train {
+
+struct Episode {
+  surrogate::Scenario scenario;
+  std::vector<std::vector<double>> work;  // W_t for t = 0..events (noise-free, per slice)
+  std::vector<double> growth_phase;       // per event
+  std::vector<char> growth_event;         // per event
+  std::vector<int> initial_boundaries;    // workload-aware optimal partition of W_0
+  double difficulty = 1.0;                // max(floor, reactive_cost): the loss is relative to reactive
+};
+
+// Episode `index` of optimisation step `step`: seed and rank count are pure functions of
+// (config seed, step, index), so a resumed run sees the same episodes.
+Episode make_episode(const TrainConfig& c, long step, int index);
+// The batch of step `step`, generated on c.threads threads (same result for any thread count).
+std::vector<Episode> make_batch(const TrainConfig& c, long step);
+// Reactive's time-averaged (max-mean)/mean over the intervals 1..events of the episode.
+double reactive_cost(const Episode& e);
+
+}  // namespace semlb::train

@@ -1,0 +1,28 @@
+// `semlb train`: Adam + cosine annealing + clipping over soft rollouts, validation on validation seeds
+// with the hard controller, checkpoints that resume after a kill, and export to the HDF5 weights format.
+#pragma once
+#include <string>
+
+#include "config.hpp"
+
+namespace semlb::train {
+
+struct TrainOptions {
+  std::string out;            // weights file (.h5), written last (tmp + rename)
+  std::string checkpoint;     // default: OUT.ckpt
+  std::string log;            // validation log CSV; default: OUT with .log.csv
+  std::string git_revision = "unknown";
+  bool progress = true;
+};
+
+struct TrainSummary {
+  long steps = 0;
+  double seconds = 0;
+  double val_imbalance = 0, val_migration = 0;            // final weights, validation seeds
+  double reactive_imbalance = 0, reactive_migration = 0;  // reactive on the same rollouts
+  double parity_error = 0;
+};
+
+TrainSummary run_training(const TrainConfig& c, const TrainOptions& o);
+
+}  // namespace semlb::train

@@ -1,0 +1,144 @@
+// Trainer: config errors, training seeds only, soft times -> hard times, untrained export == reactive,
+// parity of exported weights, determinism, and kill + resume == uninterrupted.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "../../run_command.hpp"
+#include "controllers/errors.hpp"
+#include "controllers/gru.hpp"
+#include "controllers/h5.hpp"
+#include "controllers/partition.hpp"
+#include "surrogate/train/config.hpp"
+#include "surrogate/train/episodes.hpp"
+#include "surrogate/train/soft_rollout.hpp"
+#include "surrogate/train/trainer.hpp"
+
+using namespace semlb;
+using namespace semlb::train;
+namespace fs = std::filesystem;
+
+namespace {
+TrainConfig tiny(long steps) {
+  return load_train_config("", {"steps=" + std::to_string(steps), "batch=4", "events=6", "validate_every=0",
+                                "validation_seeds=8000-8001", "validation_ranks=2,5", "validation_events=20",
+                                "checkpoint_every=2"});
+}
+std::string train_to(const TrainConfig& c, const std::string& name) {
+  const auto dir = test::fresh_dir("train_" + name);
+  TrainOptions o;
+  o.out = dir + "/w.h5";
+  o.progress = false;
+  run_training(c, o);
+  return o.out;
+}
+void expect_same_weights(const std::string& a, const std::string& b) {
+  const auto wa = load_gru_weights(a), wb = load_gru_weights(b);
+  EXPECT_EQ(wa.w_ih, wb.w_ih);
+  EXPECT_EQ(wa.w_hh, wb.w_hh);
+  EXPECT_EQ(wa.b_hh, wb.b_hh);
+  EXPECT_EQ(wa.head_w, wb.head_w);
+  EXPECT_EQ(wa.head_b, wb.head_b);
+}
+}  // namespace
+
+TEST(TrainConfig, DefaultsFileAndErrors) {
+  const auto c = load_train_config(test::source("surrogate/train/default.yaml"), {});
+  EXPECT_EQ(c.steps, 6000);
+  EXPECT_EQ(c.batch, 32);
+  EXPECT_DOUBLE_EQ(c.migration_penalty, 5e-4);
+  const auto dir = test::fresh_dir("train_cfg");
+  test::write(dir + "/bad.yaml", "steps: 10\nbatchsize: 3\n");
+  try {
+    load_train_config(dir + "/bad.yaml", {});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml:2: field 'batchsize': unknown training setting"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(load_train_config("", {"lr=fast"}), InputError);
+  EXPECT_THROW(load_train_config("", {"validation_seeds=9000-9001"}), InputError);  // evaluation seeds refused
+  EXPECT_THROW(load_train_config("", {"ranks_min=1"}), InputError);
+}
+
+TEST(Episodes, UseTrainingSeedsOnlyAndAreReproducible) {
+  const auto c = tiny(1);
+  for (long step = 0; step < 50; ++step)
+    for (int i = 0; i < 4; ++i) {
+      const auto e = make_episode(c, step, i);
+      ASSERT_TRUE(surrogate::kTrainSeeds.contains(e.scenario.seed));
+      ASSERT_GE(e.scenario.ranks, 2);
+      ASSERT_LE(e.scenario.ranks, 16);
+      ASSERT_EQ(e.work.size(), 7u);
+      ASSERT_GE(e.difficulty, c.difficulty_floor);
+    }
+  EXPECT_EQ(make_episode(c, 7, 1).work, make_episode(c, 7, 1).work);
+  auto two = c;
+  two.threads = 2;
+  const auto a = make_batch(c, 3), b = make_batch(two, 3);
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].work, b[i].work);
+}
+
+TEST(SoftRollout, SoftTimesApproachHardTimesAndCarryGradients) {
+  std::vector<double> work(40);
+  for (size_t s = 0; s < work.size(); ++s) work[s] = 1.0 + (s % 7);
+  const std::vector<int> hard{9, 23, 31};
+  const auto exact = rank_sums(work, hard);
+  auto b = torch::tensor({9.f, 23.f, 31.f}).requires_grad_();
+  const auto cold = soft_rank_times(work, b, 0.02);
+  for (int r = 0; r < 4; ++r) EXPECT_NEAR(cold[r].item<double>(), exact[r], 1e-3 * exact[r]);
+  const auto warm = soft_rank_times(work, b, 1.0);
+  EXPECT_NEAR(warm.sum().item<double>(), exact[0] + exact[1] + exact[2] + exact[3], 1e-3);  // work is conserved
+  warm[0].backward();
+  EXPECT_GT(b.grad()[0].item<double>(), 0.0);  // moving boundary 0 right adds work to rank 0
+}
+
+TEST(Trainer, UntrainedExportReproducesReactive) {
+  const auto path = train_to(tiny(0), "zero");
+  EXPECT_DOUBLE_EQ(gru_parity_error(path), 0.0);
+  const auto w = load_gru_weights(path);
+  EXPECT_TRUE(w.head_w.isZero());
+  EXPECT_EQ(w.head_b, 0.0);
+  EXPECT_EQ(w.parameter_count(), 2761);
+  const auto r = test::run(test::semlb_bin() + " surrogate --policies reactive,gru --weights " + path +
+                           " --ranks 3,16 --seeds 9000-9002 --events 60 --no-timing --quiet --out " + fs::path(path).parent_path().string());
+  ASSERT_EQ(r.rc, 0) << r.out;
+  std::istringstream csv(test::slurp(fs::path(path).parent_path().string() + "/controller_eval.csv"));
+  std::string line;
+  std::vector<std::string> reactive, gru;
+  std::getline(csv, line);
+  while (std::getline(csv, line)) (line.rfind("reactive,", 0) == 0 ? reactive : gru).push_back(line.substr(line.find(',')));
+  ASSERT_EQ(reactive.size(), 6u);
+  EXPECT_EQ(reactive, gru);
+}
+
+TEST(Trainer, TrainedWeightsPassParityAndRunsRepeat) {
+  const auto c = tiny(3);
+  const auto a = train_to(c, "a"), b = train_to(c, "b");
+  expect_same_weights(a, b);
+  EXPECT_FALSE(load_gru_weights(a).head_w.isZero());  // it learned something
+  EXPECT_LT(gru_parity_error(a), 1e-5);
+  std::vector<hsize_t> dims;
+  const auto residuals = h5::File::open_read(a).read("/parity/residuals", dims);
+  double largest = 0;
+  for (double r : residuals) largest = std::max(largest, std::fabs(r));
+  EXPECT_GT(largest, 1e-4);  // the parity record is not trivially zero
+  EXPECT_EQ(h5::File::open_read(a).read_int_attr("steps"), 3);
+  EXPECT_FALSE(fs::exists(a + ".ckpt"));  // removed once the weights are written
+}
+
+TEST(Trainer, KilledRunResumesToTheSameWeights) {
+  const auto ref = train_to(tiny(4), "ref");
+  const auto dir = test::fresh_dir("train_kill");
+  const std::string cmd = test::semlb_bin() + " train --quiet --steps 4 --set batch=4 --set events=6 --set validate_every=0 "
+                          "--set validation_seeds=8000-8001 --set validation_ranks=2,5 --set validation_events=20 "
+                          "--set checkpoint_every=2 --out " + dir + "/w.h5";
+  const auto killed = test::run("SEMLB_TRAIN_KILL_AFTER=2 " + cmd);
+  EXPECT_EQ(killed.rc, 128 + 9) << killed.out;
+  EXPECT_FALSE(fs::exists(dir + "/w.h5"));
+  EXPECT_TRUE(fs::exists(dir + "/w.h5.ckpt"));
+  const auto resumed = test::run(cmd);
+  ASSERT_EQ(resumed.rc, 0) << resumed.out;
+  expect_same_weights(ref, dir + "/w.h5");
+  const auto log = test::slurp(dir + "/w.log.csv");
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 2);  // header + the final validation row, no duplicates
+}
