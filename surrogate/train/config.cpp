@@ -21,7 +21,7 @@ void visit(C& c, F&& f) {
   f("ds_max_frac", c.ds_max_frac), f("ranks_min", c.ranks_min), f("ranks_max", c.ranks_max), f("seed", c.seed);
   f("threads", c.threads), f("validate_every", c.validate_every), f("validation_seeds", c.validation_seeds);
   f("validation_ranks", c.validation_ranks), f("validation_events", c.validation_events);
-  f("checkpoint_every", c.checkpoint_every);
+  f("checkpoint_every", c.checkpoint_every), f("imbalance_norm", c.imbalance_norm), f("migration_norm", c.migration_norm);
 }
 
 void parse(const std::string& text, long& out) {
@@ -67,6 +67,8 @@ void check(const TrainConfig& c) {
   need(c.ranks_min >= 2 && c.ranks_max >= c.ranks_min && c.ranks_max <= 64, "ranks_min", "need 2 <= ranks_min <= ranks_max <= 64");
   need(c.threads >= 1, "threads", "must be >= 1");
   need(c.checkpoint_every >= 1, "checkpoint_every", "must be >= 1");
+  need(c.imbalance_norm == "reactive" || c.imbalance_norm == "fixed", "imbalance_norm", "must be reactive or fixed");
+  need(c.migration_norm == "slices" || c.migration_norm == "reactive", "migration_norm", "must be slices or reactive");
   for (long s : surrogate::parse_int_list(c.validation_seeds, "validation_seeds"))
     need(surrogate::kValidationSeeds.contains(s), "validation_seeds", "must lie in the validation range 8000-8999");
   surrogate::parse_int_list(c.validation_ranks, "validation_ranks");

@@ -18,6 +18,12 @@ struct TrainConfig {
   double spread_weight = 0.3;        // weight of the normalised spread std/mean in the loss
   double migration_penalty = 5e-4;   // L1 penalty per moved slice
   double difficulty_floor = 0.005;   // lower bound of the per-episode difficulty scale
+  // Loss forms (docs/train.md): "reactive" divides the imbalance terms by the episode's difficulty (paper);
+  // "fixed" divides them by difficulty_floor for every episode (absolute units).
+  std::string imbalance_norm = "reactive";
+  // "slices": migration_penalty per moved slice (paper); "reactive": migration_penalty x (slices moved /
+  // slices reactive moves on the same episode), i.e. a penalty on the migration ratio.
+  std::string migration_norm = "slices";
   long hidden = 24;                  // GRU hidden size
   double ds_max_frac = 0.5;          // Δs_max = ds_max_frac * N_slow
   long ranks_min = 2, ranks_max = 16;  // episode rank counts (uniform)

@@ -27,14 +27,16 @@ Episode make_episode(const TrainConfig& c, long step, int index) {
     w.advance();
   }
   e.initial_boundaries = optimal_partition(e.work[0], ranks, e.scenario.min_width);
-  e.difficulty = std::max(c.difficulty_floor, reactive_cost(e));
+  const auto reactive = reactive_cost(e);
+  e.difficulty = c.imbalance_norm == "fixed" ? c.difficulty_floor : std::max(c.difficulty_floor, reactive.max_over_mean);
+  e.reactive_migration = reactive.migration;
   return e;
 }
 
-double reactive_cost(const Episode& e) {
+ReactiveCost reactive_cost(const Episode& e) {
   auto reactive = make_policy("reactive");
   std::vector<int> b = e.initial_boundaries;
-  double sum = 0;
+  ReactiveCost cost;
   for (size_t t = 0; t + 1 < e.work.size(); ++t) {  // the surrogate rollout's loop, without the unused work proxy
     Observation obs;
     obs.event = static_cast<int>(t);
@@ -42,10 +44,13 @@ double reactive_cost(const Episode& e) {
     obs.min_width = e.scenario.min_width;
     obs.boundaries = b;
     obs.times = surrogate::measured_times(e.scenario, obs.event, rank_sums(e.work[t], b));
-    b = reactive->decide(obs);
-    sum += max_over_mean(rank_sums(e.work[t + 1], b));
+    const auto next = reactive->decide(obs);
+    cost.migration += migration(b, next);
+    b = next;
+    cost.max_over_mean += max_over_mean(rank_sums(e.work[t + 1], b));
   }
-  return e.work.size() > 1 ? sum / (e.work.size() - 1) : 0.0;
+  if (e.work.size() > 1) cost.max_over_mean /= static_cast<double>(e.work.size() - 1);
+  return cost;
 }
 
 std::vector<Episode> make_batch(const TrainConfig& c, long step) {

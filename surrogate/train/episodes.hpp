@@ -15,7 +15,8 @@ struct Episode {
   std::vector<double> growth_phase;       // per event
   std::vector<char> growth_event;         // per event
   std::vector<int> initial_boundaries;    // workload-aware optimal partition of W_0
-  double difficulty = 1.0;                // max(floor, reactive_cost): the loss is relative to reactive
+  double difficulty = 1.0;                // max(floor, reactive's mean (max-mean)/mean on this episode)
+  double reactive_migration = 0;          // slices reactive moves on this episode
 };
 
 // Episode `index` of optimisation step `step`: seed and rank count are pure functions of
@@ -23,7 +24,10 @@ struct Episode {
 Episode make_episode(const TrainConfig& c, long step, int index);
 // The batch of step `step`, generated on c.threads threads (same result for any thread count).
 std::vector<Episode> make_batch(const TrainConfig& c, long step);
-// Reactive's time-averaged (max-mean)/mean over the intervals 1..events of the episode.
-double reactive_cost(const Episode& e);
+// Reactive on the episode: time-averaged (max-mean)/mean over the intervals 1..events, and slices moved.
+struct ReactiveCost {
+  double max_over_mean = 0, migration = 0;
+};
+ReactiveCost reactive_cost(const Episode& e);
 
 }  // namespace semlb::train

@@ -73,13 +73,14 @@ torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& e
   for (const auto& e : eps) B = std::max<long>(B, e.scenario.ranks - 1), S = std::max<long>(S, e.scenario.slices);
 
   // Static per-episode tensors; padded boundary columns sit at the episode's last slice edge.
-  std::vector<float> b0(E * B), right_edge(E), ranks(E), difficulty(E);
+  std::vector<float> b0(E * B), right_edge(E), ranks(E), difficulty(E), migration_scale(E);
   std::vector<uint8_t> bmask(E * B, 0), rmask(E * (B + 1), 0);
   std::vector<long> flat;  // valid (episode, boundary) cells in row-major order
   for (long e = 0; e < E; ++e) {
     const auto& s = eps[e].scenario;
     right_edge[e] = static_cast<float>(s.slices);
     ranks[e] = static_cast<float>(s.ranks), difficulty[e] = static_cast<float>(eps[e].difficulty);
+    migration_scale[e] = c.migration_norm == "reactive" ? 1.0f / std::max(1.0f, static_cast<float>(eps[e].reactive_migration)) : 1.0f;
     for (long i = 0; i < B; ++i) {
       const bool valid = i < s.ranks - 1;
       b0[e * B + i] = valid ? static_cast<float>(eps[e].initial_boundaries[i]) : right_edge[e];
@@ -94,7 +95,7 @@ torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& e
   const auto rmask_t = torch::from_blob(rmask.data(), {E, B + 1}, torch::kUInt8).to(torch::kBool);
   const auto rmask_f = rmask_t.to(torch::kFloat);
   const auto ranks_t = tensor(ranks, {E});
-  const auto difficulty_t = tensor(difficulty, {E});
+  const auto difficulty_t = tensor(difficulty, {E}), migration_scale_t = tensor(migration_scale, {E});
   const auto flat_t = torch::from_blob(flat.data(), {N}, torch::kLong).clone();
 
   torch::Tensor b = tensor(b0, {E, B});
@@ -165,7 +166,7 @@ torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& e
     raw_imbalance += rel.mean().item<double>();
     imbalance_terms = imbalance_terms + (rel + c.spread_weight * spread) / difficulty_t;
   }
-  const auto loss = (imbalance_terms / static_cast<double>(c.events) + c.migration_penalty * moved).mean();
+  const auto loss = (imbalance_terms / static_cast<double>(c.events) + c.migration_penalty * migration_scale_t * moved).mean();
   if (stats) {
     stats->imbalance = raw_imbalance / c.events;
     stats->migration = moved.mean().item<double>();

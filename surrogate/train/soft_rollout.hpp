@@ -16,8 +16,9 @@ struct SoftStats {
   double migration = 0;  // mean slices moved per episode
 };
 
-// Loss = mean over episodes of [ mean_t ((max-mean)/mean + w_s std/mean) / difficulty + λ Σ_t Σ_b |Δb| ],
-// over the intervals t = 1..events that the controller's decisions govern.
+// Loss = mean over episodes of [ mean_t ((max-mean)/mean + w_s std/mean) / scale + λ m Σ_t Σ_b |Δb| ],
+// over the intervals t = 1..events that the controller's decisions govern; scale and m per
+// imbalance_norm / migration_norm (config.hpp).
 torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& episodes, const TrainConfig& c,
                                 double temperature, SoftStats* stats = nullptr);
 
