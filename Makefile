@@ -10,7 +10,7 @@ MANIFESTS := $(wildcard experiments/*.yaml)
 export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
-.PHONY: deps build test experiments analysis bench clean
+.PHONY: deps build test experiments analysis bench train clean
 
 deps:
 	bash scripts/install-deps.sh
@@ -30,6 +30,10 @@ experiments: build
 
 analysis:
 	$(PYTHON) analysis/report.py --results $(RESULTS)
+
+# Regenerates the shipped GRU weights (about 20 min on 2 cores); resumes after an interruption.
+train: build
+	$(SEMLB) train --config surrogate/train/default.yaml --out controllers/weights/gru_default.h5
 
 bench: build
 	$(SEMLB) bench policies --ranks 16

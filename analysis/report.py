@@ -116,12 +116,49 @@ def holt_tuning_table(rows):
     return "\n".join(out) + "\n"
 
 
+def training_curve_table(rows):
+    out = ["# GRU training curve (validation seeds, hard integer boundaries)", "",
+           "Validation imbalance (time-averaged I_global, %) and migration (slices per rollout) of the GRU after "
+           "each number of training steps, with the reactive rule on the same rollouts.", "",
+           "| step | wall s | GRU imbalance % | GRU migration | reactive imbalance % | reactive migration |",
+           "|---:|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        out.append(f"| {int(float(r['step']))} | {float(r['wall_seconds']):.0f} | {100 * float(r['val_imbalance']):.3f} | "
+                   f"{float(r['val_migration']):.1f} | {100 * float(r['reactive_imbalance']):.3f} | "
+                   f"{float(r['reactive_migration']):.1f} |")
+    return "\n".join(out) + "\n"
+
+
+def training_curve_figure(rows):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    steps = [float(r["step"]) for r in rows]
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    for ax, key, ref, label, scale in ((axes[0], "val_imbalance", "reactive_imbalance", "imbalance (%)", 100),
+                                       (axes[1], "val_migration", "reactive_migration", "slices migrated per rollout", 1)):
+        ax.plot(steps, [scale * float(r[key]) for r in rows], "o-", label="GRU")
+        ax.axhline(scale * float(rows[-1][ref]), color="tab:red", ls="--", label="reactive")
+        ax.set_xlabel("training step")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+        top = ax.secondary_xaxis("top", functions=(
+            lambda x: x * float(rows[-1]["wall_seconds"]) / max(1.0, steps[-1]),
+            lambda t: t * max(1.0, steps[-1]) / float(rows[-1]["wall_seconds"])))
+        top.set_xlabel("wall time (s)")
+    axes[0].legend()
+    fig.tight_layout()
+    return fig
+
+
 REPORTS = {
     # csv (relative to results) -> [(output, builder)]
     "controller_eval/controller_eval.csv": [("tables/controller_eval.md", controller_table),
                                             ("figures/controller_eval.png", controller_figure)],
     "controller_long/controller_long.csv": [("tables/controller_long.md", controller_table)],
     "holt_tuning/holt_tuning.csv": [("tables/holt_tuning.md", holt_tuning_table)],
+    "training_curve/training_curve.csv": [("tables/training_curve.md", training_curve_table),
+                                          ("figures/training_curve.png", training_curve_figure)],
 }
 
 

@@ -3,10 +3,15 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "controllers/errors.hpp"
+
 #include "commands.hpp"
 #include "controllers/features.hpp"
 #include "controllers/gru.hpp"
 #include "surrogate/rollout.hpp"
+#ifdef SEMLB_WITH_TORCH
+#include "surrogate/train/trainer.hpp"
+#endif
 
 namespace semlb::cli {
 namespace {
@@ -37,17 +42,41 @@ int bench_policies(int ranks, int events, int repeats, uint64_t seed, const std:
   return 0;
 }
 
+#ifdef SEMLB_WITH_TORCH
+int bench_train(long steps, long threads) {
+  auto c = train::load_train_config(std::string(SEMLB_SOURCE_DIR) + "/surrogate/train/default.yaml",
+                                    {"threads=" + std::to_string(threads)});
+  const auto t = train::time_training_steps(c, 1);  // warm-up (library start-up, allocator)
+  const auto m = train::time_training_steps(c, steps);
+  const double total = m.episodes + m.forward + m.backward + m.optimiser;
+  std::printf("# semlb bench train: %ld steps of the default recipe (batch %ld x %ld events), %ld episode thread(s)\n",
+              steps, c.batch, c.events, threads);
+  std::printf("%-22s %12s %8s\n", "phase", "s/step", "share");
+  for (const auto& [name, s] : {std::pair{"episode generation", m.episodes}, {"forward (soft rollout)", m.forward},
+                                {"backward", m.backward}, {"clip + Adam", m.optimiser}})
+    std::printf("%-22s %12.4f %7.1f%%\n", name, s / steps, 100 * s / total);
+  std::printf("%-22s %12.4f\n", "total (sequential)", total / steps);
+  std::printf("%-22s %12.4f\n", "with prefetch (est.)", std::max(m.episodes, total - m.episodes) / steps);
+  (void)t;
+  return 0;
+}
+#endif
+
 }  // namespace
 
 Action add_bench(CLI::App& app) {
   struct Opts {
     std::string what, weights;
     int ranks = 16, events = 200, repeats = 5;
+    long steps = 10, threads = 1;
     uint64_t seed = 9000;
   };
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("bench", "Benchmarks that print a table");
-  sub->add_option("what", o->what, "What to benchmark: policies")->required()->check(CLI::IsMember({"policies"}));
+  sub->add_option("what", o->what, "What to benchmark: policies, train (one training step; needs libtorch)")
+      ->required()->check(CLI::IsMember({"policies", "train"}));
+  sub->add_option("--steps", o->steps, "Training steps to time (bench train)")->capture_default_str()->check(CLI::PositiveNumber);
+  sub->add_option("--threads", o->threads, "Episode-generation threads (bench train)")->capture_default_str()->check(CLI::PositiveNumber);
   sub->add_option("--ranks", o->ranks, "Ranks")->capture_default_str()->check(CLI::Range(1, 4096));
   sub->add_option("--events", o->events, "Events per rollout")->capture_default_str()->check(CLI::PositiveNumber);
   sub->add_option("--repeats", o->repeats, "Repetitions (the median is printed)")->capture_default_str()->check(CLI::PositiveNumber);
@@ -55,6 +84,13 @@ Action add_bench(CLI::App& app) {
   sub->add_option("--weights", o->weights, "GRU weights (default: a random zero-head GRU of the shipped shape)");
   return [o, sub] {
     if (!*sub) return -1;  // not the chosen subcommand
+    if (o->what == "train") {
+#ifdef SEMLB_WITH_TORCH
+      return bench_train(o->steps, o->threads);
+#else
+      throw InputError("bench train: this semlb was built without libtorch");
+#endif
+    }
     return bench_policies(o->ranks, o->events, o->repeats, o->seed, o->weights);
   };
 }

@@ -49,7 +49,7 @@ const Registrar persistence_registrar("persistence",
                                       [](PolicyParams&) { return std::make_unique<PersistencePolicy>(); });
 // Defaults chosen on training seeds only (experiments/holt_tuning.yaml; docs/controllers.md).
 const Registrar holt_registrar("holt", [](PolicyParams& p) {
-  return std::make_unique<HoltPolicy>(p.real("alpha", 0.3), p.real("beta", 0.0));
+  return std::make_unique<HoltPolicy>(p.real("alpha", 0.2), p.real("beta", 0.0));
 });
 const Registrar oracle_registrar("oracle", [](PolicyParams&) { return std::make_unique<OraclePolicy>(); });
 

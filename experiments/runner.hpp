@@ -12,6 +12,7 @@ namespace semlb::experiments {
 struct RunOptions {
   bool timing = true;     // false: wall-clock columns are written as 0 (byte-identical reruns)
   std::string trace_dir;  // non-empty: runners that produce traces write them here
+  std::string base_dir;   // relative file paths in a manifest are relative to the manifest's folder
 };
 
 class Runner {
@@ -19,7 +20,7 @@ class Runner {
   virtual ~Runner() = default;
   virtual std::vector<std::string> columns() const = 0;
   // Throws InputError naming the manifest line/field of a bad or unknown setting; runs nothing.
-  virtual void check(const Job& job, const std::string& manifest) const = 0;
+  virtual void check(const Job& job, const std::string& manifest, const RunOptions& options) const = 0;
   // One or more rows (in columns() order); a job's rows are written together, so resume is per job.
   virtual std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& options) const = 0;
 };

@@ -26,7 +26,7 @@ class SurrogateRunner final : public Runner {
  public:
   std::vector<std::string> columns() const override { return surrogate::eval_columns(); }
 
-  void check(const Job& job, const std::string& manifest) const override {
+  void check(const Job& job, const std::string& manifest, const RunOptions&) const override {
     const auto j = to_eval_job(job, manifest);
     for (const auto& [k, s] : job.settings)
       if (k != "policy" && k != "ranks" && k != "seed" && k != "events" && k.find('.') == std::string::npos)

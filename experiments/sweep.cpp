@@ -163,7 +163,9 @@ long kill_after_rows() {  // test hook: SEMLB_SWEEP_KILL_AFTER=N sends SIGKILL t
 SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o) {
   const auto runner = make_runner(m.runner, m.path);
   const auto jobs = m.expand();
-  for (const auto& j : jobs) runner->check(j, m.path);
+  RunOptions run = o.run;
+  if (run.base_dir.empty() && !m.path.empty()) run.base_dir = fs::path(m.path).parent_path().string();
+  for (const auto& j : jobs) runner->check(j, m.path, run);
   const Layout layout = make_layout(m, *runner);
 
   SweepSummary sum;
@@ -201,7 +203,7 @@ SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overri
       const Job& job = jobs[todo[t]];
       try {
         std::string line;  // all rows of the job, appended with one write
-        for (const auto& row : runner->run(job, o.run)) {
+        for (const auto& row : runner->run(job, run)) {
           std::vector<std::string> cells;
           for (const auto& a : layout.extra_axes) cells.push_back(job.find(a)->value);
           for (size_t c = 0; c < row.size(); ++c) {  // key columns keep the manifest's spelling

@@ -18,10 +18,12 @@ class TrainRunner final : public Runner {
             "reactive_imbalance", "reactive_migration"};
   }
 
-  void check(const Job& job, const std::string& manifest) const override { config(job, manifest); }
+  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
+    config(job, manifest, o.base_dir);
+  }
 
-  std::vector<std::vector<std::string>> run(const Job& job, const RunOptions&) const override {
-    const auto c = config(job, "");
+  std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& options) const override {
+    const auto c = config(job, "", options.base_dir);
     const auto dir = std::filesystem::temp_directory_path() /
                      ("semlb_train_runner_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(train::to_yaml(c))));
     std::filesystem::create_directories(dir);
@@ -46,11 +48,12 @@ class TrainRunner final : public Runner {
   }
 
  private:
-  static train::TrainConfig config(const Job& job, const std::string& manifest) {
+  static train::TrainConfig config(const Job& job, const std::string& manifest, const std::string& base_dir) {
     std::string file;
     std::vector<std::string> sets;
     for (const auto& [k, s] : job.settings) {
-      if (k == "config") file = s.value;
+      if (k == "config") file = std::filesystem::path(s.value).is_absolute() || base_dir.empty()
+                                    ? s.value : (std::filesystem::path(base_dir) / s.value).string();
       else sets.push_back(k + "=" + s.value);
     }
     try {

@@ -131,6 +131,33 @@ long kill_after_step() {  // test hook: SEMLB_TRAIN_KILL_AFTER=N sends SIGKILL a
 
 }  // namespace
 
+StepTiming time_training_steps(const TrainConfig& c, long steps) {
+  torch::manual_seed(static_cast<uint64_t>(c.seed));
+  torch::set_num_threads(1);
+  Controller model(kFeatureCount, c.hidden);
+  torch::optim::Adam opt(model->parameters(), torch::optim::AdamOptions(c.lr));
+  StepTiming t;
+  auto clock = [] { return std::chrono::steady_clock::now(); };
+  auto since = [](auto a) { return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count(); };
+  for (long step = 0; step < steps; ++step) {
+    auto a = clock();
+    const auto batch = make_batch(c, step);
+    t.episodes += since(a);
+    a = clock();
+    auto loss = soft_rollout_loss(model, batch, c, temperature(c, step));
+    t.forward += since(a);
+    a = clock();
+    opt.zero_grad();
+    loss.backward();
+    t.backward += since(a);
+    a = clock();
+    torch::nn::utils::clip_grad_norm_(model->parameters(), c.clip);
+    opt.step();
+    t.optimiser += since(a);
+  }
+  return t;
+}
+
 TrainSummary run_training(const TrainConfig& c, const TrainOptions& o) {
   if (o.out.empty()) throw InputError("--out: a weights file is required");
   const std::string ckpt = o.checkpoint.empty() ? o.out + ".ckpt" : o.checkpoint;

@@ -25,4 +25,10 @@ struct TrainSummary {
 
 TrainSummary run_training(const TrainConfig& c, const TrainOptions& o);
 
+// Seconds per phase of `steps` optimisation steps (no prefetch: each phase timed on its own).
+struct StepTiming {
+  double episodes = 0, forward = 0, backward = 0, optimiser = 0;
+};
+StepTiming time_training_steps(const TrainConfig& c, long steps);
+
 }  // namespace semlb::train

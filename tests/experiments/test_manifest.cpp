@@ -83,7 +83,7 @@ TEST(Manifest, RunnerChecksSettingsBeforeRunning) {
   const auto m = load_manifest(manifest(text), "", {});
   const auto runner = make_runner(m.runner, m.path);
   try {
-    for (const auto& j : m.expand()) runner->check(j, m.path);
+    for (const auto& j : m.expand()) runner->check(j, m.path, {});
     FAIL();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(":5: field 'policy': unknown policy 'reactiv'"), std::string::npos) << e.what();

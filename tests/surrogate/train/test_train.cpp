@@ -46,7 +46,8 @@ TEST(TrainConfig, DefaultsFileAndErrors) {
   const auto c = load_train_config(test::source("surrogate/train/default.yaml"), {});
   EXPECT_EQ(c.steps, 6000);
   EXPECT_EQ(c.batch, 32);
-  EXPECT_DOUBLE_EQ(c.migration_penalty, 5e-4);
+  EXPECT_DOUBLE_EQ(c.migration_penalty, 2.0);
+  EXPECT_EQ(c.migration_norm, "reactive");
   const auto dir = test::fresh_dir("train_cfg");
   test::write(dir + "/bad.yaml", "steps: 10\nbatchsize: 3\n");
   try {
