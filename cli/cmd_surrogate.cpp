@@ -27,7 +27,7 @@ Action add_surrogate(CLI::App& app) {
   sub->add_flag("--dump-traces", o->dump_traces, "Also write every rollout as a JSON Lines trace under DIR/traces/");
   sub->add_flag("--no-timing", o->no_timing, "Write us_per_decision as 0 so that reruns are byte-identical");
   sub->add_flag("--quiet", o->quiet, "No progress line");
-  sub->add_flag("--resume", o->resume, "Keep the rows of an earlier run into the same DIR (default: start afresh)");
+  sub->add_flag("--resume", o->resume, "Resume an interrupted run into the same DIR (default: start afresh)");
   return [o, sub] {
     if (!*sub) return -1;  // not the chosen subcommand
     experiments::Manifest m;

@@ -173,14 +173,9 @@ SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overri
   const std::string partial = sum.csv_path + ".partial";
   fs::create_directories(fs::path(sum.csv_path).parent_path());
   if (o.fresh) fs::remove(partial);
-  if (!fs::exists(partial)) {
-    std::string seed = csv_line(layout.header);
-    if (!o.fresh && fs::exists(sum.csv_path)) {  // reuse the rows of a finished earlier sweep
-      std::vector<std::string> order;
-      for (const auto& [k, line] : read_rows(sum.csv_path, layout, order)) seed += line;
-    }
-    write_file(partial, seed);
-  }
+  // Only an interrupted run (.partial) is resumed; a finished OUTPUT is always recomputed, since the code
+  // that produced it may have changed since.
+  if (!fs::exists(partial)) write_file(partial, csv_line(layout.header));
   std::vector<std::string> order;
   auto done = read_rows(partial, layout, order);
   write_file(partial, [&] { std::string s = csv_line(layout.header); for (auto& k : order) s += done[k]; return s; }());
@@ -230,15 +225,8 @@ SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overri
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);  // the .partial file keeps every finished row for a resume
 
-  std::string final_text = csv_line(layout.header);
-  std::map<std::string, bool> used;
-  for (const auto& j : jobs) {
-    const auto k = key_of(j, layout);
-    final_text += done[k];
-    used[k] = true;
-  }
-  for (const auto& k : order)  // rows of other jobs (e.g. another profile) are kept, after this sweep's
-    if (!used.count(k)) final_text += done[k];
+  std::string final_text = csv_line(layout.header);  // job order; rows of other jobs in .partial are dropped
+  for (const auto& j : jobs) final_text += done[key_of(j, layout)];
   write_file(sum.csv_path, final_text);
   fs::remove(partial);
   copy_manifest(m, overrides, o, sum.csv_path);

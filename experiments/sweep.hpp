@@ -15,7 +15,7 @@ struct SweepOptions {
   bool progress = true;
   std::string git_revision = "unknown";
   std::string command_line;  // recorded beside the results when the manifest has no file
-  bool fresh = false;        // discard rows of an earlier (finished or interrupted) run first
+  bool fresh = false;        // discard the rows of an interrupted run instead of resuming it
 };
 
 struct SweepSummary {
@@ -23,9 +23,10 @@ struct SweepSummary {
   size_t rows = 0, resumed = 0, ran = 0;
 };
 
-// Rows are appended to RESULTS/OUTPUT.partial as they finish (one write per row); when all jobs are done the
+// Rows are appended to RESULTS/OUTPUT.partial as they finish (one write per job); when all jobs are done the
 // file is rewritten in job order and renamed to RESULTS/OUTPUT. A copy of the manifest with the profile,
-// overrides and git revision is written beside it. Rows of an existing OUTPUT are reused.
+// overrides and git revision is written beside it. An existing .partial (an interrupted run) is resumed;
+// a finished OUTPUT is recomputed.
 SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o);
 
 }  // namespace semlb::experiments
