@@ -46,7 +46,7 @@ int bench_policies(int ranks, int events, int repeats, uint64_t seed, const std:
 int bench_train(long steps, long threads) {
   auto c = train::load_train_config(std::string(SEMLB_SOURCE_DIR) + "/surrogate/train/default.yaml",
                                     {"threads=" + std::to_string(threads)});
-  const auto t = train::time_training_steps(c, 1);  // warm-up (library start-up, allocator)
+  train::time_training_steps(c, 1);  // warm-up: library start-up and first allocations are not timed
   const auto m = train::time_training_steps(c, steps);
   const double total = m.episodes + m.forward + m.backward + m.optimiser;
   std::printf("# semlb bench train: %ld steps of the default recipe (batch %ld x %ld events), %ld episode thread(s)\n",
@@ -57,7 +57,6 @@ int bench_train(long steps, long threads) {
     std::printf("%-22s %12.4f %7.1f%%\n", name, s / steps, 100 * s / total);
   std::printf("%-22s %12.4f\n", "total (sequential)", total / steps);
   std::printf("%-22s %12.4f\n", "with prefetch (est.)", std::max(m.episodes, total - m.episodes) / steps);
-  (void)t;
   return 0;
 }
 #endif
