@@ -15,7 +15,7 @@ namespace {
 
 template <class C, class F>
 void visit(C& c, F&& f) {
-  f("steps", c.steps), f("batch", c.batch), f("events", c.events), f("lr", c.lr), f("lr_final_frac", c.lr_final_frac);
+  f("steps", c.steps), f("batch", c.batch), f("events", c.events), f("bptt", c.bptt), f("lr", c.lr), f("lr_final_frac", c.lr_final_frac);
   f("clip", c.clip), f("temp_start", c.temp_start), f("temp_end", c.temp_end), f("spread_weight", c.spread_weight);
   f("migration_penalty", c.migration_penalty), f("difficulty_floor", c.difficulty_floor), f("hidden", c.hidden);
   f("ds_max_frac", c.ds_max_frac), f("ranks_min", c.ranks_min), f("ranks_max", c.ranks_max), f("seed", c.seed);
@@ -60,6 +60,7 @@ void check(const TrainConfig& c) {
   need(c.steps >= 0, "steps", "must be >= 0");
   need(c.batch >= 1, "batch", "must be >= 1");
   need(c.events >= 1, "events", "must be >= 1");
+  need(c.bptt >= 0, "bptt", "must be >= 0");
   need(c.lr > 0 && c.lr_final_frac > 0 && c.lr_final_frac <= 1, "lr", "need lr > 0 and 0 < lr_final_frac <= 1");
   need(c.temp_start > 0 && c.temp_end > 0, "temp_start", "temperatures must be > 0");
   need(c.hidden >= 1 && c.hidden <= 1024, "hidden", "must be in [1, 1024]");

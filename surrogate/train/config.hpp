@@ -9,7 +9,8 @@ namespace semlb::train {
 struct TrainConfig {
   long steps = 6000;                 // optimisation steps
   long batch = 32;                   // episodes per step
-  long events = 50;                  // rebalancing events per training rollout (BPTT horizon)
+  long events = 50;                  // rebalancing events per training rollout
+  long bptt = 0;                     // truncate backpropagation every `bptt` events (0: through all events)
   double lr = 3e-3;                  // Adam initial learning rate
   double lr_final_frac = 0.05;       // cosine annealing down to lr * lr_final_frac
   double clip = 1.0;                 // gradient-norm clipping

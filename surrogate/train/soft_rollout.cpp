@@ -107,6 +107,10 @@ torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& e
   double raw_imbalance = 0;
 
   for (long t = 0; t < c.events; ++t) {
+    if (c.bptt > 0 && t > 0 && t % c.bptt == 0) {  // truncated BPTT: same forward values, shorter gradients
+      h = h.detach();
+      b = b.detach();
+    }
     // Observation of interval t on the hard state, through the controllers' own feature code.
     std::vector<float> x(N * kFeatureCount), dir(N), mag(N), dsmax(N);
     long n = 0;

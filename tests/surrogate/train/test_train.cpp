@@ -6,6 +6,7 @@
 
 #include "../../run_command.hpp"
 #include "controllers/errors.hpp"
+#include "controllers/features.hpp"
 #include "controllers/gru.hpp"
 #include "controllers/h5.hpp"
 #include "controllers/partition.hpp"
@@ -142,4 +143,27 @@ TEST(Trainer, KilledRunResumesToTheSameWeights) {
   expect_same_weights(ref, dir + "/w.h5");
   const auto log = test::slurp(dir + "/w.log.csv");
   EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 2);  // header + the final validation row, no duplicates
+}
+
+TEST(SoftRollout, TruncatedBpttKeepsTheForwardPassAndShortensGradients) {
+  auto c = tiny(1);
+  c.events = 8;
+  const auto batch = make_batch(c, 0);
+  auto grads = [&](long bptt) {
+    c.bptt = bptt;
+    torch::manual_seed(3);
+    Controller model(kFeatureCount, 24);
+    {
+      torch::NoGradGuard g;
+      model->head->weight.fill_(0.05);
+    }
+    auto loss = soft_rollout_loss(model, batch, c, 1.0);
+    loss.backward();
+    return std::pair{loss.item<double>(), model->cell->weight_hh.grad().clone()};
+  };
+  const auto [full_loss, full_grad] = grads(0);
+  const auto [cut_loss, cut_grad] = grads(2);
+  EXPECT_DOUBLE_EQ(full_loss, cut_loss);
+  EXPECT_FALSE(torch::allclose(full_grad, cut_grad));
+  EXPECT_THROW(load_train_config("", {"bptt=-1"}), InputError);
 }
