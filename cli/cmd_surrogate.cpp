@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "controllers/text_io.hpp"
 #include "experiments/sweep.hpp"
 #include "surrogate/evaluate.hpp"
 
@@ -35,13 +36,7 @@ Action add_surrogate(CLI::App& app) {
     m.runner = "surrogate";
     m.output = "controller_eval.csv";
     std::vector<experiments::Setting> policies, ranks, seeds;
-    size_t pos = 0;
-    while (pos <= o->policies.size()) {
-      const size_t c = o->policies.find(',', pos);
-      policies.push_back({o->policies.substr(pos, c - pos), 0});
-      if (c == std::string::npos) break;
-      pos = c + 1;
-    }
+    for (const auto& p : split(o->policies, ',')) policies.push_back({p, 0});
     for (long r : surrogate::parse_int_list(o->ranks, "--ranks")) ranks.push_back({std::to_string(r), 0});
     for (long s : surrogate::parse_int_list(o->seeds, "--seeds")) seeds.push_back({std::to_string(s), 0});
     m.axes = {{"policy", policies}, {"ranks", ranks}, {"seed", seeds}};

@@ -4,6 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "controllers/errors.hpp"
+#include "controllers/text_io.hpp"
 #include "surrogate/evaluate.hpp"
 
 namespace semlb::experiments {
@@ -30,13 +31,7 @@ std::vector<Setting> axis_values(const YAML::Node& n, const std::string& file, c
         throw InputError(where(file, line_of(n), field) + e.what());
       }
     } else {
-      size_t pos = 0;
-      while (true) {
-        const size_t c = text.find(',', pos);
-        out.push_back({text.substr(pos, c - pos), line_of(n)});
-        if (c == std::string::npos) break;
-        pos = c + 1;
-      }
+      for (auto& v : split(text, ',')) out.push_back({std::move(v), line_of(n)});
     }
   }
   if (out.empty()) throw InputError(where(file, line_of(n), field) + "axis has no values");

@@ -9,13 +9,13 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <mutex>
 #include <sstream>
 #include <thread>
 
 #include "controllers/errors.hpp"
+#include "controllers/text_io.hpp"
 
 namespace semlb::experiments {
 namespace fs = std::filesystem;
@@ -25,15 +25,6 @@ std::string csv_line(const std::vector<std::string>& cells) {
   std::string s;
   for (size_t i = 0; i < cells.size(); ++i) s += (i ? "," : "") + cells[i];
   return s + "\n";
-}
-
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string cell;
-  while (std::getline(ss, cell, ',')) out.push_back(cell);
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
 }
 
 // The sweep's own key columns (axes the runner does not write) come first, then the runner's columns.
@@ -70,8 +61,7 @@ std::string key_of_row(const std::vector<std::string>& row, const std::vector<st
 // A job's rows are appended in one write, so a job is either complete or (torn line aside) absent.
 std::map<std::string, std::string> read_rows(const std::string& path, const Layout& l, std::vector<std::string>& order) {
   std::map<std::string, std::string> rows;
-  std::ifstream in(path);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text = read_file(path);
   if (text.empty()) return rows;
   if (text.back() != '\n') text.erase(text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1);
   std::stringstream ss(text);
@@ -82,23 +72,13 @@ std::map<std::string, std::string> read_rows(const std::string& path, const Layo
   long n = 1;
   while (std::getline(ss, line)) {
     ++n;
-    const auto cells = split_csv(line);
+    const auto cells = split(line, ',');
     if (cells.size() != l.header.size()) throw InputError(where(path, n, "") + "row has the wrong number of columns");
     const auto key = key_of_row(cells, l.header, l);
     if (!rows.count(key)) order.push_back(key);
     rows[key] += line + "\n";  // a job may have several rows
   }
   return rows;
-}
-
-void write_file(const std::string& path, const std::string& content) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << content;
-    if (!out) throw std::runtime_error(tmp + ": write failed");
-  }
-  fs::rename(tmp, path);
 }
 
 class Appender {  // one write(2) per row with O_APPEND: a kill leaves whole rows or a torn last line
@@ -120,14 +100,13 @@ void copy_manifest(const Manifest& m, const std::vector<std::string>& overrides,
                    const std::string& csv) {
   std::string body, head = "# " + o.command_line + "\n";
   if (!m.path.empty()) {
-    std::ifstream in(m.path);
-    body.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    body = read_file(m.path);
     head = "# semlb sweep " + m.path + " --profile " + m.profile;
     for (const auto& s : overrides) head += " --set " + s;
     head += "\n";
   }
   head += "# git revision: " + o.git_revision + "\n";
-  write_file(fs::path(csv).replace_extension(".manifest.yaml").string(), head + body);
+  write_file_atomically(fs::path(csv).replace_extension(".manifest.yaml").string(), head + body);
 }
 
 class Progress {
@@ -175,10 +154,10 @@ SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overri
   if (o.fresh) fs::remove(partial);
   // Only an interrupted run (.partial) is resumed; a finished OUTPUT is always recomputed, since the code
   // that produced it may have changed since.
-  if (!fs::exists(partial)) write_file(partial, csv_line(layout.header));
+  if (!fs::exists(partial)) write_file_atomically(partial, csv_line(layout.header));
   std::vector<std::string> order;
   auto done = read_rows(partial, layout, order);
-  write_file(partial, [&] { std::string s = csv_line(layout.header); for (auto& k : order) s += done[k]; return s; }());
+  write_file_atomically(partial, [&] { std::string s = csv_line(layout.header); for (auto& k : order) s += done[k]; return s; }());
 
   std::vector<size_t> todo;
   for (size_t i = 0; i < jobs.size(); ++i)
@@ -227,7 +206,7 @@ SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overri
 
   std::string final_text = csv_line(layout.header);  // job order; rows of other jobs in .partial are dropped
   for (const auto& j : jobs) final_text += done[key_of(j, layout)];
-  write_file(sum.csv_path, final_text);
+  write_file_atomically(sum.csv_path, final_text);
   fs::remove(partial);
   copy_manifest(m, overrides, o, sum.csv_path);
   return sum;

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "controllers/errors.hpp"
+#include "controllers/text_io.hpp"
 #include "runner.hpp"
 #include "surrogate/train/trainer.hpp"
 
@@ -36,13 +37,7 @@ class TrainRunner final : public Runner {
     std::ifstream in(o.log);
     std::string line;
     std::getline(in, line);  // header: same columns as columns()
-    while (std::getline(in, line)) {
-      std::vector<std::string> cells;
-      size_t pos = 0;
-      for (size_t comma; (comma = line.find(',', pos)) != std::string::npos; pos = comma + 1) cells.push_back(line.substr(pos, comma - pos));
-      cells.push_back(line.substr(pos));
-      rows.push_back(std::move(cells));
-    }
+    while (std::getline(in, line)) rows.push_back(split(line, ','));
     std::filesystem::remove_all(dir);
     return rows;
   }

@@ -3,9 +3,9 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
 #include "controllers/errors.hpp"
+#include "controllers/text_io.hpp"
 #include "rollout.hpp"
 #include "scenario.hpp"
 
@@ -20,15 +20,10 @@ std::string fmt(double v) {
 
 void write_trace(const std::string& dir, const EvalJob& job, const RolloutResult& r) {
   std::filesystem::create_directories(dir);
-  const std::string path = dir + "/" + job.policy + "_P" + std::to_string(job.ranks) + "_s" +
-                           std::to_string(job.seed) + ".jsonl";
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    for (const auto& e : r.trace) out << to_json(e).dump() << '\n';
-    if (!out) throw std::runtime_error(tmp + ": write failed");
-  }
-  std::filesystem::rename(tmp, path);
+  std::string text;
+  for (const auto& e : r.trace) text += to_json(e).dump() + '\n';
+  write_file_atomically(dir + "/" + job.policy + "_P" + std::to_string(job.ranks) + "_s" + std::to_string(job.seed) + ".jsonl",
+                        text);
 }
 
 }  // namespace
@@ -63,10 +58,7 @@ std::vector<std::string> run_eval_job(const EvalJob& job, const std::map<std::st
 
 std::vector<long> parse_int_list(const std::string& text, const std::string& flag) {
   std::vector<long> out;
-  size_t pos = 0;
-  while (pos <= text.size()) {
-    const size_t comma = text.find(',', pos);
-    const std::string tok = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+  for (const auto& tok : split(text, ',')) {
     long a = 0, b = 0;
     int consumed = 0;
     const bool range = std::sscanf(tok.c_str(), "%ld-%ld%n", &a, &b, &consumed) == 2 && consumed == (int)tok.size();
@@ -76,8 +68,6 @@ std::vector<long> parse_int_list(const std::string& text, const std::string& fla
     if (single) b = a;
     if (b - a > 1000000) throw InputError(flag + ": range '" + tok + "' is too long");
     for (long v = a; v <= b; ++v) out.push_back(v);
-    if (comma == std::string::npos) break;
-    pos = comma + 1;
   }
   return out;
 }

@@ -18,6 +18,7 @@
 #include "controllers/gru.hpp"
 #include "controllers/h5.hpp"
 #include "controllers/reactive.hpp"
+#include "controllers/text_io.hpp"
 #include "episodes.hpp"
 #include "model.hpp"
 #include "soft_rollout.hpp"
@@ -104,8 +105,7 @@ void start_log(const std::string& path, long keep_through) {
     while (std::getline(in, line))
       if (std::atol(line.c_str()) <= keep_through) kept += line + "\n";
   }
-  std::ofstream(path + ".tmp") << kept;
-  fs::rename(path + ".tmp", path);
+  write_file_atomically(path, kept);
 }
 
 void write_weights(const std::string& out, Controller& model, const TrainConfig& c, long steps,
