@@ -7,6 +7,10 @@
 
 #include "commands.hpp"
 #include "controllers/features.hpp"
+#include "controllers/text_io.hpp"
+#include "engine/bench.hpp"
+#include "engine/tissue.hpp"
+#include "surrogate/evaluate.hpp"
 #include "controllers/gru.hpp"
 #include "surrogate/rollout.hpp"
 #ifdef SEMLB_WITH_TORCH
@@ -42,6 +46,30 @@ int bench_policies(int ranks, int events, int repeats, uint64_t seed, const std:
   return 0;
 }
 
+// Element-steps per second of a scene per backend and tissue size, with the tissue's density.
+int bench_engine(const std::string& scene_file, const std::string& backends, const std::string& cells, long steps,
+                 long warmup, const SceneFlags& flags) {
+  std::printf("# semlb bench engine: %s, %ld timed steps after %ld warm-up steps\n", scene_file.c_str(), steps, warmup);
+  std::printf("%-16s %-9s %9s %10s %10s %14s %9s %9s %9s  %s\n", "backend", "precision", "cells", "elements", "seconds",
+              "elem-steps/s", "per_cube", "candid.", "neighb.", "device");
+  for (const auto& backend : split(backends, ','))
+    for (long n : surrogate::parse_int_list(cells, "--cells")) {
+      auto o = scene_overrides(flags);
+      o.push_back("backend.name=" + backend);
+      o.push_back("tissue.cells=" + std::to_string(n));
+      auto scene = engine::load_scene(scene_file, o);
+      const auto t = engine::time_scene(scene, steps, warmup);
+      const auto grid = engine::Grid::cover(scene.box_lo, scene.box_hi, scene.cutoff);
+      engine::Scene fresh = engine::load_scene(scene_file, o);  // stats of the generated tissue
+      const auto stats = engine::tissue_stats(engine::make_tissue(fresh), grid, scene.cutoff);
+      std::printf("%-16s %-9s %9ld %10ld %10.4f %14.4g %9.2f %9.1f %9.1f  %s\n", backend.c_str(), scene.backend.precision.c_str(),
+                  t.cells, t.elements, t.seconds, t.element_steps_per_second(), stats.per_cutoff_cube, stats.candidates,
+                  stats.neighbours, t.device.c_str());
+      std::fflush(stdout);
+    }
+  return 0;
+}
+
 #ifdef SEMLB_WITH_TORCH
 int bench_train(long steps, long threads) {
   auto c = train::load_train_config(std::string(SEMLB_SOURCE_DIR) + "/surrogate/train/default.yaml",
@@ -65,16 +93,27 @@ int bench_train(long steps, long threads) {
 
 Action add_bench(CLI::App& app) {
   struct Opts {
-    std::string what, weights;
+    std::string what, weights, scene = std::string(SEMLB_SOURCE_DIR) + "/scenes/mechanics.yaml", backends = "cpu-binned",
+                                 cells = "200";
+    long warmup = 2;
+    SceneFlags flags;
     int ranks = 16, events = 200, repeats = 5;
     long steps = 10, threads = 1;
     uint64_t seed = 9000;
   };
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("bench", "Benchmarks that print a table");
-  sub->add_option("what", o->what, "What to benchmark: policies, train (one training step; needs libtorch)")
-      ->required()->check(CLI::IsMember({"policies", "train"}));
-  sub->add_option("--steps", o->steps, "Training steps to time (bench train)")->capture_default_str()->check(CLI::PositiveNumber);
+  sub->add_option("what", o->what, "What to benchmark: policies, train (one training step; needs libtorch), engine (element-steps/s)")
+      ->required()->check(CLI::IsMember({"policies", "train", "engine"}));
+  sub->add_option("--scene", o->scene, "Scene (bench engine)")->capture_default_str();
+  sub->add_option("--backends", o->backends, "Comma-separated backends (bench engine)")->capture_default_str();
+  sub->add_option("--cells", o->cells, "Cell counts, e.g. 200,2000 (bench engine)")->capture_default_str();
+  sub->add_option("--warmup", o->warmup, "Untimed steps first (bench engine)")->capture_default_str();
+  sub->add_option("--precision", o->flags.precision, "double or float (bench engine; default: the scene's)");
+  sub->add_option("--platform", o->flags.platform, "OpenCL platform name substring (bench engine)");
+  sub->add_option("--device", o->flags.device, "OpenCL device index (bench engine)");
+  sub->add_option("--set", o->flags.set, "Scene override KEY.PATH=VALUE (bench engine, repeatable)");
+  sub->add_option("--steps", o->steps, "Steps to time (bench train, bench engine)")->capture_default_str()->check(CLI::PositiveNumber);
   sub->add_option("--threads", o->threads, "Episode-generation threads (bench train)")->capture_default_str()->check(CLI::PositiveNumber);
   sub->add_option("--ranks", o->ranks, "Ranks")->capture_default_str()->check(CLI::Range(1, 4096));
   sub->add_option("--events", o->events, "Events per rollout")->capture_default_str()->check(CLI::PositiveNumber);
@@ -83,6 +122,7 @@ Action add_bench(CLI::App& app) {
   sub->add_option("--weights", o->weights, "GRU weights (default: a random zero-head GRU of the shipped shape)");
   return [o, sub] {
     if (!*sub) return -1;  // not the chosen subcommand
+    if (o->what == "engine") return bench_engine(o->scene, o->backends, o->cells, o->steps, o->warmup, o->flags);
     if (o->what == "train") {
 #ifdef SEMLB_WITH_TORCH
       return bench_train(o->steps, o->threads);

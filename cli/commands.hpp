@@ -14,7 +14,18 @@ Action add_surrogate(CLI::App& app);
 Action add_replay(CLI::App& app);
 Action add_sweep(CLI::App& app);
 Action add_bench(CLI::App& app);
-Action add_train(CLI::App& app);  // only when built with libtorch (SEMLB_WITH_TORCH)
+Action add_train(CLI::App& app);
+Action add_sim(CLI::App& app);
+
+// Flags shared by the subcommands that run scenes (sim, bench engine); -1/empty = the scene's value.
+struct SceneFlags {
+  std::string backend, precision, platform;
+  int device = -1;
+  long steps = -1, seed = -1;
+  std::vector<std::string> set;
+};
+void add_scene_flags(CLI::App* sub, SceneFlags& flags);
+std::vector<std::string> scene_overrides(const SceneFlags& flags);  // only when built with libtorch (SEMLB_WITH_TORCH)
 
 // The full command line, recorded next to results.
 std::string command_line();

@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
   set_command_line(argc, argv);
   CLI::App app{"semlb: multi-GPU subcellular-element simulation with learned load balancing"};
   app.require_subcommand(1);
-  std::vector<Action> actions = {add_surrogate(app), add_replay(app), add_sweep(app), add_bench(app)};
+  std::vector<Action> actions = {add_surrogate(app), add_replay(app), add_sweep(app), add_bench(app), add_sim(app)};
 #ifdef SEMLB_WITH_TORCH
   actions.push_back(add_train(app));
 #endif

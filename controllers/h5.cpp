@@ -52,7 +52,7 @@ bool File::has(const std::string& name) const {
   return true;
 }
 
-std::vector<double> File::read(const std::string& name, std::vector<hsize_t>& dims) const {
+Id File::open_dataset(const std::string& name, H5T_class_t expected, std::vector<hsize_t>& dims) const {
   if (!has(name)) throw InputError(path_ + ": dataset " + name + " is missing");
   Id set(H5Dopen2(id(), name.c_str(), H5P_DEFAULT), H5Dclose, path_ + ": cannot open dataset " + name);
   Id space(H5Dget_space(set.get()), H5Sclose, path_ + ": no dataspace for " + name);
@@ -60,21 +60,48 @@ std::vector<double> File::read(const std::string& name, std::vector<hsize_t>& di
   dims.assign(std::max(rank, 0), 0);
   if (rank > 0) H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
   Id type(H5Dget_type(set.get()), H5Tclose, path_ + ": no datatype for " + name);
-  if (H5Tget_class(type.get()) != H5T_FLOAT) throw InputError(path_ + ": dataset " + name + " is not floating-point");
+  if (H5Tget_class(type.get()) != expected)
+    throw InputError(path_ + ": dataset " + name + " is not " + (expected == H5T_FLOAT ? "floating-point" : "integer"));
+  return set;
+}
+
+namespace {
+hsize_t count_of(const std::vector<hsize_t>& dims) {
   hsize_t n = 1;
   for (auto d : dims) n *= d;
-  std::vector<double> data(n);
-  if (n > 0) check(H5Dread(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "read " + name);
+  return n;
+}
+}  // namespace
+
+std::vector<double> File::read(const std::string& name, std::vector<hsize_t>& dims) const {
+  Id set = open_dataset(name, H5T_FLOAT, dims);
+  std::vector<double> data(count_of(dims));
+  if (!data.empty()) check(H5Dread(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "read " + name);
   return data;
 }
 
-void File::write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<double>& data) {
+std::vector<int64_t> File::read_ints(const std::string& name, std::vector<hsize_t>& dims) const {
+  Id set = open_dataset(name, H5T_INTEGER, dims);
+  std::vector<int64_t> data(count_of(dims));
+  if (!data.empty()) check(H5Dread(set.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "read " + name);
+  return data;
+}
+
+void File::write_raw(const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type, hid_t mem_type, const void* data) {
   Id lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose, "H5Pcreate");
   check(H5Pset_create_intermediate_group(lcpl.get(), 1), "intermediate groups");
   Id space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose, "dataspace " + name);
-  Id set(H5Dcreate2(id(), name.c_str(), H5T_IEEE_F64LE, space.get(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
+  Id set(H5Dcreate2(id(), name.c_str(), file_type, space.get(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
          H5Dclose, path_ + ": cannot create dataset " + name);
-  check(H5Dwrite(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "write " + name);
+  if (count_of(dims) > 0) check(H5Dwrite(set.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + name);
+}
+
+void File::write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<double>& data) {
+  write_raw(name, dims, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, data.data());
+}
+
+void File::write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<int64_t>& data) {
+  write_raw(name, dims, H5T_STD_I64LE, H5T_NATIVE_INT64, data.data());
 }
 
 Id File::attr(const std::string& name) const {

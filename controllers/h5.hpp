@@ -2,6 +2,7 @@
 #pragma once
 #include <hdf5.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,9 @@ class File {
   // Reads a dataset of any floating type as doubles; dims receives its shape. Missing -> InputError.
   std::vector<double> read(const std::string& name, std::vector<hsize_t>& dims) const;
   void write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<double>& data);
+  // Integer datasets (stored as int64); reading refuses a floating-point dataset.
+  std::vector<int64_t> read_ints(const std::string& name, std::vector<hsize_t>& dims) const;
+  void write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<int64_t>& data);
   std::string read_text_attr(const std::string& name) const;  // attribute on the root group
   long read_int_attr(const std::string& name) const;
   double read_real_attr(const std::string& name) const;
@@ -43,6 +47,8 @@ class File {
   void write_attr(const std::string& name, double value);
 
  private:
+  Id open_dataset(const std::string& name, H5T_class_t expected, std::vector<hsize_t>& dims) const;
+  void write_raw(const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type, hid_t mem_type, const void* data);
   File(Id id, std::string path) : id_(std::move(id)), path_(std::move(path)) {}
   Id attr(const std::string& name) const;
   Id id_;

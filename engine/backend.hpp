@@ -1,0 +1,69 @@
+// Backends evaluate the element kernels (pair forces, membrane, integration, noise) on one device;
+// they register by name (serial, cpu-binned, opencl-allpairs, opencl-binned).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "scene.hpp"
+#include "state.hpp"
+
+namespace semlb::engine {
+
+// The box that bins cover. Elements outside are clamped into the edge bins, which keeps every pair
+// within the cutoff in neighbouring bins (clamping is 1-Lipschitz in bin units).
+struct Grid {
+  std::array<double, 3> lo{}, size{};  // bin edge length >= cutoff
+  std::array<int, 3> dims{1, 1, 1};
+  long bins() const { return static_cast<long>(dims[0]) * dims[1] * dims[2]; }
+  static Grid cover(const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cutoff);
+  std::array<int, 3> bin_of(const double* p) const;
+};
+
+// A run-time failure inside a kernel: the first step at which it happened, the lowest element index
+// that failed then, and what went wrong.
+struct Failure {
+  long step = -1;
+  long element = -1;
+  int code = 0;  // 1: position not finite, 2: displacement above the limit
+  bool failed() const { return step >= 0; }
+  std::string quantity() const;
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual std::string name() const = 0;
+  virtual std::string device_name() const = 0;
+  // Element data (positions, packed info, keys) from the host state; call after every host change.
+  virtual void upload(const State& state) = 0;
+  virtual void download(State& state) = 0;  // positions only
+  // Forces start at zero each step; pair_forces and membrane_forces add to them (fixed point).
+  virtual void zero_forces() = 0;
+  virtual void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;
+  virtual void membrane_forces(const std::vector<double>& membrane) = 0;
+  // Y += dt/eta * F; records a Failure (and freezes) on a non-finite position or a step above max_step.
+  virtual void integrate(double dt_over_eta, double max_step, long step) = 0;
+  virtual void noise(double amplitude, uint64_t seed, long step) = 0;  // Y += amplitude * N(0,1)
+  virtual Failure failure() = 0;
+  virtual void finish() {}  // waits for queued work (so that wall times are honest)
+  // Kernel launches by name since construction: an effect that is not listed launches none.
+  const std::map<std::string, long>& launches() const { return launches_; }
+
+ protected:
+  void count(const std::string& kernel) { ++launches_[kernel]; }
+  std::map<std::string, long> launches_;
+};
+
+using BackendFactory = std::function<std::unique_ptr<Backend>(const BackendConfig&)>;
+struct BackendRegistrar {
+  BackendRegistrar(const std::string& name, BackendFactory factory);
+};
+std::unique_ptr<Backend> make_backend(const BackendConfig& config);  // InputError names the known ones
+std::vector<std::string> backend_names();
+
+}  // namespace semlb::engine

@@ -1,0 +1,91 @@
+// Shared host implementation of the element kernels for the C++ backends (serial, cpu-binned).
+#pragma once
+#include <climits>
+#include <cmath>
+
+#include "backend.hpp"
+#include "cpu_physics.hpp"
+
+namespace semlb::engine {
+
+template <class Real>
+class CpuBackend : public Backend {
+ public:
+  explicit CpuBackend(int threads) : threads_(threads) {}
+  std::string device_name() const override { return "host CPU"; }
+
+  void upload(const State& s) override {
+    pos_.assign(s.position.begin(), s.position.end());
+    info_ = s.element_info();
+    key_ = s.element_keys();
+    force_.assign(pos_.size(), 0);
+    fail_step_ = -1;
+    fail_code_ = INT_MAX;
+  }
+  void download(State& s) override { s.position.assign(pos_.begin(), pos_.end()); }
+  void zero_forces() override { std::fill(force_.begin(), force_.end(), 0); }
+
+  void membrane_forces(const std::vector<double>& membrane) override {
+    count("membrane");
+    const std::vector<Real> m(membrane.begin(), membrane.end());
+    const long n = static_cast<long>(info_.size());
+#pragma omp parallel for schedule(static) num_threads(threads())
+    for (long i = 0; i < n; ++i)
+      force_[3 * i + 2] += Physics<Real>::fixed(Physics<Real>::membrane(pos_[3 * i + 2], phys64::semlb_info_type(info_[i]), m.data()));
+  }
+
+  void integrate(double dt_over_eta, double max_step, long step) override {
+    count("integrate");
+    if (fail_step_ >= 0) return;  // frozen at the failure
+    const Real k = static_cast<Real>(dt_over_eta), limit2 = static_cast<Real>(max_step * max_step);
+    const long n = static_cast<long>(info_.size());
+    int worst = INT_MAX;
+#pragma omp parallel for schedule(static) num_threads(threads()) reduction(min : worst)
+    for (long i = 0; i < n; ++i) {
+      Real d2 = 0;
+      bool finite = true;
+      for (int c = 0; c < 3; ++c) {
+        const Real d = Physics<Real>::step(force_[3 * i + c], k);
+        pos_[3 * i + c] += d;
+        d2 += d * d;
+        finite = finite && std::isfinite(pos_[3 * i + c]);
+      }
+      if (!finite || !(d2 <= limit2)) worst = std::min(worst, static_cast<int>(i * 4 + (finite ? 2 : 1)));
+    }
+    if (worst != INT_MAX) {
+      fail_step_ = step;
+      fail_code_ = worst;
+    }
+  }
+
+  void noise(double amplitude, uint64_t seed, long step) override {
+    count("noise");
+    const Real a = static_cast<Real>(amplitude);
+    const long n = static_cast<long>(info_.size());
+#pragma omp parallel for schedule(static) num_threads(threads())
+    for (long i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) pos_[3 * i + c] += a * Physics<Real>::gauss(seed, key_[i], step, c);
+  }
+
+  Failure failure() override {
+    Failure f;
+    if (fail_step_ >= 0) {
+      f.step = fail_step_;
+      f.element = fail_code_ / 4;
+      f.code = fail_code_ % 4;
+    }
+    return f;
+  }
+
+ protected:
+  int threads() const { return threads_; }
+  std::vector<Real> pos_;
+  std::vector<int> info_;
+  std::vector<uint64_t> key_;
+  std::vector<int64_t> force_;
+  int threads_;
+  long fail_step_ = -1;
+  int fail_code_ = INT_MAX;
+};
+
+}  // namespace semlb::engine

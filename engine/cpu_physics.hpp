@@ -1,0 +1,56 @@
+// The evaluator header compiled for the C++ backends, once per precision (Physics<float|double>).
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#define SEMLB_LONG int64_t
+#define SEMLB_ULONG uint64_t
+#define SEMLB_CONST
+#define SEMLB_EXP std::exp
+#define SEMLB_SQRT std::sqrt
+#define SEMLB_LOG std::log
+#define SEMLB_COS std::cos
+
+namespace semlb::engine::phys64 {
+#define SEMLB_REAL double
+#include "evaluator.h"
+#undef SEMLB_REAL
+}  // namespace semlb::engine::phys64
+
+namespace semlb::engine::phys32 {
+#define SEMLB_REAL float
+#include "evaluator.h"
+#undef SEMLB_REAL
+}  // namespace semlb::engine::phys32
+
+namespace semlb::engine {
+
+template <class Real>
+struct Physics;
+
+#define SEMLB_PHYSICS(REAL, NS)                                                                         \
+  template <>                                                                                           \
+  struct Physics<REAL> {                                                                                \
+    static void pair(REAL dx, REAL dy, REAL dz, int ii, int ij, uint64_t ki, uint64_t kj, const REAL* t, \
+                     REAL c2, int64_t* acc) {                                                           \
+      if (NS::semlb_pair_force(dx, dy, dz, ii, ij, t, c2, acc) < 0)                                     \
+        NS::semlb_coincident_force(ki, kj, ii, ij, t, acc);                                             \
+    }                                                                                                   \
+    static REAL membrane(REAL z, int type, const REAL* m) { return NS::semlb_membrane_fz(z, type, m); } \
+    static int64_t fixed(REAL f) { return NS::semlb_to_fixed(f); }                                      \
+    static REAL step(int64_t f, REAL dt_eta) { return NS::semlb_displacement(f, dt_eta); }              \
+    static REAL gauss(uint64_t s, uint64_t k, uint64_t t, uint64_t c) { return NS::semlb_gauss(s, k, t, c); } \
+  };
+SEMLB_PHYSICS(double, phys64)
+SEMLB_PHYSICS(float, phys32)
+#undef SEMLB_PHYSICS
+
+// Counter-based random numbers for host-side effects (growth, tissue generator): the same generator.
+inline double uniform01(uint64_t seed, uint64_t key, uint64_t step, uint64_t stream) {
+  return phys64::semlb_uniform(seed, key, step, stream);
+}
+inline double gaussian(uint64_t seed, uint64_t key, uint64_t step, uint64_t stream) {
+  return phys64::semlb_gauss(seed, key, step, stream);
+}
+
+}  // namespace semlb::engine

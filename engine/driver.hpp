@@ -1,0 +1,27 @@
+// `semlb sim`: a scene run with snapshots, checkpoints, run.csv, status line and failure handling.
+#pragma once
+#include <string>
+
+#include "scene.hpp"
+
+namespace semlb::engine {
+
+struct RunConfig {
+  std::string out_dir;
+  std::string restart;  // a checkpoint (or any state file) to continue from; its step is kept
+  bool quiet = false;
+  std::string git_revision = "unknown", command_line;
+};
+
+struct RunSummary {
+  long steps = 0, cells = 0, elements = 0;
+  double wall_seconds = 0;
+  std::string device;
+};
+
+// Output: DIR/final.h5, DIR/snapshots/step_NNNNNNNNN.h5 + DIR/snapshots.xmf, DIR/run.csv, DIR/scene.yaml,
+// DIR/checkpoint.h5; on a numerical failure DIR/failure.h5 and a SimulationError. Bad input throws
+// InputError before anything is written.
+RunSummary run_scene(Scene& scene, const RunConfig& config);
+
+}  // namespace semlb::engine

@@ -1,0 +1,78 @@
+// "division": a cell of a listed type with at least at_elements elements splits through its centroid,
+// perpendicular to the long axis of its gyration tensor; the daughter on the +axis side gets a new id.
+#include <Eigen/Dense>
+
+#include "../effect.hpp"
+#include "cell_types.hpp"
+
+namespace semlb::engine {
+namespace {
+
+class Division final : public Effect {
+ public:
+  explicit Division(const Section& s)
+      : at_(static_cast<int>(s.integer("at_elements", 20, 2, kMaxSlots - 1))), types_(read_types(s, "types", {"basal"})) {}
+  std::string name() const override { return "division"; }
+  bool changes_cells() const override { return true; }
+
+  bool update_cells(CellContext& ctx) override {
+    State& s = ctx.state;
+    const long before = s.cells();
+    std::vector<std::vector<std::array<double, 3>>> cells(before);
+    for (long c = 0; c < before; ++c) {  // cells in stored order: ids of daughters are deterministic
+      const long first = s.cell_first[c];
+      for (int k = 0; k < s.cell_count[c]; ++k)
+        cells[c].push_back({s.position[3 * (first + k)], s.position[3 * (first + k) + 1], s.position[3 * (first + k) + 2]});
+      if (!types_[s.cell_type[c]] || s.cell_count[c] < at_) continue;
+      auto [stay, leave] = split(cells[c]);
+      cells[c] = std::move(stay);
+      cells.push_back(std::move(leave));
+      s.cell_id.push_back(s.next_cell_id++);
+      s.cell_type.push_back(s.cell_type[c]);
+      s.cell_count.push_back(0);
+      for (auto& [name, field] : s.cell_fields) field.push_back(field[c]);  // daughters inherit
+    }
+    if (s.cells() == before) return false;
+    rebuild(s, cells);
+    return true;
+  }
+
+  // Splits by the sign of (y - c) . a, a the gyration tensor's long axis; a degenerate cell (all
+  // elements on one side, e.g. coincident) is split in half by projection order.
+  static std::pair<std::vector<std::array<double, 3>>, std::vector<std::array<double, 3>>> split(
+      const std::vector<std::array<double, 3>>& e) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const auto& p : e) c += Eigen::Vector3d(p[0], p[1], p[2]);
+    c /= static_cast<double>(e.size());
+    Eigen::Matrix3d g = Eigen::Matrix3d::Zero();
+    for (const auto& p : e) {
+      const Eigen::Vector3d d = Eigen::Vector3d(p[0], p[1], p[2]) - c;
+      g += d * d.transpose();
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(g / static_cast<double>(e.size()));
+    Eigen::Vector3d axis = eig.eigenvectors().col(2);  // largest eigenvalue
+    int big = 0;
+    axis.cwiseAbs().maxCoeff(&big);
+    if (axis[big] < 0) axis = -axis;  // eigenvector sign is arbitrary: fix it
+    std::vector<std::pair<double, int>> proj;
+    for (size_t k = 0; k < e.size(); ++k) proj.push_back({(Eigen::Vector3d(e[k][0], e[k][1], e[k][2]) - c).dot(axis), static_cast<int>(k)});
+    std::vector<std::array<double, 3>> stay, leave;
+    for (const auto& [p, k] : proj) (p > 0 ? leave : stay).push_back(e[k]);
+    if (stay.empty() || leave.empty()) {
+      std::stable_sort(proj.begin(), proj.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      stay.clear();
+      leave.clear();
+      for (size_t r = 0; r < proj.size(); ++r) (r < proj.size() / 2 ? stay : leave).push_back(e[proj[r].second]);
+    }
+    return {stay, leave};
+  }
+
+ private:
+  int at_;
+  std::array<bool, kCellTypes> types_;
+};
+
+const EffectRegistrar registrar("division", {50, [](const Section& s, const Scene&) { return std::make_unique<Division>(s); }});
+
+}  // namespace
+}  // namespace semlb::engine

@@ -1,0 +1,108 @@
+/* The SEM physics written once (C99 subset): included by the C++ backends and by the OpenCL kernels. */
+/* No include guard on purpose: C++ includes it once per precision inside a namespace. The includer
+ * defines SEMLB_REAL (float|double), SEMLB_LONG / SEMLB_ULONG (64-bit integers), SEMLB_CONST (the
+ * address space of parameter tables), SEMLB_EXP and SEMLB_SQRT, SEMLB_LOG, SEMLB_COS.
+ * Equations: docs/engine.md; eq. (1) of the paper is dY/dt = -grad sum V_ele - grad V_ext. */
+
+typedef SEMLB_REAL semlb_real;
+
+/* Forces are summed in fixed point (2^-32 force units) so that sums do not depend on their order. */
+#define SEMLB_FIXED_SCALE 4294967296.0
+#define SEMLB_FIXED_INV (1.0 / 4294967296.0)
+/* Per-pair and per-element force clamp (force units) keeping every fixed-point sum inside int64. */
+#define SEMLB_FORCE_MAX 1048576.0
+/* Below this distance (length units) the pair direction is taken from the element keys (r = 0). */
+#define SEMLB_R_MIN 1e-6
+
+/* Parameter table layout (reals): a Morse set is (U0, V0, xi1, xi2). */
+#define SEMLB_TYPES 3
+#define SEMLB_MORSE_INTRA 0                     /* the intra-cell set */
+#define SEMLB_MORSE_INTER(ti, tj) (4 + 4 * ((ti) * SEMLB_TYPES + (tj)))
+#define SEMLB_TABLE_SIZE (4 + 4 * SEMLB_TYPES * SEMLB_TYPES)
+
+/* An element's packed info: cell index (within the local state) and cell type. */
+static inline int semlb_info_cell(int info) { return info >> 2; }
+static inline int semlb_info_type(int info) { return info & 3; }
+
+static inline semlb_real semlb_clamp_force(semlb_real f) {
+  if (f != f) return (semlb_real)SEMLB_FORCE_MAX; /* NaN: a huge step that integrate reports */
+  return f > (semlb_real)SEMLB_FORCE_MAX ? (semlb_real)SEMLB_FORCE_MAX
+         : (f < -(semlb_real)SEMLB_FORCE_MAX ? -(semlb_real)SEMLB_FORCE_MAX : f);
+}
+
+/* One force component in fixed point (truncation toward zero, identical in C++ and OpenCL C). */
+static inline SEMLB_LONG semlb_to_fixed(semlb_real f) {
+  return (SEMLB_LONG)(semlb_clamp_force(f) * (semlb_real)SEMLB_FIXED_SCALE);
+}
+
+/* f(r) = -dV/dr for V(r) = U0 exp(-r/xi1) - V0 exp(-r/xi2); positive is repulsive. */
+static inline semlb_real semlb_morse_magnitude(semlb_real r, SEMLB_CONST const semlb_real* set) {
+  return set[0] / set[2] * SEMLB_EXP(-r / set[2]) - set[1] / set[3] * SEMLB_EXP(-r / set[3]);
+}
+
+/* SplitMix64 finaliser: the counter-based generator shared by noise, growth and the tissue generator. */
+static inline SEMLB_ULONG semlb_mix(SEMLB_ULONG z) {
+  z += (SEMLB_ULONG)0x9E3779B97F4A7C15UL;
+  z = (z ^ (z >> 30)) * (SEMLB_ULONG)0xBF58476D1CE4E5B9UL;
+  z = (z ^ (z >> 27)) * (SEMLB_ULONG)0x94D049BB133111EBUL;
+  return z ^ (z >> 31);
+}
+
+/* Uniform in (0, 1] from the counter (seed, key, step, stream). */
+static inline semlb_real semlb_uniform(SEMLB_ULONG seed, SEMLB_ULONG key, SEMLB_ULONG step, SEMLB_ULONG stream) {
+  SEMLB_ULONG z = semlb_mix(semlb_mix(semlb_mix(seed ^ (stream << 56)) ^ key) ^ step);
+  return (semlb_real)((double)((z >> 11) + 1) * (1.0 / 9007199254740992.0));
+}
+
+/* Standard normal by Box-Muller from two counter streams. */
+static inline semlb_real semlb_gauss(SEMLB_ULONG seed, SEMLB_ULONG key, SEMLB_ULONG step, SEMLB_ULONG stream) {
+  semlb_real u1 = semlb_uniform(seed, key, step, 2 * stream);
+  semlb_real u2 = semlb_uniform(seed, key, step, 2 * stream + 1);
+  return SEMLB_SQRT((semlb_real)-2.0 * SEMLB_LOG(u1)) * SEMLB_COS((semlb_real)6.283185307179586 * u2);
+}
+
+/* Force on element i from element j, added to acc[0..2] in fixed point; d = Y_i - Y_j (eq. 1 with the
+ * Morse V_ele of docs/engine.md). Returns 0 outside the cutoff, 1 when added, and -1 for coincident
+ * elements (r < SEMLB_R_MIN), whose direction is undefined: the caller then calls semlb_coincident_force. */
+static inline int semlb_pair_force(semlb_real dx, semlb_real dy, semlb_real dz, int info_i, int info_j,
+                                   SEMLB_CONST const semlb_real* table, semlb_real cutoff2, SEMLB_LONG* acc) {
+  semlb_real r2 = dx * dx + dy * dy + dz * dz;
+  if (r2 >= cutoff2) return 0;
+  semlb_real r = SEMLB_SQRT(r2);
+  if (r < (semlb_real)SEMLB_R_MIN) return -1;
+  int set = info_i == info_j ? SEMLB_MORSE_INTRA : SEMLB_MORSE_INTER(semlb_info_type(info_i), semlb_info_type(info_j));
+  semlb_real s = semlb_morse_magnitude(r, table + set) / r;
+  acc[0] += semlb_to_fixed(s * dx);
+  acc[1] += semlb_to_fixed(s * dy);
+  acc[2] += semlb_to_fixed(s * dz);
+  return 1;
+}
+
+/* Coincident elements are pushed apart with f(0) along a unit vector hashed from the two keys, with
+ * opposite signs for i and j, so that F_ij = -F_ji exactly and the result is order-independent. */
+static inline void semlb_coincident_force(SEMLB_ULONG key_i, SEMLB_ULONG key_j, int info_i, int info_j,
+                                          SEMLB_CONST const semlb_real* table, SEMLB_LONG* acc) {
+  int set = info_i == info_j ? SEMLB_MORSE_INTRA : SEMLB_MORSE_INTER(semlb_info_type(info_i), semlb_info_type(info_j));
+  semlb_real f = semlb_morse_magnitude((semlb_real)0.0, table + set);
+  SEMLB_ULONG lo = key_i < key_j ? key_i : key_j, hi = key_i < key_j ? key_j : key_i;
+  semlb_real sign = key_i < key_j ? (semlb_real)-1.0 : (semlb_real)1.0;
+  semlb_real ux = semlb_gauss(lo, hi, 0, 0), uy = semlb_gauss(lo, hi, 0, 1), uz = semlb_gauss(lo, hi, 0, 2);
+  semlb_real s = sign * f / (SEMLB_SQRT(ux * ux + uy * uy + uz * uz) + (semlb_real)1e-30);
+  acc[0] += semlb_to_fixed(s * ux);
+  acc[1] += semlb_to_fixed(s * uy);
+  acc[2] += semlb_to_fixed(s * uz);
+}
+
+/* Membrane parameters (reals): wall U, wall xi, adhesion V, adhesion xi; the plane is z = 0. */
+#define SEMLB_MEMBRANE_SIZE 4
+/* z-force of the basement membrane (V_ext): repulsive wall for every element, adhesion for basal (type 0). */
+static inline semlb_real semlb_membrane_fz(semlb_real z, int type, SEMLB_CONST const semlb_real* m) {
+  semlb_real f = m[0] / m[1] * SEMLB_EXP(-z / m[1]);
+  if (type == 0) f -= m[2] / m[3] * SEMLB_EXP(-z / m[3]);
+  return semlb_clamp_force(f);
+}
+
+/* Overdamped Euler update of one coordinate: dY = dt/eta * F (eq. 1). */
+static inline semlb_real semlb_displacement(SEMLB_LONG fixed_force, semlb_real dt_over_eta) {
+  return dt_over_eta * ((semlb_real)fixed_force * (semlb_real)SEMLB_FIXED_INV);
+}

@@ -1,0 +1,193 @@
+/* OpenCL kernels of the opencl-allpairs and opencl-binned backends; the physics comes from evaluator.h. */
+#pragma OPENCL FP_CONTRACT OFF
+#ifdef SEMLB_DOUBLE
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#define SEMLB_REAL double
+typedef double4 real4;
+#define INFO(w) ((int)as_long(w))
+#else
+#define SEMLB_REAL float
+typedef float4 real4;
+#define INFO(w) as_int(w)
+#endif
+#define SEMLB_LONG long
+#define SEMLB_ULONG ulong
+#define SEMLB_CONST __constant
+#define SEMLB_EXP exp
+#define SEMLB_SQRT sqrt
+#define SEMLB_LOG log
+#define SEMLB_COS cos
+#include "evaluator.h"
+
+#define NO_FAILURE 0x7fffffff
+
+/* Bin coordinates clamped into the grid (x fastest). */
+static inline int4 bin3(real4 p, real4 lo, real4 size, int4 dims) {
+  int4 b;
+  b.x = clamp((int)floor((p.x - lo.x) / size.x), 0, dims.x - 1);
+  b.y = clamp((int)floor((p.y - lo.y) / size.y), 0, dims.y - 1);
+  b.z = clamp((int)floor((p.z - lo.z) / size.z), 0, dims.z - 1);
+  b.w = 0;
+  return b;
+}
+
+__kernel void bin_count(__global const real4* pos, int n, real4 lo, real4 size, int4 dims, __global int* bin,
+                        __global int* counts) {
+  int i = get_global_id(0);
+  if (i >= n) return;
+  int4 b = bin3(pos[i], lo, size, dims);
+  int k = (b.z * dims.y + b.y) * dims.x + b.x;
+  bin[i] = k;
+  atomic_inc(&counts[k]);
+}
+
+/* Exclusive scan, step 1: within blocks of the work-group size (power of two, <= 1024). */
+__kernel void scan_blocks(__global const int* counts, __global int* starts, __global int* sums, int nbins,
+                          __local int* tmp) {
+  int g = get_global_id(0), l = get_local_id(0), w = get_local_size(0);
+  int v = g < nbins ? counts[g] : 0;
+  tmp[l] = v;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (int off = 1; off < w; off <<= 1) {
+    int add = l >= off ? tmp[l - off] : 0;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    tmp[l] += add;
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  if (g < nbins) starts[g] = tmp[l] - v;
+  if (l == w - 1) sums[get_group_id(0)] = tmp[l];
+}
+
+/* Step 2: one work-group scans the block sums in chunks, carrying the running total. */
+__kernel void scan_sums(__global int* sums, int nblocks, __local int* tmp) {
+  int l = get_local_id(0), w = get_local_size(0);
+  int carry = 0;
+  for (int base = 0; base < nblocks; base += w) {
+    int v = base + l < nblocks ? sums[base + l] : 0;
+    tmp[l] = v;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int off = 1; off < w; off <<= 1) {
+      int add = l >= off ? tmp[l - off] : 0;
+      barrier(CLK_LOCAL_MEM_FENCE);
+      tmp[l] += add;
+      barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (base + l < nblocks) sums[base + l] = carry + tmp[l] - v;
+    carry += tmp[w - 1];
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+}
+
+/* Step 3: add the block offsets; the scatter cursor starts at each bin's start; starts[nbins] = n. */
+__kernel void scan_add(__global int* starts, __global const int* sums, int nbins, __global int* cursor, int n) {
+  int g = get_global_id(0);
+  if (g < nbins) {
+    int s = starts[g] + sums[get_group_id(0)];
+    starts[g] = s;
+    cursor[g] = s;
+  }
+  if (g == 0) starts[nbins] = n;
+}
+
+/* Elements into bin order (order within a bin is arbitrary: force sums are order-independent). */
+__kernel void scatter(__global const real4* pos, __global const int* bin, __global int* cursor,
+                      __global real4* sorted_pos, __global int* sorted_index, int n) {
+  int i = get_global_id(0);
+  if (i >= n) return;
+  int s = atomic_inc(&cursor[bin[i]]);
+  sorted_pos[s] = pos[i];
+  sorted_index[s] = i;
+}
+
+/* Pair forces over the 27-bin stencil: 9 rows of 3 bins, contiguous in bin order. One item per sorted element. */
+__kernel void forces_binned(__global const real4* sorted_pos, __global const int* sorted_index,
+                            __global const ulong* keys, __global const int* starts, real4 lo, real4 size, int4 dims,
+                            __constant const SEMLB_REAL* table, SEMLB_REAL cutoff2, __global long* force, int n) {
+  int s = get_global_id(0);
+  if (s >= n) return;
+  real4 me = sorted_pos[s];
+  int info = INFO(me.w);
+  int4 b = bin3(me, lo, size, dims);
+  long acc[3] = {0, 0, 0};
+  int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1);
+  for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
+    for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
+      int row = (z * dims.y + y) * dims.x;
+      int last = starts[row + x1 + 1];
+      for (int o = starts[row + x0]; o < last; ++o) {
+        if (o == s) continue;
+        real4 q = sorted_pos[o];
+        if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
+          semlb_coincident_force(keys[sorted_index[s]], keys[sorted_index[o]], info, INFO(q.w), table, acc);
+      }
+    }
+  int i = sorted_index[s];
+  force[3 * i] += acc[0];
+  force[3 * i + 1] += acc[1];
+  force[3 * i + 2] += acc[2];
+}
+
+/* All pairs, tiled through local memory (the GPU all-pairs baseline of the paper). */
+__kernel void forces_allpairs(__global const real4* pos, __global const ulong* keys, __constant const SEMLB_REAL* table,
+                              SEMLB_REAL cutoff2, __global long* force, int n, __local real4* tile) {
+  int i = get_global_id(0), l = get_local_id(0), w = get_local_size(0);
+  real4 me = i < n ? pos[i] : (real4)(0);
+  int info = INFO(me.w);
+  long acc[3] = {0, 0, 0};
+  for (int base = 0; base < n; base += w) {
+    tile[l] = base + l < n ? pos[base + l] : (real4)(0);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    int count = min(w, n - base);
+    if (i < n)
+      for (int k = 0; k < count; ++k) {
+        int j = base + k;
+        if (j == i) continue;
+        real4 q = tile[k];
+        if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
+          semlb_coincident_force(keys[i], keys[j], info, INFO(q.w), table, acc);
+      }
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  if (i >= n) return;
+  force[3 * i] += acc[0];
+  force[3 * i + 1] += acc[1];
+  force[3 * i + 2] += acc[2];
+}
+
+__kernel void membrane(__global const real4* pos, __constant const SEMLB_REAL* m, __global long* force, int n) {
+  int i = get_global_id(0);
+  if (i >= n) return;
+  real4 p = pos[i];
+  force[3 * i + 2] += semlb_to_fixed(semlb_membrane_fz(p.z, semlb_info_type(INFO(p.w)), m));
+}
+
+/* Overdamped update; the first failing step freezes the state and records (step, lowest element*4+code). */
+__kernel void integrate(__global real4* pos, __global const long* force, SEMLB_REAL dt_over_eta, SEMLB_REAL limit2,
+                        int step, __global volatile int* fail, int n) {
+  int i = get_global_id(0);
+  if (i >= n || fail[1] != NO_FAILURE) return;
+  real4 p = pos[i];
+  SEMLB_REAL dx = semlb_displacement(force[3 * i], dt_over_eta);
+  SEMLB_REAL dy = semlb_displacement(force[3 * i + 1], dt_over_eta);
+  SEMLB_REAL dz = semlb_displacement(force[3 * i + 2], dt_over_eta);
+  p.x += dx;
+  p.y += dy;
+  p.z += dz;
+  int finite = isfinite(p.x) && isfinite(p.y) && isfinite(p.z);
+  if (!finite || !(dx * dx + dy * dy + dz * dz <= limit2)) {
+    atomic_min(&fail[1], i * 4 + (finite ? 2 : 1));
+    atomic_xchg(&fail[0], step);
+  }
+  pos[i] = p;
+}
+
+__kernel void noise(__global real4* pos, __global const ulong* keys, SEMLB_REAL amplitude, ulong seed, long step, int n) {
+  int i = get_global_id(0);
+  if (i >= n) return;
+  real4 p = pos[i];
+  ulong k = keys[i];
+  p.x += amplitude * semlb_gauss(seed, k, (ulong)step, 0);
+  p.y += amplitude * semlb_gauss(seed, k, (ulong)step, 1);
+  p.z += amplitude * semlb_gauss(seed, k, (ulong)step, 2);
+  pos[i] = p;
+}

@@ -1,0 +1,60 @@
+// RAII over the OpenCL C API and the explicit platform/device choice (never "index 0 by default").
+#pragma once
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace semlb::engine::cl {
+
+void check(cl_int status, const char* what);  // throws std::runtime_error("OpenCL: WHAT failed (error N)")
+
+template <class T, cl_int (*Release)(T)>
+class Handle {
+ public:
+  Handle() = default;
+  explicit Handle(T h) : h_(h) {}
+  Handle(Handle&& o) noexcept : h_(std::exchange(o.h_, nullptr)) {}
+  Handle& operator=(Handle&& o) noexcept {
+    if (this != &o) {
+      reset();
+      h_ = std::exchange(o.h_, nullptr);
+    }
+    return *this;
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle() { reset(); }
+  T get() const { return h_; }
+  explicit operator bool() const { return h_ != nullptr; }
+
+ private:
+  void reset() {
+    if (h_) Release(h_);
+    h_ = nullptr;
+  }
+  T h_ = nullptr;
+};
+
+using Context = Handle<cl_context, clReleaseContext>;
+using Queue = Handle<cl_command_queue, clReleaseCommandQueue>;
+using Program = Handle<cl_program, clReleaseProgram>;
+using Kernel = Handle<cl_kernel, clReleaseKernel>;
+using Mem = Handle<cl_mem, clReleaseMemObject>;
+
+struct DeviceInfo {
+  cl_platform_id platform;
+  cl_device_id device;
+  std::string platform_name, device_name;
+  bool gpu;
+};
+
+// Every platform with its devices, as "platform: device" lines (for errors and `semlb sim --list-devices`).
+std::vector<DeviceInfo> list_devices();
+// The platform whose name contains `platform` (case-insensitive); empty: the only platform with a GPU,
+// else the only platform. `index` counts devices within that platform. Throws InputError otherwise.
+DeviceInfo choose_device(const std::string& platform, int index);
+
+}  // namespace semlb::engine::cl

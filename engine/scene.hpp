@@ -1,0 +1,69 @@
+// Scene files (YAML): domain, tissue, time stepping, output cadence, backend and the listed effects.
+// Format and defaults: docs/engine.md "Scene format". Errors name the file, line and field.
+#pragma once
+#include <yaml-cpp/yaml.h>
+
+#include <array>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace semlb::engine {
+
+// Typed, checked access to one YAML map of a scene; finish() refuses keys nobody read.
+class Section {
+ public:
+  Section(YAML::Node node, std::string path, std::string file, std::shared_ptr<const std::set<std::string>> overridden);
+  bool has(const std::string& key) const;
+  double real(const std::string& key, double fallback, double min, double max) const;
+  long integer(const std::string& key, long fallback, long min, long max) const;
+  std::string text(const std::string& key, const std::string& fallback) const;
+  std::vector<std::string> texts(const std::string& key, const std::vector<std::string>& fallback) const;
+  Section child(const std::string& key) const;  // an empty section when absent
+  std::vector<std::string> keys() const;
+  void finish() const;                                   // throws on a key that was never read
+  std::string where(const std::string& key) const;       // "FILE:LINE: field 'a.b': "
+  [[noreturn]] void fail(const std::string& key, const std::string& why) const;
+  const std::string& file() const { return file_; }
+
+ private:
+  YAML::Node at(const std::string& key) const;
+  YAML::Node node_;
+  std::string path_, file_;
+  std::shared_ptr<const std::set<std::string>> overridden_;
+  mutable std::set<std::string> read_;
+};
+
+struct BackendConfig {
+  std::string name = "cpu-binned";
+  std::string precision = "double";  // double | float
+  int threads = 0;                    // cpu-binned: 0 = all hardware threads
+  std::string platform;               // OpenCL platform name substring; empty: see docs/engine.md
+  int device = 0;                     // device index within the chosen platform
+  int local_rank = 0;                 // added to `device` (one device per local MPI rank)
+};
+
+struct Scene {
+  std::string path, name, text;  // text: the scene after overrides, copied next to results
+  uint64_t seed = 1;
+  std::array<double, 3> box_lo{}, box_hi{};  // resolved by the tissue generator when "auto"
+  bool auto_box = true;
+  double cutoff = 8.75;           // um
+  double dt = 0.01;               // h
+  long steps = 1000;
+  double friction = 1.0;          // eta
+  double max_displacement = 1.0;  // um per step; larger stops the run
+  long cell_update_every = 10;
+  long snapshot_every = 0, log_every = 100, checkpoint_every = 0;  // 0 = never (log: every 100)
+  BackendConfig backend;
+  std::unique_ptr<Section> tissue;
+  std::vector<std::pair<std::string, Section>> effects;  // in file order
+};
+
+// Loads FILE and applies `key.path=value` overrides (the value is YAML). Throws InputError.
+Scene load_scene(const std::string& file, const std::vector<std::string>& overrides);
+// Same from text (FILE only names the source in messages).
+Scene parse_scene(const std::string& text, const std::string& file, const std::vector<std::string>& overrides);
+
+}  // namespace semlb::engine

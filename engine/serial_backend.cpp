@@ -1,0 +1,37 @@
+// "serial": the paper's CPU baseline, all pairs on one thread (the reference every backend is checked against).
+#include "cpu_backend.hpp"
+
+namespace semlb::engine {
+namespace {
+
+template <class Real>
+class SerialBackend final : public CpuBackend<Real> {
+ public:
+  SerialBackend() : CpuBackend<Real>(1) {}
+  std::string name() const override { return "serial"; }
+
+  void pair_forces(const std::vector<double>& table, double cutoff, const Grid&) override {
+    this->count("pair_forces");
+    const std::vector<Real> t(table.begin(), table.end());
+    const Real c2 = static_cast<Real>(cutoff * cutoff);
+    const long n = static_cast<long>(this->info_.size());
+    const Real* p = this->pos_.data();
+    for (long i = 0; i < n; ++i) {
+      int64_t acc[3] = {0, 0, 0};
+      for (long j = 0; j < n; ++j)
+        if (j != i)
+          Physics<Real>::pair(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2],
+                              this->info_[i], this->info_[j], this->key_[i], this->key_[j], t.data(), c2, acc);
+      for (int c = 0; c < 3; ++c) this->force_[3 * i + c] += acc[c];
+    }
+  }
+};
+
+std::unique_ptr<Backend> make(const BackendConfig& c) {
+  if (c.precision == "float") return std::make_unique<SerialBackend<float>>();
+  return std::make_unique<SerialBackend<double>>();
+}
+const BackendRegistrar registrar("serial", make);
+
+}  // namespace
+}  // namespace semlb::engine

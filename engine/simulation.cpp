@@ -1,0 +1,82 @@
+// Simulation loop: forces -> integrate -> post-integration moves every step; cell effects every
+// cell_update_every steps on the host, with a failure check before each.
+#include "simulation.hpp"
+
+#include <chrono>
+#include <sstream>
+
+namespace semlb::engine {
+
+Simulation::Simulation(const Scene& scene, State state)
+    : scene_(&scene), state_(std::move(state)), backend_(make_backend(scene.backend)), effects_(make_effects(scene)) {
+  grid_ = Grid::cover(scene.box_lo, scene.box_hi, scene.cutoff);
+  for (const auto& e : effects_) {
+    e->prepare(state_);
+    if (e->adds_forces()) phases_.push_back(e->name());
+  }
+  phases_.push_back("integrate");
+  for (const auto& e : effects_)
+    if (e->moves_after_integration()) phases_.push_back(e->name());
+  for (const auto& e : effects_) has_cell_effects_ = has_cell_effects_ || e->changes_cells();
+  if (has_cell_effects_) phases_.push_back("cells");
+  seconds_.assign(phases_.size(), 0.0);
+  backend_->upload(state_);
+}
+
+template <class F>
+void Simulation::timed(size_t phase, F&& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  if (profile) backend_->finish();
+  seconds_[phase] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void Simulation::advance(long target) {
+  while (state_.step < target) step_once();
+  check();
+}
+
+void Simulation::step_once() {
+  const long step = state_.step;
+  size_t phase = 0;
+  backend_->zero_forces();
+  for (const auto& e : effects_)
+    if (e->adds_forces()) timed(phase++, [&] { e->forces(*backend_, grid_); });
+  timed(phase++, [&] { backend_->integrate(scene_->dt / scene_->friction, scene_->max_displacement, step); });
+  for (const auto& e : effects_)
+    if (e->moves_after_integration()) timed(phase++, [&] { e->after_integration(*backend_, step); });
+  state_.step = step + 1;
+  state_.time = static_cast<double>(state_.step) * scene_->dt;
+  if (has_cell_effects_ && state_.step % scene_->cell_update_every == 0) timed(phase, [&] { update_cells(); });
+}
+
+void Simulation::update_cells() {
+  check();
+  backend_->download(state_);
+  CellContext ctx{state_, scene_->seed, scene_->dt * static_cast<double>(scene_->cell_update_every)};
+  bool changed = false;
+  for (const auto& e : effects_)
+    if (e->changes_cells()) changed = e->update_cells(ctx) || changed;
+  if (changed) backend_->upload(state_);
+}
+
+const State& Simulation::sync() {
+  backend_->download(state_);
+  return state_;
+}
+
+void Simulation::check() {
+  const Failure f = backend_->failure();
+  if (!f.failed()) return;
+  backend_->download(state_);
+  long cell = 0;
+  while (cell + 1 < state_.cells() && state_.cell_first[cell + 1] <= f.element) ++cell;
+  std::ostringstream m;
+  m << "step " << f.step << ": element " << f.element << " (cell " << state_.cell_id[cell] << ", slot "
+    << f.element - state_.cell_first[cell] << "): " << f.quantity() << " (position " << state_.position[3 * f.element]
+    << ", " << state_.position[3 * f.element + 1] << ", " << state_.position[3 * f.element + 2] << "; limit "
+    << scene_->max_displacement << " um per step at time.dt = " << scene_->dt << " h): lower time.dt";
+  throw SimulationError(m.str());
+}
+
+}  // namespace semlb::engine

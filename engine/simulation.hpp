@@ -1,0 +1,54 @@
+// One simulation on one backend: the per-step element stage, the periodic cell stage, phase timers
+// and failure detection (a failing kernel stops the run with the step, element and quantity).
+#pragma once
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "backend.hpp"
+#include "effect.hpp"
+#include "scene.hpp"
+#include "state.hpp"
+
+namespace semlb::engine {
+
+// A numerical failure during the run (exit code 1): "step S: element E (cell C, slot K): QUANTITY ...".
+struct SimulationError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class Simulation {
+ public:
+  // Builds the backend and the scene's effects (InputError on bad parameters) and uploads `state`.
+  Simulation(const Scene& scene, State state);
+  // Runs until state().step == target; `profile` synchronises after every phase for honest timers.
+  void advance(long target);
+  // The host state with current positions (downloads them from the backend).
+  const State& sync();
+  const State& host_state() const { return state_; }  // positions as of the last sync or cell update
+  Backend& backend() { return *backend_; }
+  const Grid& grid() const { return grid_; }
+  const std::vector<std::string>& phases() const { return phases_; }
+  const std::vector<double>& phase_seconds() const { return seconds_; }  // accumulated, per phase
+  bool profile = true;
+  // Throws SimulationError if a kernel recorded a failure.
+  void check();
+
+ private:
+  void step_once();
+  void update_cells();
+  template <class F>
+  void timed(size_t phase, F&& f);
+
+  Scene const* scene_;
+  State state_;
+  std::unique_ptr<Backend> backend_;
+  std::vector<std::unique_ptr<Effect>> effects_;
+  Grid grid_;
+  std::vector<std::string> phases_;
+  std::vector<double> seconds_;
+  bool has_cell_effects_ = false;
+};
+
+}  // namespace semlb::engine

@@ -1,0 +1,64 @@
+// State helpers: per-element views, indexing and a hash of the whole tissue.
+#include "state.hpp"
+
+#include <cstring>
+#include <stdexcept>
+
+namespace semlb::engine {
+
+namespace {
+const char* const kTypeNames[kCellTypes] = {"basal", "spinous", "granular"};
+
+void fnv(uint64_t& h, const void* data, size_t bytes) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ULL;
+}
+}  // namespace
+
+const char* type_name(int type) { return type >= 0 && type < kCellTypes ? kTypeNames[type] : "?"; }
+
+int type_from_name(const std::string& name) {
+  for (int t = 0; t < kCellTypes; ++t)
+    if (name == kTypeNames[t]) return t;
+  return -1;
+}
+
+std::vector<int> State::element_info() const {
+  std::vector<int> info(elements());
+  for (long c = 0; c < cells(); ++c)
+    for (int k = 0; k < cell_count[c]; ++k) info[cell_first[c] + k] = static_cast<int>(c << 2) | cell_type[c];
+  return info;
+}
+
+std::vector<uint64_t> State::element_keys() const {
+  std::vector<uint64_t> keys(elements());
+  for (long c = 0; c < cells(); ++c)
+    for (int k = 0; k < cell_count[c]; ++k) keys[cell_first[c] + k] = element_key(cell_id[c], k);
+  return keys;
+}
+
+void State::reindex() {
+  if (cell_type.size() != cell_id.size() || cell_count.size() != cell_id.size())
+    throw std::logic_error("state: cell arrays differ in length");
+  cell_first.resize(cell_id.size());
+  long first = 0;
+  for (size_t c = 0; c < cell_id.size(); ++c) {
+    cell_first[c] = first;
+    first += cell_count[c];
+  }
+  if (first * 3 != static_cast<long>(position.size()))
+    throw std::logic_error("state: element count differs from the cells' sum");
+  for (const auto& [name, f] : cell_fields)
+    if (f.size() != cell_id.size()) throw std::logic_error("state: cell field " + name + " has the wrong length");
+}
+
+uint64_t State::hash() const {
+  uint64_t h = 1469598103934665603ULL;
+  fnv(h, position.data(), position.size() * sizeof(double));
+  fnv(h, cell_id.data(), cell_id.size() * sizeof(uint64_t));
+  fnv(h, cell_type.data(), cell_type.size() * sizeof(int));
+  fnv(h, cell_count.data(), cell_count.size() * sizeof(int));
+  return h;
+}
+
+}  // namespace semlb::engine

@@ -1,0 +1,46 @@
+// The simulated tissue on the host: elements in canonical (cell, slot) order, cells, effect-owned fields.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace semlb::engine {
+
+enum CellType : int { kBasal = 0, kSpinous = 1, kGranular = 2 };
+inline constexpr int kCellTypes = 3;
+const char* type_name(int type);
+int type_from_name(const std::string& name);  // -1 if unknown
+
+// An element's identity: its cell id and its slot within the cell (stable across ranks and orders).
+inline uint64_t element_key(uint64_t cell_id, int slot) { return (cell_id << 8) | static_cast<uint64_t>(slot); }
+inline constexpr int kMaxSlots = 256;
+
+struct State {
+  long step = 0;
+  double time = 0;  // h
+  uint64_t next_cell_id = 0;
+
+  // Cells (index c): id, type, first element and element count (elements are stored cell by cell).
+  std::vector<uint64_t> cell_id;
+  std::vector<int> cell_type;
+  std::vector<long> cell_first;
+  std::vector<int> cell_count;
+  // Per-cell fields owned by effects ("growth.clock", "differentiation.age"): absent unless listed.
+  std::map<std::string, std::vector<double>> cell_fields;
+
+  // Elements (index e), 3 doubles each.
+  std::vector<double> position;
+
+  long elements() const { return static_cast<long>(position.size() / 3); }
+  long cells() const { return static_cast<long>(cell_id.size()); }
+  // Packed info (cell index << 2 | type) and key per element, in element order.
+  std::vector<int> element_info() const;
+  std::vector<uint64_t> element_keys() const;
+  // Recomputes cell_first from cell_count; throws std::logic_error when sizes disagree.
+  void reindex();
+  // FNV-1a hash of positions (bits), cell ids, types and counts: equal hashes = identical tissue.
+  uint64_t hash() const;
+};
+
+}  // namespace semlb::engine

@@ -1,0 +1,13 @@
+// The initial tissue of a scene: the epidermal-sheet generator or an HDF5 state (`tissue.file`).
+#pragma once
+#include "scene.hpp"
+#include "state.hpp"
+
+namespace semlb::engine {
+
+// Builds the tissue and, for `domain: auto`, sets the scene's box around it. Throws InputError.
+State make_tissue(Scene& scene);
+// The box `domain: auto` gives a tissue: its extent plus one cutoff, from z = -cutoff, with headroom above.
+void fit_box(Scene& scene, const State& state);
+
+}  // namespace semlb::engine
