@@ -10,7 +10,7 @@ MANIFESTS := $(wildcard experiments/*.yaml)
 export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
-.PHONY: deps build test experiments analysis bench train clean
+.PHONY: deps build test experiments epidermis analysis bench train clean
 
 deps:
 	bash scripts/install-deps.sh
@@ -26,7 +26,12 @@ experiments: build
 	@set -e; for m in $(MANIFESTS); do \
 	  $(SEMLB) sweep $$m --profile $(PROFILE) --results $(RESULTS); \
 	done
-	$(MAKE) --no-print-directory analysis
+	$(MAKE) --no-print-directory epidermis analysis
+
+# The paper's use case: a small epidermis run rendered like the paper's epidermal figure.
+epidermis: build
+	$(SEMLB) sim --scene scenes/epidermis.yaml --out $(RESULTS)/epidermis --steps 3000
+	$(PYTHON) analysis/render.py $(RESULTS)/epidermis/final.h5 $(RESULTS)/figures/epidermis.png
 
 analysis:
 	$(PYTHON) analysis/report.py --results $(RESULTS)
@@ -37,6 +42,7 @@ train: build
 
 bench: build
 	$(SEMLB) bench policies --ranks 16
+	$(SEMLB) bench engine --backends serial,cpu-binned,opencl-allpairs,opencl-binned --cells 200 --steps 50
 
 clean:
 	rm -rf $(BUILD)

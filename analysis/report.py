@@ -151,6 +151,118 @@ def training_curve_figure(rows):
     return fig
 
 
+def _plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _timed(rows):
+    return [r for r in rows if r.get("seconds")]
+
+
+def single_device_table(rows):
+    out = ["# Single-device element-interaction time", "",
+           "Mechanics only; seconds per 1000 iterations (measured over `steps` iterations and scaled), element-steps "
+           "per second, and the density of the tissue: elements per cutoff cube around an element, candidates in "
+           "its 27-bin stencil and neighbours within the cutoff.", "",
+           "| backend | precision | elements | s / 1000 it. | element-steps/s | per cutoff cube | candidates | within cutoff |",
+           "|---|---|---:|---:|---:|---:|---:|---:|"]
+    for r in _timed(rows):
+        out.append(f"| {r['backend']} | {r['precision']} | {r['elements']} | {float(r['s_per_1000_steps']):.3g} | "
+                   f"{float(r['element_steps_per_s']):.3g} | {float(r['per_cutoff_cube']):.1f} | "
+                   f"{float(r['candidates']):.0f} | {float(r['neighbours']):.0f} |")
+    skipped = sorted({r["backend"] for r in rows if not r.get("seconds")})
+    if skipped:
+        out += ["", "Not run above their `max_cells` (too slow on this profile): " + ", ".join(skipped) + "."]
+    return "\n".join(out) + "\n"
+
+
+def single_device_figure(rows):
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    xs_all = []
+    for b in sorted({r["backend"] for r in rows}):
+        pts = sorted((int(r["elements"]), float(r["s_per_1000_steps"])) for r in _timed(rows) if r["backend"] == b)
+        if pts:
+            ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=b)
+            xs_all += pts
+    if xs_all:
+        x0, y0 = min(xs_all)
+        xs = [x0, max(p[0] for p in xs_all)]
+        ax.loglog(xs, [y0 * x / x0 for x in xs], "k:", label="O(n)")
+        ax.loglog(xs, [y0 * (x / x0) ** 2 for x in xs], "k--", label="O(n$^2$)")
+    ax.set_xlabel("elements")
+    ax.set_ylabel("seconds per 1000 iterations")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend()
+    fig.tight_layout()
+    return fig
+
+
+def accuracy_table(rows):
+    out = ["# What accuracy costs in time", "",
+           "Final element positions after the same simulated time against the reference run "
+           f"({rows[0]['reference']}); RMS and maximum distance in um.", "",
+           "| precision | cutoff (um) | dt (h) | steps | wall s | RMS error (um) | max error (um) |",
+           "|---|---:|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        out.append(f"| {r['precision']} | {r['cutoff']} | {r['dt']} | {r['steps']} | {float(r['wall_s']):.3g} | "
+                   f"{float(r['rms_error_um']):.3g} | {float(r['max_error_um']):.3g} |")
+    return "\n".join(out) + "\n"
+
+
+def accuracy_figure(rows):
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    for prec, marker in (("double", "o"), ("float", "x")):
+        for cutoff in sorted({r["cutoff"] for r in rows}, key=float):
+            pts = sorted((float(r["wall_s"]), float(r["rms_error_um"])) for r in rows
+                         if r["precision"] == prec and r["cutoff"] == cutoff and float(r["rms_error_um"]) > 0)
+            if pts:
+                ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker + "-", label=f"{prec}, cutoff {cutoff} um")
+    ax.set_xlabel("wall time (s)")
+    ax.set_ylabel("RMS position error (um)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def effects_table(rows):
+    out = ["# What each effect costs", "",
+           "Time per step of each effect set (same tissue and backend) and the time of each phase.", "",
+           "| effects | elements at end | ms / step | phases (s over the run) |", "|---|---:|---:|---|"]
+    for r in rows:
+        out.append(f"| {r['effects']} | {r['elements']} | {float(r['s_per_1000_steps']):.3g} | "
+                   f"{r['phases'].replace(';', ', ')} |")
+    return "\n".join(out) + "\n"
+
+
+def effects_figure(rows):
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(7, 4))
+    phases = []
+    for r in rows:
+        for item in r["phases"].split(";"):
+            if item and item.split("=")[0] not in phases:
+                phases.append(item.split("=")[0])
+    bottom = [0.0] * len(rows)
+    for ph in phases:
+        vals = []
+        for r in rows:
+            d = dict(item.split("=") for item in r["phases"].split(";") if item)
+            vals.append(1000 * float(d.get(ph, 0)) / int(r["steps"]))
+        ax.bar(range(len(rows)), vals, bottom=bottom, label=ph)
+        bottom = [b + v for b, v in zip(bottom, vals)]
+    ax.set_xticks(range(len(rows)), [r["effects"].replace("+", "+\n") for r in rows], fontsize=7)
+    ax.set_ylabel("ms per step")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
 REPORTS = {
     # csv (relative to results) -> [(output, builder)]
     "controller_eval/controller_eval.csv": [("tables/controller_eval.md", controller_table),
@@ -159,6 +271,12 @@ REPORTS = {
     "holt_tuning/holt_tuning.csv": [("tables/holt_tuning.md", holt_tuning_table)],
     "training_curve/training_curve.csv": [("tables/training_curve.md", training_curve_table),
                                           ("figures/training_curve.png", training_curve_figure)],
+    "single_device/single_device.csv": [("tables/single_device.md", single_device_table),
+                                        ("figures/single_device.png", single_device_figure)],
+    "accuracy_vs_time/accuracy_vs_time.csv": [("tables/accuracy_vs_time.md", accuracy_table),
+                                              ("figures/accuracy_vs_time.png", accuracy_figure)],
+    "effects_cost/effects_cost.csv": [("tables/effects_cost.md", effects_table),
+                                      ("figures/effects_cost.png", effects_figure)],
 }
 
 

@@ -31,7 +31,7 @@ std::array<int, 3> Grid::bin_of(const double* p) const {
   std::array<int, 3> b{};
   for (int d = 0; d < 3; ++d) {
     const double x = std::floor((p[d] - lo[d]) / size[d]);
-    b[d] = x < 0 ? 0 : (x >= dims[d] ? dims[d] - 1 : static_cast<int>(x));
+    b[d] = !(x >= 0) ? 0 : (x >= dims[d] ? dims[d] - 1 : static_cast<int>(x));  // NaN -> bin 0
   }
   return b;
 }

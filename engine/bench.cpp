@@ -20,8 +20,6 @@ TissueStats tissue_stats(const State& s, const Grid& g, double cutoff, long samp
     ++count[bin[e]];
   }
   const double cube = cutoff * cutoff * cutoff / (g.size[0] * g.size[1] * g.size[2]);
-  const long stride = std::max(1L, n / sample);
-  long sampled = 0;
   for (long e = 0; e < n; ++e) {
     const long b = bin[e];
     const int bx = static_cast<int>(b % g.dims[0]), by = static_cast<int>(b / g.dims[0] % g.dims[1]),
@@ -32,16 +30,14 @@ TissueStats tissue_stats(const State& s, const Grid& g, double cutoff, long samp
       for (int y = std::max(by - 1, 0); y <= std::min(by + 1, g.dims[1] - 1); ++y)
         for (int x = std::max(bx - 1, 0); x <= std::min(bx + 1, g.dims[0] - 1); ++x) candidates += count[index(x, y, z)];
     t.candidates += static_cast<double>(candidates - 1);
-    if (e % stride) continue;
-    ++sampled;
-    for (long o = 0; o < n; ++o) {  // brute force over a sample: independent of the binning under test
-      if (o == e) continue;
+  }
+  long sampled = 0;  // brute force over a sample: independent of the binning under test
+  for (long e = 0; e < n && sampled * n < 4e9; e += std::max(1L, n / sample), ++sampled)
+    for (long o = 0; o < n; ++o) {
       double r2 = 0;
       for (int d = 0; d < 3; ++d) r2 += (s.position[3 * e + d] - s.position[3 * o + d]) * (s.position[3 * e + d] - s.position[3 * o + d]);
-      t.neighbours += r2 < cutoff * cutoff;
+      t.neighbours += o != e && r2 < cutoff * cutoff;
     }
-    if (sampled * n > 4e9) break;  // keep the sample affordable at millions of elements
-  }
   t.per_cutoff_cube /= static_cast<double>(n);
   t.candidates /= static_cast<double>(n);
   t.neighbours /= static_cast<double>(sampled);

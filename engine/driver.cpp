@@ -72,10 +72,7 @@ class StatusLine {
 
 RunSummary run_scene(Scene& scene, const RunConfig& config) {
   State initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);
-  if (!config.restart.empty()) {
-    scene.tissue->finish();  // the tissue section is not used on restart, but must still be valid
-    if (scene.auto_box) fit_box(scene, initial);
-  }
+  if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);  // the tissue section is not used
   const long first = initial.step, last = std::max(scene.steps, first);
   Simulation sim(scene, std::move(initial));  // all input checked before anything is written
 

@@ -21,14 +21,12 @@ typedef float4 real4;
 
 #define NO_FAILURE 0x7fffffff
 
-/* Bin coordinates clamped into the grid (x fastest). */
+/* Bin coordinates clamped into the grid (x fastest); clamped as reals first, so NaN lands in bin 0. */
+static inline int bin1(SEMLB_REAL x, SEMLB_REAL lo, SEMLB_REAL size, int dim) {
+  return (int)fmin(fmax(floor((x - lo) / size), (SEMLB_REAL)0), (SEMLB_REAL)(dim - 1));
+}
 static inline int4 bin3(real4 p, real4 lo, real4 size, int4 dims) {
-  int4 b;
-  b.x = clamp((int)floor((p.x - lo.x) / size.x), 0, dims.x - 1);
-  b.y = clamp((int)floor((p.y - lo.y) / size.y), 0, dims.y - 1);
-  b.z = clamp((int)floor((p.z - lo.z) / size.z), 0, dims.z - 1);
-  b.w = 0;
-  return b;
+  return (int4)(bin1(p.x, lo.x, size.x, dims.x), bin1(p.y, lo.y, size.y, dims.y), bin1(p.z, lo.z, size.z, dims.z), 0);
 }
 
 __kernel void bin_count(__global const real4* pos, int n, real4 lo, real4 size, int4 dims, __global int* bin,

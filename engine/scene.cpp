@@ -173,7 +173,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   s.checkpoint_every = output.integer("checkpoint_every", 0, 0, 1L << 40);
   output.finish();
   read_backend(top.child("backend"), s.backend);
-  s.tissue = std::make_unique<Section>(top.child("tissue"));
+  s.tissue = std::make_shared<Section>(top.child("tissue"));
   const Section effects = top.child("effects");
   for (const auto& name : effects.keys()) s.effects.emplace_back(name, effects.child(name));
   top.finish();

@@ -57,7 +57,7 @@ struct Scene {
   long cell_update_every = 10;
   long snapshot_every = 0, log_every = 100, checkpoint_every = 0;  // 0 = never (log: every 100)
   BackendConfig backend;
-  std::unique_ptr<Section> tissue;
+  std::shared_ptr<Section> tissue;
   std::vector<std::pair<std::string, Section>> effects;  // in file order
 };
 

@@ -5,6 +5,8 @@
 #include <chrono>
 #include <sstream>
 
+#include "tissue.hpp"
+
 namespace semlb::engine {
 
 Simulation::Simulation(const Scene& scene, State state)
@@ -58,6 +60,12 @@ void Simulation::update_cells() {
   for (const auto& e : effects_)
     if (e->changes_cells()) changed = e->update_cells(ctx) || changed;
   if (changed) backend_->upload(state_);
+  // `domain: auto` follows the tissue as it spreads and stratifies; the grid only speeds up the
+  // neighbour search (sums are order-independent), so refitting it never changes the result.
+  if (scene_->auto_box) {
+    const auto [lo, hi] = tissue_box(state_, scene_->cutoff);
+    grid_ = Grid::cover(lo, hi, scene_->cutoff);
+  }
 }
 
 const State& Simulation::sync() {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <tuple>
 
 #include "cpu_physics.hpp"
 #include "io.hpp"
@@ -54,24 +55,26 @@ State epidermal_sheet(const Section& t, uint64_t seed) {
 
 }  // namespace
 
-void fit_box(Scene& scene, const State& s) {
+std::pair<std::array<double, 3>, std::array<double, 3>> tissue_box(const State& s, double cutoff) {
   std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
-  for (int d = 0; d < 3; ++d) {
-    lo[d] = 1e300;
-    hi[d] = -1e300;
-  }
   for (long e = 0; e < s.elements(); ++e)
     for (int d = 0; d < 3; ++d) {
-      lo[d] = std::min(lo[d], s.position[3 * e + d]);
-      hi[d] = std::max(hi[d], s.position[3 * e + d]);
+      const double x = s.position[3 * e + d];
+      if (!std::isfinite(x)) continue;
+      lo[d] = e == 0 ? x : std::min(lo[d], x);
+      hi[d] = e == 0 ? x : std::max(hi[d], x);
     }
-  if (s.elements() == 0) lo = hi = {0, 0, 0};
   for (int d = 0; d < 3; ++d) {
-    scene.box_lo[d] = lo[d] - scene.cutoff;
-    scene.box_hi[d] = hi[d] + scene.cutoff;
+    lo[d] -= cutoff;
+    hi[d] += cutoff;
   }
-  scene.box_lo[2] = std::min(scene.box_lo[2], -scene.cutoff);
-  scene.box_hi[2] = hi[2] + 4 * scene.cutoff;  // room for stratification
+  lo[2] = std::min(lo[2], -cutoff);
+  hi[2] += 3 * cutoff;  // room for stratification
+  return {lo, hi};
+}
+
+void fit_box(Scene& scene, const State& s) {
+  std::tie(scene.box_lo, scene.box_hi) = tissue_box(s, scene.cutoff);
 }
 
 State make_tissue(Scene& scene) {

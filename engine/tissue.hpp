@@ -8,6 +8,7 @@ namespace semlb::engine {
 // Builds the tissue and, for `domain: auto`, sets the scene's box around it. Throws InputError.
 State make_tissue(Scene& scene);
 // The box `domain: auto` gives a tissue: its extent plus one cutoff, from z = -cutoff, with headroom above.
+std::pair<std::array<double, 3>, std::array<double, 3>> tissue_box(const State& state, double cutoff);
 void fit_box(Scene& scene, const State& state);
 
 }  // namespace semlb::engine

@@ -19,8 +19,8 @@ Morse read_morse(const Section& s, const Morse& fallback) {
 class Mechanics final : public Effect {
  public:
   Mechanics(const Section& s, const Scene& scene) : cutoff_(scene.cutoff), table_(SEMLB_TABLE_SIZE) {
-    const Morse intra = read_morse(s.child("intra"), {2.86, 1.0, 1.0, 2.0});
-    const Morse inter = read_morse(s.child("inter"), {2.86, 0.5, 1.0, 2.0});
+    const Morse intra = read_morse(s.child("intra"), {4.0, 1.0, 0.8, 1.1});
+    const Morse inter = read_morse(s.child("inter"), {4.0, 0.5, 0.8, 1.1});
     put(SEMLB_MORSE_INTRA, intra);
     for (int a = 0; a < kCellTypes; ++a)
       for (int b = 0; b < kCellTypes; ++b) put(SEMLB_MORSE_INTER(a, b), inter);

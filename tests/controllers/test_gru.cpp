@@ -153,7 +153,7 @@ std::string refusal(const std::function<void(h5::File&)>& mutate, bool skip_weig
     if (!skip_weight_hh) f.write("/gru/weight_hh", {72, 24}, std::vector<double>(72 * 24, 0.1));
     f.write("/gru/bias_ih", {72}, std::vector<double>(72, 0.0));
     f.write("/gru/bias_hh", {72}, std::vector<double>(72, 0.0));
-    f.write("/head/bias", {1}, {0.0});
+    f.write("/head/bias", {1}, std::vector<double>{0.0});
     mutate(f);
   }
   try {

@@ -1,0 +1,62 @@
+// `semlb sim` and `semlb bench engine` from the command line: outputs, exit codes, no partial output.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "../run_command.hpp"
+
+namespace semlb::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(CliSim, WritesFinalStateSnapshotsXdmfRunCsvAndSceneCopy) {
+  const auto dir = fresh_dir("cli_sim");
+  const auto r = run(semlb_bin() + " sim --scene " + source("scenes/epidermis.yaml") + " --out " + dir +
+                     "/out --steps 100 --set tissue.cells=20 --set output.snapshot_every=50 --quiet");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  for (const char* f : {"final.h5", "run.csv", "scene.yaml", "snapshots.xmf", "snapshots/step_000000050.h5", "snapshots/step_000000100.h5"})
+    EXPECT_TRUE(fs::exists(dir + "/out/" + f)) << f;
+  EXPECT_EQ(slurp(dir + "/out/run.csv").substr(0, 40), "step,time_h,cells,elements,wall_s,mechan");
+  EXPECT_NE(slurp(dir + "/out/scene.yaml").find("cells: 20"), std::string::npos);
+  const auto h5 = run("h5ls -r " + dir + "/out/final.h5");
+  for (const char* d : {"/elements/position", "/elements/cell", "/cells/type"}) EXPECT_NE(h5.out.find(d), std::string::npos) << h5.out;
+}
+
+TEST(CliSim, BadInputExitsTwoWithOneLineAndWritesNothing) {
+  const auto dir = fresh_dir("cli_sim_bad");
+  write(dir + "/bad.yaml", "name: x\ntime:\n  dt: zero\n");
+  auto r = run(semlb_bin() + " sim --scene " + dir + "/bad.yaml --out " + dir + "/out");
+  EXPECT_EQ(r.rc, 2);
+  EXPECT_NE(r.out.find("bad.yaml:3: field 'time.dt': 'zero' is not a number"), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  EXPECT_FALSE(fs::exists(dir + "/out"));
+  r = run(semlb_bin() + " sim --scene " + source("scenes/mechanics.yaml") + " --out " + dir + "/out --backend cuda");
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_FALSE(fs::exists(dir + "/out"));
+  r = run(semlb_bin() + " sim --scene " + source("scenes/mechanics.yaml") + " --out " + dir + "/out --set effects.growht={}");
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_FALSE(fs::exists(dir + "/out"));
+}
+
+TEST(CliSim, NumericalFailureExitsOneNamingStepElementQuantityAndKeepsTheState) {
+  const auto dir = fresh_dir("cli_sim_fail");
+  const auto r = run(semlb_bin() + " sim --scene " + source("scenes/mechanics.yaml") + " --out " + dir +
+                     "/out --steps 50 --set tissue.cells=20 --set time.dt=5 --quiet");
+  EXPECT_EQ(r.rc, 1) << r.out;
+  EXPECT_NE(r.out.find("mechanics.yaml: step "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("displacement exceeds time.max_displacement"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir + "/out/failure.h5"));
+  EXPECT_FALSE(fs::exists(dir + "/out/final.h5"));
+}
+
+TEST(CliSim, BenchEnginePrintsElementStepsPerSecond) {
+  const auto r = run(semlb_bin() + " bench engine --backends serial,cpu-binned --cells 20 --steps 3 --warmup 1");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_NE(r.out.find("elem-steps/s"), std::string::npos);
+  EXPECT_NE(r.out.find("\nserial "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\ncpu-binned "), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace semlb::test

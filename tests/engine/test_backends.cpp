@@ -1,0 +1,115 @@
+// Compare tests of the element kernels: every backend against the serial all-pairs reference on random
+// inputs, order and thread independence, and the launch counters of unlisted effects.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/simulation.hpp"
+#include "engine_fixtures.hpp"
+
+namespace semlb::engine {
+namespace {
+
+using testing::available_backends;
+using testing::random_state;
+using testing::scene_from;
+
+// Positions after `steps` steps of mechanics + membrane on a random tissue, with the given backend.
+State run(const std::string& backend, const std::string& precision, State s, long steps, int threads = 0) {
+  auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.precision=" + precision,
+                                                    "backend.threads=" + std::to_string(threads), "effects.membrane={}"});
+  scene.box_lo = {0, 0, 0};
+  scene.box_hi = {40, 40, 40};
+  Simulation sim(scene, std::move(s));
+  sim.advance(steps);
+  return sim.sync();
+}
+
+double max_difference(const State& a, const State& b) {
+  double d = 0;
+  for (size_t i = 0; i < a.position.size(); ++i) d = std::max(d, std::abs(a.position[i] - b.position[i]));
+  return d;
+}
+
+TEST(Backends, BinnedEqualsAllPairsBitForBit) {
+  for (const char* precision : {"double", "float"}) {
+    const auto s = random_state(60, 9, 40.0, 11);
+    EXPECT_EQ(run("serial", precision, s, 5).hash(), run("cpu-binned", precision, s, 5).hash()) << precision;
+  }
+}
+
+TEST(Backends, OpenClMatchesTheCppReference) {
+  const auto backends = available_backends();
+  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end()) GTEST_SKIP() << "no OpenCL platform";
+  const auto s = random_state(60, 9, 40.0, 12);
+  const State ref = run("serial", "double", s, 5);
+  // Stated tolerances (um after 5 steps): double 1e-9 (exp/sqrt ulps of the device library), float 1e-3.
+  EXPECT_LT(max_difference(ref, run("opencl-allpairs", "double", s, 5)), 1e-9);
+  EXPECT_LT(max_difference(ref, run("opencl-binned", "double", s, 5)), 1e-9);
+  EXPECT_LT(max_difference(ref, run("opencl-binned", "float", s, 5)), 1e-3);
+  // The two device variants share the fixed-point sums, so they agree bit for bit with each other.
+  EXPECT_EQ(run("opencl-allpairs", "double", s, 5).hash(), run("opencl-binned", "double", s, 5).hash());
+}
+
+TEST(Backends, ResultsDoNotDependOnThreadCount) {
+  const auto s = random_state(80, 10, 40.0, 13);
+  EXPECT_EQ(run("cpu-binned", "double", s, 4, 1).hash(), run("cpu-binned", "double", s, 4, 2).hash());
+}
+
+TEST(Backends, ResultsDoNotDependOnCellOrder) {
+  const auto s = random_state(50, 8, 40.0, 14);
+  State reversed = s;  // the same tissue with the cells stored in reverse order
+  reversed.position.clear();
+  for (long c = s.cells() - 1; c >= 0; --c)
+    reversed.position.insert(reversed.position.end(), s.position.begin() + 3 * s.cell_first[c],
+                             s.position.begin() + 3 * (s.cell_first[c] + s.cell_count[c]));
+  std::reverse(reversed.cell_id.begin(), reversed.cell_id.end());
+  std::reverse(reversed.cell_type.begin(), reversed.cell_type.end());
+  std::reverse(reversed.cell_count.begin(), reversed.cell_count.end());
+  reversed.reindex();
+  for (const auto& backend : available_backends()) {
+    const State a = run(backend, "double", s, 3), b = run(backend, "double", reversed, 3);
+    for (long c = 0; c < a.cells(); ++c) {
+      const long rc = a.cells() - 1 - c;
+      for (int k = 0; k < 3 * a.cell_count[c]; ++k)
+        ASSERT_EQ(a.position[3 * a.cell_first[c] + k], b.position[3 * b.cell_first[rc] + k]) << backend;
+    }
+  }
+}
+
+TEST(Backends, UnlistedEffectsLaunchNothing) {
+  for (const auto& backend : available_backends()) {
+    auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend});
+    scene.box_lo = {0, 0, 0};
+    scene.box_hi = {40, 40, 40};
+    Simulation sim(scene, random_state(10, 5, 40.0, 1));
+    sim.advance(10);
+    const auto& l = sim.backend().launches();
+    EXPECT_EQ(l.at("pair_forces"), 10) << backend;
+    EXPECT_EQ(l.count("membrane"), 0u) << backend;
+    EXPECT_EQ(l.count("noise"), 0u) << backend;
+    EXPECT_TRUE(sim.host_state().cell_fields.empty()) << backend;  // no growth/differentiation state
+    EXPECT_EQ(sim.phases(), std::vector<std::string>({"mechanics", "integrate"})) << backend;
+  }
+}
+
+TEST(Backends, UnknownBackendIsRefusedWithTheKnownOnes) {
+  auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=cuda"});
+  try {
+    Simulation sim(scene, random_state(2, 2, 5.0, 1));
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("known: cpu-binned"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Backends, OpenClPlatformIsChosenByNameNotIndex) {
+  if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL platform";
+  EXPECT_THROW(cl::choose_device("no-such-platform", 0), InputError);
+  EXPECT_THROW(cl::choose_device(cl::list_devices()[0].platform_name, 99), InputError);
+  EXPECT_EQ(cl::choose_device(cl::list_devices()[0].platform_name.substr(0, 4), 0).platform_name, cl::list_devices()[0].platform_name);
+}
+
+}  // namespace
+}  // namespace semlb::engine
