@@ -65,6 +65,8 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
       std::printf("%-16s %-9s %9ld %10ld %10.4f %14.4g %9.2f %9.1f %9.1f  %s\n", backend.c_str(), scene.backend.precision.c_str(),
                   t.cells, t.elements, t.seconds, t.element_steps_per_second(), stats.per_cutoff_cube, stats.candidates,
                   stats.neighbours, t.device.c_str());
+      for (const auto& [kernel, secs] : t.kernel_seconds)  // with SEMLB_OPENCL_PROFILE=1
+        std::printf("    kernel %-16s %10.3f ms/step\n", kernel.c_str(), 1e3 * secs / steps);
       std::fflush(stdout);
     }
   return 0;

@@ -53,8 +53,11 @@ class Backend {
   virtual void finish() {}  // waits for queued work (so that wall times are honest)
   // Kernel launches by name since construction: an effect that is not listed launches none.
   const std::map<std::string, long>& launches() const { return launches_; }
+  // Device time per kernel when the backend profiles (OpenCL with SEMLB_OPENCL_PROFILE set); else empty.
+  const std::map<std::string, double>& kernel_seconds() const { return kernel_seconds_; }
 
  protected:
+  std::map<std::string, double> kernel_seconds_;
   void count(const std::string& kernel) { ++launches_[kernel]; }
   std::map<std::string, long> launches_;
 };

@@ -52,11 +52,13 @@ Timing time_scene(Scene& scene, long steps, long warmup, long profile_steps) {
   sim.profile = false;
   sim.advance(sim.host_state().step + warmup);
   sim.backend().finish();
+  const auto kernels_before = sim.backend().kernel_seconds();
   const auto t0 = std::chrono::steady_clock::now();
   sim.advance(sim.host_state().step + steps);
   sim.backend().finish();
   t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   t.steps = steps;
+  for (const auto& [k, v] : sim.backend().kernel_seconds()) t.kernel_seconds[k] = v - (kernels_before.count(k) ? kernels_before.at(k) : 0.0);
   const State& s = sim.sync();
   t.cells = s.cells();
   t.elements = s.elements();

@@ -1,6 +1,7 @@
 // Timing of the element kernels of a scene (semlb bench engine, the single_device and effects_cost
 // experiments) and the density statistics that make such numbers comparable.
 #pragma once
+#include <map>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,7 @@ struct Timing {
   std::vector<std::string> phases;
   std::vector<double> phase_seconds;  // with per-phase synchronisation (a second, profiled pass)
   TissueStats stats;
+  std::map<std::string, double> kernel_seconds;  // over the timed steps, when the backend profiles
   double element_steps_per_second() const { return seconds > 0 ? static_cast<double>(elements) * steps / seconds : 0; }
 };
 

@@ -14,7 +14,8 @@ typedef SEMLB_REAL semlb_real;
 /* Below this distance (length units) the pair direction is taken from the element keys (r = 0). */
 #define SEMLB_R_MIN 1e-6
 
-/* Parameter table layout (reals): a Morse set is (U0, V0, xi1, xi2). */
+/* Parameter table layout (reals): a Morse set is stored as derived constants (U0/xi1, 1/xi1, V0/xi2, 1/xi2),
+ * computed on the host from the scene's U0, V0, xi1, xi2, so that the kernels divide nothing. */
 #define SEMLB_TYPES 3
 #define SEMLB_MORSE_INTRA 0                     /* the intra-cell set */
 #define SEMLB_MORSE_INTER(ti, tj) (4 + 4 * ((ti) * SEMLB_TYPES + (tj)))
@@ -35,9 +36,10 @@ static inline SEMLB_LONG semlb_to_fixed(semlb_real f) {
   return (SEMLB_LONG)(semlb_clamp_force(f) * (semlb_real)SEMLB_FIXED_SCALE);
 }
 
-/* f(r) = -dV/dr for V(r) = U0 exp(-r/xi1) - V0 exp(-r/xi2); positive is repulsive. */
+/* f(r) = -dV/dr = U0/xi1 exp(-r/xi1) - V0/xi2 exp(-r/xi2) for V(r) = U0 exp(-r/xi1) - V0 exp(-r/xi2);
+ * positive is repulsive. */
 static inline semlb_real semlb_morse_magnitude(semlb_real r, SEMLB_CONST const semlb_real* set) {
-  return set[0] / set[2] * SEMLB_EXP(-r / set[2]) - set[1] / set[3] * SEMLB_EXP(-r / set[3]);
+  return set[0] * SEMLB_EXP(-r * set[1]) - set[2] * SEMLB_EXP(-r * set[3]);
 }
 
 /* SplitMix64 finaliser: the counter-based generator shared by noise, growth and the tissue generator. */
@@ -93,12 +95,13 @@ static inline void semlb_coincident_force(SEMLB_ULONG key_i, SEMLB_ULONG key_j, 
   acc[2] += semlb_to_fixed(s * uz);
 }
 
-/* Membrane parameters (reals): wall U, wall xi, adhesion V, adhesion xi; the plane is z = 0. */
+/* Membrane parameters (reals), derived like a Morse set: (U_wall/xi_wall, 1/xi_wall, V_adh/xi_adh, 1/xi_adh);
+ * the plane is z = 0. */
 #define SEMLB_MEMBRANE_SIZE 4
 /* z-force of the basement membrane (V_ext): repulsive wall for every element, adhesion for basal (type 0). */
 static inline semlb_real semlb_membrane_fz(semlb_real z, int type, SEMLB_CONST const semlb_real* m) {
-  semlb_real f = m[0] / m[1] * SEMLB_EXP(-z / m[1]);
-  if (type == 0) f -= m[2] / m[3] * SEMLB_EXP(-z / m[3]);
+  semlb_real f = m[0] * SEMLB_EXP(-z * m[1]);
+  if (type == 0) f -= m[2] * SEMLB_EXP(-z * m[3]);
   return semlb_clamp_force(f);
 }
 

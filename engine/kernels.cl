@@ -97,27 +97,32 @@ __kernel void scatter(__global const real4* pos, __global const int* bin, __glob
   sorted_index[s] = i;
 }
 
+static inline void accumulate(real4 me, int info, int s, int o, __global const real4* sorted_pos,
+                              __global const int* sorted_index, __global const ulong* keys,
+                              __constant const SEMLB_REAL* table, SEMLB_REAL cutoff2, long* acc) {
+  real4 q = sorted_pos[o];
+  if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
+    semlb_coincident_force(keys[sorted_index[s]], keys[sorted_index[o]], info, INFO(q.w), table, acc);
+}
+
 /* Pair forces over the 27-bin stencil: 9 rows of 3 bins, contiguous in bin order. One item per sorted element. */
 __kernel void forces_binned(__global const real4* sorted_pos, __global const int* sorted_index,
                             __global const ulong* keys, __global const int* starts, real4 lo, real4 size, int4 dims,
-                            __constant const SEMLB_REAL* table, SEMLB_REAL cutoff2, __global long* force, int n) {
+                            __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n) {
   int s = get_global_id(0);
   if (s >= n) return;
   real4 me = sorted_pos[s];
   int info = INFO(me.w);
   int4 b = bin3(me, lo, size, dims);
+  SEMLB_REAL cutoff2 = cutoff * cutoff;
   long acc[3] = {0, 0, 0};
   int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1);
   for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
     for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
       int row = (z * dims.y + y) * dims.x;
       int last = starts[row + x1 + 1];
-      for (int o = starts[row + x0]; o < last; ++o) {
-        if (o == s) continue;
-        real4 q = sorted_pos[o];
-        if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
-          semlb_coincident_force(keys[sorted_index[s]], keys[sorted_index[o]], info, INFO(q.w), table, acc);
-      }
+      for (int o = starts[row + x0]; o < last; ++o)
+        if (o != s) accumulate(me, info, s, o, sorted_pos, sorted_index, keys, table, cutoff2, acc);
     }
   int i = sorted_index[s];
   force[3 * i] += acc[0];

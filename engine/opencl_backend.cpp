@@ -1,5 +1,6 @@
 // "opencl-allpairs" and "opencl-binned": the element kernels of kernels.cl on one OpenCL device.
 #include <climits>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
@@ -37,7 +38,8 @@ class OpenClBackend final : public Backend {
     cl_int err = CL_SUCCESS;
     ctx_ = cl::Context(clCreateContext(nullptr, 1, &dev_.device, nullptr, nullptr, &err));
     cl::check(err, "clCreateContext");
-    queue_ = cl::Queue(clCreateCommandQueue(ctx_.get(), dev_.device, 0, &err));
+    profile_ = std::getenv("SEMLB_OPENCL_PROFILE") != nullptr;  // per-kernel device times (semlb bench engine)
+    queue_ = cl::Queue(clCreateCommandQueue(ctx_.get(), dev_.device, profile_ ? CL_QUEUE_PROFILING_ENABLE : 0, &err));
     cl::check(err, "clCreateCommandQueue");
     build();
     fail_ = buffer(2 * sizeof(cl_int));
@@ -89,7 +91,7 @@ class OpenClBackend final : public Backend {
     }
     sort_into_bins(grid);
     launch("forces_binned", n_, kGroup, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(), real4(grid.lo),
-           real4(grid.size), int4(grid.dims), table_.get(), c2, force_.get(), n);
+           real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get(), n);
   }
 
   void membrane_forces(const std::vector<double>& m) override {
@@ -222,10 +224,19 @@ class OpenClBackend final : public Backend {
     cl_uint i = 0;
     (set_arg(k, i++, args, name), ...);
     const size_t global = round_up(static_cast<size_t>(items), group);
-    cl::check(clEnqueueNDRangeKernel(queue_.get(), k, 1, nullptr, &global, &group, 0, nullptr, nullptr), name);
+    cl_event event = nullptr;
+    cl::check(clEnqueueNDRangeKernel(queue_.get(), k, 1, nullptr, &global, &group, 0, nullptr, profile_ ? &event : nullptr), name);
+    if (event) {
+      cl::check(clWaitForEvents(1, &event), "clWaitForEvents");
+      cl_ulong t0 = 0, t1 = 0;
+      clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_START, sizeof t0, &t0, nullptr);
+      clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_END, sizeof t1, &t1, nullptr);
+      kernel_seconds_[name] += 1e-9 * static_cast<double>(t1 - t0);
+      clReleaseEvent(event);
+    }
   }
 
-  bool binned_;
+  bool binned_, profile_ = false;
   cl::DeviceInfo dev_{};
   cl::Context ctx_;
   cl::Queue queue_;

@@ -41,11 +41,11 @@ class Mechanics final : public Effect {
   void forces(Backend& b, const Grid& g) override { b.pair_forces(table_, cutoff_, g); }
 
  private:
-  void put(int at, const Morse& m) {
-    table_[at] = m.U0;
-    table_[at + 1] = m.V0;
-    table_[at + 2] = m.xi1;
-    table_[at + 3] = m.xi2;
+  void put(int at, const Morse& m) {  // derived constants: see evaluator.h
+    table_[at] = m.U0 / m.xi1;
+    table_[at + 1] = 1 / m.xi1;
+    table_[at + 2] = m.V0 / m.xi2;
+    table_[at + 3] = 1 / m.xi2;
   }
   double cutoff_;
   std::vector<double> table_;

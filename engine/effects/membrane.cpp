@@ -7,9 +7,11 @@ namespace {
 
 class Membrane final : public Effect {
  public:
-  explicit Membrane(const Section& s)
-      : params_{s.real("wall_U", 2.0, 0, 1e9), s.real("wall_xi", 0.5, 1e-9, 1e9), s.real("adhesion_V", 1.0, 0, 1e9),
-                s.real("adhesion_xi", 2.0, 1e-9, 1e9)} {}
+  explicit Membrane(const Section& s) {
+    const double U = s.real("wall_U", 2.0, 0, 1e9), xi_w = s.real("wall_xi", 0.5, 1e-9, 1e9);
+    const double V = s.real("adhesion_V", 1.0, 0, 1e9), xi_a = s.real("adhesion_xi", 2.0, 1e-9, 1e9);
+    params_ = {U / xi_w, 1 / xi_w, V / xi_a, 1 / xi_a};  // derived constants: see evaluator.h
+  }
   std::string name() const override { return "membrane"; }
   bool adds_forces() const override { return true; }
   void forces(Backend& b, const Grid&) override { b.membrane_forces(params_); }

@@ -12,11 +12,11 @@ namespace {
 
 std::vector<double> table() {
   std::vector<double> t(SEMLB_TABLE_SIZE);
-  for (int s = 0; s < SEMLB_TABLE_SIZE; s += 4) {
-    t[s] = 2.86;
-    t[s + 1] = s == 0 ? 1.0 : 0.5;
-    t[s + 2] = 1.0;
-    t[s + 3] = 2.0;
+  for (int s = 0; s < SEMLB_TABLE_SIZE; s += 4) {  // U0 = 2.86, V0 = 1 (intra) or 0.5, xi1 = 1, xi2 = 2
+    t[s] = 2.86 / 1.0;
+    t[s + 1] = 1 / 1.0;
+    t[s + 2] = (s == 0 ? 1.0 : 0.5) / 2.0;
+    t[s + 3] = 1 / 2.0;
   }
   return t;
 }
