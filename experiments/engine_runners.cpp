@@ -86,6 +86,7 @@ class TimingRunner final : public Runner {
     return {"backend", "precision", "effects", "cells", "elements", "steps", "seconds", "s_per_1000_steps",
             "element_steps_per_s", "per_cutoff_cube", "candidates", "neighbours", "phases", "device"};
   }
+  bool measures_time() const override { return true; }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
     check_keys(job, manifest, {"scene", "cells", "backend", "precision", "platform", "effects", "steps", "warmup", "dt", "cutoff"});
     auto scene = job_scene(job, manifest, o.base_dir);
@@ -131,6 +132,7 @@ class AccuracyRunner final : public Runner {
   std::vector<std::string> columns() const override {
     return {"precision", "dt", "cutoff", "steps", "wall_s", "rms_error_um", "max_error_um", "reference"};
   }
+  bool measures_time() const override { return true; }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
     check_keys(job, manifest, {"scene", "cells", "backend", "precision", "platform", "effects", "dt", "cutoff", "hours",
                                "reference_dt", "reference_cutoff"});

@@ -23,6 +23,8 @@ class Runner {
   virtual void check(const Job& job, const std::string& manifest, const RunOptions& options) const = 0;
   // One or more rows (in columns() order); a job's rows are written together, so resume is per job.
   virtual std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& options) const = 0;
+  // True when rows hold wall times that concurrent jobs would distort: the sweep then runs one at a time.
+  virtual bool measures_time() const { return false; }
 };
 
 struct RunnerRegistrar {

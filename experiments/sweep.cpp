@@ -200,7 +200,9 @@ SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overri
     }
   };
   std::vector<std::thread> pool;
-  for (int i = 0; i < std::max(1, o.jobs); ++i) pool.emplace_back(worker);
+  // Runners that measure wall time run one job at a time: concurrent jobs would share the device.
+  const int workers = runner->measures_time() && o.run.timing ? 1 : std::max(1, o.jobs);
+  for (int i = 0; i < workers; ++i) pool.emplace_back(worker);
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);  // the .partial file keeps every finished row for a resume
 

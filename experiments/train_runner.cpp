@@ -19,6 +19,8 @@ class TrainRunner final : public Runner {
             "reactive_imbalance", "reactive_migration"};
   }
 
+  bool measures_time() const override { return true; }  // wall_seconds column
+
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
     config(job, manifest, o.base_dir);
   }

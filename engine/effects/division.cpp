@@ -18,6 +18,9 @@ class Division final : public Effect {
   bool update_cells(CellContext& ctx) override {
     State& s = ctx.state;
     const long before = s.cells();
+    bool any = false;
+    for (long c = 0; c < before && !any; ++c) any = types_[s.cell_type[c]] && s.cell_count[c] >= at_;
+    if (!any) return false;
     std::vector<std::vector<std::array<double, 3>>> cells(before);
     for (long c = 0; c < before; ++c) {  // cells in stored order: ids of daughters are deterministic
       const long first = s.cell_first[c];

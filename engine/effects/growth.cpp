@@ -34,23 +34,25 @@ class Growth final : public Effect {
   bool update_cells(CellContext& ctx) override {
     State& s = ctx.state;
     auto& clock = s.cell_fields["growth.clock"];
+    std::vector<int> births(s.cells(), 0);  // elements each cell adds now
+    bool any = false;
+    for (long c = 0; c < s.cells(); ++c) {
+      if (!types_[s.cell_type[c]]) continue;
+      clock[c] += ctx.elapsed;
+      for (; clock[c] >= period(); clock[c] -= period())
+        if (s.cell_count[c] + births[c] < max_) ++births[c];  // a full cell waits for division
+      any = any || births[c] > 0;
+    }
+    if (!any) return false;
     std::vector<std::vector<std::array<double, 3>>> cells(s.cells());
-    bool grew = false;
     for (long c = 0; c < s.cells(); ++c) {
       const long first = s.cell_first[c];
       for (int k = 0; k < s.cell_count[c]; ++k)
         cells[c].push_back({s.position[3 * (first + k)], s.position[3 * (first + k) + 1], s.position[3 * (first + k) + 2]});
-      if (!types_[s.cell_type[c]]) continue;
-      clock[c] += ctx.elapsed;
-      while (clock[c] >= period()) {
-        clock[c] -= period();
-        if (static_cast<int>(cells[c].size()) >= max_) continue;  // full: waits for division
-        cells[c].push_back(newborn(s, c, ctx.seed, static_cast<int>(cells[c].size())));
-        grew = true;
-      }
+      for (int b = 0; b < births[c]; ++b) cells[c].push_back(newborn(s, c, ctx.seed, static_cast<int>(cells[c].size())));
     }
-    if (grew) rebuild(s, cells);
-    return grew;
+    rebuild(s, cells);
+    return true;
   }
 
  private:
