@@ -14,7 +14,9 @@ void expect_bad_input(const std::string& args, const std::string& message, const
   EXPECT_EQ(r.rc, 2) << args << "\n" << r.out;
   EXPECT_NE(r.out.find(message), std::string::npos) << args << "\n" << r.out;
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
-  if (!no_file.empty()) EXPECT_FALSE(fs::exists(no_file)) << no_file;
+  if (!no_file.empty()) {
+    EXPECT_FALSE(fs::exists(no_file)) << no_file;
+  }
 }
 }  // namespace
 

@@ -1,6 +1,8 @@
 // Sweeps end to end through the binary: output, kill -9 + resume (nothing lost or duplicated), torn lines.
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <filesystem>
 
 #include "../run_command.hpp"
@@ -62,10 +64,15 @@ TEST(Sweep, BadManifestExitsTwoWithoutOutput) {
 TEST(Sweep, ShippedManifestsParse) {
   for (const auto& entry : fs::directory_iterator(source("experiments")))
     if (entry.path().extension() == ".yaml") {
-      const bool training = entry.path().stem() == "training_curve";
-      const std::string sets = training ? " --set steps=1 --set batch=2 --set events=3 --set validation_seeds=8000 "
-                                          "--set validation_ranks=2 --set validation_events=5"
-                                        : " --set seed=9000 --set ranks=2 --set events=2";
+      // each shipped manifest, shrunk to seconds
+      const std::map<std::string, std::string> small = {
+          {"training_curve", " --set steps=1 --set batch=2 --set events=3 --set validation_seeds=8000 "
+                             "--set validation_ranks=2 --set validation_events=5"},
+          {"single_device", " --set cells=20 --set steps=2 --set backend=serial,cpu-binned"},
+          {"effects_cost", " --set cells=20 --set steps=2"},
+          {"accuracy_vs_time", " --set cells=10 --set hours=0.04 --set dt=0.02 --set cutoff=8.75 --set precision=double"}};
+      const auto it = small.find(entry.path().stem().string());
+      const std::string sets = it != small.end() ? it->second : " --set seed=9000 --set ranks=2 --set events=2";
       const auto r = run(semlb_bin() + " sweep " + entry.path().string() + sets + " --quiet --results " + fresh_dir("shipped"));
       EXPECT_EQ(r.rc, 0) << entry.path() << ": " << r.out;
     }
