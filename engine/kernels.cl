@@ -39,12 +39,8 @@ __kernel void bin_count(__global const real4* pos, int n, real4 lo, real4 size, 
   atomic_inc(&counts[k]);
 }
 
-/* Exclusive scan, step 1: within blocks of the work-group size (power of two, <= 1024). */
-__kernel void scan_blocks(__global const int* counts, __global int* starts, __global int* sums, int nbins,
-                          __local int* tmp) {
-  int g = get_global_id(0), l = get_local_id(0), w = get_local_size(0);
-  int v = g < nbins ? counts[g] : 0;
-  tmp[l] = v;
+/* Inclusive Hillis-Steele scan of tmp[0..w) in local memory (all items of the group call it). */
+static inline void scan_local(__local int* tmp, int l, int w) {
   barrier(CLK_LOCAL_MEM_FENCE);
   for (int off = 1; off < w; off <<= 1) {
     int add = l >= off ? tmp[l - off] : 0;
@@ -52,6 +48,15 @@ __kernel void scan_blocks(__global const int* counts, __global int* starts, __gl
     tmp[l] += add;
     barrier(CLK_LOCAL_MEM_FENCE);
   }
+}
+
+/* Exclusive scan, step 1: within blocks of the work-group size (power of two, <= 1024). */
+__kernel void scan_blocks(__global const int* counts, __global int* starts, __global int* sums, int nbins,
+                          __local int* tmp) {
+  int g = get_global_id(0), l = get_local_id(0), w = get_local_size(0);
+  int v = g < nbins ? counts[g] : 0;
+  tmp[l] = v;
+  scan_local(tmp, l, w);
   if (g < nbins) starts[g] = tmp[l] - v;
   if (l == w - 1) sums[get_group_id(0)] = tmp[l];
 }
@@ -63,13 +68,7 @@ __kernel void scan_sums(__global int* sums, int nblocks, __local int* tmp) {
   for (int base = 0; base < nblocks; base += w) {
     int v = base + l < nblocks ? sums[base + l] : 0;
     tmp[l] = v;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (int off = 1; off < w; off <<= 1) {
-      int add = l >= off ? tmp[l - off] : 0;
-      barrier(CLK_LOCAL_MEM_FENCE);
-      tmp[l] += add;
-      barrier(CLK_LOCAL_MEM_FENCE);
-    }
+    scan_local(tmp, l, w);
     if (base + l < nblocks) sums[base + l] = carry + tmp[l] - v;
     carry += tmp[w - 1];
     barrier(CLK_LOCAL_MEM_FENCE);

@@ -14,20 +14,17 @@ void check(cl_int status, const char* what) {
 }
 
 namespace {
-std::string info_string(cl_platform_id p) {
+// CL_PLATFORM_NAME / CL_DEVICE_NAME through clGetPlatformInfo / clGetDeviceInfo.
+template <class Id, class Query>
+std::string name_of(Id id, Query query, cl_uint param) {
   size_t n = 0;
-  clGetPlatformInfo(p, CL_PLATFORM_NAME, 0, nullptr, &n);
+  query(id, param, 0, nullptr, &n);
   std::string s(n, '\0');
-  clGetPlatformInfo(p, CL_PLATFORM_NAME, n, s.data(), nullptr);
+  query(id, param, n, s.data(), nullptr);
   return s.c_str();
 }
-std::string info_string(cl_device_id d) {
-  size_t n = 0;
-  clGetDeviceInfo(d, CL_DEVICE_NAME, 0, nullptr, &n);
-  std::string s(n, '\0');
-  clGetDeviceInfo(d, CL_DEVICE_NAME, n, s.data(), nullptr);
-  return s.c_str();
-}
+std::string info_string(cl_platform_id p) { return name_of(p, clGetPlatformInfo, CL_PLATFORM_NAME); }
+std::string info_string(cl_device_id d) { return name_of(d, clGetDeviceInfo, CL_DEVICE_NAME); }
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
   return s;

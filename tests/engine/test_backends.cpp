@@ -16,11 +16,11 @@ using testing::random_state;
 using testing::scene_from;
 
 // Positions after `steps` steps of mechanics + membrane on a random tissue, with the given backend.
-State run(const std::string& backend, const std::string& precision, State s, long steps, int threads = 0) {
+State run(const std::string& backend, const std::string& precision, State s, long steps, int threads = 0, double side = 40) {
   auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.precision=" + precision,
                                                     "backend.threads=" + std::to_string(threads), "effects.membrane={}"});
   scene.box_lo = {0, 0, 0};
-  scene.box_hi = {40, 40, 40};
+  scene.box_hi = {side, side, side};
   Simulation sim(scene, std::move(s));
   sim.advance(steps);
   return sim.sync();
@@ -50,6 +50,10 @@ TEST(Backends, OpenClMatchesTheCppReference) {
   EXPECT_LT(max_difference(ref, run("opencl-binned", "float", s, 5)), 1e-3);
   // The two device variants share the fixed-point sums, so they agree bit for bit with each other.
   EXPECT_EQ(run("opencl-allpairs", "double", s, 5).hash(), run("opencl-binned", "double", s, 5).hash());
+  // A grid of 22^3 = 10,648 bins: the bin scan spans 42 work-groups.
+  const auto wide = random_state(3000, 4, 200.0, 15);
+  EXPECT_EQ(run("opencl-allpairs", "float", wide, 2, 0, 200).hash(), run("opencl-binned", "float", wide, 2, 0, 200).hash());
+  EXPECT_EQ(run("serial", "float", wide, 2, 0, 200).hash(), run("cpu-binned", "float", wide, 2, 0, 200).hash());
 }
 
 TEST(Backends, ResultsDoNotDependOnThreadCount) {
