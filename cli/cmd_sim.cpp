@@ -4,6 +4,7 @@
 #include "commands.hpp"
 #include "controllers/errors.hpp"
 #include "engine/driver.hpp"
+#include "engine/mpi.hpp"
 #include "engine/opencl.hpp"
 #include "engine/simulation.hpp"
 
@@ -55,13 +56,24 @@ Action add_sim(CLI::App& app) {
     if (o->scene.empty() || o->out.empty()) throw InputError("sim: --scene and --out are required");
     auto scene = engine::load_scene(o->scene, scene_overrides(o->flags));
     engine::RunConfig rc{o->out, o->restart, o->quiet, SEMLB_GIT_REVISION, command_line()};
+    std::unique_ptr<engine::Mpi> mpi;  // under mpirun: decomposed across the ranks
+    if (engine::Mpi::launched()) mpi = std::make_unique<engine::Mpi>();
     try {
-      const auto sum = engine::run_scene(scene, rc);
+      const auto sum = mpi ? engine::run_scene_decomposed(scene, rc, *mpi) : engine::run_scene(scene, rc);
+      if (mpi && mpi->rank() != 0) return 0;
       std::cerr << "semlb sim: " << sum.steps << " steps, " << sum.cells << " cells, " << sum.elements << " elements in "
                 << sum.wall_seconds << " s on " << sum.device << "; wrote " << o->out << "/final.h5\n";
-    } catch (const engine::SimulationError& e) {
-      std::cerr << "semlb sim: " << o->scene << ": " << e.what() << " (state written to " << o->out << "/failure.h5)\n";
+    } catch (const engine::SimulationError& e) {  // agreed by every rank: each exits 1, rank 0 reports
+      if (!mpi || mpi->rank() == 0)
+        std::cerr << "semlb sim: " << o->scene << ": " << e.what() << " (state written to " << o->out << "/failure.h5)\n";
       return 1;
+    } catch (const InputError& e) {  // the scene and decomposition are the same on every rank: all stop here
+      if (!mpi || mpi->rank() == 0) throw;
+      return 2;
+    } catch (const std::exception& e) {  // one rank alone: name it and stop the whole job
+      if (!mpi || mpi->size() == 1) throw;
+      std::cerr << "semlb sim: rank " << mpi->rank() << ": " << e.what() << std::endl;
+      mpi->abort(1);
     }
     return 0;
   };

@@ -34,14 +34,25 @@ struct Failure {
   std::string quantity() const;
 };
 
+// Elements of other ranks within reach of this rank's elements: they exert forces but are not moved.
+struct Ghosts {
+  std::vector<double> position;  // 3 per element
+  std::vector<int> info;         // (cell index, counted after the owned cells) << 2 | type
+  std::vector<uint64_t> keys;
+  long elements() const { return static_cast<long>(keys.size()); }
+};
+
 class Backend {
  public:
   virtual ~Backend() = default;
   virtual std::string name() const = 0;
   virtual std::string device_name() const = 0;
   // Element data (positions, packed info, keys) from the host state; call after every host change.
+  // Drops the ghosts.
   virtual void upload(const State& state) = 0;
-  virtual void download(State& state) = 0;  // positions only
+  // Replaces the ghost elements (kept after the owned ones); forces on owned elements include them.
+  virtual void set_ghosts(const Ghosts& ghosts) = 0;
+  virtual void download(State& state) = 0;  // positions of the owned elements only
   // Forces start at zero each step; pair_forces and membrane_forces add to them (fixed point).
   virtual void zero_forces() = 0;
   virtual void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;

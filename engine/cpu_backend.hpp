@@ -18,17 +18,29 @@ class CpuBackend : public Backend {
     pos_.assign(s.position.begin(), s.position.end());
     info_ = s.element_info();
     key_ = s.element_keys();
+    owned_ = s.elements();
     force_.assign(pos_.size(), 0);
     fail_step_ = -1;
     fail_code_ = INT_MAX;
   }
-  void download(State& s) override { s.position.assign(pos_.begin(), pos_.end()); }
+  void set_ghosts(const Ghosts& g) override {
+    pos_.resize(3 * owned_);
+    info_.resize(owned_);
+    key_.resize(owned_);
+    pos_.insert(pos_.end(), g.position.begin(), g.position.end());
+    info_.insert(info_.end(), g.info.begin(), g.info.end());
+    key_.insert(key_.end(), g.keys.begin(), g.keys.end());
+    force_.assign(3 * owned_, 0);
+  }
+  void download(State& s) override { s.position.assign(pos_.begin(), pos_.begin() + 3 * owned_); }
   void zero_forces() override { std::fill(force_.begin(), force_.end(), 0); }
+  long owned() const { return owned_; }  // forces, integration and noise apply to elements [0, owned)
+  long total() const { return static_cast<long>(info_.size()); }
 
   void membrane_forces(const std::vector<double>& membrane) override {
     count("membrane");
     const std::vector<Real> m(membrane.begin(), membrane.end());
-    const long n = static_cast<long>(info_.size());
+    const long n = owned_;
 #pragma omp parallel for schedule(static) num_threads(threads())
     for (long i = 0; i < n; ++i)
       force_[3 * i + 2] += Physics<Real>::fixed(Physics<Real>::membrane(pos_[3 * i + 2], phys64::semlb_info_type(info_[i]), m.data()));
@@ -38,7 +50,7 @@ class CpuBackend : public Backend {
     count("integrate");
     if (fail_step_ >= 0) return;  // frozen at the failure
     const Real k = static_cast<Real>(dt_over_eta), limit2 = static_cast<Real>(max_step * max_step);
-    const long n = static_cast<long>(info_.size());
+    const long n = owned_;
     int worst = INT_MAX;
 #pragma omp parallel for schedule(static) num_threads(threads()) reduction(min : worst)
     for (long i = 0; i < n; ++i) {
@@ -61,7 +73,7 @@ class CpuBackend : public Backend {
   void noise(double amplitude, uint64_t seed, long step) override {
     count("noise");
     const Real a = static_cast<Real>(amplitude);
-    const long n = static_cast<long>(info_.size());
+    const long n = owned_;
 #pragma omp parallel for schedule(static) num_threads(threads())
     for (long i = 0; i < n; ++i)
       for (int c = 0; c < 3; ++c) pos_[3 * i + c] += a * Physics<Real>::gauss(seed, key_[i], step, c);
@@ -82,7 +94,8 @@ class CpuBackend : public Backend {
   std::vector<Real> pos_;
   std::vector<int> info_;
   std::vector<uint64_t> key_;
-  std::vector<int64_t> force_;
+  std::vector<int64_t> force_;  // owned elements only
+  long owned_ = 0;
   int threads_;
   long fail_step_ = -1;
   int fail_code_ = INT_MAX;

@@ -17,9 +17,10 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
     sort_into_bins(grid);
     const std::vector<Real> t(table.begin(), table.end());
     const Real c2 = static_cast<Real>(cutoff * cutoff);
-    const long n = static_cast<long>(this->info_.size());
+    const long n = this->total();
 #pragma omp parallel for schedule(dynamic, 256) num_threads(this->threads())
-    for (long s = 0; s < n; ++s) accumulate(s, grid, t.data(), c2);
+    for (long s = 0; s < n; ++s)
+      if (order_[s] < this->owned()) accumulate(s, grid, t.data(), c2);
   }
 
  private:
@@ -31,7 +32,7 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
 
   // Counting sort of element indices by bin (x fastest), then positions packed in that order.
   void sort_into_bins(const Grid& grid) {
-    const long n = static_cast<long>(this->info_.size());
+    const long n = this->total();
     bin_.resize(n);
     start_.assign(grid.bins() + 1, 0);
     for (long i = 0; i < n; ++i) {

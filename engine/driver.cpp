@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "controllers/text_io.hpp"
+#include "distributed.hpp"
 #include "io.hpp"
 #include "simulation.hpp"
 #include "tissue.hpp"
@@ -126,6 +127,63 @@ RunSummary run_scene(Scene& scene, const RunConfig& config) {
   write_state(dir + "/final.h5", s, attrs);
   status.update(s, wall(), true);
   return {s.step - first, s.cells(), s.elements(), wall(), sim.backend().device_name()};
+}
+
+RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi) {
+  State initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);
+  if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);
+  scene.backend.local_rank = mpi.local_rank();
+  const long first = initial.step, last = std::max(scene.steps, first);
+  const std::string dir = config.out_dir;
+  const bool root = mpi.rank() == 0;
+  DistributedSimulation sim(scene, initial, mpi, root ? dir + "/trace.jsonl" : "");  // all input checked here
+  if (root) fs::create_directories(dir + "/snapshots");
+  std::vector<Snapshot> snapshots = root ? earlier_snapshots(dir, first) : std::vector<Snapshot>{};
+  if (root) write_file_atomically(dir + "/scene.yaml", "# semlb " + config.git_revision + ": " + config.command_line + "\n" + scene.text);
+  const std::map<std::string, std::string> attrs = {{"git_revision", config.git_revision}, {"scene", scene.name},
+                                                    {"backend", sim.local().backend().name()},
+                                                    {"ranks", std::to_string(mpi.size())}};
+  StatusLine status(config.quiet || !root, first, last);
+  const auto t0 = std::chrono::steady_clock::now();
+  auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  auto next = [&](long every, long step) { return every > 0 ? (step / every + 1) * every : last; };
+  std::string log = "step,time_h,cells,elements,wall_s\n";
+  try {
+    while (sim.step() < last) {
+      const long stop = std::min({last, next(scene.log_every, sim.step()), next(scene.checkpoint_every, sim.step()),
+                                  next(scene.snapshot_every, sim.step())});
+      sim.advance(stop);
+      const State all = sim.gather();
+      if (!root) continue;
+      std::ostringstream row;
+      row << all.step << "," << all.time << "," << all.cells() << "," << all.elements() << "," << wall() << "\n";
+      log += row.str();
+      write_file_atomically(dir + "/run.csv", log);
+      if (scene.snapshot_every > 0 && stop % scene.snapshot_every == 0) {
+        write_state(dir + "/" + snapshot_name(stop), all, attrs);
+        snapshots.push_back({stop, all.time, all.elements(), snapshot_name(stop)});
+        write_xdmf(dir + "/snapshots.xmf", snapshots);
+      }
+      if (scene.checkpoint_every > 0 && stop % scene.checkpoint_every == 0) write_state(dir + "/checkpoint.h5", all, attrs);
+      status.update(all, wall(), false);
+    }
+  } catch (const SimulationError&) {
+    const State all = sim.gather();  // every rank reaches this: the failure was agreed collectively
+    if (root) write_state(dir + "/failure.h5", all, attrs);
+    throw;
+  }
+  const State all = sim.gather();
+  if (root) {
+    write_state(dir + "/final.h5", all, attrs);
+    std::string rows = "step,rank,compute_s,imbalance,moved_slices\n";
+    for (const auto& iv : sim.intervals())
+      for (size_t r = 0; r < iv.times.size(); ++r)
+        rows += std::to_string(iv.step) + "," + std::to_string(r) + "," + std::to_string(iv.times[r]) + "," +
+                std::to_string(iv.imbalance) + "," + std::to_string(iv.moved) + "\n";
+    write_file_atomically(dir + "/rank_times.csv", rows);
+    status.update(all, wall(), true);
+  }
+  return {all.step - first, all.cells(), all.elements(), wall(), sim.local().backend().device_name()};
 }
 
 }  // namespace semlb::engine

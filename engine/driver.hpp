@@ -6,6 +6,8 @@
 
 namespace semlb::engine {
 
+class Mpi;
+
 struct RunConfig {
   std::string out_dir;
   std::string restart;  // a checkpoint (or any state file) to continue from; its step is kept
@@ -23,5 +25,9 @@ struct RunSummary {
 // DIR/checkpoint.h5; on a numerical failure DIR/failure.h5 and a SimulationError. Bad input throws
 // InputError before anything is written.
 RunSummary run_scene(Scene& scene, const RunConfig& config);
+// The same across the ranks of `mpi` (docs/engine.md "Decomposition"): rank 0 writes final.h5, run.csv,
+// checkpoints and snapshots (gathered, cells in id order), trace.jsonl (one line per rebalancing event, in
+// `semlb replay`'s format) and rank_times.csv (per interval and rank: computation seconds).
+RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi);
 
 }  // namespace semlb::engine

@@ -11,10 +11,11 @@
 
 namespace semlb::engine {
 
-void write_state(const std::string& path, const State& s, const std::map<std::string, std::string>& attributes) {
+void write_state(const std::string& path, const State& state, const std::map<std::string, std::string>& attributes) {
   const std::string tmp = path + ".tmp";
   {
     auto f = h5::File::create(tmp);
+    const State s = state.canonical();  // cells by id: files do not depend on storage order or rank count
     const hsize_t n = static_cast<hsize_t>(s.elements()), c = static_cast<hsize_t>(s.cells());
     f.write("/elements/position", {n, 3}, s.position);
     std::vector<int64_t> cell(n), type(n);
@@ -31,7 +32,6 @@ void write_state(const std::string& path, const State& s, const std::map<std::st
     for (const auto& [name, field] : s.cell_fields) f.write("/cells/fields/" + name, {c}, field);
     f.write_attr("step", s.step);
     f.write_attr("time", s.time);
-    f.write_attr("next_cell_id", static_cast<long>(s.next_cell_id));
     f.write_attr("format", std::string("semlb-state-v1"));
     for (const auto& [k, v] : attributes) f.write_attr(k, v);
   }
@@ -64,10 +64,7 @@ State read_state(const std::string& path) {
   s.cell_count.assign(counts.begin(), counts.end());
   s.step = H5Aexists(f.id(), "step") > 0 ? f.read_int_attr("step") : 0;
   s.time = H5Aexists(f.id(), "time") > 0 ? f.read_real_attr("time") : 0.0;
-  uint64_t next = 0;
-  for (auto id : s.cell_id) next = std::max(next, id + 1);
-  s.next_cell_id = H5Aexists(f.id(), "next_cell_id") > 0 ? static_cast<uint64_t>(f.read_int_attr("next_cell_id")) : next;
-  for (const char* name : {"growth.clock", "differentiation.age"})
+  for (const char* name : {"growth.clock", "differentiation.age", "division.depth"})
     if (f.has(std::string("/cells/fields/") + name)) {
       s.cell_fields[name] = f.read(std::string("/cells/fields/") + name, dims);
       if (s.cell_fields[name].size() != ids.size()) throw InputError(path + ": dataset /cells/fields/" + name + " has the wrong length");

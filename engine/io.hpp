@@ -9,7 +9,7 @@
 namespace semlb::engine {
 
 // Writes PATH atomically (PATH.tmp, then rename): /elements/{position,cell,type}, /cells/{id,type,count},
-// /cells/fields/NAME, root attributes step, time, next_cell_id and the given text attributes.
+// /cells/fields/NAME, root attributes step, time and the given text attributes.
 void write_state(const std::string& path, const State& state, const std::map<std::string, std::string>& attributes);
 // Reads and validates a state file; InputError names the file and the dataset.
 State read_state(const std::string& path);

@@ -107,9 +107,10 @@ static inline void accumulate(real4 me, int info, int s, int o, __global const r
 /* Pair forces over the 27-bin stencil: 9 rows of 3 bins, contiguous in bin order. One item per sorted element. */
 __kernel void forces_binned(__global const real4* sorted_pos, __global const int* sorted_index,
                             __global const ulong* keys, __global const int* starts, real4 lo, real4 size, int4 dims,
-                            __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n) {
+                            __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n,
+                            int owned) {
   int s = get_global_id(0);
-  if (s >= n) return;
+  if (s >= n || sorted_index[s] >= owned) return;  /* ghosts exert forces but receive none */
   real4 me = sorted_pos[s];
   int info = INFO(me.w);
   int4 b = bin3(me, lo, size, dims);
@@ -131,7 +132,7 @@ __kernel void forces_binned(__global const real4* sorted_pos, __global const int
 
 /* All pairs, tiled through local memory (the GPU all-pairs baseline of the paper). */
 __kernel void forces_allpairs(__global const real4* pos, __global const ulong* keys, __constant const SEMLB_REAL* table,
-                              SEMLB_REAL cutoff2, __global long* force, int n, __local real4* tile) {
+                              SEMLB_REAL cutoff2, __global long* force, int n, int owned, __local real4* tile) {
   int i = get_global_id(0), l = get_local_id(0), w = get_local_size(0);
   real4 me = i < n ? pos[i] : (real4)(0);
   int info = INFO(me.w);
@@ -140,7 +141,7 @@ __kernel void forces_allpairs(__global const real4* pos, __global const ulong* k
     tile[l] = base + l < n ? pos[base + l] : (real4)(0);
     barrier(CLK_LOCAL_MEM_FENCE);
     int count = min(w, n - base);
-    if (i < n)
+    if (i < owned)
       for (int k = 0; k < count; ++k) {
         int j = base + k;
         if (j == i) continue;
@@ -150,7 +151,7 @@ __kernel void forces_allpairs(__global const real4* pos, __global const ulong* k
       }
     barrier(CLK_LOCAL_MEM_FENCE);
   }
-  if (i >= n) return;
+  if (i >= owned) return;
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];

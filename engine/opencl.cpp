@@ -51,7 +51,7 @@ std::vector<DeviceInfo> list_devices() {
   return out;
 }
 
-DeviceInfo choose_device(const std::string& platform, int index) {
+DeviceInfo choose_device(const std::string& platform, int index, int local_rank) {
   const auto all = list_devices();
   if (all.empty()) throw InputError("backend: no OpenCL platform found (install an ICD, e.g. pocl-opencl-icd)");
   std::vector<std::string> names;
@@ -81,7 +81,7 @@ DeviceInfo choose_device(const std::string& platform, int index) {
   if (index < 0 || index >= static_cast<int>(devices.size()))
     throw InputError("backend.device: index " + std::to_string(index) + " but platform '" + chosen + "' has " +
                      std::to_string(devices.size()) + " device(s)");
-  return devices[index];
+  return devices[(index + local_rank) % devices.size()];
 }
 
 }  // namespace semlb::engine::cl

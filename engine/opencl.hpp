@@ -54,7 +54,8 @@ struct DeviceInfo {
 // Every platform with its devices, as "platform: device" lines (for errors and `semlb sim --list-devices`).
 std::vector<DeviceInfo> list_devices();
 // The platform whose name contains `platform` (case-insensitive); empty: the only platform with a GPU,
-// else the only platform. `index` counts devices within that platform. Throws InputError otherwise.
-DeviceInfo choose_device(const std::string& platform, int index);
+// else the only platform. `index` counts devices within that platform; `local_rank` (the rank among the
+// processes of this host) adds to it, wrapping around, so ranks spread over the devices or share them.
+DeviceInfo choose_device(const std::string& platform, int index, int local_rank = 0);
 
 }  // namespace semlb::engine::cl

@@ -29,7 +29,7 @@ class OpenClBackend final : public Backend {
 
  public:
   OpenClBackend(const BackendConfig& c, bool binned) : binned_(binned) {
-    dev_ = cl::choose_device(c.platform, c.device + c.local_rank);
+    dev_ = cl::choose_device(c.platform, c.device, c.local_rank);
     if (std::is_same_v<Real, double>) {
       cl_device_fp_config fp64 = 0;
       clGetDeviceInfo(dev_.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, nullptr);
@@ -51,33 +51,39 @@ class OpenClBackend final : public Backend {
   std::string device_name() const override { return dev_.platform_name + ": " + dev_.device_name; }
 
   void upload(const State& s) override {
-    n_ = s.elements();
+    n_ = owned_ = s.elements();
     if (n_ > capacity_) allocate(n_ + n_ / 4 + 64);
-    std::vector<Real4> packed(n_);
-    const auto info = s.element_info();
-    for (long i = 0; i < n_; ++i) {
-      packed[i] = {static_cast<Real>(s.position[3 * i]), static_cast<Real>(s.position[3 * i + 1]),
-                   static_cast<Real>(s.position[3 * i + 2]), pack_info(info[i])};
-    }
-    write(pos_, packed.data(), n_ * sizeof(Real4));
-    const auto keys = s.element_keys();
-    write(keys_, keys.data(), n_ * sizeof(uint64_t));
+    write_elements(0, s.position, s.element_info(), s.element_keys());
     const cl_int none[2] = {-1, INT_MAX};
     write(fail_, none, sizeof none);
   }
 
+  void set_ghosts(const Ghosts& g) override {
+    if (owned_ + g.elements() > capacity_) {  // grow: keep the owned elements through the host
+      std::vector<Real4> packed(owned_);
+      std::vector<uint64_t> keys(owned_);
+      read(pos_, packed.data(), owned_ * sizeof(Real4));
+      read(keys_, keys.data(), owned_ * sizeof(uint64_t));
+      allocate(owned_ + g.elements() + (owned_ + g.elements()) / 4 + 64);
+      write(pos_, packed.data(), owned_ * sizeof(Real4));
+      write(keys_, keys.data(), owned_ * sizeof(uint64_t));
+    }
+    write_elements(owned_, g.position, g.info, g.keys);
+    n_ = owned_ + g.elements();
+  }
+
   void download(State& s) override {
-    std::vector<Real4> packed(n_);
-    if (n_) cl::check(clEnqueueReadBuffer(queue_.get(), pos_.get(), CL_TRUE, 0, n_ * sizeof(Real4), packed.data(), 0, nullptr, nullptr), "read positions");
-    s.position.resize(3 * n_);
-    for (long i = 0; i < n_; ++i)
+    std::vector<Real4> packed(owned_);
+    read(pos_, packed.data(), owned_ * sizeof(Real4));
+    s.position.resize(3 * owned_);
+    for (long i = 0; i < owned_; ++i)
       for (int c = 0; c < 3; ++c) s.position[3 * i + c] = packed[i][c];
   }
 
   void zero_forces() override {
     count("zero_forces");
     const cl_long zero = 0;
-    if (n_) cl::check(clEnqueueFillBuffer(queue_.get(), force_.get(), &zero, sizeof zero, 0, 3 * n_ * sizeof(cl_long), 0, nullptr, nullptr), "zero forces");
+    if (owned_) cl::check(clEnqueueFillBuffer(queue_.get(), force_.get(), &zero, sizeof zero, 0, 3 * owned_ * sizeof(cl_long), 0, nullptr, nullptr), "zero forces");
   }
 
   void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) override {
@@ -86,31 +92,32 @@ class OpenClBackend final : public Backend {
     const Real c2 = static_cast<Real>(cutoff * cutoff);
     const cl_int n = static_cast<cl_int>(n_);
     if (!binned_) {
-      launch("forces_allpairs", n_, kGroup, pos_.get(), keys_.get(), table_.get(), c2, force_.get(), n, LocalBytes{kGroup * sizeof(Real4)});
+      launch("forces_allpairs", n_, kGroup, pos_.get(), keys_.get(), table_.get(), c2, force_.get(), n, owned(),
+             LocalBytes{kGroup * sizeof(Real4)});
       return;
     }
     sort_into_bins(grid);
     launch("forces_binned", n_, kGroup, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(), real4(grid.lo),
-           real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get(), n);
+           real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get(), n, owned());
   }
 
   void membrane_forces(const std::vector<double>& m) override {
     count("membrane");
     write_reals(membrane_, m);
-    launch("membrane", n_, kGroup, pos_.get(), membrane_.get(), force_.get(), static_cast<cl_int>(n_));
+    launch("membrane", owned_, kGroup, pos_.get(), membrane_.get(), force_.get(), owned());
   }
 
   void integrate(double dt_over_eta, double max_step, long step) override {
     count("integrate");
     if (step > INT_MAX) throw std::runtime_error("opencl backends count steps in 32 bits");
-    launch("integrate", n_, kGroup, pos_.get(), force_.get(), static_cast<Real>(dt_over_eta),
-           static_cast<Real>(max_step * max_step), static_cast<cl_int>(step), fail_.get(), static_cast<cl_int>(n_));
+    launch("integrate", owned_, kGroup, pos_.get(), force_.get(), static_cast<Real>(dt_over_eta),
+           static_cast<Real>(max_step * max_step), static_cast<cl_int>(step), fail_.get(), owned());
   }
 
   void noise(double amplitude, uint64_t seed, long step) override {
     count("noise");
-    launch("noise", n_, kGroup, pos_.get(), keys_.get(), static_cast<Real>(amplitude), static_cast<cl_ulong>(seed),
-           static_cast<cl_long>(step), static_cast<cl_int>(n_));
+    launch("noise", owned_, kGroup, pos_.get(), keys_.get(), static_cast<Real>(amplitude), static_cast<cl_ulong>(seed),
+           static_cast<cl_long>(step), owned());
   }
 
   Failure failure() override {
@@ -128,6 +135,18 @@ class OpenClBackend final : public Backend {
   void finish() override { cl::check(clFinish(queue_.get()), "clFinish"); }
 
  private:
+  cl_int owned() const { return static_cast<cl_int>(owned_); }
+
+  void write_elements(long at, const std::vector<double>& position, const std::vector<int>& info, const std::vector<uint64_t>& keys) {
+    const long n = static_cast<long>(keys.size());
+    std::vector<Real4> packed(n);
+    for (long i = 0; i < n; ++i)
+      packed[i] = {static_cast<Real>(position[3 * i]), static_cast<Real>(position[3 * i + 1]),
+                   static_cast<Real>(position[3 * i + 2]), pack_info(info[i])};
+    write(pos_, packed.data(), n * sizeof(Real4), at * sizeof(Real4));
+    write(keys_, keys.data(), n * sizeof(uint64_t), at * sizeof(uint64_t));
+  }
+
   static Real pack_info(int info) {
     Real w{};
     if constexpr (std::is_same_v<Real, float>) {
@@ -170,8 +189,11 @@ class OpenClBackend final : public Backend {
     cl::check(err, "clCreateBuffer");
     return m;
   }
-  void write(const cl::Mem& m, const void* data, size_t bytes) {
-    if (bytes) cl::check(clEnqueueWriteBuffer(queue_.get(), m.get(), CL_TRUE, 0, bytes, data, 0, nullptr, nullptr), "write buffer");
+  void write(const cl::Mem& m, const void* data, size_t bytes, size_t offset = 0) {
+    if (bytes) cl::check(clEnqueueWriteBuffer(queue_.get(), m.get(), CL_TRUE, offset, bytes, data, 0, nullptr, nullptr), "write buffer");
+  }
+  void read(const cl::Mem& m, void* data, size_t bytes) {
+    if (bytes) cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_TRUE, 0, bytes, data, 0, nullptr, nullptr), "read buffer");
   }
   void write_reals(const cl::Mem& m, const std::vector<double>& values) {
     const std::vector<Real> r(values.begin(), values.end());
@@ -244,7 +266,7 @@ class OpenClBackend final : public Backend {
   std::map<std::string, cl::Kernel> kernels_;
   std::map<cl_mem, std::vector<Real>> last_written_;
   cl::Mem pos_, keys_, force_, fail_, table_, membrane_, bin_, sorted_pos_, sorted_index_, counts_, starts_, cursor_, sums_;
-  long n_ = 0, capacity_ = 0, bins_capacity_ = 0;
+  long n_ = 0, owned_ = 0, capacity_ = 0, bins_capacity_ = 0;  // n_: owned + ghosts
 };
 
 template <bool Binned>

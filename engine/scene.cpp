@@ -174,6 +174,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   output.finish();
   read_backend(top.child("backend"), s.backend);
   s.tissue = std::make_shared<Section>(top.child("tissue"));
+  s.decomposition = std::make_shared<Section>(top.child("decomposition"));
   const Section effects = top.child("effects");
   for (const auto& name : effects.keys()) s.effects.emplace_back(name, effects.child(name));
   top.finish();

@@ -58,6 +58,7 @@ struct Scene {
   long snapshot_every = 0, log_every = 100, checkpoint_every = 0;  // 0 = never (log: every 100)
   BackendConfig backend;
   std::shared_ptr<Section> tissue;
+  std::shared_ptr<Section> decomposition;  // read by Decomposition::from_scene (decomposed runs only)
   std::vector<std::pair<std::string, Section>> effects;  // in file order
 };
 

@@ -14,9 +14,9 @@ class SerialBackend final : public CpuBackend<Real> {
     this->count("pair_forces");
     const std::vector<Real> t(table.begin(), table.end());
     const Real c2 = static_cast<Real>(cutoff * cutoff);
-    const long n = static_cast<long>(this->info_.size());
+    const long owned = this->owned(), n = this->total();
     const Real* p = this->pos_.data();
-    for (long i = 0; i < n; ++i) {
+    for (long i = 0; i < owned; ++i) {
       int64_t acc[3] = {0, 0, 0};
       for (long j = 0; j < n; ++j)
         if (j != i)

@@ -35,12 +35,21 @@ void Simulation::timed(size_t phase, F&& f) {
 
 void Simulation::advance(long target) {
   while (state_.step < target) step_once();
-  check();
+  failure_check ? failure_check() : check();
+}
+
+void Simulation::reload() {
+  backend_->upload(state_);
+  if (scene_->auto_box) {
+    const auto [lo, hi] = tissue_box(state_, scene_->cutoff);
+    grid_ = Grid::cover(lo, hi, scene_->cutoff);
+  }
 }
 
 void Simulation::step_once() {
   const long step = state_.step;
   size_t phase = 0;
+  if (before_forces) before_forces();
   backend_->zero_forces();
   for (const auto& e : effects_)
     if (e->adds_forces()) timed(phase++, [&] { e->forces(*backend_, grid_); });
@@ -53,7 +62,7 @@ void Simulation::step_once() {
 }
 
 void Simulation::update_cells() {
-  check();
+  failure_check ? failure_check() : check();
   backend_->download(state_);
   CellContext ctx{state_, scene_->seed, scene_->dt * static_cast<double>(scene_->cell_update_every)};
   bool changed = false;
@@ -66,6 +75,7 @@ void Simulation::update_cells() {
     const auto [lo, hi] = tissue_box(state_, scene_->cutoff);
     grid_ = Grid::cover(lo, hi, scene_->cutoff);
   }
+  if (after_cells) after_cells();
 }
 
 const State& Simulation::sync() {

@@ -1,6 +1,7 @@
 // One simulation on one backend: the per-step element stage, the periodic cell stage, phase timers
 // and failure detection (a failing kernel stops the run with the step, element and quantity).
 #pragma once
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -34,6 +35,13 @@ class Simulation {
   bool profile = true;
   // Throws SimulationError if a kernel recorded a failure.
   void check();
+
+  // Hooks of the decomposed run (distributed.cpp); empty by default.
+  std::function<void()> before_forces;  // every step, before the force effects (ghost exchange)
+  std::function<void()> after_cells;    // after each cell update (cell migration)
+  std::function<void()> failure_check;  // replaces check() (a collective check across ranks)
+  State& state() { return state_; }     // the host state, for the decomposed run to edit, then reload()
+  void reload();                        // uploads state() again and refits the grid
 
  private:
   void step_once();

@@ -1,6 +1,7 @@
 // State helpers: per-element views, indexing and a hash of the whole tissue.
 #include "state.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 
@@ -52,12 +53,32 @@ void State::reindex() {
     if (f.size() != cell_id.size()) throw std::logic_error("state: cell field " + name + " has the wrong length");
 }
 
+State State::canonical() const {
+  std::vector<long> order(cells());
+  for (long c = 0; c < cells(); ++c) order[c] = c;
+  std::sort(order.begin(), order.end(), [&](long a, long b) { return cell_id[a] < cell_id[b]; });
+  State out;
+  out.step = step;
+  out.time = time;
+  for (long c : order) {
+    out.cell_id.push_back(cell_id[c]);
+    out.cell_type.push_back(cell_type[c]);
+    out.cell_count.push_back(cell_count[c]);
+    out.position.insert(out.position.end(), position.begin() + 3 * cell_first[c],
+                        position.begin() + 3 * (cell_first[c] + cell_count[c]));
+    for (const auto& [name, f] : cell_fields) out.cell_fields[name].push_back(f[c]);
+  }
+  out.reindex();
+  return out;
+}
+
 uint64_t State::hash() const {
+  const State s = canonical();
   uint64_t h = 1469598103934665603ULL;
-  fnv(h, position.data(), position.size() * sizeof(double));
-  fnv(h, cell_id.data(), cell_id.size() * sizeof(uint64_t));
-  fnv(h, cell_type.data(), cell_type.size() * sizeof(int));
-  fnv(h, cell_count.data(), cell_count.size() * sizeof(int));
+  fnv(h, s.position.data(), s.position.size() * sizeof(double));
+  fnv(h, s.cell_id.data(), s.cell_id.size() * sizeof(uint64_t));
+  fnv(h, s.cell_type.data(), s.cell_type.size() * sizeof(int));
+  fnv(h, s.cell_count.data(), s.cell_count.size() * sizeof(int));
   return h;
 }
 

@@ -16,10 +16,16 @@ int type_from_name(const std::string& name);  // -1 if unknown
 inline uint64_t element_key(uint64_t cell_id, int slot) { return (cell_id << 8) | static_cast<uint64_t>(slot); }
 inline constexpr int kMaxSlots = 256;
 
+// Cell ids need no global counter, so that they are the same on any number of ranks: the initial cells are
+// 0 .. 2^20-1; at its d-th division a cell keeps its id and its daughter gets id | 2^(20+d) (a path in a
+// binary tree, unique). 36 divisions per lineage fit with the 8 slot bits of element_key.
+inline constexpr int kRootIdBits = 20;
+inline constexpr int kMaxDivisionDepth = 36;
+inline uint64_t daughter_id(uint64_t mother, int depth) { return mother | (uint64_t{1} << (kRootIdBits + depth)); }
+
 struct State {
   long step = 0;
   double time = 0;  // h
-  uint64_t next_cell_id = 0;
 
   // Cells (index c): id, type, first element and element count (elements are stored cell by cell).
   std::vector<uint64_t> cell_id;
@@ -39,8 +45,11 @@ struct State {
   std::vector<uint64_t> element_keys() const;
   // Recomputes cell_first from cell_count; throws std::logic_error when sizes disagree.
   void reindex();
-  // FNV-1a hash of positions (bits), cell ids, types and counts: equal hashes = identical tissue.
+  // FNV-1a hash of positions (bits), cell ids, types and counts in cell-id order: equal hashes = identical
+  // tissue, whatever order the cells are stored in (ranks store them differently).
   uint64_t hash() const;
+  // The same tissue with cells sorted by id (the order of output files).
+  State canonical() const;
 };
 
 }  // namespace semlb::engine

@@ -16,7 +16,7 @@ namespace {
 constexpr uint64_t kTissueStream = 0x7469737375ULL;
 
 State epidermal_sheet(const Section& t, uint64_t seed) {
-  const long cells = t.integer("cells", 60, 1, 1L << 31);
+  const long cells = t.integer("cells", 60, 1, 1L << kRootIdBits);
   const long layers = t.integer("layers", 2, 1, 1000);
   const double radius = t.real("cell_radius", 5.0, 1e-6, 1e6);
   const double spacing = t.real("spacing", 1.8 * radius, 1e-6, 1e6);
@@ -48,7 +48,6 @@ State epidermal_sheet(const Section& t, uint64_t seed) {
       s.position.insert(s.position.end(), {cx + r * u[0], cy + r * u[1], std::max(cz + r * u[2], 0.5)});
     }
   }
-  s.next_cell_id = static_cast<uint64_t>(cells);
   s.reindex();
   return s;
 }

@@ -1,5 +1,6 @@
 // "division": a cell of a listed type with at least at_elements elements splits through its centroid,
-// perpendicular to the long axis of its gyration tensor; the daughter on the +axis side gets a new id.
+// perpendicular to the long axis of its gyration tensor; the daughter on the +axis side gets the id
+// daughter_id(mother, depth) (state.hpp), the same on any number of ranks.
 #include <Eigen/Dense>
 
 #include "../effect.hpp"
@@ -14,6 +15,7 @@ class Division final : public Effect {
       : at_(static_cast<int>(s.integer("at_elements", 20, 2, kMaxSlots - 1))), types_(read_types(s, "types", {"basal"})) {}
   std::string name() const override { return "division"; }
   bool changes_cells() const override { return true; }
+  void prepare(State& s) override { s.cell_fields["division.depth"].resize(s.cell_id.size(), 0.0); }
 
   bool update_cells(CellContext& ctx) override {
     State& s = ctx.state;
@@ -27,13 +29,18 @@ class Division final : public Effect {
       for (int k = 0; k < s.cell_count[c]; ++k)
         cells[c].push_back({s.position[3 * (first + k)], s.position[3 * (first + k) + 1], s.position[3 * (first + k) + 2]});
       if (!types_[s.cell_type[c]] || s.cell_count[c] < at_) continue;
+      auto& depth = s.cell_fields["division.depth"];
+      const int d = static_cast<int>(depth[c]);
+      if (d >= kMaxDivisionDepth)
+        throw std::runtime_error("cell " + std::to_string(s.cell_id[c]) + " divided " + std::to_string(d) + " times: cell ids are exhausted");
       auto [stay, leave] = split(cells[c]);
       cells[c] = std::move(stay);
       cells.push_back(std::move(leave));
-      s.cell_id.push_back(s.next_cell_id++);
+      s.cell_id.push_back(daughter_id(s.cell_id[c], d));
       s.cell_type.push_back(s.cell_type[c]);
       s.cell_count.push_back(0);
-      for (auto& [name, field] : s.cell_fields) field.push_back(field[c]);  // daughters inherit
+      depth[c] = d + 1;
+      for (auto& [name, field] : s.cell_fields) field.push_back(field[c]);  // daughters inherit (depth too)
     }
     if (s.cells() == before) return false;
     rebuild(s, cells);

@@ -38,7 +38,6 @@ inline State random_state(long cells, int per_cell, double side, uint64_t seed) 
     s.cell_count.push_back(per_cell);
     for (int e = 0; e < 3 * per_cell; ++e) s.position.push_back(u(rng));
   }
-  s.next_cell_id = static_cast<uint64_t>(cells) * 7 + 3;
   s.reindex();
   return s;
 }

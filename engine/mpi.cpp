@@ -1,0 +1,115 @@
+// MPI wrapper: initialisation, checked collectives on byte buffers.
+#include "mpi.hpp"
+
+#include <cstdlib>
+#include <numeric>
+#include <stdexcept>
+
+namespace semlb::engine {
+namespace {
+void check(int rc, const char* what) {
+  if (rc != MPI_SUCCESS) {
+    char text[MPI_MAX_ERROR_STRING];
+    int n = 0;
+    MPI_Error_string(rc, text, &n);
+    throw std::runtime_error(std::string("MPI: ") + what + " failed: " + std::string(text, n));
+  }
+}
+}  // namespace
+
+bool Mpi::launched() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "SLURM_PROCID"})
+    if (std::getenv(v)) return true;
+  return false;
+}
+
+Mpi::Mpi() {
+  int ready = 0;
+  MPI_Initialized(&ready);
+  if (!ready) {
+    check(MPI_Init(nullptr, nullptr), "MPI_Init");
+    owns_ = true;
+  }
+  MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+  check(MPI_Comm_rank(MPI_COMM_WORLD, &rank_), "MPI_Comm_rank");
+  check(MPI_Comm_size(MPI_COMM_WORLD, &size_), "MPI_Comm_size");
+}
+
+Mpi::~Mpi() {
+  if (owns_) MPI_Finalize();
+}
+
+int Mpi::local_rank() const {
+  MPI_Comm local;
+  check(MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &local), "split");
+  int r = 0;
+  MPI_Comm_rank(local, &r);
+  MPI_Comm_free(&local);
+  return r;
+}
+
+std::vector<double> Mpi::allgather(double value) const {
+  std::vector<double> out(size_);
+  check(MPI_Allgather(&value, 1, MPI_DOUBLE, out.data(), 1, MPI_DOUBLE, MPI_COMM_WORLD), "MPI_Allgather");
+  return out;
+}
+
+void Mpi::allreduce_sum(std::vector<double>& v) const {
+  check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce");
+}
+
+long Mpi::allreduce_max(long value) const {
+  check(MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
+  return value;
+}
+
+void Mpi::broadcast(std::vector<int>& v, int root) const {
+  int n = static_cast<int>(v.size());
+  check(MPI_Bcast(&n, 1, MPI_INT, root, MPI_COMM_WORLD), "MPI_Bcast");
+  v.resize(n);
+  check(MPI_Bcast(v.data(), n, MPI_INT, root, MPI_COMM_WORLD), "MPI_Bcast");
+}
+
+void Mpi::broadcast(std::string& text, int root) const {
+  int n = static_cast<int>(text.size());
+  check(MPI_Bcast(&n, 1, MPI_INT, root, MPI_COMM_WORLD), "MPI_Bcast");
+  text.resize(n);
+  check(MPI_Bcast(text.data(), n, MPI_CHAR, root, MPI_COMM_WORLD), "MPI_Bcast");
+}
+
+std::vector<char> Mpi::sendrecv(const std::vector<char>& send, int to, int from) const {
+  long n_send = static_cast<long>(send.size()), n_recv = 0;
+  check(MPI_Sendrecv(&n_send, 1, MPI_LONG, to, 1, &n_recv, 1, MPI_LONG, from, 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "MPI_Sendrecv");
+  std::vector<char> recv(from == MPI_PROC_NULL ? 0 : n_recv);
+  check(MPI_Sendrecv(send.data(), static_cast<int>(n_send), MPI_BYTE, to, 2, recv.data(), static_cast<int>(recv.size()),
+                     MPI_BYTE, from, 2, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "MPI_Sendrecv");
+  return recv;
+}
+
+std::vector<std::vector<char>> Mpi::alltoall(const std::vector<std::vector<char>>& parts) const {
+  std::vector<int> send_n(size_), recv_n(size_), send_off(size_), recv_off(size_);
+  for (int r = 0; r < size_; ++r) send_n[r] = static_cast<int>(parts[r].size());
+  check(MPI_Alltoall(send_n.data(), 1, MPI_INT, recv_n.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Alltoall");
+  std::exclusive_scan(send_n.begin(), send_n.end(), send_off.begin(), 0);
+  std::exclusive_scan(recv_n.begin(), recv_n.end(), recv_off.begin(), 0);
+  std::vector<char> send, recv(recv_off.back() + recv_n.back());
+  for (const auto& p : parts) send.insert(send.end(), p.begin(), p.end());
+  check(MPI_Alltoallv(send.data(), send_n.data(), send_off.data(), MPI_BYTE, recv.data(), recv_n.data(), recv_off.data(),
+                      MPI_BYTE, MPI_COMM_WORLD), "MPI_Alltoallv");
+  std::vector<std::vector<char>> out(size_);
+  for (int r = 0; r < size_; ++r) out[r].assign(recv.begin() + recv_off[r], recv.begin() + recv_off[r] + recv_n[r]);
+  return out;
+}
+
+std::vector<std::vector<char>> Mpi::gather(const std::vector<char>& part, int root) const {
+  std::vector<std::vector<char>> parts(size_);
+  parts[root] = part;
+  auto got = alltoall(parts);  // only the root receives anything
+  return got;
+}
+
+void Mpi::barrier() const { check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier"); }
+
+void Mpi::abort(int code) const { MPI_Abort(MPI_COMM_WORLD, code); std::abort(); }
+
+}  // namespace semlb::engine

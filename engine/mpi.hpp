@@ -1,0 +1,42 @@
+// RAII over MPI (initialised only when the process was started by mpirun) and the few collectives the
+// decomposition needs; every return code is checked.
+#pragma once
+#include <mpi.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace semlb::engine {
+
+class Mpi {
+ public:
+  // True when a launcher (mpirun, srun) started this process: then `semlb sim` runs decomposed.
+  static bool launched();
+  Mpi();   // MPI_Init unless already initialised; errors return instead of aborting
+  ~Mpi();  // MPI_Finalize if this object initialised MPI
+  Mpi(const Mpi&) = delete;
+  Mpi& operator=(const Mpi&) = delete;
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  int local_rank() const;  // rank among the processes of this host (device index)
+
+  std::vector<double> allgather(double value) const;
+  void allreduce_sum(std::vector<double>& values) const;
+  long allreduce_max(long value) const;
+  void broadcast(std::vector<int>& values, int root) const;
+  void broadcast(std::string& text, int root) const;
+  // Sends `send` to `to` and receives from `from` (either may be MPI_PROC_NULL).
+  std::vector<char> sendrecv(const std::vector<char>& send, int to, int from) const;
+  // Every rank sends parts[r] to rank r; returns what each rank sent here, by source rank.
+  std::vector<std::vector<char>> alltoall(const std::vector<std::vector<char>>& parts) const;
+  std::vector<std::vector<char>> gather(const std::vector<char>& part, int root) const;
+  void barrier() const;
+  [[noreturn]] void abort(int code) const;
+
+ private:
+  bool owns_ = false;
+  int rank_ = 0, size_ = 1;
+};
+
+}  // namespace semlb::engine

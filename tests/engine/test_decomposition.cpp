@@ -1,0 +1,83 @@
+// The decomposed run under mpirun: the same final state on 1, 2 and 4 ranks as on one device, a
+// checkpoint on 2 ranks continued on 4, engine traces that `semlb replay` reproduces, and failures.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "../run_command.hpp"
+#include "controllers/text_io.hpp"
+#include "engine/io.hpp"
+
+namespace semlb::engine {
+namespace {
+
+using test::fresh_dir;
+using test::run;
+using test::semlb_bin;
+using test::source;
+
+// 400 cells over ~180 um in x: room for 4 slabs of min_width (3 cutoffs); one thread per rank.
+const std::string kArgs = " --scene " + source("scenes/epidermis.yaml") +
+                          " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=50";
+
+std::string mpirun(int ranks) {
+  return std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") + SEMLB_MPIEXEC + " --oversubscribe -np " +
+         std::to_string(ranks) + " " + semlb_bin() + " sim";
+}
+
+TEST(Decomposition, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
+  const auto dir = fresh_dir("decomposition_ranks");
+  auto r = run(semlb_bin() + " sim" + kArgs + " --steps 200 --out " + dir + "/single");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const uint64_t reference = read_state(dir + "/single/final.h5").hash();
+  for (int ranks : {1, 2, 4}) {
+    const std::string out = dir + "/np" + std::to_string(ranks);
+    r = run(mpirun(ranks) + kArgs + " --steps 200 --out " + out);
+    ASSERT_EQ(r.rc, 0) << r.out;
+    EXPECT_EQ(read_state(out + "/final.h5").hash(), reference) << ranks << " ranks";
+    EXPECT_EQ(split(read_file(out + "/rank_times.csv"), '\n').size(), 2 + 4u * ranks) << "4 events x ranks rows";
+  }
+}
+
+TEST(Decomposition, CheckpointOnTwoRanksContinuesIdenticallyOnFour) {
+  const auto dir = fresh_dir("decomposition_restart");
+  auto r = run(mpirun(2) + kArgs + " --steps 200 --out " + dir + "/straight");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  r = run(mpirun(2) + kArgs + " --steps 100 --set output.checkpoint_every=100 --out " + dir + "/first");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  r = run(mpirun(4) + kArgs + " --steps 200 --restart " + dir + "/first/checkpoint.h5 --out " + dir + "/second");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_EQ(read_state(dir + "/second/final.h5").hash(), read_state(dir + "/straight/final.h5").hash());
+}
+
+TEST(Decomposition, ReplayingAnEngineTraceReproducesItsDecisions) {
+  const auto dir = fresh_dir("decomposition_trace");
+  auto r = run(mpirun(2) + kArgs + " --steps 200 --set decomposition.params.tau=0.001 --out " + dir);
+  ASSERT_EQ(r.rc, 0) << r.out;
+  r = run(semlb_bin() + " replay --policy reactive --param reactive.tau=0.001 --trace " + dir + "/trace.jsonl");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const auto trace = split(read_file(dir + "/trace.jsonl"), '\n'), replayed = split(r.out, '\n');
+  ASSERT_GE(trace.size(), 4u);
+  for (size_t i = 0; i + 1 < trace.size(); ++i)
+    EXPECT_EQ(nlohmann::json::parse(trace[i])["decision"], nlohmann::json::parse(replayed[i])["boundaries"]) << i;
+}
+
+TEST(Decomposition, AFailingRankStopsEveryRankNamingRankStepAndCause) {
+  const auto dir = fresh_dir("decomposition_fail");
+  const auto r = run(mpirun(2) + kArgs + " --steps 50 --set time.dt=5 --out " + dir);
+  EXPECT_EQ(r.rc, 1) << r.out;
+  EXPECT_NE(r.out.find(": rank "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("displacement exceeds time.max_displacement"), std::string::npos) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/failure.h5"));
+}
+
+TEST(Decomposition, TooManyRanksForTheDomainIsBadInput) {
+  const auto dir = fresh_dir("decomposition_narrow");
+  const auto r = run(mpirun(2) + " --scene " + source("scenes/epidermis.yaml") + " --quiet --set tissue.cells=4 --out " + dir + "/out");
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_NE(r.out.find("field 'decomposition.min_width'"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
+}
+
+}  // namespace
+}  // namespace semlb::engine
