@@ -304,7 +304,8 @@ void DistributedSimulation::advance(long target) {
   while (step() < target) {
     const long stop = std::min(target, (step() / dec_.rebalance_every + 1) * dec_.rebalance_every);
     sim_->advance(stop);
-    if (stop % dec_.rebalance_every == 0 && stop % scene_->cell_update_every != 0) {
+    const bool cells_updated = sim_->has_cell_effects() && stop % scene_->cell_update_every == 0;  // migrated there
+    if (stop % dec_.rebalance_every == 0 && !cells_updated) {
       sim_->sync();
       migrate_cells();  // rebalances first
     }

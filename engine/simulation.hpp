@@ -32,6 +32,7 @@ class Simulation {
   const Grid& grid() const { return grid_; }
   const std::vector<std::string>& phases() const { return phases_; }
   const std::vector<double>& phase_seconds() const { return seconds_; }  // accumulated, per phase
+  bool has_cell_effects() const { return has_cell_effects_; }
   bool profile = true;
   // Throws SimulationError if a kernel recorded a failure.
   void check();

@@ -71,6 +71,15 @@ TEST(Decomposition, AFailingRankStopsEveryRankNamingRankStepAndCause) {
   EXPECT_TRUE(std::filesystem::exists(dir + "/failure.h5"));
 }
 
+TEST(Decomposition, MechanicsOnlyScenesRebalanceToo) {
+  const auto dir = fresh_dir("decomposition_mechanics");
+  const auto r = run(mpirun(2) + " --scene " + source("scenes/mechanics.yaml") +
+                     " --quiet --set tissue.cells=400 --set backend.threads=1 --steps 100 --set decomposition.rebalance_every=50 --out " + dir);
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_EQ(split(read_file(dir + "/rank_times.csv"), '\n').size(), 2 + 2u * 2) << read_file(dir + "/rank_times.csv");
+  EXPECT_EQ(split(read_file(dir + "/trace.jsonl"), '\n').size(), 3u);
+}
+
 TEST(Decomposition, TooManyRanksForTheDomainIsBadInput) {
   const auto dir = fresh_dir("decomposition_narrow");
   const auto r = run(mpirun(2) + " --scene " + source("scenes/epidermis.yaml") + " --quiet --set tissue.cells=4 --out " + dir + "/out");
