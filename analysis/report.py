@@ -263,6 +263,49 @@ def effects_figure(rows):
     return fig
 
 
+def strong_scaling_table(rows):
+    out = ["# Strong scaling", "",
+           "Computation-only time T_p (slowest rank per rebalancing interval, summed), S_p = T_1/T_p, E_p = S_p/p, "
+           "and end-to-end wall time.", "",
+           "| cells | ranks | elements | T_p compute (s) | S_p | E_p | end-to-end (s) |", "|---:|---:|---:|---:|---:|---:|---:|"]
+    for cells in sorted({r["cells"] for r in rows}, key=int):
+        group = sorted((r for r in rows if r["cells"] == cells), key=lambda r: int(r["ranks"]))
+        t1 = float(group[0]["compute_s"]) * int(group[0]["ranks"])
+        for r in group:
+            p, t = int(r["ranks"]), float(r["compute_s"])
+            s = t1 / t if t > 0 else 0
+            out.append(f"| {cells} | {p} | {r['elements']} | {t:.3f} | {s:.2f} | {100 * s / p:.0f}% | {float(r['wall_s']):.2f} |")
+    return "\n".join(out) + "\n"
+
+
+def load_balance_table(rows):
+    out = ["# Load balancing end to end", "",
+           "Total runtime, computation-only time, mean global imbalance (T_max-T_min)/T_mean over the rebalancing "
+           "intervals and migrated slices, per initial partition and policy.", "",
+           "| initial | policy | runtime (s) | compute (s) | mean imbalance % | migrated slices |", "|---|---|---:|---:|---:|---:|"]
+    for r in rows:
+        out.append(f"| {r['initial']} | {r['policy']} | {float(r['wall_s']):.2f} | {float(r['compute_s']):.2f} | "
+                   f"{100 * float(r['mean_imbalance']):.1f} | {r['migrated_slices']} |")
+    return "\n".join(out) + "\n"
+
+
+def rank_balance_figure(rows):
+    plt = _plt()
+    policies = list(OrderedDict.fromkeys(r["policy"] for r in rows))
+    fig, axes = plt.subplots(1, len(policies), figsize=(4 * len(policies), 3.5), sharey=True, squeeze=False)
+    for ax, pol in zip(axes[0], policies):
+        for rank in sorted({r["rank"] for r in rows}, key=int):
+            pts = sorted((int(r["step"]), float(r["compute_s"])) for r in rows if r["policy"] == pol and r["rank"] == rank)
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=f"rank {rank}")
+        ax.set_title(pol)
+        ax.set_xlabel("step")
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel("computation time per interval (s)")
+    axes[0][0].legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
 REPORTS = {
     # csv (relative to results) -> [(output, builder)]
     "controller_eval/controller_eval.csv": [("tables/controller_eval.md", controller_table),
@@ -277,6 +320,9 @@ REPORTS = {
                                               ("figures/accuracy_vs_time.png", accuracy_figure)],
     "effects_cost/effects_cost.csv": [("tables/effects_cost.md", effects_table),
                                       ("figures/effects_cost.png", effects_figure)],
+    "strong_scaling/strong_scaling.csv": [("tables/strong_scaling.md", strong_scaling_table)],
+    "load_balance/load_balance.csv": [("tables/load_balance.md", load_balance_table)],
+    "rank_balance/rank_balance.csv": [("figures/rank_balance.png", rank_balance_figure)],
 }
 
 

@@ -70,7 +70,10 @@ TEST(Sweep, ShippedManifestsParse) {
                              "--set validation_ranks=2 --set validation_events=5"},
           {"single_device", " --set cells=20 --set steps=2 --set backend=serial,cpu-binned"},
           {"effects_cost", " --set cells=20 --set steps=2"},
-          {"accuracy_vs_time", " --set cells=10 --set hours=0.04 --set dt=0.02 --set cutoff=8.75 --set precision=double"}};
+          {"accuracy_vs_time", " --set cells=10 --set hours=0.04 --set dt=0.02 --set cutoff=8.75 --set precision=double"},
+          {"strong_scaling", " --set cells=60 --set ranks=1 --set steps=20 --set rebalance_every=10"},
+          {"load_balance", " --set cells=60 --set ranks=1 --set steps=20 --set rebalance_every=10 --set policy=static"},
+          {"rank_balance", " --set cells=60 --set ranks=1 --set steps=20 --set rebalance_every=10 --set policy=static"}};
       const auto it = small.find(entry.path().stem().string());
       const std::string sets = it != small.end() ? it->second : " --set seed=9000 --set ranks=2 --set events=2";
       const auto r = run(semlb_bin() + " sweep " + entry.path().string() + sets + " --quiet --results " + fresh_dir("shipped"));
