@@ -9,7 +9,6 @@
 #include "controllers/features.hpp"
 #include "controllers/text_io.hpp"
 #include "engine/bench.hpp"
-#include "engine/tissue.hpp"
 #include "surrogate/evaluate.hpp"
 #include "controllers/gru.hpp"
 #include "surrogate/rollout.hpp"
@@ -59,9 +58,7 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
       o.push_back("tissue.cells=" + std::to_string(n));
       auto scene = engine::load_scene(scene_file, o);
       const auto t = engine::time_scene(scene, steps, warmup);
-      const auto grid = engine::Grid::cover(scene.box_lo, scene.box_hi, scene.cutoff);
-      engine::Scene fresh = engine::load_scene(scene_file, o);  // stats of the generated tissue
-      const auto stats = engine::tissue_stats(engine::make_tissue(fresh), grid, scene.cutoff);
+      const auto& stats = t.stats;
       std::printf("%-16s %-9s %9ld %10ld %10.4f %14.4g %9.2f %9.1f %9.1f  %s\n", backend.c_str(), scene.backend.precision.c_str(),
                   t.cells, t.elements, t.seconds, t.element_steps_per_second(), stats.per_cutoff_cube, stats.candidates,
                   stats.neighbours, t.device.c_str());

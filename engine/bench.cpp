@@ -45,8 +45,10 @@ TissueStats tissue_stats(const State& s, const Grid& g, double cutoff, long samp
 }
 
 Timing time_scene(Scene& scene, long steps, long warmup, long profile_steps) {
-  Simulation sim(scene, make_tissue(scene));
+  State tissue = make_tissue(scene);
   Timing t;
+  t.stats = tissue_stats(tissue, Grid::cover(scene.box_lo, scene.box_hi, scene.cutoff), scene.cutoff);
+  Simulation sim(scene, std::move(tissue));
   t.backend = sim.backend().name();
   t.device = sim.backend().device_name();
   sim.profile = false;

@@ -24,13 +24,13 @@ struct Timing {
   std::string backend, device;
   std::vector<std::string> phases;
   std::vector<double> phase_seconds;  // with per-phase synchronisation (a second, profiled pass)
-  TissueStats stats;
+  TissueStats stats;  // of the generated tissue, before the first step
   std::map<std::string, double> kernel_seconds;  // over the timed steps, when the backend profiles
   double element_steps_per_second() const { return seconds > 0 ? static_cast<double>(elements) * steps / seconds : 0; }
 };
 
-// Builds the scene's tissue, runs `warmup` steps, then times `steps` steps without per-phase syncs,
-// then (if profile_steps > 0) that many more with them for the phase breakdown.
+// Builds the scene's tissue (and its density statistics), runs `warmup` steps, then times `steps` steps
+// without per-phase syncs, then (if profile_steps > 0) that many more with them for the phase breakdown.
 Timing time_scene(Scene& scene, long steps, long warmup = 2, long profile_steps = 0);
 
 }  // namespace semlb::engine

@@ -176,6 +176,8 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
   sim_->failure_check = [this] { collective_check(); };
   trace_path_ = mpi.rank() == 0 ? trace_path : "";  // opened at the first event: nothing is written before
   cells_at_event_ = static_cast<long>(tissue.cells());
+  for (const auto& [name, section] : scene.effects)  // the growth phase the controllers see
+    if (name == "growth") growth_cycle_ = section.real("cycle_time", 20.0, 1e-9, 1e12);
 }
 
 double DistributedSimulation::compute_seconds() const {
@@ -194,9 +196,11 @@ void DistributedSimulation::exchange_ghosts() {
     lo = std::min(lo, s.position[3 * e]);
     hi = std::max(hi, s.position[3 * e]);
   }
-  const auto los = mpi_->allgather(lo), his = mpi_->allgather(hi);
+  const auto extents = mpi_->allgather2(lo, hi);  // [lo_0, hi_0, lo_1, hi_1, ...]
+  auto los = [&](int q) { return extents[2 * q]; };
+  auto his = [&](int q) { return extents[2 * q + 1]; };
   const double cut = scene_->cutoff;
-  if (r + 2 < P && los[r + 2] - cut < hi && s.elements() > 0)
+  if (r + 2 < P && los(r + 2) - cut < hi && s.elements() > 0)
     throw SimulationError("rank " + std::to_string(r) + ": elements within the cutoff of rank " + std::to_string(r + 2) +
                           ": slabs are narrower than the ghost region (raise decomposition.min_width)");
   Writer left, right;
@@ -204,7 +208,7 @@ void DistributedSimulation::exchange_ghosts() {
     for (int k = 0; k < s.cell_count[c]; ++k) {
       const long e = s.cell_first[c] + k;
       const double x = s.position[3 * e];
-      for (auto [to, near] : {std::pair{&left, r > 0 && x < his[r - 1] + cut}, std::pair{&right, r + 1 < P && x > los[r + 1] - cut}})
+      for (auto [to, near] : {std::pair{&left, r > 0 && x < his(r - 1) + cut}, std::pair{&right, r + 1 < P && x > los(r + 1) - cut}})
         if (near) {
           to->put(&s.position[3 * e], 3);
           to->put(element_key(s.cell_id[c], k));
@@ -250,8 +254,7 @@ void DistributedSimulation::rebalance() {
   neighbourhood.insert(neighbourhood.end(), ghost_positions_.begin(), ghost_positions_.end());
   auto work = slice_workload(s, neighbourhood, dec_, scene_->cutoff);
   mpi_->allreduce_sum(work);
-  std::vector<double> cells{static_cast<double>(s.cells())};
-  mpi_->allreduce_sum(cells);
+  const long cells = totals().first;
   Observation obs;
   obs.event = event_++;
   obs.slices = dec_.slices;
@@ -263,13 +266,9 @@ void DistributedSimulation::rebalance() {
   for (double t : times) total_time += t;
   for (double& w : work) w *= total_work > 0 ? total_time / total_work : 0.0;  // W_s scaled to the measured times
   obs.slice_work = work;
-  const Section* growth = nullptr;
-  for (const auto& [name, section] : scene_->effects)
-    if (name == "growth") growth = &section;
-  const double cycle = growth ? growth->real("cycle_time", 20.0, 1e-9, 1e12) : 0.0;
-  obs.growth_phase = cycle > 0 ? std::fmod(s.time, cycle) / cycle : 0.0;
-  obs.growth_event = static_cast<long>(cells[0]) != cells_at_event_;
-  cells_at_event_ = static_cast<long>(cells[0]);
+  obs.growth_phase = growth_cycle_ > 0 ? std::fmod(s.time, growth_cycle_) / growth_cycle_ : 0.0;
+  obs.growth_event = cells != cells_at_event_;
+  cells_at_event_ = cells;
   std::vector<int> next = boundaries_;
   if (mpi_->rank() == 0) {
     validate(obs);
@@ -310,6 +309,13 @@ void DistributedSimulation::advance(long target) {
       migrate_cells();  // rebalances first
     }
   }
+}
+
+std::pair<long, long> DistributedSimulation::totals() {
+  const State& s = sim_->host_state();
+  std::vector<double> n{static_cast<double>(s.cells()), static_cast<double>(s.elements())};
+  mpi_->allreduce_sum(n);
+  return {static_cast<long>(n[0]), static_cast<long>(n[1])};
 }
 
 State DistributedSimulation::gather() {

@@ -36,6 +36,7 @@ class DistributedSimulation {
   DistributedSimulation(const Scene& scene, const State& tissue, Mpi& mpi, const std::string& trace_path = "");
   void advance(long target);
   State gather();  // rank 0: the whole tissue in cell-id order; other ranks: cells empty
+  std::pair<long, long> totals();  // cells and elements over all ranks (on every rank)
   long step() const { return sim_->host_state().step; }
   const std::vector<int>& boundaries() const { return boundaries_; }
   long migrated_slices() const { return migrated_; }
@@ -66,7 +67,7 @@ class DistributedSimulation {
   std::string trace_path_;
   std::ofstream trace_;
   std::vector<Interval> intervals_;
-  double seconds_at_event_ = 0;
+  double seconds_at_event_ = 0, growth_cycle_ = 0;
   long migrated_ = 0, cells_at_event_ = 0;
   int event_ = 0;
 };

@@ -55,12 +55,12 @@ std::vector<Snapshot> earlier_snapshots(const std::string& dir, long step) {
 class StatusLine {
  public:
   StatusLine(bool quiet, long first, long last) : quiet_(quiet), tty_(isatty(2)), first_(first), last_(last) {}
-  void update(const State& s, double wall, bool force) {
+  void update(long step, long cells, long elements, double wall, bool force) {
     if (quiet_ || (!force && wall - shown_ < (tty_ ? 1.0 : 10.0))) return;
     shown_ = wall;
-    const double done = static_cast<double>(s.step - first_), left = static_cast<double>(last_ - s.step);
-    std::fprintf(stderr, "%sstep %ld/%ld | cells %ld | elements %ld | %.1f s | ETA %.1f s%s", tty_ ? "\r" : "", s.step,
-                 last_, s.cells(), s.elements(), wall, done > 0 ? wall / done * left : 0.0, tty_ && !force ? "" : "\n");
+    const double done = static_cast<double>(step - first_), left = static_cast<double>(last_ - step);
+    std::fprintf(stderr, "%sstep %ld/%ld | cells %ld | elements %ld | %.1f s | ETA %.1f s%s", tty_ ? "\r" : "", step,
+                 last_, cells, elements, wall, done > 0 ? wall / done * left : 0.0, tty_ && !force ? "" : "\n");
   }
 
  private:
@@ -68,6 +68,55 @@ class StatusLine {
   long first_, last_;
   double shown_ = -1e9;
 };
+
+// The files every run writes into DIR: scene.yaml, run.csv (earlier rows kept on restart), snapshots with
+// their XDMF index, checkpoint.h5, final.h5 and failure.h5.
+class RunOutputs {
+ public:
+  RunOutputs(const Scene& scene, const RunConfig& config, long first, std::string header,
+             std::map<std::string, std::string> attrs)
+      : scene_(scene), dir_(config.out_dir), header_(std::move(header)), attrs_(std::move(attrs)) {
+    fs::create_directories(dir_ + "/snapshots");
+    write_file_atomically(dir_ + "/scene.yaml", "# semlb " + config.git_revision + ": " + config.command_line + "\n" + scene.text);
+    rows_ = earlier_rows(dir_ + "/run.csv", first);
+    snapshots_ = earlier_snapshots(dir_, first);
+  }
+  void log(const std::string& row) {
+    rows_.push_back(row);
+    std::string csv = header_ + "\n";
+    for (const auto& r : rows_) csv += r + "\n";
+    write_file_atomically(dir_ + "/run.csv", csv);
+  }
+  bool wants_state(long step) const { return due(scene_.snapshot_every, step) || due(scene_.checkpoint_every, step); }
+  void save(const State& s) {  // the snapshot and checkpoint due at s.step
+    if (due(scene_.snapshot_every, s.step)) {
+      write_state(dir_ + "/" + snapshot_name(s.step), s, attrs_);
+      snapshots_.push_back({s.step, s.time, s.elements(), snapshot_name(s.step)});
+      write_xdmf(dir_ + "/snapshots.xmf", snapshots_);
+    }
+    if (due(scene_.checkpoint_every, s.step)) write_state(dir_ + "/checkpoint.h5", s, attrs_);
+  }
+  void write(const std::string& name, const State& s) const { write_state(dir_ + "/" + name, s, attrs_); }
+  const std::string& dir() const { return dir_; }
+
+ private:
+  static bool due(long every, long step) { return every > 0 && step % every == 0; }
+  const Scene& scene_;
+  std::string dir_, header_;
+  std::map<std::string, std::string> attrs_;
+  std::vector<std::string> rows_;
+  std::vector<Snapshot> snapshots_;
+};
+
+// The next step at which the driver must stop to log or write a file.
+long next_stop(const Scene& scene, long step, long last) {
+  auto next = [&](long every) { return every > 0 ? (step / every + 1) * every : last; };
+  return std::min({last, next(scene.log_every), next(scene.snapshot_every), next(scene.checkpoint_every)});
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 }  // namespace
 
@@ -77,56 +126,39 @@ RunSummary run_scene(Scene& scene, const RunConfig& config) {
   const long first = initial.step, last = std::max(scene.steps, first);
   Simulation sim(scene, std::move(initial));  // all input checked before anything is written
 
-  const std::string dir = config.out_dir;
-  fs::create_directories(dir + "/snapshots");
-  write_file_atomically(dir + "/scene.yaml", "# semlb " + config.git_revision + ": " + config.command_line + "\n" + scene.text);
   std::string header = "step,time_h,cells,elements,wall_s";
   for (const auto& p : sim.phases()) header += "," + p + "_s";
-  std::vector<std::string> rows = earlier_rows(dir + "/run.csv", first);
-  std::vector<Snapshot> snapshots = earlier_snapshots(dir, first);
-  const std::map<std::string, std::string> attrs = {{"git_revision", config.git_revision}, {"scene", scene.name},
-                                                    {"backend", sim.backend().name()}};
-
+  RunOutputs out(scene, config, first, header,
+                 {{"git_revision", config.git_revision}, {"scene", scene.name}, {"backend", sim.backend().name()}});
   StatusLine status(config.quiet, first, last);
   const auto t0 = std::chrono::steady_clock::now();
-  auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-  auto next = [&](long every, long step) { return every > 0 ? (step / every + 1) * every : last; };
   std::vector<double> phase_before = sim.phase_seconds();
   double wall_before = 0;
   try {
     while (sim.host_state().step < last) {
-      const long step = sim.host_state().step;
-      const long stop = std::min({last, next(scene.log_every, step), next(scene.snapshot_every, step), next(scene.checkpoint_every, step)});
+      const long stop = next_stop(scene, sim.host_state().step, last);
       sim.advance(stop);
       const State& s = sim.sync();
       if (stop % scene.log_every == 0 || stop == last) {
         std::ostringstream row;
-        const double w = wall();
+        const double w = seconds_since(t0);
         row << s.step << "," << s.time << "," << s.cells() << "," << s.elements() << "," << w - wall_before;
         for (size_t p = 0; p < sim.phases().size(); ++p) row << "," << sim.phase_seconds()[p] - phase_before[p];
-        rows.push_back(row.str());
+        out.log(row.str());
         phase_before = sim.phase_seconds();
         wall_before = w;
-        std::string csv = header + "\n";
-        for (const auto& r : rows) csv += r + "\n";
-        write_file_atomically(dir + "/run.csv", csv);
       }
-      if (scene.snapshot_every > 0 && stop % scene.snapshot_every == 0) {
-        write_state(dir + "/" + snapshot_name(stop), s, attrs);
-        snapshots.push_back({stop, s.time, s.elements(), snapshot_name(stop)});
-        write_xdmf(dir + "/snapshots.xmf", snapshots);
-      }
-      if (scene.checkpoint_every > 0 && stop % scene.checkpoint_every == 0) write_state(dir + "/checkpoint.h5", s, attrs);
-      status.update(s, wall(), false);
+      out.save(s);
+      status.update(s.step, s.cells(), s.elements(), seconds_since(t0), false);
     }
   } catch (const SimulationError&) {
-    write_state(dir + "/failure.h5", sim.host_state(), attrs);
+    out.write("failure.h5", sim.host_state());
     throw;
   }
   const State& s = sim.sync();
-  write_state(dir + "/final.h5", s, attrs);
-  status.update(s, wall(), true);
-  return {s.step - first, s.cells(), s.elements(), wall(), sim.backend().device_name()};
+  out.write("final.h5", s);
+  status.update(s.step, s.cells(), s.elements(), seconds_since(t0), true);
+  return {s.step - first, s.cells(), s.elements(), seconds_since(t0), sim.backend().device_name()};
 }
 
 RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi) {
@@ -134,56 +166,54 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
   if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);
   scene.backend.local_rank = mpi.local_rank();
   const long first = initial.step, last = std::max(scene.steps, first);
-  const std::string dir = config.out_dir;
   const bool root = mpi.rank() == 0;
-  DistributedSimulation sim(scene, initial, mpi, root ? dir + "/trace.jsonl" : "");  // all input checked here
-  if (root) fs::create_directories(dir + "/snapshots");
-  std::vector<Snapshot> snapshots = root ? earlier_snapshots(dir, first) : std::vector<Snapshot>{};
-  if (root) write_file_atomically(dir + "/scene.yaml", "# semlb " + config.git_revision + ": " + config.command_line + "\n" + scene.text);
-  const std::map<std::string, std::string> attrs = {{"git_revision", config.git_revision}, {"scene", scene.name},
-                                                    {"backend", sim.local().backend().name()},
-                                                    {"ranks", std::to_string(mpi.size())}};
+  DistributedSimulation sim(scene, initial, mpi, root ? config.out_dir + "/trace.jsonl" : "");  // all input checked here
+  std::unique_ptr<RunOutputs> out;  // rank 0 writes every file
+  if (root)
+    out = std::make_unique<RunOutputs>(scene, config, first, "step,time_h,cells,elements,wall_s",
+                                       std::map<std::string, std::string>{{"git_revision", config.git_revision},
+                                                                          {"scene", scene.name},
+                                                                          {"backend", sim.local().backend().name()},
+                                                                          {"ranks", std::to_string(mpi.size())}});
   StatusLine status(config.quiet || !root, first, last);
   const auto t0 = std::chrono::steady_clock::now();
-  auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-  auto next = [&](long every, long step) { return every > 0 ? (step / every + 1) * every : last; };
-  std::string log = "step,time_h,cells,elements,wall_s\n";
+  double wall_before = 0;
   try {
     while (sim.step() < last) {
-      const long stop = std::min({last, next(scene.log_every, sim.step()), next(scene.checkpoint_every, sim.step()),
-                                  next(scene.snapshot_every, sim.step())});
+      const long stop = next_stop(scene, sim.step(), last);
       sim.advance(stop);
-      const State all = sim.gather();
-      if (!root) continue;
-      std::ostringstream row;
-      row << all.step << "," << all.time << "," << all.cells() << "," << all.elements() << "," << wall() << "\n";
-      log += row.str();
-      write_file_atomically(dir + "/run.csv", log);
-      if (scene.snapshot_every > 0 && stop % scene.snapshot_every == 0) {
-        write_state(dir + "/" + snapshot_name(stop), all, attrs);
-        snapshots.push_back({stop, all.time, all.elements(), snapshot_name(stop)});
-        write_xdmf(dir + "/snapshots.xmf", snapshots);
+      const auto [cells, elements] = sim.totals();
+      if (root && (stop % scene.log_every == 0 || stop == last)) {
+        std::ostringstream row;
+        const double w = seconds_since(t0);
+        row << stop << "," << static_cast<double>(stop) * scene.dt << "," << cells << "," << elements << "," << w - wall_before;
+        out->log(row.str());
+        wall_before = w;
       }
-      if (scene.checkpoint_every > 0 && stop % scene.checkpoint_every == 0) write_state(dir + "/checkpoint.h5", all, attrs);
-      status.update(all, wall(), false);
+      const bool gather = root && out->wants_state(stop);
+      if (mpi.allreduce_max(gather ? 1 : 0)) {  // the whole tissue travels to rank 0 only when a file needs it
+        const State all = sim.gather();
+        if (root) out->save(all);
+      }
+      status.update(stop, cells, elements, seconds_since(t0), false);
     }
   } catch (const SimulationError&) {
     const State all = sim.gather();  // every rank reaches this: the failure was agreed collectively
-    if (root) write_state(dir + "/failure.h5", all, attrs);
+    if (root) out->write("failure.h5", all);
     throw;
   }
   const State all = sim.gather();
   if (root) {
-    write_state(dir + "/final.h5", all, attrs);
+    out->write("final.h5", all);
     std::string rows = "step,rank,compute_s,imbalance,moved_slices\n";
     for (const auto& iv : sim.intervals())
       for (size_t r = 0; r < iv.times.size(); ++r)
         rows += std::to_string(iv.step) + "," + std::to_string(r) + "," + std::to_string(iv.times[r]) + "," +
                 std::to_string(iv.imbalance) + "," + std::to_string(iv.moved) + "\n";
-    write_file_atomically(dir + "/rank_times.csv", rows);
-    status.update(all, wall(), true);
+    write_file_atomically(config.out_dir + "/rank_times.csv", rows);
+    status.update(all.step, all.cells(), all.elements(), seconds_since(t0), true);
   }
-  return {all.step - first, all.cells(), all.elements(), wall(), sim.local().backend().device_name()};
+  return {all.step - first, all.cells(), all.elements(), seconds_since(t0), sim.local().backend().device_name()};
 }
 
 }  // namespace semlb::engine

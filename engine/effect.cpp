@@ -50,7 +50,17 @@ std::array<double, 3> centroid(const State& s, long cell) {
   return c;
 }
 
-void rebuild(State& s, const std::vector<std::vector<std::array<double, 3>>>& cells) {
+CellPositions cell_positions(const State& s) {
+  CellPositions cells(s.cells());
+  for (long c = 0; c < s.cells(); ++c)
+    for (int k = 0; k < s.cell_count[c]; ++k) {
+      const double* p = &s.position[3 * (s.cell_first[c] + k)];
+      cells[c].push_back({p[0], p[1], p[2]});
+    }
+  return cells;
+}
+
+void rebuild(State& s, const CellPositions& cells) {
   s.position.clear();
   for (size_t c = 0; c < cells.size(); ++c) {
     s.cell_count[c] = static_cast<int>(cells[c].size());

@@ -45,8 +45,11 @@ std::vector<std::string> effect_names();
 
 // Helpers shared by the cell effects.
 std::array<double, 3> centroid(const State& s, long cell);
+// Each cell's elements as positions: the form cell effects edit before rebuild().
+using CellPositions = std::vector<std::vector<std::array<double, 3>>>;
+CellPositions cell_positions(const State& s);
 // Rebuilds the element arrays after cells gained, lost or swapped elements: `cells` gives each
 // cell's elements as positions; the order of cells is kept.
-void rebuild(State& s, const std::vector<std::vector<std::array<double, 3>>>& cells);
+void rebuild(State& s, const CellPositions& cells);
 
 }  // namespace semlb::engine

@@ -54,6 +54,13 @@ std::vector<double> Mpi::allgather(double value) const {
   return out;
 }
 
+std::vector<double> Mpi::allgather2(double a, double b) const {
+  const double mine[2] = {a, b};
+  std::vector<double> out(2 * size_);
+  check(MPI_Allgather(mine, 2, MPI_DOUBLE, out.data(), 2, MPI_DOUBLE, MPI_COMM_WORLD), "MPI_Allgather");
+  return out;
+}
+
 void Mpi::allreduce_sum(std::vector<double>& v) const {
   check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce");
 }

@@ -22,6 +22,7 @@ class Mpi {
   int local_rank() const;  // rank among the processes of this host (device index)
 
   std::vector<double> allgather(double value) const;
+  std::vector<double> allgather2(double a, double b) const;  // [a_0, b_0, a_1, b_1, ...]
   void allreduce_sum(std::vector<double>& values) const;
   long allreduce_max(long value) const;
   void broadcast(std::vector<int>& values, int root) const;

@@ -40,6 +40,12 @@ void Simulation::advance(long target) {
 
 void Simulation::reload() {
   backend_->upload(state_);
+  refit_grid();
+}
+
+// `domain: auto` follows the tissue as it spreads and stratifies; the grid only speeds up the neighbour
+// search (sums are order-independent), so refitting it never changes the result.
+void Simulation::refit_grid() {
   if (scene_->auto_box) {
     const auto [lo, hi] = tissue_box(state_, scene_->cutoff);
     grid_ = Grid::cover(lo, hi, scene_->cutoff);
@@ -69,12 +75,7 @@ void Simulation::update_cells() {
   for (const auto& e : effects_)
     if (e->changes_cells()) changed = e->update_cells(ctx) || changed;
   if (changed) backend_->upload(state_);
-  // `domain: auto` follows the tissue as it spreads and stratifies; the grid only speeds up the
-  // neighbour search (sums are order-independent), so refitting it never changes the result.
-  if (scene_->auto_box) {
-    const auto [lo, hi] = tissue_box(state_, scene_->cutoff);
-    grid_ = Grid::cover(lo, hi, scene_->cutoff);
-  }
+  refit_grid();
   if (after_cells) after_cells();
 }
 

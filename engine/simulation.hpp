@@ -47,6 +47,7 @@ class Simulation {
  private:
   void step_once();
   void update_cells();
+  void refit_grid();
   template <class F>
   void timed(size_t phase, F&& f);
 

@@ -36,13 +36,8 @@ engine::Scene job_scene(const Job& job, const std::string& manifest, const std::
   const Setting* file = job.find("scene");
   if (!file) throw InputError(where(manifest, 0, "scene") + "missing (engine runners need a scene file)");
   const std::string path = std::filesystem::path(file->value).is_absolute() ? file->value : base_dir + "/" + file->value;
-  std::vector<std::string> o;
-  for (const auto& [key, scene_key] : std::vector<std::pair<std::string, std::string>>{
-           {"cells", "tissue.cells"}, {"backend", "backend.name"}, {"precision", "backend.precision"},
-           {"platform", "backend.platform"}, {"dt", "time.dt"}, {"cutoff", "cutoff"}})
-    if (const Setting* s = job.find(key)) o.push_back(scene_key + "=" + s->value);
-  for (const auto& [k, s] : job.settings)
-    if (k.rfind("scene.", 0) == 0) o.push_back(k.substr(6) + "=" + s.value);
+  const auto o = scene_overrides(job, {{"cells", "tissue.cells"}, {"backend", "backend.name"}, {"precision", "backend.precision"},
+                                      {"platform", "backend.platform"}, {"dt", "time.dt"}, {"cutoff", "cutoff"}});
   engine::Scene scene;
   try {
     scene = engine::load_scene(path, o);
@@ -104,7 +99,7 @@ class TimingRunner final : public Runner {
       return {row};
     }
     const auto t = engine::time_scene(scene, steps, warmup, o.timing ? steps : 0);
-    const auto stats = engine::tissue_stats(engine::make_tissue(scene), engine::Grid::cover(scene.box_lo, scene.box_hi, scene.cutoff), scene.cutoff);
+    const auto& stats = t.stats;
     std::string phases;
     for (size_t p = 0; p < t.phase_seconds.size(); ++p) phases += (p ? ";" : "") + t.phases[p] + "=" + fmt(t.phase_seconds[p]);
     const double secs = o.timing ? t.seconds : 0;

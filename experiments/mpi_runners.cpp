@@ -46,12 +46,10 @@ std::string launch(const Job& job, const RunOptions& o) {
   cmd << "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " << SEMLB_MPIEXEC << " --oversubscribe -np " << get(job, "ranks", "1")
       << " " << fs::read_symlink("/proc/self/exe").string() << " sim --quiet --scene " << scene << " --out " << dir.string()
       << " --set backend.threads=1";
-  for (const auto& [k, scene_key] : std::map<std::string, std::string>{{"cells", "tissue.cells"}, {"steps", "time.steps"},
-                                                                         {"policy", "decomposition.policy"}, {"initial", "decomposition.initial"},
-                                                                         {"backend", "backend.name"}, {"rebalance_every", "decomposition.rebalance_every"}})
-    if (job.find(k)) cmd << " --set " << scene_key << "=" << get(job, k, "");
-  for (const auto& [k, s] : job.settings)
-    if (k.rfind("scene.", 0) == 0) cmd << " --set " << k.substr(6) << "=" << s.value;
+  for (const auto& o : scene_overrides(job, {{"cells", "tissue.cells"}, {"steps", "time.steps"}, {"policy", "decomposition.policy"},
+                                             {"initial", "decomposition.initial"}, {"backend", "backend.name"},
+                                             {"rebalance_every", "decomposition.rebalance_every"}}))
+    cmd << " --set " << o;
   cmd << " 2>&1";
   FILE* p = popen(cmd.str().c_str(), "r");
   std::string out;

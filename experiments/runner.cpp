@@ -13,6 +13,15 @@ std::map<std::string, std::function<std::unique_ptr<Runner>()>>& registry() {
 }
 }  // namespace
 
+std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::pair<std::string, std::string>>& keys) {
+  std::vector<std::string> o;
+  for (const auto& [key, scene_key] : keys)
+    if (const Setting* s = job.find(key)) o.push_back(scene_key + "=" + s->value);
+  for (const auto& [k, s] : job.settings)
+    if (k.rfind("scene.", 0) == 0) o.push_back(k.substr(6) + "=" + s.value);
+  return o;
+}
+
 RunnerRegistrar::RunnerRegistrar(const std::string& name, std::function<std::unique_ptr<Runner>()> factory) {
   registry()[name] = std::move(factory);
 }

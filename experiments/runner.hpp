@@ -27,6 +27,10 @@ class Runner {
   virtual bool measures_time() const { return false; }
 };
 
+// Scene overrides ("tissue.cells=400") from a job: each job key in `keys` maps to its scene key, and a
+// `scene.KEY` setting passes through as KEY. Shared by the engine runners.
+std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::pair<std::string, std::string>>& keys);
+
 struct RunnerRegistrar {
   RunnerRegistrar(const std::string& name, std::function<std::unique_ptr<Runner>()> factory);
 };

@@ -23,11 +23,8 @@ class Division final : public Effect {
     bool any = false;
     for (long c = 0; c < before && !any; ++c) any = types_[s.cell_type[c]] && s.cell_count[c] >= at_;
     if (!any) return false;
-    std::vector<std::vector<std::array<double, 3>>> cells(before);
-    for (long c = 0; c < before; ++c) {  // cells in stored order: ids of daughters are deterministic
-      const long first = s.cell_first[c];
-      for (int k = 0; k < s.cell_count[c]; ++k)
-        cells[c].push_back({s.position[3 * (first + k)], s.position[3 * (first + k) + 1], s.position[3 * (first + k) + 2]});
+    CellPositions cells = cell_positions(s);
+    for (long c = 0; c < before; ++c) {  // cells in stored order
       if (!types_[s.cell_type[c]] || s.cell_count[c] < at_) continue;
       auto& depth = s.cell_fields["division.depth"];
       const int d = static_cast<int>(depth[c]);
@@ -42,7 +39,6 @@ class Division final : public Effect {
       depth[c] = d + 1;
       for (auto& [name, field] : s.cell_fields) field.push_back(field[c]);  // daughters inherit (depth too)
     }
-    if (s.cells() == before) return false;
     rebuild(s, cells);
     return true;
   }

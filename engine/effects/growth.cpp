@@ -44,13 +44,9 @@ class Growth final : public Effect {
       any = any || births[c] > 0;
     }
     if (!any) return false;
-    std::vector<std::vector<std::array<double, 3>>> cells(s.cells());
-    for (long c = 0; c < s.cells(); ++c) {
-      const long first = s.cell_first[c];
-      for (int k = 0; k < s.cell_count[c]; ++k)
-        cells[c].push_back({s.position[3 * (first + k)], s.position[3 * (first + k) + 1], s.position[3 * (first + k) + 2]});
+    CellPositions cells = cell_positions(s);
+    for (long c = 0; c < s.cells(); ++c)
       for (int b = 0; b < births[c]; ++b) cells[c].push_back(newborn(s, c, ctx.seed, static_cast<int>(cells[c].size())));
-    }
     rebuild(s, cells);
     return true;
   }
