@@ -53,6 +53,11 @@ class Backend {
   // Replaces the ghost elements (kept after the owned ones); forces on owned elements include them.
   virtual void set_ghosts(const Ghosts& ghosts) = 0;
   virtual void download(State& state) = 0;  // positions of the owned elements only
+  // The ghost exchange without a full download: the owned elements' x range ({+inf, -inf} when there are
+  // none), and the owned elements with x below `x` (below) or above it, in owned order, as Ghosts whose
+  // info holds only the type (the receiver numbers the cells).
+  virtual std::array<double, 2> x_extent() = 0;
+  virtual void band(double x, bool below, Ghosts& out) = 0;
   // Forces start at zero each step; pair_forces and membrane_forces add to them (fixed point).
   virtual void zero_forces() = 0;
   virtual void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;

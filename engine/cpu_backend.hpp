@@ -33,6 +33,20 @@ class CpuBackend : public Backend {
     force_.assign(3 * owned_, 0);
   }
   void download(State& s) override { s.position.assign(pos_.begin(), pos_.begin() + 3 * owned_); }
+  std::array<double, 2> x_extent() override {
+    std::array<double, 2> e{INFINITY, -INFINITY};
+    for (long i = 0; i < owned_; ++i) e = {std::fmin(e[0], pos_[3 * i]), std::fmax(e[1], pos_[3 * i])};
+    return e;
+  }
+  void band(double x, bool below, Ghosts& out) override {
+    out = {};
+    for (long i = 0; i < owned_; ++i)
+      if (below ? pos_[3 * i] < x : pos_[3 * i] > x) {
+        out.position.insert(out.position.end(), pos_.begin() + 3 * i, pos_.begin() + 3 * i + 3);
+        out.info.push_back(phys64::semlb_info_type(info_[i]));
+        out.keys.push_back(key_[i]);
+      }
+  }
   void zero_forces() override { std::fill(force_.begin(), force_.end(), 0); }
   long owned() const { return owned_; }  // forces, integration and noise apply to elements [0, owned)
   long total() const { return static_cast<long>(info_.size()); }

@@ -18,6 +18,10 @@
 namespace semlb::engine {
 namespace {
 
+// Bands reach a little beyond the cutoff: devices compare in their own precision, and a surplus ghost
+// changes nothing (it lies beyond the cutoff of every owned element).
+constexpr double kGhostSlack = 0.01;
+
 // Byte buffers for whole cells: id, type, count, per-cell fields (map order), positions.
 class Writer {
  public:
@@ -68,6 +72,25 @@ void unpack_cells(const std::vector<char>& bytes, State& s) {  // appends; call 
     for (auto& [name, f] : s.cell_fields) f.push_back(r.get<double>());
     for (int k = 0; k < 3 * n; ++k) s.position.push_back(r.get<double>());
   }
+}
+
+// A ghost band on the wire: count, positions, keys, types.
+std::vector<char> pack_band(const Ghosts& g) {
+  Writer w;
+  w.put(g.elements());
+  w.put(g.position.data(), g.position.size());
+  for (uint64_t k : g.keys) w.put(k);
+  for (int t : g.info) w.put(t);
+  return std::move(w.bytes);
+}
+
+void unpack_band(const std::vector<char>& bytes, Ghosts& g) {  // appends
+  if (bytes.empty()) return;
+  Reader r(bytes);
+  const long n = r.get<long>();
+  for (long k = 0; k < 3 * n; ++k) g.position.push_back(r.get<double>());
+  for (long k = 0; k < n; ++k) g.keys.push_back(r.get<uint64_t>());
+  for (long k = 0; k < n; ++k) g.info.push_back(r.get<int>());
 }
 
 // Keeps the cells for which keep(c) holds; the others are packed into out[owner(c)].
@@ -187,50 +210,33 @@ double DistributedSimulation::compute_seconds() const {
 }
 
 // Owned elements within the cutoff of a neighbour's elements go to that neighbour; only neighbours
-// exchange, so a slab must be wider than the cutoff plus the reach of cells (checked here).
+// exchange, so a slab must be wider than the cutoff plus the reach of cells (checked here). The backend
+// selects the bands on its device: only the x range and the band elements cross to the host.
 void DistributedSimulation::exchange_ghosts() {
-  const State& s = sim_->sync();
+  Backend& b = sim_->backend();
   const int r = mpi_->rank(), P = mpi_->size();
-  double lo = 1e300, hi = -1e300;
-  for (long e = 0; e < s.elements(); ++e) {
-    lo = std::min(lo, s.position[3 * e]);
-    hi = std::max(hi, s.position[3 * e]);
-  }
+  const auto [lo, hi] = b.x_extent();
   const auto extents = mpi_->allgather2(lo, hi);  // [lo_0, hi_0, lo_1, hi_1, ...]
   auto los = [&](int q) { return extents[2 * q]; };
   auto his = [&](int q) { return extents[2 * q + 1]; };
-  const double cut = scene_->cutoff;
-  if (r + 2 < P && los(r + 2) - cut < hi && s.elements() > 0)
+  const double cut = scene_->cutoff, reach = cut * (1 + kGhostSlack);
+  if (r + 2 < P && los(r + 2) - cut < hi)
     throw SimulationError("rank " + std::to_string(r) + ": elements within the cutoff of rank " + std::to_string(r + 2) +
                           ": slabs are narrower than the ghost region (raise decomposition.min_width)");
-  Writer left, right;
-  for (long c = 0; c < s.cells(); ++c)
-    for (int k = 0; k < s.cell_count[c]; ++k) {
-      const long e = s.cell_first[c] + k;
-      const double x = s.position[3 * e];
-      for (auto [to, near] : {std::pair{&left, r > 0 && x < his(r - 1) + cut}, std::pair{&right, r + 1 < P && x > los(r + 1) - cut}})
-        if (near) {
-          to->put(&s.position[3 * e], 3);
-          to->put(element_key(s.cell_id[c], k));
-          to->put(s.cell_type[c]);
-        }
-    }
+  Ghosts left, right;
+  if (r > 0) b.band(his(r - 1) + reach, true, left);
+  if (r + 1 < P) b.band(los(r + 1) - reach, false, right);
   Ghosts g;
-  std::map<uint64_t, int> ghost_cell;  // cell id -> local index after the owned cells
-  for (const auto& bytes : {mpi_->sendrecv(left.bytes, r > 0 ? r - 1 : MPI_PROC_NULL, r + 1 < P ? r + 1 : MPI_PROC_NULL),
-                            mpi_->sendrecv(right.bytes, r + 1 < P ? r + 1 : MPI_PROC_NULL, r > 0 ? r - 1 : MPI_PROC_NULL)}) {
-    Reader in(bytes);
-    while (!in.done()) {
-      for (int d = 0; d < 3; ++d) g.position.push_back(in.get<double>());
-      const uint64_t key = in.get<uint64_t>();
-      const int type = in.get<int>();
-      const auto it = ghost_cell.emplace(key >> 8, static_cast<int>(s.cells() + ghost_cell.size())).first;
-      g.keys.push_back(key);
-      g.info.push_back(it->second << 2 | type);
-    }
+  for (const auto& bytes : {mpi_->sendrecv(pack_band(left), r > 0 ? r - 1 : MPI_PROC_NULL, r + 1 < P ? r + 1 : MPI_PROC_NULL),
+                            mpi_->sendrecv(pack_band(right), r + 1 < P ? r + 1 : MPI_PROC_NULL, r > 0 ? r - 1 : MPI_PROC_NULL)})
+    unpack_band(bytes, g);
+  int cell = static_cast<int>(sim_->host_state().cells()) - 1;  // ghost cells are numbered after the owned ones
+  for (long e = 0; e < g.elements(); ++e) {  // a band holds each cell's elements contiguously
+    if (e == 0 || g.keys[e] >> 8 != g.keys[e - 1] >> 8) ++cell;
+    g.info[e] |= cell << 2;
   }
   ghost_positions_ = g.position;
-  sim_->backend().set_ghosts(g);
+  b.set_ghosts(g);
 }
 
 void DistributedSimulation::migrate_cells() {

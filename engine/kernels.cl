@@ -75,15 +75,16 @@ __kernel void scan_sums(__global int* sums, int nblocks, __local int* tmp) {
   }
 }
 
-/* Step 3: add the block offsets; the scatter cursor starts at each bin's start; starts[nbins] = n. */
-__kernel void scan_add(__global int* starts, __global const int* sums, int nbins, __global int* cursor, int n) {
+/* Step 3: add the block offsets; the scatter cursor starts at each bin's start; starts[nbins] = the total. */
+__kernel void scan_add(__global int* starts, __global const int* sums, __global const int* counts, int nbins,
+                       __global int* cursor) {
   int g = get_global_id(0);
   if (g < nbins) {
     int s = starts[g] + sums[get_group_id(0)];
     starts[g] = s;
     cursor[g] = s;
+    if (g == nbins - 1) starts[nbins] = s + counts[g];
   }
-  if (g == 0) starts[nbins] = n;
 }
 
 /* Elements into bin order (order within a bin is arbitrary: force sums are order-independent). */
@@ -193,4 +194,42 @@ __kernel void noise(__global real4* pos, __global const ulong* keys, SEMLB_REAL 
   p.y += amplitude * semlb_gauss(seed, k, (ulong)step, 1);
   p.z += amplitude * semlb_gauss(seed, k, (ulong)step, 2);
   pos[i] = p;
+}
+
+/* The x range of pos[0..n): each group reduces a strided share into out[2 group], out[2 group + 1]. */
+__kernel void x_extent(__global const real4* pos, int n, __global SEMLB_REAL* out, __local SEMLB_REAL* lo,
+                       __local SEMLB_REAL* hi) {
+  int l = get_local_id(0);
+  SEMLB_REAL a = (SEMLB_REAL)INFINITY, b = -(SEMLB_REAL)INFINITY;
+  for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
+    a = fmin(a, pos[i].x);
+    b = fmax(b, pos[i].x);
+  }
+  lo[l] = a;
+  hi[l] = b;
+  for (int off = get_local_size(0) / 2; off > 0; off >>= 1) {
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (l < off) {
+      lo[l] = fmin(lo[l], lo[l + off]);
+      hi[l] = fmax(hi[l], hi[l + off]);
+    }
+  }
+  if (l == 0) {
+    out[2 * get_group_id(0)] = lo[0];
+    out[2 * get_group_id(0) + 1] = hi[0];
+  }
+}
+
+/* Ghost bands: flag the elements beyond x, scan the flags, gather the flagged ones in element order. */
+__kernel void band_flags(__global const real4* pos, int n, SEMLB_REAL x, int below, __global int* flags) {
+  int i = get_global_id(0);
+  if (i < n) flags[i] = below ? pos[i].x < x : pos[i].x > x;
+}
+
+__kernel void band_gather(__global const real4* pos, __global const ulong* keys, __global const int* flags,
+                          __global const int* starts, int n, __global real4* out_pos, __global ulong* out_keys) {
+  int i = get_global_id(0);
+  if (i >= n || !flags[i]) return;
+  out_pos[starts[i]] = pos[i];
+  out_keys[starts[i]] = keys[i];
 }

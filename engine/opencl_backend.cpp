@@ -1,5 +1,6 @@
 // "opencl-allpairs" and "opencl-binned": the element kernels of kernels.cl on one OpenCL device.
 #include <climits>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -16,6 +17,7 @@ namespace {
 
 constexpr size_t kGroup = 128;      // work-group size of the element kernels
 constexpr size_t kScanGroup = 256;  // work-group size of the bin scan
+constexpr size_t kExtentGroups = 64;  // work-groups of the x range reduction
 
 struct LocalBytes {  // a __local kernel argument
   size_t bytes;
@@ -45,6 +47,7 @@ class OpenClBackend final : public Backend {
     fail_ = buffer(2 * sizeof(cl_int));
     table_ = buffer(64 * sizeof(Real));
     membrane_ = buffer(8 * sizeof(Real));
+    extent_ = buffer(2 * kExtentGroups * sizeof(Real));
   }
 
   std::string name() const override { return binned_ ? "opencl-binned" : "opencl-allpairs"; }
@@ -78,6 +81,38 @@ class OpenClBackend final : public Backend {
     s.position.resize(3 * owned_);
     for (long i = 0; i < owned_; ++i)
       for (int c = 0; c < 3; ++c) s.position[3 * i + c] = packed[i][c];
+  }
+
+  std::array<double, 2> x_extent() override {
+    if (!owned_) return {INFINITY, -INFINITY};
+    std::array<Real, 2 * kExtentGroups> part{};
+    launch("x_extent", kExtentGroups * kScanGroup, kScanGroup, pos_.get(), owned(), extent_.get(),
+           LocalBytes{kScanGroup * sizeof(Real)}, LocalBytes{kScanGroup * sizeof(Real)});
+    read(extent_, part.data(), sizeof part);
+    std::array<double, 2> e{INFINITY, -INFINITY};
+    for (size_t g = 0; g < kExtentGroups; ++g) e = {std::fmin(e[0], part[2 * g]), std::fmax(e[1], part[2 * g + 1])};
+    return e;
+  }
+
+  void band(double x, bool below, Ghosts& out) override {
+    out = {};
+    if (!owned_) return;
+    launch("band_flags", owned_, kGroup, pos_.get(), owned(), static_cast<Real>(x), static_cast<cl_int>(below), flags_.get());
+    exclusive_scan(flags_, band_starts_, band_sums_, band_starts_, owned_);
+    cl_int m = 0;
+    read(band_starts_, &m, sizeof m, owned_ * sizeof(cl_int));
+    launch("band_gather", owned_, kGroup, pos_.get(), keys_.get(), flags_.get(), band_starts_.get(), owned(),
+           band_pos_.get(), band_keys_.get());
+    std::vector<Real4> packed(m);
+    out.keys.resize(m);
+    read(band_pos_, packed.data(), m * sizeof(Real4));
+    read(band_keys_, out.keys.data(), m * sizeof(uint64_t));
+    out.position.resize(3 * static_cast<size_t>(m));
+    out.info.resize(m);
+    for (cl_int i = 0; i < m; ++i) {
+      for (int c = 0; c < 3; ++c) out.position[3 * i + c] = packed[i][c];
+      out.info[i] = unpack_info(packed[i][3]) & 3;
+    }
   }
 
   void zero_forces() override {
@@ -157,6 +192,17 @@ class OpenClBackend final : public Backend {
     }
     return w;
   }
+  static int unpack_info(Real w) {
+    if constexpr (std::is_same_v<Real, float>) {
+      int info;
+      std::memcpy(&info, &w, sizeof info);
+      return info;
+    } else {
+      int64_t wide;
+      std::memcpy(&wide, &w, sizeof wide);
+      return static_cast<int>(wide);
+    }
+  }
   static Real4 real4(const std::array<double, 3>& v) {
     return {static_cast<Real>(v[0]), static_cast<Real>(v[1]), static_cast<Real>(v[2]), 0};
   }
@@ -177,7 +223,7 @@ class OpenClBackend final : public Backend {
       throw std::runtime_error("OpenCL: kernels failed to build on " + device_name() + ":\n" + log);
     }
     for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned",
-                          "forces_allpairs", "membrane", "integrate", "noise"}) {
+                          "forces_allpairs", "membrane", "integrate", "noise", "x_extent", "band_flags", "band_gather"}) {
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
       cl::check(err, k);
     }
@@ -192,8 +238,8 @@ class OpenClBackend final : public Backend {
   void write(const cl::Mem& m, const void* data, size_t bytes, size_t offset = 0) {
     if (bytes) cl::check(clEnqueueWriteBuffer(queue_.get(), m.get(), CL_TRUE, offset, bytes, data, 0, nullptr, nullptr), "write buffer");
   }
-  void read(const cl::Mem& m, void* data, size_t bytes) {
-    if (bytes) cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_TRUE, 0, bytes, data, 0, nullptr, nullptr), "read buffer");
+  void read(const cl::Mem& m, void* data, size_t bytes, size_t offset = 0) {
+    if (bytes) cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_TRUE, offset, bytes, data, 0, nullptr, nullptr), "read buffer");
   }
   void write_reals(const cl::Mem& m, const std::vector<double>& values) {
     const std::vector<Real> r(values.begin(), values.end());
@@ -211,6 +257,19 @@ class OpenClBackend final : public Backend {
     bin_ = buffer(capacity * sizeof(cl_int));
     sorted_pos_ = buffer(capacity * sizeof(Real4));
     sorted_index_ = buffer(capacity * sizeof(cl_int));
+    flags_ = buffer(capacity * sizeof(cl_int));
+    band_starts_ = buffer((capacity + 1) * sizeof(cl_int));
+    band_sums_ = buffer(round_up(capacity, kScanGroup) / kScanGroup * sizeof(cl_int));
+    band_pos_ = buffer(capacity * sizeof(Real4));
+    band_keys_ = buffer(capacity * sizeof(uint64_t));
+  }
+
+  // starts[i] = counts[0] + ... + counts[i-1] for i <= n (three kernels); cursor[i] = starts[i].
+  void exclusive_scan(const cl::Mem& counts, const cl::Mem& starts, const cl::Mem& sums, const cl::Mem& cursor, long n) {
+    const cl_int nb = static_cast<cl_int>(n), blocks = static_cast<cl_int>(round_up(n, kScanGroup) / kScanGroup);
+    launch("scan_blocks", n, kScanGroup, counts.get(), starts.get(), sums.get(), nb, LocalBytes{kScanGroup * sizeof(cl_int)});
+    launch("scan_sums", kScanGroup, kScanGroup, sums.get(), blocks, LocalBytes{kScanGroup * sizeof(cl_int)});
+    launch("scan_add", n, kScanGroup, starts.get(), sums.get(), counts.get(), nb, cursor.get());
   }
 
   // Counting sort by bin: count (atomics), exclusive scan, scatter.
@@ -223,13 +282,10 @@ class OpenClBackend final : public Backend {
       cursor_ = buffer(bins * sizeof(cl_int));
       sums_ = buffer(round_up(bins, kScanGroup) / kScanGroup * sizeof(cl_int));
     }
-    const cl_int zero = 0, n = static_cast<cl_int>(n_), nb = static_cast<cl_int>(bins);
-    const cl_int blocks = static_cast<cl_int>(round_up(bins, kScanGroup) / kScanGroup);
+    const cl_int zero = 0, n = static_cast<cl_int>(n_);
     cl::check(clEnqueueFillBuffer(queue_.get(), counts_.get(), &zero, sizeof zero, 0, bins * sizeof(cl_int), 0, nullptr, nullptr), "zero bins");
     launch("bin_count", n_, kGroup, pos_.get(), n, real4(g.lo), real4(g.size), int4(g.dims), bin_.get(), counts_.get());
-    launch("scan_blocks", bins, kScanGroup, counts_.get(), starts_.get(), sums_.get(), nb, LocalBytes{kScanGroup * sizeof(cl_int)});
-    launch("scan_sums", kScanGroup, kScanGroup, sums_.get(), blocks, LocalBytes{kScanGroup * sizeof(cl_int)});
-    launch("scan_add", bins, kScanGroup, starts_.get(), sums_.get(), nb, cursor_.get(), n);
+    exclusive_scan(counts_, starts_, sums_, cursor_, bins);
     launch("scatter", n_, kGroup, pos_.get(), bin_.get(), cursor_.get(), sorted_pos_.get(), sorted_index_.get(), n);
   }
 
@@ -266,6 +322,7 @@ class OpenClBackend final : public Backend {
   std::map<std::string, cl::Kernel> kernels_;
   std::map<cl_mem, std::vector<Real>> last_written_;
   cl::Mem pos_, keys_, force_, fail_, table_, membrane_, bin_, sorted_pos_, sorted_index_, counts_, starts_, cursor_, sums_;
+  cl::Mem extent_, flags_, band_starts_, band_sums_, band_pos_, band_keys_;  // ghost bands
   long n_ = 0, owned_ = 0, capacity_ = 0, bins_capacity_ = 0;  // n_: owned + ghosts
 };
 

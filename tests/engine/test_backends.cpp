@@ -56,6 +56,41 @@ TEST(Backends, OpenClMatchesTheCppReference) {
   EXPECT_EQ(run("serial", "float", wide, 2, 0, 200).hash(), run("cpu-binned", "float", wide, 2, 0, 200).hash());
 }
 
+// The ghost exchange's device side: the x range and the bands beyond a plane, in element order, with the
+// type only; 12,000 elements span 47 scan blocks. Positions are exact in double and rounded in float.
+TEST(Backends, GhostBandsAndXRangeMatchTheHostState) {
+  const auto s = random_state(3000, 4, 200.0, 16);
+  for (const auto& name : available_backends())
+    for (const char* precision : {"double", "float"}) {
+      BackendConfig c;
+      c.name = name;
+      c.precision = precision;
+      const auto b = make_backend(c);
+      b->upload(s);
+      const double tol = std::string(precision) == "float" ? 1e-4 : 0.0;
+      const auto [lo, hi] = b->x_extent();
+      double want_lo = 1e300, want_hi = -1e300;
+      for (long e = 0; e < s.elements(); ++e) want_lo = std::min(want_lo, s.position[3 * e]), want_hi = std::max(want_hi, s.position[3 * e]);
+      EXPECT_NEAR(lo, want_lo, tol) << name << " " << precision;
+      EXPECT_NEAR(hi, want_hi, tol) << name << " " << precision;
+      for (auto [x, below] : {std::pair{30.0, true}, std::pair{170.0, false}, std::pair{-1.0, true}}) {
+        Ghosts band;
+        b->band(x, below, band);
+        std::vector<long> want;
+        for (long e = 0; e < s.elements(); ++e)
+          if (below ? s.position[3 * e] < x : s.position[3 * e] > x) want.push_back(e);
+        ASSERT_EQ(band.elements(), static_cast<long>(want.size())) << name << " " << precision << " x " << x;
+        const auto keys = s.element_keys();
+        const auto info = s.element_info();
+        for (size_t k = 0; k < want.size(); ++k) {
+          ASSERT_EQ(band.keys[k], keys[want[k]]) << name << " " << precision << " element order";
+          EXPECT_EQ(band.info[k], info[want[k]] & 3);
+          for (int d = 0; d < 3; ++d) EXPECT_NEAR(band.position[3 * k + d], s.position[3 * want[k] + d], tol);
+        }
+      }
+    }
+}
+
 TEST(Backends, ResultsDoNotDependOnThreadCount) {
   const auto s = random_state(80, 10, 40.0, 13);
   EXPECT_EQ(run("cpu-binned", "double", s, 4, 1).hash(), run("cpu-binned", "double", s, 4, 2).hash());

@@ -7,6 +7,7 @@
 #include "../run_command.hpp"
 #include "controllers/text_io.hpp"
 #include "engine/io.hpp"
+#include "engine/opencl.hpp"
 
 namespace semlb::engine {
 namespace {
@@ -37,6 +38,18 @@ TEST(Decomposition, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
     EXPECT_EQ(read_state(out + "/final.h5").hash(), reference) << ranks << " ranks";
     EXPECT_EQ(split(read_file(out + "/rank_times.csv"), '\n').size(), 2 + 4u * ranks) << "4 events x ranks rows";
   }
+}
+
+// The device path of the ghost exchange (bands selected by OpenCL kernels), against one device.
+TEST(Decomposition, OpenClRanksMatchOneOpenClDevice) {
+  if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL platform";
+  const auto dir = fresh_dir("decomposition_opencl");
+  const std::string args = kArgs + " --steps 60 --set backend.name=opencl-binned";
+  auto r = run(semlb_bin() + " sim" + args + " --out " + dir + "/single");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  r = run(mpirun(2) + args + " --out " + dir + "/np2");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_EQ(read_state(dir + "/np2/final.h5").hash(), read_state(dir + "/single/final.h5").hash());
 }
 
 TEST(Decomposition, CheckpointOnTwoRanksContinuesIdenticallyOnFour) {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <sstream>
 
 #include <filesystem>
 
@@ -79,4 +80,25 @@ TEST(Sweep, ShippedManifestsParse) {
       const auto r = run(semlb_bin() + " sweep " + entry.path().string() + sets + " --quiet --results " + fresh_dir("shipped"));
       EXPECT_EQ(r.rc, 0) << entry.path() << ": " << r.out;
     }
+}
+
+// The mpi_sim runner's times nest: the whole launch >= the time-stepping loop (every log interval summed)
+// >= the slowest rank's computation; a loop read from the last log row alone would fall below it.
+TEST(Sweep, MpiSimTimesNestLaunchLoopComputation) {
+  const auto dir = fresh_dir("sweep_mpi_times");
+  const auto r = run(semlb_bin() + " sweep " + source("experiments/strong_scaling.yaml") +
+                     " --set cells=60 --set ranks=2 --set steps=40 --set rebalance_every=10 --set scene.output.log_every=10"
+                     " --quiet --results " + dir);
+  ASSERT_EQ(r.rc, 0) << r.out;
+  std::istringstream csv(slurp(dir + "/strong_scaling/strong_scaling.csv"));
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  std::map<std::string, double> v;
+  std::istringstream h(header), f(row);
+  for (std::string name, value; std::getline(h, name, ',') && std::getline(f, value, ',');) v[name] = std::atof(value.c_str());
+  EXPECT_GT(v.at("compute_s"), 0);
+  EXPECT_GE(v.at("wall_s"), v.at("compute_s")) << row;
+  EXPECT_GE(v.at("total_s"), v.at("wall_s")) << row;
+  EXPECT_EQ(v.at("events"), 4);
 }
