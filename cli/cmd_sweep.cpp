@@ -1,4 +1,5 @@
 // `semlb sweep MANIFEST`: run an experiment manifest (resumable) into RESULTS/<output>.
+#include <filesystem>
 #include <iostream>
 #include <thread>
 
@@ -12,7 +13,7 @@ Action add_sweep(CLI::App& app) {
     std::string manifest, profile, results = "results";
     std::vector<std::string> sets;
     int jobs = 0;
-    bool no_timing = false, quiet = false;
+    bool no_timing = false, quiet = false, keep_runs = false;
   };
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("sweep", "Run an experiment manifest; rerunning resumes an interrupted sweep");
@@ -23,6 +24,8 @@ Action add_sweep(CLI::App& app) {
   sub->add_option("--jobs", o->jobs, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
   sub->add_flag("--no-timing", o->no_timing, "Write wall-clock columns as 0 (byte-identical reruns)");
   sub->add_flag("--quiet", o->quiet, "No progress line");
+  sub->add_flag("--keep-runs", o->keep_runs,
+                "Keep each job's run files (engine MPI runs: run.csv, rank_times.csv, trace.jsonl) under runs/ beside the CSV");
   return [o, sub] {
     if (!*sub) return -1;  // not the chosen subcommand
     const auto m = experiments::load_manifest(o->manifest, o->profile, o->sets);
@@ -30,6 +33,7 @@ Action add_sweep(CLI::App& app) {
     so.results_dir = o->results;
     so.jobs = o->jobs > 0 ? o->jobs : std::max(1u, std::thread::hardware_concurrency());
     so.run.timing = !o->no_timing;
+    if (o->keep_runs) so.run.trace_dir = (std::filesystem::path(o->results) / m.output).parent_path() / "runs";
     so.progress = !o->quiet;
     so.git_revision = SEMLB_GIT_REVISION;
     const auto sum = experiments::run_sweep(m, o->sets, so);

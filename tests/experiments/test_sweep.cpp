@@ -84,12 +84,18 @@ TEST(Sweep, ShippedManifestsParse) {
 
 // The mpi_sim runner's times nest: the whole launch >= the time-stepping loop (every log interval summed)
 // >= the slowest rank's computation; a loop read from the last log row alone would fall below it.
-TEST(Sweep, MpiSimTimesNestLaunchLoopComputation) {
+// --keep-runs keeps each run's files.
+TEST(Sweep, MpiSimTimesNestLaunchLoopComputationAndRunsAreKept) {
   const auto dir = fresh_dir("sweep_mpi_times");
   const auto r = run(semlb_bin() + " sweep " + source("experiments/strong_scaling.yaml") +
                      " --set cells=60 --set ranks=2 --set steps=40 --set rebalance_every=10 --set scene.output.log_every=10"
-                     " --quiet --results " + dir);
+                     " --quiet --keep-runs --results " + dir);
   ASSERT_EQ(r.rc, 0) << r.out;
+  std::vector<fs::path> kept;
+  for (const auto& e : fs::directory_iterator(dir + "/strong_scaling/runs")) kept.push_back(e.path());
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_EQ(lines(slurp((kept[0] / "rank_times.csv").string())), 1u + 4u * 2u) << kept[0];
+  EXPECT_TRUE(fs::exists(kept[0] / "trace.jsonl"));
   std::istringstream csv(slurp(dir + "/strong_scaling/strong_scaling.csv"));
   std::string header, row;
   std::getline(csv, header);
