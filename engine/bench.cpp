@@ -58,7 +58,7 @@ Timing time_scene(Scene& scene, long steps, long warmup, long profile_steps) {
   const auto t0 = std::chrono::steady_clock::now();
   sim.advance(sim.host_state().step + steps);
   sim.backend().finish();
-  t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  t.seconds = seconds_since(t0);
   t.steps = steps;
   for (const auto& [k, v] : sim.backend().kernel_seconds()) t.kernel_seconds[k] = v - (kernels_before.count(k) ? kernels_before.at(k) : 0.0);
   const State& s = sim.sync();

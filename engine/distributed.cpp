@@ -3,6 +3,7 @@
 #include "distributed.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -162,21 +163,29 @@ std::vector<double> slice_workload(const State& s, const std::vector<double>& ne
                                    double cutoff) {
   const auto [lo, hi] = tissue_box(s, cutoff);
   const Grid g = Grid::cover(lo, hi, cutoff);
-  std::map<long, long> count;  // sparse: bin -> elements
   auto index = [&](const std::array<int, 3>& b) { return (static_cast<long>(b[2]) * g.dims[1] + b[1]) * g.dims[0] + b[0]; };
-  for (size_t e = 0; e < neighbourhood.size(); e += 3) ++count[index(g.bin_of(&neighbourhood[e]))];
+  // Elements per bin: dense while the grid is at most a few times the elements, else sorted bin indices.
+  const long elements = static_cast<long>(neighbourhood.size() / 3);
+  const bool dense = g.bins() <= 4 * elements + (1L << 20);
+  std::vector<long> count(dense ? g.bins() : 0), bins;
+  for (long e = 0; e < elements; ++e) {
+    const long b = index(g.bin_of(&neighbourhood[3 * e]));
+    dense ? static_cast<void>(++count[b]) : bins.push_back(b);
+  }
+  std::sort(bins.begin(), bins.end());
+  auto in_bin = [&](long b) {
+    if (dense) return count[b];
+    const auto [first, last] = std::equal_range(bins.begin(), bins.end(), b);
+    return static_cast<long>(last - first);
+  };
   std::vector<double> w(d.slices, 0.0);
   for (long c = 0; c < s.cells(); ++c) {
     const auto ctr = centroid(s, c);
     const auto b = g.bin_of(ctr.data());
     long n_near = 0;
-    for (int z = b[2] - 1; z <= b[2] + 1; ++z)
-      for (int y = b[1] - 1; y <= b[1] + 1; ++y)
-        for (int x = b[0] - 1; x <= b[0] + 1; ++x)
-          if (x >= 0 && y >= 0 && z >= 0 && x < g.dims[0] && y < g.dims[1] && z < g.dims[2]) {
-            const auto it = count.find(index({x, y, z}));
-            if (it != count.end()) n_near += it->second;
-          }
+    for (int z = std::max(b[2] - 1, 0); z <= std::min(b[2] + 1, g.dims[2] - 1); ++z)
+      for (int y = std::max(b[1] - 1, 0); y <= std::min(b[1] + 1, g.dims[1] - 1); ++y)
+        for (int x = std::max(b[0] - 1, 0); x <= std::min(b[0] + 1, g.dims[0] - 1); ++x) n_near += in_bin(index({x, y, z}));
     w[d.slice_of(ctr[0])] += static_cast<double>(s.cell_count[c]) * static_cast<double>(n_near);  // w_i = n_i n_N(i)
   }
   return w;
@@ -213,6 +222,7 @@ double DistributedSimulation::compute_seconds() const {
 // exchange, so a slab must be wider than the cutoff plus the reach of cells (checked here). The backend
 // selects the bands on its device: only the x range and the band elements cross to the host.
 void DistributedSimulation::exchange_ghosts() {
+  const auto t0 = std::chrono::steady_clock::now();
   Backend& b = sim_->backend();
   const int r = mpi_->rank(), P = mpi_->size();
   const auto [lo, hi] = b.x_extent();
@@ -237,9 +247,12 @@ void DistributedSimulation::exchange_ghosts() {
   }
   ghost_positions_ = g.position;
   b.set_ghosts(g);
+  b.finish();
+  exchange_s_ += seconds_since(t0);
 }
 
 void DistributedSimulation::migrate_cells() {
+  const auto t0 = std::chrono::steady_clock::now();
   if (sim_->host_state().step % dec_.rebalance_every == 0) rebalance();  // new boundaries first
   State& s = sim_->state();
   std::vector<Writer> out(mpi_->size());
@@ -249,12 +262,16 @@ void DistributedSimulation::migrate_cells() {
   for (const auto& bytes : mpi_->alltoall(parts)) unpack_cells(bytes, s);
   s.reindex();
   sim_->reload();
+  sim_->backend().finish();
+  migrate_s_ += seconds_since(t0);
 }
 
 void DistributedSimulation::rebalance() {
   const double now = compute_seconds();
   const auto times = mpi_->allgather(now - seconds_at_event_);
   seconds_at_event_ = now;
+  const auto comm = mpi_->allgather2(exchange_s_, migrate_s_);
+  exchange_s_ = migrate_s_ = 0;
   const State& s = sim_->host_state();
   std::vector<double> neighbourhood = s.position;
   neighbourhood.insert(neighbourhood.end(), ghost_positions_.begin(), ghost_positions_.end());
@@ -286,7 +303,12 @@ void DistributedSimulation::rebalance() {
   long moved = 0;
   for (size_t b = 0; b < next.size(); ++b) moved += std::abs(next[b] - boundaries_[b]);
   migrated_ += moved;
-  intervals_.push_back({s.step, times, global_imbalance(times), moved});
+  Interval iv{s.step, times, {}, {}, global_imbalance(times), moved};
+  for (size_t r = 0; r < times.size(); ++r) {
+    iv.exchange.push_back(comm[2 * r]);
+    iv.migrate.push_back(comm[2 * r + 1]);
+  }
+  intervals_.push_back(std::move(iv));
   boundaries_ = next;
 }
 

@@ -43,7 +43,8 @@ class DistributedSimulation {
   // Per rebalancing interval: the ranks' computation times and the global imbalance (T_max-T_min)/T_mean.
   struct Interval {
     long step;
-    std::vector<double> times;
+    std::vector<double> times;            // computation per rank
+    std::vector<double> exchange, migrate;  // per rank: ghost exchange; cell migration and rebalancing
     double imbalance;
     long moved;
   };
@@ -68,6 +69,7 @@ class DistributedSimulation {
   std::ofstream trace_;
   std::vector<Interval> intervals_;
   double seconds_at_event_ = 0, growth_cycle_ = 0;
+  double exchange_s_ = 0, migrate_s_ = 0;  // since the last rebalancing event
   long migrated_ = 0, cells_at_event_ = 0;
   int event_ = 0;
 };

@@ -114,10 +114,6 @@ long next_stop(const Scene& scene, long step, long last) {
   return std::min({last, next(scene.log_every), next(scene.snapshot_every), next(scene.checkpoint_every)});
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
 
 RunSummary run_scene(Scene& scene, const RunConfig& config) {
@@ -205,11 +201,12 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
   const State all = sim.gather();
   if (root) {
     out->write("final.h5", all);
-    std::string rows = "step,rank,compute_s,imbalance,moved_slices\n";
+    std::string rows = "step,rank,compute_s,exchange_s,migrate_s,imbalance,moved_slices\n";
     for (const auto& iv : sim.intervals())
       for (size_t r = 0; r < iv.times.size(); ++r)
         rows += std::to_string(iv.step) + "," + std::to_string(r) + "," + std::to_string(iv.times[r]) + "," +
-                std::to_string(iv.imbalance) + "," + std::to_string(iv.moved) + "\n";
+                std::to_string(iv.exchange[r]) + "," + std::to_string(iv.migrate[r]) + "," + std::to_string(iv.imbalance) +
+                "," + std::to_string(iv.moved) + "\n";
     write_file_atomically(config.out_dir + "/rank_times.csv", rows);
     status.update(all.step, all.cells(), all.elements(), seconds_since(t0), true);
   }

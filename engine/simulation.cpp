@@ -30,7 +30,7 @@ void Simulation::timed(size_t phase, F&& f) {
   const auto t0 = std::chrono::steady_clock::now();
   f();
   if (profile) backend_->finish();
-  seconds_[phase] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  seconds_[phase] += seconds_since(t0);
 }
 
 void Simulation::advance(long target) {

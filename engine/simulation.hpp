@@ -1,6 +1,7 @@
 // One simulation on one backend: the per-step element stage, the periodic cell stage, phase timers
 // and failure detection (a failing kernel stops the run with the step, element and quantity).
 #pragma once
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -13,6 +14,10 @@
 #include "state.hpp"
 
 namespace semlb::engine {
+
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 // A numerical failure during the run (exit code 1): "step S: element E (cell C, slot K): QUANTITY ...".
 struct SimulationError : std::runtime_error {

@@ -6,6 +6,10 @@
 
 #include "../run_command.hpp"
 #include "controllers/text_io.hpp"
+#include "engine/tissue.hpp"
+#include "engine_fixtures.hpp"
+#include "engine/distributed.hpp"
+#include "engine/effect.hpp"
 #include "engine/io.hpp"
 #include "engine/opencl.hpp"
 
@@ -24,6 +28,33 @@ const std::string kArgs = " --scene " + source("scenes/epidermis.yaml") +
 std::string mpirun(int ranks) {
   return std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") + SEMLB_MPIEXEC + " --oversubscribe -np " +
          std::to_string(ranks) + " " + semlb_bin() + " sim";
+}
+
+// W_s = sum of n_i n_N(i) per slice against a brute-force count, on a compact tissue (dense bin counts)
+// and on one whose two halves lie 2e6 um apart (over a million bins: sorted bin indices).
+TEST(Decomposition, SliceWorkloadMatchesBruteForceDenseAndSparse) {
+  for (double gap : {0.0, 2e6}) {
+    State s = testing::random_state(40, 6, 40.0, 21);
+    for (long e = s.elements() / 2; e < s.elements(); ++e) s.position[3 * e] += gap;  // cells 20..39 move by gap
+    const double cutoff = 8.75;
+    Decomposition d;
+    d.slices = 7;
+    d.width = (gap + 40.0) / 7;
+    const auto [lo, hi] = tissue_box(s, cutoff);
+    const Grid g = Grid::cover(lo, hi, cutoff);
+    std::vector<double> want(d.slices, 0.0);
+    for (long c = 0; c < s.cells(); ++c) {
+      const auto ctr = centroid(s, c);
+      const auto b = g.bin_of(ctr.data());
+      long near = 0;
+      for (long e = 0; e < s.elements(); ++e) {
+        const auto q = g.bin_of(&s.position[3 * e]);
+        near += std::abs(q[0] - b[0]) <= 1 && std::abs(q[1] - b[1]) <= 1 && std::abs(q[2] - b[2]) <= 1;
+      }
+      want[d.slice_of(ctr[0])] += static_cast<double>(s.cell_count[c]) * static_cast<double>(near);
+    }
+    EXPECT_EQ(slice_workload(s, s.position, d, cutoff), want) << "gap " << gap << ", " << g.bins() << " bins";
+  }
 }
 
 TEST(Decomposition, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
