@@ -255,14 +255,25 @@ void DistributedSimulation::migrate_cells() {
   const auto t0 = std::chrono::steady_clock::now();
   if (sim_->host_state().step % dec_.rebalance_every == 0) rebalance();  // new boundaries first
   State& s = sim_->state();
+  std::vector<int> owner(s.cells());
+  bool changed = false;
+  for (long c = 0; c < s.cells(); ++c) {
+    owner[c] = owner_of(dec_.slice_of(centroid(s, c)[0]), boundaries_);
+    changed = changed || owner[c] != mpi_->rank();
+  }
   std::vector<Writer> out(mpi_->size());
-  split_cells(s, [&](long c) { return owner_of(dec_.slice_of(centroid(s, c)[0]), boundaries_); }, mpi_->rank(), out);
+  if (changed) split_cells(s, [&](long c) { return owner[c]; }, mpi_->rank(), out);
   std::vector<std::vector<char>> parts;
   for (auto& w : out) parts.push_back(std::move(w.bytes));
-  for (const auto& bytes : mpi_->alltoall(parts)) unpack_cells(bytes, s);
-  s.reindex();
-  sim_->reload();
-  sim_->backend().finish();
+  for (const auto& bytes : mpi_->alltoall(parts)) {
+    changed = changed || !bytes.empty();
+    unpack_cells(bytes, s);
+  }
+  if (changed) {  // else the device already holds exactly these elements
+    s.reindex();
+    sim_->reload();
+    sim_->backend().finish();
+  }
   migrate_s_ += seconds_since(t0);
 }
 
