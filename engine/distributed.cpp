@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
-#include <map>
 
 #include "controllers/chains.hpp"
 #include "controllers/errors.hpp"
