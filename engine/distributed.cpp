@@ -200,7 +200,7 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
   }
   State mine = tissue;
   std::vector<Writer> unused(mpi.size());
-  split_cells(mine, [&](long c) { return owner_of(dec_.slice_of(centroid(mine, c)[0]), boundaries_); }, mpi.rank(), unused);
+  split_cells(mine, [&](long c) { return owner_of_cell(mine, c); }, mpi.rank(), unused);
   sim_ = std::make_unique<Simulation>(scene, std::move(mine));
   sim_->before_forces = [this] { exchange_ghosts(); };
   sim_->after_cells = [this] { migrate_cells(); };
@@ -209,6 +209,10 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
   cells_at_event_ = static_cast<long>(tissue.cells());
   for (const auto& [name, section] : scene.effects)  // the growth phase the controllers see
     if (name == "growth") growth_cycle_ = section.real("cycle_time", 20.0, 1e-9, 1e12);
+}
+
+int DistributedSimulation::owner_of_cell(const State& s, long c) const {
+  return owner_of(dec_.slice_of(centroid(s, c)[0]), boundaries_);  // the ownership rule (docs/engine.md)
 }
 
 double DistributedSimulation::compute_seconds() const {
@@ -221,11 +225,12 @@ double DistributedSimulation::compute_seconds() const {
 // exchange, so a slab must be wider than the cutoff plus the reach of cells (checked here). The backend
 // selects the bands on its device: only the x range and the band elements cross to the host.
 void DistributedSimulation::exchange_ghosts() {
+  const int r = mpi_->rank(), P = mpi_->size();
+  if (P == 1) return;  // no neighbours
   const auto t0 = std::chrono::steady_clock::now();
   Backend& b = sim_->backend();
-  const int r = mpi_->rank(), P = mpi_->size();
   const auto [lo, hi] = b.x_extent();
-  const auto extents = mpi_->allgather2(lo, hi);  // [lo_0, hi_0, lo_1, hi_1, ...]
+  const auto extents = mpi_->allgather({lo, hi});  // [lo_0, hi_0, lo_1, hi_1, ...]
   auto los = [&](int q) { return extents[2 * q]; };
   auto his = [&](int q) { return extents[2 * q + 1]; };
   const double cut = scene_->cutoff, reach = cut * (1 + kGhostSlack);
@@ -257,7 +262,7 @@ void DistributedSimulation::migrate_cells() {
   std::vector<int> owner(s.cells());
   bool changed = false;
   for (long c = 0; c < s.cells(); ++c) {
-    owner[c] = owner_of(dec_.slice_of(centroid(s, c)[0]), boundaries_);
+    owner[c] = owner_of_cell(s, c);
     changed = changed || owner[c] != mpi_->rank();
   }
   std::vector<Writer> out(mpi_->size());
@@ -278,10 +283,16 @@ void DistributedSimulation::migrate_cells() {
 
 void DistributedSimulation::rebalance() {
   const double now = compute_seconds();
-  const auto times = mpi_->allgather(now - seconds_at_event_);
+  const auto seconds = mpi_->allgather({now - seconds_at_event_, exchange_s_, migrate_s_});  // 3 per rank
   seconds_at_event_ = now;
-  const auto comm = mpi_->allgather2(exchange_s_, migrate_s_);
   exchange_s_ = migrate_s_ = 0;
+  std::vector<double> times;
+  Interval iv{};
+  for (int r = 0; r < mpi_->size(); ++r) {
+    times.push_back(seconds[3 * r]);
+    iv.exchange.push_back(seconds[3 * r + 1]);
+    iv.migrate.push_back(seconds[3 * r + 2]);
+  }
   const State& s = sim_->host_state();
   std::vector<double> neighbourhood = s.position;
   neighbourhood.insert(neighbourhood.end(), ghost_positions_.begin(), ghost_positions_.end());
@@ -313,11 +324,10 @@ void DistributedSimulation::rebalance() {
   long moved = 0;
   for (size_t b = 0; b < next.size(); ++b) moved += std::abs(next[b] - boundaries_[b]);
   migrated_ += moved;
-  Interval iv{s.step, times, {}, {}, global_imbalance(times), moved};
-  for (size_t r = 0; r < times.size(); ++r) {
-    iv.exchange.push_back(comm[2 * r]);
-    iv.migrate.push_back(comm[2 * r + 1]);
-  }
+  iv.step = s.step;
+  iv.times = times;
+  iv.imbalance = global_imbalance(times);
+  iv.moved = moved;
   intervals_.push_back(std::move(iv));
   boundaries_ = next;
 }
@@ -329,7 +339,7 @@ void DistributedSimulation::collective_check() {
   } catch (const SimulationError& e) {
     message = "rank " + std::to_string(mpi_->rank()) + ": " + e.what();
   }
-  const auto failed = mpi_->allgather(message.empty() ? 0.0 : 1.0);
+  const auto failed = mpi_->allgather({message.empty() ? 0.0 : 1.0});
   for (int r = 0; r < mpi_->size(); ++r)
     if (failed[r] > 0) {
       mpi_->broadcast(message, r);

@@ -57,6 +57,7 @@ class DistributedSimulation {
   void rebalance();
   void collective_check();
   double compute_seconds() const;
+  int owner_of_cell(const State& s, long c) const;
 
   const Scene* scene_;
   Mpi* mpi_;

@@ -48,16 +48,10 @@ int Mpi::local_rank() const {
   return r;
 }
 
-std::vector<double> Mpi::allgather(double value) const {
-  std::vector<double> out(size_);
-  check(MPI_Allgather(&value, 1, MPI_DOUBLE, out.data(), 1, MPI_DOUBLE, MPI_COMM_WORLD), "MPI_Allgather");
-  return out;
-}
-
-std::vector<double> Mpi::allgather2(double a, double b) const {
-  const double mine[2] = {a, b};
-  std::vector<double> out(2 * size_);
-  check(MPI_Allgather(mine, 2, MPI_DOUBLE, out.data(), 2, MPI_DOUBLE, MPI_COMM_WORLD), "MPI_Allgather");
+std::vector<double> Mpi::allgather(const std::vector<double>& mine) const {
+  const int k = static_cast<int>(mine.size());
+  std::vector<double> out(static_cast<size_t>(k) * size_);
+  check(MPI_Allgather(mine.data(), k, MPI_DOUBLE, out.data(), k, MPI_DOUBLE, MPI_COMM_WORLD), "MPI_Allgather");
   return out;
 }
 

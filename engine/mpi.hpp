@@ -21,8 +21,8 @@ class Mpi {
   int size() const { return size_; }
   int local_rank() const;  // rank among the processes of this host (device index)
 
-  std::vector<double> allgather(double value) const;
-  std::vector<double> allgather2(double a, double b) const;  // [a_0, b_0, a_1, b_1, ...]
+  // Every rank gives k values; returns them by rank: [v_0[0..k), v_1[0..k), ...].
+  std::vector<double> allgather(const std::vector<double>& mine) const;
   void allreduce_sum(std::vector<double>& values) const;
   long allreduce_max(long value) const;
   void broadcast(std::vector<int>& values, int root) const;

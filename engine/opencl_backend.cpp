@@ -63,9 +63,8 @@ class OpenClBackend final : public Backend {
 
   void set_ghosts(const Ghosts& g) override {
     if (owned_ + g.elements() > capacity_) {  // grow: keep the owned elements through the host
-      std::vector<Real4> packed(owned_);
+      const std::vector<Real4> packed = read_packed(pos_, owned_);
       std::vector<uint64_t> keys(owned_);
-      read(pos_, packed.data(), owned_ * sizeof(Real4));
       read(keys_, keys.data(), owned_ * sizeof(uint64_t));
       allocate(owned_ + g.elements() + (owned_ + g.elements()) / 4 + 64);
       write(pos_, packed.data(), owned_ * sizeof(Real4));
@@ -75,13 +74,7 @@ class OpenClBackend final : public Backend {
     n_ = owned_ + g.elements();
   }
 
-  void download(State& s) override {
-    std::vector<Real4> packed(owned_);
-    read(pos_, packed.data(), owned_ * sizeof(Real4));
-    s.position.resize(3 * owned_);
-    for (long i = 0; i < owned_; ++i)
-      for (int c = 0; c < 3; ++c) s.position[3 * i + c] = packed[i][c];
-  }
+  void download(State& s) override { s.position = positions(read_packed(pos_, owned_)); }
 
   std::array<double, 2> x_extent() override {
     if (!owned_) return {INFINITY, -INFINITY};
@@ -103,16 +96,11 @@ class OpenClBackend final : public Backend {
     read(band_starts_, &m, sizeof m, owned_ * sizeof(cl_int));
     launch("band_gather", owned_, kGroup, pos_.get(), keys_.get(), flags_.get(), band_starts_.get(), owned(),
            band_pos_.get(), band_keys_.get());
-    std::vector<Real4> packed(m);
+    const std::vector<Real4> packed = read_packed(band_pos_, m);
     out.keys.resize(m);
-    read(band_pos_, packed.data(), m * sizeof(Real4));
     read(band_keys_, out.keys.data(), m * sizeof(uint64_t));
-    out.position.resize(3 * static_cast<size_t>(m));
-    out.info.resize(m);
-    for (cl_int i = 0; i < m; ++i) {
-      for (int c = 0; c < 3; ++c) out.position[3 * i + c] = packed[i][c];
-      out.info[i] = unpack_info(packed[i][3]) & 3;
-    }
+    out.position = positions(packed);
+    for (const Real4& p : packed) out.info.push_back(unpack_info(p[3]) & 3);
   }
 
   void zero_forces() override {
@@ -191,6 +179,17 @@ class OpenClBackend final : public Backend {
       std::memcpy(&w, &wide, sizeof wide);
     }
     return w;
+  }
+  std::vector<Real4> read_packed(const cl::Mem& m, long n) {
+    std::vector<Real4> packed(n);
+    read(m, packed.data(), n * sizeof(Real4));
+    return packed;
+  }
+  static std::vector<double> positions(const std::vector<Real4>& packed) {
+    std::vector<double> p(3 * packed.size());
+    for (size_t i = 0; i < packed.size(); ++i)
+      for (int c = 0; c < 3; ++c) p[3 * i + c] = packed[i][c];
+    return p;
   }
   static int unpack_info(Real w) {
     if constexpr (std::is_same_v<Real, float>) {

@@ -62,17 +62,19 @@ std::pair<std::string, double> launch(const Job& job, const RunOptions& o) {
   return {dir.string(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()};
 }
 
-// With --keep-runs: the run's files under TRACE_DIR/<its settings, scene left out>/.
-void keep_run_files(const Job& job, const RunOptions& o, const std::string& dir) {
-  if (o.trace_dir.empty()) return;
-  std::string label;
-  for (const auto& [k, s] : job.settings)
-    if (k != "scene") label += (label.empty() ? "" : "_") + k + "=" + s.value;
-  std::replace(label.begin(), label.end(), '/', '-');
-  const fs::path to = fs::path(o.trace_dir) / label;
-  fs::create_directories(to);
-  for (const char* f : {"run.csv", "rank_times.csv", "trace.jsonl"})
-    if (fs::exists(fs::path(dir) / f)) fs::copy_file(fs::path(dir) / f, to / f, fs::copy_options::overwrite_existing);
+// Removes the run's directory; with --keep-runs its files stay under TRACE_DIR/<its settings, scene left out>/.
+void finish_run(const Job& job, const RunOptions& o, const std::string& dir) {
+  if (!o.trace_dir.empty()) {
+    std::string label;
+    for (const auto& [k, s] : job.settings)
+      if (k != "scene") label += (label.empty() ? "" : "_") + k + "=" + s.value;
+    std::replace(label.begin(), label.end(), '/', '-');
+    const fs::path to = fs::path(o.trace_dir) / label;
+    fs::create_directories(to);
+    for (const char* f : {"run.csv", "rank_times.csv", "trace.jsonl"})
+      if (fs::exists(fs::path(dir) / f)) fs::copy_file(fs::path(dir) / f, to / f, fs::copy_options::overwrite_existing);
+  }
+  fs::remove_all(dir);
 }
 
 std::vector<std::map<std::string, std::string>> csv(const std::string& path) {
@@ -114,8 +116,7 @@ class MpiSimRunner final : public Runner {
     }
     double compute = 0;
     for (const auto& [s, t] : slowest) compute += t;
-    keep_run_files(job, o, dir);
-    fs::remove_all(dir);
+    finish_run(job, o, dir);
     auto fmt = [&](double v) { std::ostringstream s; s.precision(6); s << (o.timing ? v : 0.0); return s.str(); };
     return {{log.back().at("elements"), fmt(total), fmt(wall), fmt(compute),
              std::to_string(events.empty() ? 0.0 : imbalance / static_cast<double>(events.size())), std::to_string(moved),
@@ -133,8 +134,7 @@ class MpiIntervalsRunner final : public Runner {
     std::vector<std::vector<std::string>> rows;
     for (const auto& r : csv(dir + "/rank_times.csv"))
       rows.push_back({r.at("step"), r.at("rank"), o.timing ? r.at("compute_s") : "0", r.at("imbalance"), r.at("moved_slices")});
-    keep_run_files(job, o, dir);
-    fs::remove_all(dir);
+    finish_run(job, o, dir);
     return rows;
   }
 };
