@@ -2,7 +2,9 @@
 // and splits across the long axis, differentiation follows its rules.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <set>
+#include <thread>
 
 #include "engine/effect.hpp"
 #include "engine/simulation.hpp"
@@ -137,6 +139,27 @@ TEST(Effects, EpidermisRunKeepsCountsConsistentWithGrowthAndDivision) {
   EXPECT_EQ(sum, s.elements());
   for (double v : s.position) ASSERT_TRUE(std::isfinite(v));
   for (long e = 0; e < s.elements(); ++e) EXPECT_GT(s.position[3 * e + 2], -1.0);  // nothing fell through the membrane
+}
+
+
+// A decomposed run waits for the slowest rank in its failure check and cell migration; a rank's phase
+// timers (its computation time, what the controllers balance) must not include those waits.
+TEST(Effects, CollectiveHooksOfTheCellStageAreNotTimedAsComputation) {
+  auto scene = load_scene(std::string(SEMLB_SOURCE_DIR) + "/scenes/epidermis.yaml", {"tissue.cells=8"});
+  Simulation sim(scene, make_tissue(scene));
+  int checks = 0, migrations = 0;
+  const auto nap = [] { std::this_thread::sleep_for(std::chrono::milliseconds(30)); };
+  sim.failure_check = [&] { ++checks, nap(); };
+  sim.after_cells = [&] { ++migrations, nap(); };
+  const auto t0 = std::chrono::steady_clock::now();
+  sim.advance(4 * scene.cell_update_every);
+  const double wall = seconds_since(t0);
+  EXPECT_EQ(migrations, 4);
+  EXPECT_GE(checks, 4);
+  double timed = 0;
+  for (double p : sim.phase_seconds()) timed += p;
+  EXPECT_GE(wall, 0.03 * (checks + migrations));
+  EXPECT_LT(timed, wall - 0.03 * (checks + migrations) + 1e-3);  // the naps are in the wall time only
 }
 
 }  // namespace
