@@ -1,4 +1,5 @@
-// `semlb bench policies`: cost of one decision per policy (median over repetitions), printed as a table.
+// `semlb bench policies|train|engine|cells`: costs printed as tables (a decision, a training step, element
+// steps, the host cell stage).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -69,6 +70,29 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
   return 0;
 }
 
+// Milliseconds per cell update of each part of the host cell stage, per backend and tissue size.
+int bench_cells(const std::string& scene_file, const std::string& backends, const std::string& cells, long updates,
+                const SceneFlags& flags) {
+  std::printf("# semlb bench cells: %s, ms per cell update (mean of %ld, after one untimed)\n", scene_file.c_str(), updates);
+  for (const auto& backend : split(backends, ','))
+    for (long n : surrogate::parse_int_list(cells, "--cells")) {
+      auto o = scene_overrides(flags);
+      o.push_back("backend.name=" + backend);
+      o.push_back("tissue.cells=" + std::to_string(n));
+      auto scene = engine::load_scene(scene_file, o);
+      const auto t = engine::time_cell_stage(scene, updates);
+      double total = 0;
+      for (const auto& [part, secs] : t.parts) total += secs;
+      std::printf("%s %s, %ld cells, %ld elements (%s)\n", backend.c_str(), scene.backend.precision.c_str(), t.cells,
+                  t.elements, t.device.c_str());
+      std::printf("  %-16s %10s %7s\n", "part", "ms/update", "share");
+      for (const auto& [part, secs] : t.parts) std::printf("  %-16s %10.2f %6.1f%%\n", part.c_str(), 1e3 * secs, 100 * secs / total);
+      std::printf("  %-16s %10.2f\n", "total", 1e3 * total);
+      std::fflush(stdout);
+    }
+  return 0;
+}
+
 #ifdef SEMLB_WITH_TORCH
 int bench_train(long steps, long threads) {
   auto c = train::load_train_config(std::string(SEMLB_SOURCE_DIR) + "/surrogate/train/default.yaml",
@@ -92,8 +116,7 @@ int bench_train(long steps, long threads) {
 
 Action add_bench(CLI::App& app) {
   struct Opts {
-    std::string what, weights, scene = std::string(SEMLB_SOURCE_DIR) + "/scenes/mechanics.yaml", backends = "cpu-binned",
-                                 cells = "200";
+    std::string what, weights, scene, backends = "cpu-binned", cells = "200";
     long warmup = 2;
     SceneFlags flags;
     int ranks = 16, events = 200, repeats = 5;
@@ -102,17 +125,19 @@ Action add_bench(CLI::App& app) {
   };
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("bench", "Benchmarks that print a table");
-  sub->add_option("what", o->what, "What to benchmark: policies, train (one training step; needs libtorch), engine (element-steps/s)")
-      ->required()->check(CLI::IsMember({"policies", "train", "engine"}));
-  sub->add_option("--scene", o->scene, "Scene (bench engine)")->capture_default_str();
-  sub->add_option("--backends", o->backends, "Comma-separated backends (bench engine)")->capture_default_str();
-  sub->add_option("--cells", o->cells, "Cell counts, e.g. 200,2000 (bench engine)")->capture_default_str();
+  sub->add_option("what", o->what,
+                  "What to benchmark: policies, train (one training step; needs libtorch), engine (element-steps/s), "
+                  "cells (the host cell stage, per part)")
+      ->required()->check(CLI::IsMember({"policies", "train", "engine", "cells"}));
+  sub->add_option("--scene", o->scene, "Scene (default: scenes/mechanics.yaml for bench engine, scenes/epidermis.yaml for bench cells)");
+  sub->add_option("--backends", o->backends, "Comma-separated backends (bench engine, cells)")->capture_default_str();
+  sub->add_option("--cells", o->cells, "Cell counts, e.g. 200,2000 (bench engine, cells)")->capture_default_str();
   sub->add_option("--warmup", o->warmup, "Untimed steps first (bench engine)")->capture_default_str();
-  sub->add_option("--precision", o->flags.precision, "double or float (bench engine; default: the scene's)");
-  sub->add_option("--platform", o->flags.platform, "OpenCL platform name substring (bench engine)");
-  sub->add_option("--device", o->flags.device, "OpenCL device index (bench engine)");
-  sub->add_option("--set", o->flags.set, "Scene override KEY.PATH=VALUE (bench engine, repeatable)");
-  sub->add_option("--steps", o->steps, "Steps to time (bench train, bench engine)")->capture_default_str()->check(CLI::PositiveNumber);
+  sub->add_option("--precision", o->flags.precision, "double or float (bench engine, cells; default: the scene's)");
+  sub->add_option("--platform", o->flags.platform, "OpenCL platform name substring (bench engine, cells)");
+  sub->add_option("--device", o->flags.device, "OpenCL device index (bench engine, cells)");
+  sub->add_option("--set", o->flags.set, "Scene override KEY.PATH=VALUE (bench engine, cells; repeatable)");
+  sub->add_option("--steps", o->steps, "Steps to time (bench train, engine); cell updates (bench cells)")->capture_default_str()->check(CLI::PositiveNumber);
   sub->add_option("--threads", o->threads, "Episode-generation threads (bench train)")->capture_default_str()->check(CLI::PositiveNumber);
   sub->add_option("--ranks", o->ranks, "Ranks")->capture_default_str()->check(CLI::Range(1, 4096));
   sub->add_option("--events", o->events, "Events per rollout")->capture_default_str()->check(CLI::PositiveNumber);
@@ -121,7 +146,9 @@ Action add_bench(CLI::App& app) {
   sub->add_option("--weights", o->weights, "GRU weights (default: a random zero-head GRU of the shipped shape)");
   return [o, sub] {
     if (!*sub) return -1;  // not the chosen subcommand
-    if (o->what == "engine") return bench_engine(o->scene, o->backends, o->cells, o->steps, o->warmup, o->flags);
+    const auto scene = [&](const char* fallback) { return o->scene.empty() ? std::string(SEMLB_SOURCE_DIR) + fallback : o->scene; };
+    if (o->what == "engine") return bench_engine(scene("/scenes/mechanics.yaml"), o->backends, o->cells, o->steps, o->warmup, o->flags);
+    if (o->what == "cells") return bench_cells(scene("/scenes/epidermis.yaml"), o->backends, o->cells, o->steps, o->flags);
     if (o->what == "train") {
 #ifdef SEMLB_WITH_TORCH
       return bench_train(o->steps, o->threads);

@@ -3,6 +3,7 @@
 
 #include <chrono>
 
+#include "controllers/errors.hpp"
 #include "simulation.hpp"
 #include "tissue.hpp"
 
@@ -71,6 +72,18 @@ Timing time_scene(Scene& scene, long steps, long warmup, long profile_steps) {
     sim.advance(sim.host_state().step + profile_steps);
     for (size_t p = 0; p < before.size(); ++p) t.phase_seconds.push_back((sim.phase_seconds()[p] - before[p]) / profile_steps * steps);
   }
+  return t;
+}
+
+CellStageTiming time_cell_stage(Scene& scene, long updates) {
+  Simulation sim(scene, make_tissue(scene));
+  if (!sim.has_cell_effects()) throw InputError(scene.path + ": field 'effects': the scene lists no cell effect (growth, division, differentiation)");
+  sim.update_cells();  // untimed: first allocations
+  const auto before = sim.cell_stage_seconds();
+  for (long u = 0; u < updates; ++u) sim.update_cells();
+  CellStageTiming t{sim.host_state().cells(), sim.host_state().elements(), updates, sim.backend().name(),
+                    sim.backend().device_name(), sim.cell_stage_seconds()};
+  for (size_t p = 0; p < t.parts.size(); ++p) t.parts[p].second = (t.parts[p].second - before[p].second) / static_cast<double>(updates);
   return t;
 }
 

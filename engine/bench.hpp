@@ -1,8 +1,9 @@
 // Timing of the element kernels of a scene (semlb bench engine, the single_device and effects_cost
-// experiments) and the density statistics that make such numbers comparable.
+// experiments), of the host cell stage (semlb bench cells) and the density statistics that make such numbers comparable.
 #pragma once
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "backend.hpp"
@@ -28,6 +29,15 @@ struct Timing {
   std::map<std::string, double> kernel_seconds;  // over the timed steps, when the backend profiles
   double element_steps_per_second() const { return seconds > 0 ? static_cast<double>(elements) * steps / seconds : 0; }
 };
+
+// The host cell stage (semlb bench cells): seconds per cell update of each part, over `updates` updates
+// run back to back on the scene's tissue after one untimed update.
+struct CellStageTiming {
+  long cells = 0, elements = 0, updates = 0;
+  std::string backend, device;
+  std::vector<std::pair<std::string, double>> parts;  // download, each cell effect, upload
+};
+CellStageTiming time_cell_stage(Scene& scene, long updates);
 
 // Builds the scene's tissue (and its density statistics), runs `warmup` steps, then times `steps` steps
 // without per-phase syncs, then (if profile_steps > 0) that many more with them for the phase breakdown.

@@ -50,22 +50,29 @@ std::array<double, 3> centroid(const State& s, long cell) {
   return c;
 }
 
-CellPositions cell_positions(const State& s) {
-  CellPositions cells(s.cells());
-  for (long c = 0; c < s.cells(); ++c)
-    for (int k = 0; k < s.cell_count[c]; ++k) {
-      const double* p = &s.position[3 * (s.cell_first[c] + k)];
-      cells[c].push_back({p[0], p[1], p[2]});
-    }
-  return cells;
+Positions elements_of(const State& s, long cell) {
+  Positions out(s.cell_count[cell]);
+  for (size_t k = 0; k < out.size(); ++k)
+    for (int d = 0; d < 3; ++d) out[k][d] = s.position[3 * (s.cell_first[cell] + k) + d];
+  return out;
 }
 
-void rebuild(State& s, const CellPositions& cells) {
-  s.position.clear();
-  for (size_t c = 0; c < cells.size(); ++c) {
-    s.cell_count[c] = static_cast<int>(cells[c].size());
-    for (const auto& p : cells[c]) s.position.insert(s.position.end(), p.begin(), p.end());
+void copy_elements(const State& s, long cell, std::vector<double>& out) {
+  const auto first = s.position.begin() + 3 * s.cell_first[cell];
+  out.insert(out.end(), first, first + 3 * s.cell_count[cell]);
+}
+
+void rewrite_elements(State& s, const std::function<void(long, std::vector<double>&)>& emit, long added) {
+  std::vector<double> out;
+  out.reserve(s.position.size() + 3 * static_cast<size_t>(std::max(added, 0L)));
+  std::vector<int> counts(s.cells());
+  for (long c = 0; c < s.cells(); ++c) {
+    const size_t before = out.size();
+    emit(c, out);
+    counts[c] = static_cast<int>((out.size() - before) / 3);
   }
+  s.position.swap(out);
+  s.cell_count.swap(counts);
   s.reindex();
 }
 

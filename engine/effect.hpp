@@ -45,11 +45,14 @@ std::vector<std::string> effect_names();
 
 // Helpers shared by the cell effects.
 std::array<double, 3> centroid(const State& s, long cell);
-// Each cell's elements as positions: the form cell effects edit before rebuild().
-using CellPositions = std::vector<std::vector<std::array<double, 3>>>;
-CellPositions cell_positions(const State& s);
-// Rebuilds the element arrays after cells gained, lost or swapped elements: `cells` gives each
-// cell's elements as positions; the order of cells is kept.
-void rebuild(State& s, const CellPositions& cells);
+// One cell's elements as positions (what division splits).
+using Positions = std::vector<std::array<double, 3>>;
+Positions elements_of(const State& s, long cell);
+// Appends one cell's current elements (3 doubles each) to `out`.
+void copy_elements(const State& s, long cell, std::vector<double>& out);
+// Rebuilds the element array in one pass after cells gained, lost or swapped elements: emit(c, out)
+// appends cell c's elements for c = 0 .. cells()-1 in order, reading the state as it was (positions,
+// counts, first elements); each cell's count becomes what it emitted. `added` sizes the new array.
+void rewrite_elements(State& s, const std::function<void(long, std::vector<double>&)>& emit, long added);
 
 }  // namespace semlb::engine

@@ -21,6 +21,10 @@ Simulation::Simulation(const Scene& scene, State state)
     if (e->moves_after_integration()) phases_.push_back(e->name());
   for (const auto& e : effects_) has_cell_effects_ = has_cell_effects_ || e->changes_cells();
   if (has_cell_effects_) phases_.push_back("cells");
+  cell_parts_.push_back({"download", 0.0});
+  for (const auto& e : effects_)
+    if (e->changes_cells()) cell_parts_.push_back({e->name(), 0.0});
+  cell_parts_.push_back({"upload", 0.0});
   seconds_.assign(phases_.size(), 0.0);
   backend_->upload(state_);
 }
@@ -74,13 +78,25 @@ void Simulation::step_once() {
 }
 
 void Simulation::update_cells() {
+  size_t part = 0;
+  auto t0 = std::chrono::steady_clock::now();
+  const auto lap = [&] {  // closes the current part
+    cell_parts_[part++].second += seconds_since(t0);
+    t0 = std::chrono::steady_clock::now();
+  };
   backend_->download(state_);
+  lap();
   CellContext ctx{state_, scene_->seed, scene_->dt * static_cast<double>(scene_->cell_update_every)};
   bool changed = false;
   for (const auto& e : effects_)
-    if (e->changes_cells()) changed = e->update_cells(ctx) || changed;
+    if (e->changes_cells()) {
+      changed = e->update_cells(ctx) || changed;
+      lap();
+    }
   if (changed) backend_->upload(state_);
   refit_grid();
+  if (profile) backend_->finish();
+  lap();
 }
 
 const State& Simulation::sync() {

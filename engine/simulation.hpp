@@ -6,6 +6,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "backend.hpp"
@@ -38,6 +39,11 @@ class Simulation {
   const std::vector<std::string>& phases() const { return phases_; }
   const std::vector<double>& phase_seconds() const { return seconds_; }  // accumulated, per phase
   bool has_cell_effects() const { return has_cell_effects_; }
+  // The host cell stage once, now: download, the cell effects, upload. advance() runs it every
+  // time.cell_update_every steps; `semlb bench cells` calls it directly.
+  void update_cells();
+  // Accumulated seconds of the cell stage's parts: "download", each cell effect by name, "upload".
+  const std::vector<std::pair<std::string, double>>& cell_stage_seconds() const { return cell_parts_; }
   bool profile = true;
   // Throws SimulationError if a kernel recorded a failure.
   void check();
@@ -51,7 +57,6 @@ class Simulation {
 
  private:
   void step_once();
-  void update_cells();
   void refit_grid();
   template <class F>
   void timed(size_t phase, F&& f);
@@ -63,6 +68,7 @@ class Simulation {
   Grid grid_;
   std::vector<std::string> phases_;
   std::vector<double> seconds_;
+  std::vector<std::pair<std::string, double>> cell_parts_;
   bool has_cell_effects_ = false;
 };
 

@@ -23,30 +23,36 @@ class Division final : public Effect {
     bool any = false;
     for (long c = 0; c < before && !any; ++c) any = types_[s.cell_type[c]] && s.cell_count[c] >= at_;
     if (!any) return false;
-    CellPositions cells = cell_positions(s);
+    std::vector<long> halves_of(before, -1);  // mother -> index into halves; daughter before + i
+    std::vector<std::pair<Positions, Positions>> halves;
     for (long c = 0; c < before; ++c) {  // cells in stored order
       if (!types_[s.cell_type[c]] || s.cell_count[c] < at_) continue;
       auto& depth = s.cell_fields["division.depth"];
       const int d = static_cast<int>(depth[c]);
       if (d >= kMaxDivisionDepth)
         throw std::runtime_error("cell " + std::to_string(s.cell_id[c]) + " divided " + std::to_string(d) + " times: cell ids are exhausted");
-      auto [stay, leave] = split(cells[c]);
-      cells[c] = std::move(stay);
-      cells.push_back(std::move(leave));
+      halves_of[c] = static_cast<long>(halves.size());
+      halves.push_back(split(elements_of(s, c)));
       s.cell_id.push_back(daughter_id(s.cell_id[c], d));
       s.cell_type.push_back(s.cell_type[c]);
       s.cell_count.push_back(0);
       depth[c] = d + 1;
       for (auto& [name, field] : s.cell_fields) field.push_back(field[c]);  // daughters inherit (depth too)
     }
-    rebuild(s, cells);
+    const auto append = [](const Positions& e, std::vector<double>& out) {
+      for (const auto& p : e) out.insert(out.end(), p.begin(), p.end());
+    };
+    rewrite_elements(s, [&](long c, std::vector<double>& out) {
+      if (c >= before) append(halves[c - before].second, out);          // a daughter: the +axis half
+      else if (halves_of[c] >= 0) append(halves[halves_of[c]].first, out);  // a mother keeps the rest
+      else copy_elements(s, c, out);
+    }, 0);
     return true;
   }
 
   // Splits by the sign of (y - c) . a, a the gyration tensor's long axis; a degenerate cell (all
   // elements on one side, e.g. coincident) is split in half by projection order.
-  static std::pair<std::vector<std::array<double, 3>>, std::vector<std::array<double, 3>>> split(
-      const std::vector<std::array<double, 3>>& e) {
+  static std::pair<Positions, Positions> split(const Positions& e) {
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
     for (const auto& p : e) c += Eigen::Vector3d(p[0], p[1], p[2]);
     c /= static_cast<double>(e.size());
@@ -62,7 +68,7 @@ class Division final : public Effect {
     if (axis[big] < 0) axis = -axis;  // eigenvector sign is arbitrary: fix it
     std::vector<std::pair<double, int>> proj;
     for (size_t k = 0; k < e.size(); ++k) proj.push_back({(Eigen::Vector3d(e[k][0], e[k][1], e[k][2]) - c).dot(axis), static_cast<int>(k)});
-    std::vector<std::array<double, 3>> stay, leave;
+    Positions stay, leave;
     for (const auto& [p, k] : proj) (p > 0 ? leave : stay).push_back(e[k]);
     if (stay.empty() || leave.empty()) {
       std::stable_sort(proj.begin(), proj.end(), [](const auto& a, const auto& b) { return a.first < b.first; });

@@ -44,10 +44,15 @@ class Growth final : public Effect {
       any = any || births[c] > 0;
     }
     if (!any) return false;
-    CellPositions cells = cell_positions(s);
-    for (long c = 0; c < s.cells(); ++c)
-      for (int b = 0; b < births[c]; ++b) cells[c].push_back(newborn(s, c, ctx.seed, static_cast<int>(cells[c].size())));
-    rebuild(s, cells);
+    long added = 0;
+    for (int b : births) added += b;
+    rewrite_elements(s, [&](long c, std::vector<double>& out) {
+      copy_elements(s, c, out);
+      for (int b = 0; b < births[c]; ++b) {
+        const auto p = newborn(s, c, ctx.seed, s.cell_count[c] + b);
+        out.insert(out.end(), p.begin(), p.end());
+      }
+    }, added);
     return true;
   }
 

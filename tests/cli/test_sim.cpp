@@ -58,5 +58,23 @@ TEST(CliSim, BenchEnginePrintsElementStepsPerSecond) {
   EXPECT_NE(r.out.find("\ncpu-binned "), std::string::npos) << r.out;
 }
 
+TEST(CliSim, BenchCellsTimesEachPartOfTheCellStage) {
+  const auto r = run(semlb_bin() + " bench cells --backends cpu-binned --cells 300 --steps 3");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_NE(r.out.find("cpu-binned double, 3"), std::string::npos) << r.out;  // cells grown from 300 by divisions
+  double sum = 0, total = 0;
+  for (const char* part : {"download", "growth", "division", "differentiation", "upload", "total"}) {
+    const auto at = r.out.find(std::string("\n  ") + part + " ");
+    ASSERT_NE(at, std::string::npos) << part << "\n" << r.out;
+    const double ms = std::stod(r.out.substr(at + 3 + std::string(part).size()));
+    EXPECT_GE(ms, 0.0) << part;
+    (std::string(part) == "total" ? total : sum) += ms;
+  }
+  EXPECT_NEAR(total, sum, 0.05 + 1e-3 * sum) << r.out;  // the parts add up to the total (printed rounded)
+  const auto bad = run(semlb_bin() + " bench cells --scene " + std::string(SEMLB_SOURCE_DIR) + "/scenes/mechanics.yaml --steps 1");
+  EXPECT_EQ(bad.rc, 2) << bad.out;
+  EXPECT_NE(bad.out.find("mechanics.yaml: field 'effects': the scene lists no cell effect"), std::string::npos) << bad.out;
+}
+
 }  // namespace
 }  // namespace semlb::test
