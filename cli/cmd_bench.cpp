@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 
 #include "controllers/errors.hpp"
 
@@ -46,27 +47,35 @@ int bench_policies(int ranks, int events, int repeats, uint64_t seed, const std:
   return 0;
 }
 
-// Element-steps per second of a scene per backend and tissue size, with the tissue's density.
-int bench_engine(const std::string& scene_file, const std::string& backends, const std::string& cells, long steps,
-                 long warmup, const SceneFlags& flags) {
-  std::printf("# semlb bench engine: %s, %ld timed steps after %ld warm-up steps\n", scene_file.c_str(), steps, warmup);
-  std::printf("%-16s %-9s %9s %10s %10s %14s %9s %9s %9s  %s\n", "backend", "precision", "cells", "elements", "seconds",
-              "elem-steps/s", "per_cube", "candid.", "neighb.", "device");
+// Runs `fn` on the scene with each backend and tissue size, flushing the table after each.
+void for_each_scene(const std::string& scene_file, const std::string& backends, const std::string& cells,
+                    const SceneFlags& flags, const std::function<void(engine::Scene&, const std::string&)>& fn) {
   for (const auto& backend : split(backends, ','))
     for (long n : surrogate::parse_int_list(cells, "--cells")) {
       auto o = scene_overrides(flags);
       o.push_back("backend.name=" + backend);
       o.push_back("tissue.cells=" + std::to_string(n));
       auto scene = engine::load_scene(scene_file, o);
-      const auto t = engine::time_scene(scene, steps, warmup);
-      const auto& stats = t.stats;
-      std::printf("%-16s %-9s %9ld %10ld %10.4f %14.4g %9.2f %9.1f %9.1f  %s\n", backend.c_str(), scene.backend.precision.c_str(),
-                  t.cells, t.elements, t.seconds, t.element_steps_per_second(), stats.per_cutoff_cube, stats.candidates,
-                  stats.neighbours, t.device.c_str());
-      for (const auto& [kernel, secs] : t.kernel_seconds)  // with SEMLB_OPENCL_PROFILE=1
-        std::printf("    kernel %-16s %10.3f ms/step\n", kernel.c_str(), 1e3 * secs / steps);
+      fn(scene, backend);
       std::fflush(stdout);
     }
+}
+
+// Element-steps per second of a scene per backend and tissue size, with the tissue's density.
+int bench_engine(const std::string& scene_file, const std::string& backends, const std::string& cells, long steps,
+                 long warmup, const SceneFlags& flags) {
+  std::printf("# semlb bench engine: %s, %ld timed steps after %ld warm-up steps\n", scene_file.c_str(), steps, warmup);
+  std::printf("%-16s %-9s %9s %10s %10s %14s %9s %9s %9s  %s\n", "backend", "precision", "cells", "elements", "seconds",
+              "elem-steps/s", "per_cube", "candid.", "neighb.", "device");
+  for_each_scene(scene_file, backends, cells, flags, [&](engine::Scene& scene, const std::string& backend) {
+    const auto t = engine::time_scene(scene, steps, warmup);
+    const auto& stats = t.stats;
+    std::printf("%-16s %-9s %9ld %10ld %10.4f %14.4g %9.2f %9.1f %9.1f  %s\n", backend.c_str(), scene.backend.precision.c_str(),
+                t.cells, t.elements, t.seconds, t.element_steps_per_second(), stats.per_cutoff_cube, stats.candidates,
+                stats.neighbours, t.device.c_str());
+    for (const auto& [kernel, secs] : t.kernel_seconds)  // with SEMLB_OPENCL_PROFILE=1
+      std::printf("    kernel %-16s %10.3f ms/step\n", kernel.c_str(), 1e3 * secs / steps);
+  });
   return 0;
 }
 
@@ -74,22 +83,16 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
 int bench_cells(const std::string& scene_file, const std::string& backends, const std::string& cells, long updates,
                 const SceneFlags& flags) {
   std::printf("# semlb bench cells: %s, ms per cell update (mean of %ld, after one untimed)\n", scene_file.c_str(), updates);
-  for (const auto& backend : split(backends, ','))
-    for (long n : surrogate::parse_int_list(cells, "--cells")) {
-      auto o = scene_overrides(flags);
-      o.push_back("backend.name=" + backend);
-      o.push_back("tissue.cells=" + std::to_string(n));
-      auto scene = engine::load_scene(scene_file, o);
-      const auto t = engine::time_cell_stage(scene, updates);
-      double total = 0;
-      for (const auto& [part, secs] : t.parts) total += secs;
-      std::printf("%s %s, %ld cells, %ld elements (%s)\n", backend.c_str(), scene.backend.precision.c_str(), t.cells,
-                  t.elements, t.device.c_str());
-      std::printf("  %-16s %10s %7s\n", "part", "ms/update", "share");
-      for (const auto& [part, secs] : t.parts) std::printf("  %-16s %10.2f %6.1f%%\n", part.c_str(), 1e3 * secs, 100 * secs / total);
-      std::printf("  %-16s %10.2f\n", "total", 1e3 * total);
-      std::fflush(stdout);
-    }
+  for_each_scene(scene_file, backends, cells, flags, [&](engine::Scene& scene, const std::string& backend) {
+    const auto t = engine::time_cell_stage(scene, updates);
+    double total = 0;
+    for (const auto& [part, secs] : t.parts) total += secs;
+    std::printf("%s %s, %ld cells, %ld elements (%s)\n", backend.c_str(), scene.backend.precision.c_str(), t.cells,
+                t.elements, t.device.c_str());
+    std::printf("  %-16s %10s %7s\n", "part", "ms/update", "share");
+    for (const auto& [part, secs] : t.parts) std::printf("  %-16s %10.2f %6.1f%%\n", part.c_str(), 1e3 * secs, 100 * secs / total);
+    std::printf("  %-16s %10.2f\n", "total", 1e3 * total);
+  });
   return 0;
 }
 
