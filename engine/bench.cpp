@@ -77,13 +77,15 @@ Timing time_scene(Scene& scene, long steps, long warmup, long profile_steps) {
 
 CellStageTiming time_cell_stage(Scene& scene, long updates) {
   Simulation sim(scene, make_tissue(scene));
-  if (!sim.has_cell_effects()) throw InputError(scene.path + ": field 'effects': the scene lists no cell effect (growth, division, differentiation)");
+  if (!sim.has_cell_effects())
+    throw InputError(scene.path + ": field 'effects': the scene lists no cell effect (growth, division, differentiation)");
   sim.update_cells();  // untimed: first allocations
   const auto before = sim.cell_stage_seconds();
   for (long u = 0; u < updates; ++u) sim.update_cells();
   CellStageTiming t{sim.host_state().cells(), sim.host_state().elements(), updates, sim.backend().name(),
                     sim.backend().device_name(), sim.cell_stage_seconds()};
-  for (size_t p = 0; p < t.parts.size(); ++p) t.parts[p].second = (t.parts[p].second - before[p].second) / static_cast<double>(updates);
+  for (size_t p = 0; p < t.parts.size(); ++p)
+    t.parts[p].second = (t.parts[p].second - before[p].second) / static_cast<double>(updates);
   return t;
 }
 

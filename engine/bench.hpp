@@ -1,5 +1,6 @@
 // Timing of the element kernels of a scene (semlb bench engine, the single_device and effects_cost
-// experiments), of the host cell stage (semlb bench cells) and the density statistics that make such numbers comparable.
+// experiments), of the host cell stage (semlb bench cells), and the density statistics that make such
+// numbers comparable.
 #pragma once
 #include <map>
 #include <string>
