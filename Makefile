@@ -43,6 +43,7 @@ train: build
 bench: build
 	$(SEMLB) bench policies --ranks 16
 	$(SEMLB) bench engine --backends serial,cpu-binned,opencl-allpairs,opencl-binned --cells 200 --steps 50
+	$(SEMLB) bench cells --backends cpu-binned,opencl-binned --cells 2000,20000 --steps 10
 
 clean:
 	rm -rf $(BUILD)
