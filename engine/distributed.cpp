@@ -158,19 +158,20 @@ int owner_of(int slice, const std::vector<int>& boundaries) {
   return static_cast<int>(std::upper_bound(boundaries.begin(), boundaries.end(), slice) - boundaries.begin());
 }
 
-std::vector<double> slice_workload(const State& s, const std::vector<double>& neighbourhood, const Decomposition& d,
+std::vector<double> slice_workload(const State& s, const std::vector<double>& ghosts, const Decomposition& d,
                                    double cutoff) {
   const auto [lo, hi] = tissue_box(s, cutoff);
   const Grid g = Grid::cover(lo, hi, cutoff);
   auto index = [&](const std::array<int, 3>& b) { return (static_cast<long>(b[2]) * g.dims[1] + b[1]) * g.dims[0] + b[0]; };
   // Elements per bin: dense while the grid is at most a few times the elements, else sorted bin indices.
-  const long elements = static_cast<long>(neighbourhood.size() / 3);
+  const long elements = static_cast<long>((s.position.size() + ghosts.size()) / 3);
   const bool dense = g.bins() <= 4 * elements + (1L << 20);
   std::vector<long> count(dense ? g.bins() : 0), bins;
-  for (long e = 0; e < elements; ++e) {
-    const long b = index(g.bin_of(&neighbourhood[3 * e]));
-    dense ? static_cast<void>(++count[b]) : bins.push_back(b);
-  }
+  for (const auto* positions : {&s.position, &ghosts})
+    for (size_t e = 0; e < positions->size(); e += 3) {
+      const long b = index(g.bin_of(&(*positions)[e]));
+      dense ? static_cast<void>(++count[b]) : bins.push_back(b);
+    }
   std::sort(bins.begin(), bins.end());
   auto in_bin = [&](long b) {
     if (dense) return count[b];
@@ -194,7 +195,7 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
     : scene_(&scene), mpi_(&mpi), dec_(Decomposition::from_scene(scene, mpi.size())) {
   policy_ = make_policy(dec_.policy, dec_.params);
   if (dec_.initial == "workload") {
-    boundaries_ = optimal_partition(slice_workload(tissue, tissue.position, dec_, scene.cutoff), mpi.size(), dec_.min_width);
+    boundaries_ = optimal_partition(slice_workload(tissue, {}, dec_, scene.cutoff), mpi.size(), dec_.min_width);
   } else {
     boundaries_ = uniform_partition(mpi.size(), dec_.slices);
   }
@@ -249,8 +250,8 @@ void DistributedSimulation::exchange_ghosts() {
     if (e == 0 || g.keys[e] >> 8 != g.keys[e - 1] >> 8) ++cell;
     g.info[e] |= cell << 2;
   }
-  ghost_positions_ = g.position;
   b.set_ghosts(g);
+  ghost_positions_ = std::move(g.position);  // for the next W_s
   b.finish();
   exchange_s_ += seconds_since(t0);
 }
@@ -294,9 +295,7 @@ void DistributedSimulation::rebalance() {
     iv.migrate.push_back(seconds[3 * r + 2]);
   }
   const State& s = sim_->host_state();
-  std::vector<double> neighbourhood = s.position;
-  neighbourhood.insert(neighbourhood.end(), ghost_positions_.begin(), ghost_positions_.end());
-  auto work = slice_workload(s, neighbourhood, dec_, scene_->cutoff);
+  auto work = slice_workload(s, ghost_positions_, dec_, scene_->cutoff);
   mpi_->allreduce_sum(work);
   const long cells = totals().first;
   Observation obs;

@@ -25,8 +25,8 @@ struct Decomposition {
 };
 
 // Per-slice workload W_s = sum over cells of n_i * n_N(i) (paper eqs. 2-3): n_N(i) counts the elements in
-// the 3x3x3 bins around the cell's centroid, among `neighbourhood` (3 doubles per element).
-std::vector<double> slice_workload(const State& cells, const std::vector<double>& neighbourhood, const Decomposition& d,
+// the 3x3x3 bins around the cell's centroid, among the cells' own elements and `ghosts` (3 doubles each).
+std::vector<double> slice_workload(const State& cells, const std::vector<double>& ghosts, const Decomposition& d,
                                    double cutoff);
 int owner_of(int slice, const std::vector<int>& boundaries);
 

@@ -74,7 +74,7 @@ class OpenClBackend final : public Backend {
     n_ = owned_ + g.elements();
   }
 
-  void download(State& s) override { s.position = positions(read_packed(pos_, owned_)); }
+  void download(State& s) override { to_positions(read_packed(pos_, owned_), s.position); }
 
   std::array<double, 2> x_extent() override {
     if (!owned_) return {INFINITY, -INFINITY};
@@ -99,7 +99,7 @@ class OpenClBackend final : public Backend {
     const std::vector<Real4> packed = read_packed(band_pos_, m);
     out.keys.resize(m);
     read(band_keys_, out.keys.data(), m * sizeof(uint64_t));
-    out.position = positions(packed);
+    to_positions(packed, out.position);
     for (const Real4& p : packed) out.info.push_back(unpack_info(p[3]) & 3);
   }
 
@@ -185,11 +185,10 @@ class OpenClBackend final : public Backend {
     read(m, packed.data(), n * sizeof(Real4));
     return packed;
   }
-  static std::vector<double> positions(const std::vector<Real4>& packed) {
-    std::vector<double> p(3 * packed.size());
+  static void to_positions(const std::vector<Real4>& packed, std::vector<double>& p) {  // keeps p's capacity
+    p.resize(3 * packed.size());
     for (size_t i = 0; i < packed.size(); ++i)
       for (int c = 0; c < 3; ++c) p[3 * i + c] = packed[i][c];
-    return p;
   }
   static int unpack_info(Real w) {
     if constexpr (std::is_same_v<Real, float>) {

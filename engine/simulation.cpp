@@ -95,7 +95,6 @@ void Simulation::update_cells() {
     }
   if (changed) backend_->upload(state_);
   refit_grid();
-  if (profile) backend_->finish();
   lap();
 }
 
