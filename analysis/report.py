@@ -40,6 +40,14 @@ def grouped(rows, value):
     return policies, ranks, groups
 
 
+def by(rows, column):
+    """column value -> rows with it, in first-seen order."""
+    out = OrderedDict()
+    for r in rows:
+        out.setdefault(r[column], []).append(r)
+    return out
+
+
 def mean_sd(vals):
     return statistics.fmean(vals), (statistics.stdev(vals) if len(vals) > 1 else 0.0)
 
@@ -113,6 +121,28 @@ def holt_tuning_table(rows):
            "Mean over the grid's ranks and training seeds; sorted by imbalance (lower is better).", "",
            "| alpha | beta | imbalance % | migration |", "|---:|---:|---:|---:|"]
     out += [f"| {a:g} | {b:g} | {100 * i:.3f} | {m:.0f} |" for i, m, a, b in scored]
+    return "\n".join(out) + "\n"
+
+
+def frontier_table(rows, results):
+    """Lazy-oracle imbalance and migration per (P, tau), beside reactive's row of controller_eval and the
+    GRU target it implies (migration <= reactive/8 within +0.5 points)."""
+    reactive = {}
+    eval_csv = os.path.join(results, "controller_eval/controller_eval.csv")
+    if os.path.exists(eval_csv):
+        for p, rs in by([r for r in read_rows(eval_csv) if r["policy"] == "reactive"], "ranks").items():
+            reactive[p] = (statistics.fmean(float(r["mean_imbalance"]) for r in rs),
+                           statistics.fmean(float(r["migration"]) for r in rs))
+    out = ["# What one-step foresight buys per migrated slice (lazy oracle, held-out seeds)", "",
+           "Mean over seeds. Target: the GRU's bound, reactive's imbalance + 0.5 points at 1/8 of its "
+           "migration (reactive from controller_eval.csv in the same results folder).", "",
+           "| P | tau | imbalance % | migration | target imbalance % | target migration |",
+           "|---:|---:|---:|---:|---:|---:|"]
+    for p, rs in sorted(by(rows, "ranks").items(), key=lambda kv: int(kv[0])):
+        ri, rm = reactive.get(p, (float("nan"), float("nan")))
+        for tau, ts in sorted(by(rs, "lazy_oracle.tau").items(), key=lambda kv: float(kv[0])):
+            out.append(f"| {p} | {float(tau):g} | {100 * statistics.fmean(float(r['mean_imbalance']) for r in ts):.2f} | "
+                       f"{statistics.fmean(float(r['migration']) for r in ts):.1f} | {100 * ri + 0.5:.2f} | {rm / 8:.1f} |")
     return "\n".join(out) + "\n"
 
 
@@ -283,14 +313,27 @@ def strong_scaling_table(rows):
     return "\n".join(out) + "\n"
 
 
+def machine_head(rows):  # GPU CSVs gathered from several machines carry a `machine` column
+    return " machine |" if rows and "machine" in rows[0] else ""
+
+
+def machine_rule(rows):
+    return "---|" if rows and "machine" in rows[0] else ""
+
+
+def machine_cell(row):
+    return f" {row['machine']} |" if "machine" in row else ""
+
+
 def load_balance_table(rows):
     out = ["# Load balancing end to end", "",
            "Runtime of the time-stepping loop (start-up excluded), computation-only time, mean global imbalance (T_max-T_min)/T_mean over the rebalancing "
            "intervals and migrated slices, per initial partition and policy.", "",
-           "| initial | policy | runtime (s) | compute (s) | mean imbalance % | migrated slices |", "|---|---|---:|---:|---:|---:|"]
+           "| initial | policy | runtime (s) | compute (s) | mean imbalance % | migrated slices |" + machine_head(rows),
+           "|---|---|---:|---:|---:|---:|" + machine_rule(rows)]
     for r in rows:
         out.append(f"| {r['initial']} | {r['policy']} | {float(r['wall_s']):.2f} | {float(r['compute_s']):.2f} | "
-                   f"{100 * float(r['mean_imbalance']):.1f} | {r['migrated_slices']} |")
+                   f"{100 * float(r['mean_imbalance']):.1f} | {r['migrated_slices']} |" + machine_cell(r))
     return "\n".join(out) + "\n"
 
 
@@ -317,6 +360,7 @@ REPORTS = {
                                             ("figures/controller_eval.png", controller_figure)],
     "controller_long/controller_long.csv": [("tables/controller_long.md", controller_table)],
     "holt_tuning/holt_tuning.csv": [("tables/holt_tuning.md", holt_tuning_table)],
+    "foresight_frontier/foresight_frontier.csv": [("tables/foresight_frontier.md", frontier_table)],
     "training_curve/training_curve.csv": [("tables/training_curve.md", training_curve_table),
                                           ("figures/training_curve.png", training_curve_figure)],
     "single_device/single_device.csv": [("tables/single_device.md", single_device_table),
@@ -329,6 +373,8 @@ REPORTS = {
     "load_balance/load_balance.csv": [("tables/load_balance.md", load_balance_table)],
     "rank_balance/rank_balance.csv": [("figures/rank_balance.png", rank_balance_figure)],
 }
+
+NEEDS_RESULTS = {frontier_table}  # builders that also read a sibling CSV
 
 
 def main():
@@ -345,7 +391,7 @@ def main():
             print(f"report: {path}: no rows", file=sys.stderr)
             return 2
         for out, build in outputs:
-            atomic_write(os.path.join(args.results, out), build(rows))
+            atomic_write(os.path.join(args.results, out), build(rows, args.results) if build in NEEDS_RESULTS else build(rows))
             print(f"report: wrote {os.path.join(args.results, out)}")
             made += 1
     if made == 0:

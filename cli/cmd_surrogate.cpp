@@ -17,7 +17,7 @@ Action add_surrogate(CLI::App& app) {
   };
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("surrogate", "Evaluate policies on surrogate scenarios (hard integer boundaries)");
-  sub->add_option("--policies", o->policies, "Comma-separated policy names (static,reactive,persistence,holt,gru,oracle)")->required();
+  sub->add_option("--policies", o->policies, "Comma-separated policy names (static,reactive,persistence,holt,gru,oracle,lazy_oracle)")->required();
   sub->add_option("--ranks", o->ranks, "Rank counts, e.g. 2,4,8,16 or 2-16")->capture_default_str();
   sub->add_option("--seeds", o->seeds, "Scenario seeds, inclusive ranges (evaluation seeds: 9000-9999)")->capture_default_str();
   sub->add_option("--events", o->events, "Rebalancing events per rollout")->capture_default_str()->check(CLI::PositiveNumber);

@@ -5,6 +5,9 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <deque>
+#include <limits>
+#include <string>
 
 #include "errors.hpp"
 #include "partition.hpp"
@@ -43,19 +46,26 @@ class SuffixFeasibility {
   std::vector<char> table_;
 };
 
-}  // namespace
-
-std::vector<int> optimal_partition(std::span<const double> work, int ranks, int min_width) {
+// Prefix sums of `work` after checking that it can be split into `ranks` parts of width >= min_width.
+std::vector<double> checked_prefix(std::span<const double> work, int ranks, int min_width, const char* who) {
   const int S = static_cast<int>(work.size());
   if (ranks < 1 || min_width < 1 || static_cast<long>(ranks) * min_width > S)
-    throw InputError("optimal_partition: cannot split " + std::to_string(S) + " slices into " +
+    throw InputError(std::string(who) + ": cannot split " + std::to_string(S) + " slices into " +
                      std::to_string(ranks) + " ranks of width >= " + std::to_string(min_width));
   std::vector<double> p(S + 1, 0.0);
   for (int s = 0; s < S; ++s) {
     if (!std::isfinite(work[s]) || work[s] < 0.0)
-      throw InputError("optimal_partition: work[" + std::to_string(s) + "] is not finite and non-negative");
+      throw InputError(std::string(who) + ": work[" + std::to_string(s) + "] is not finite and non-negative");
     p[s + 1] = p[s] + work[s];
   }
+  return p;
+}
+
+}  // namespace
+
+std::vector<int> optimal_partition(std::span<const double> work, int ranks, int min_width) {
+  const auto p = checked_prefix(work, ranks, min_width, "optimal_partition");
+  const int S = static_cast<int>(work.size());
   SuffixFeasibility probe(p, ranks, min_width);
   // Smallest feasible bound: bisection over the ordered bit patterns of non-negative doubles (exact).
   uint64_t lo = 0, hi = std::bit_cast<uint64_t>(p[S]);
@@ -82,6 +92,47 @@ std::vector<int> optimal_partition(std::span<const double> work, int ranks, int 
 double bottleneck(std::span<const double> work, std::span<const int> boundaries) {
   const auto sums = rank_sums(work, boundaries);
   return *std::max_element(sums.begin(), sums.end());
+}
+
+// f[k][x]: least sum of |b_j - current_j| over boundaries 1..k with boundary k at slice x and parts 1..k
+// within the bound. The admissible previous boundaries y form a window [lo(x), x - min_width] whose ends
+// never move left as x grows, so a monotone deque gives each row in O(S).
+std::vector<int> nearest_partition(std::span<const double> work, std::span<const int> current, int min_width,
+                                   double bound) {
+  const int ranks = static_cast<int>(current.size()) + 1, S = static_cast<int>(work.size());
+  const auto p = checked_prefix(work, ranks, min_width, "nearest_partition");
+  bound += 1e-12 * p[S];  // a bottleneck summed in another order may differ from a prefix difference by rounding
+  constexpr long kNone = std::numeric_limits<long>::max();
+  std::vector<std::vector<long>> f(ranks, std::vector<long>(S + 1, kNone));
+  std::vector<std::vector<int>> from(ranks, std::vector<int>(S + 1, -1));
+  f[0][0] = 0;
+  for (int k = 1; k < ranks; ++k) {
+    std::deque<int> window;  // candidate y, f[k-1][y] increasing
+    int next_y = 0, lo = 0;
+    for (int x = k * min_width; x <= S - (ranks - k) * min_width; ++x) {
+      for (; next_y <= x - min_width; ++next_y) {
+        if (f[k - 1][next_y] == kNone) continue;
+        while (!window.empty() && f[k - 1][window.back()] >= f[k - 1][next_y]) window.pop_back();
+        window.push_back(next_y);
+      }
+      while (p[x] - p[lo] > bound) ++lo;
+      while (!window.empty() && window.front() < lo) window.pop_front();
+      if (window.empty()) continue;
+      f[k][x] = f[k - 1][window.front()] + std::abs(x - current[k - 1]);
+      from[k][x] = window.front();
+    }
+  }
+  int best = -1;
+  for (int x = (ranks - 1) * min_width; x <= S - min_width; ++x)
+    if (f[ranks - 1][x] != kNone && p[S] - p[x] <= bound && (best < 0 || f[ranks - 1][x] < f[ranks - 1][best]))
+      best = x;
+  if (best < 0) throw InputError("nearest_partition: no partition keeps every rank within the bound");
+  std::vector<int> b(ranks - 1);  // empty for one rank
+  for (int k = ranks - 1; k >= 1; --k) {
+    b[k - 1] = best;
+    best = from[k][best];
+  }
+  return b;
 }
 
 }  // namespace semlb

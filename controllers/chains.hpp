@@ -10,6 +10,11 @@ namespace semlb {
 // places each boundary, left to right, where the cumulative work is closest to its equal share.
 std::vector<int> optimal_partition(std::span<const double> work, int ranks, int min_width);
 
+// The partition nearest to `current` (least migration, sum of |b - current|) among those whose every part
+// sum is at most `bound` and every width at least min_width. Throws InputError when none exists.
+std::vector<int> nearest_partition(std::span<const double> work, std::span<const int> current, int min_width,
+                                   double bound);
+
 // Largest part sum of a partition.
 double bottleneck(std::span<const double> work, std::span<const int> boundaries);
 

@@ -1,9 +1,11 @@
-// Repartitioning policies: persistence and holt (forecast, then optimal partition) and the oracle.
+// Repartitioning policies: persistence and holt (forecast, then optimal partition), the oracle and the lazy oracle.
 #include <memory>
 
 #include "chains.hpp"
 #include "errors.hpp"
 #include "forecast.hpp"
+#include "metrics.hpp"
+#include "partition.hpp"
 #include "policy.hpp"
 
 namespace semlb {
@@ -45,6 +47,23 @@ class OraclePolicy final : public Policy {
   }
 };
 
+// Knows the next interval's true work, keeps the boundaries while their imbalance on it is at most tau,
+// and otherwise moves to the nearest partition whose bottleneck is within (1 + slack) of the optimum: what
+// perfect foresight buys per migrated slice (docs/controllers.md).
+class LazyOraclePolicy final : public Policy {
+ public:
+  LazyOraclePolicy(double tau, double slack) : tau_(tau), slack_(slack) {}
+  std::vector<int> decide(const Observation& obs) override {
+    const auto& work = require(obs.oracle_work, obs, "lazy_oracle", "oracle_work");
+    if (global_imbalance(rank_sums(work, obs.boundaries)) <= tau_) return obs.boundaries;
+    const double best = bottleneck(work, optimal_partition(work, obs.ranks(), obs.min_width));
+    return nearest_partition(work, obs.boundaries, obs.min_width, best * (1.0 + slack_));
+  }
+
+ private:
+  double tau_, slack_;
+};
+
 const Registrar persistence_registrar("persistence",
                                       [](PolicyParams&) { return std::make_unique<PersistencePolicy>(); });
 // Defaults chosen on training seeds only (experiments/holt_tuning.yaml; docs/controllers.md).
@@ -52,6 +71,9 @@ const Registrar holt_registrar("holt", [](PolicyParams& p) {
   return std::make_unique<HoltPolicy>(p.real("alpha", 0.2), p.real("beta", 0.0));
 });
 const Registrar oracle_registrar("oracle", [](PolicyParams&) { return std::make_unique<OraclePolicy>(); });
+const Registrar lazy_oracle_registrar("lazy_oracle", [](PolicyParams& p) {
+  return std::make_unique<LazyOraclePolicy>(p.real("tau", 0.1), p.real("slack", 0.0));
+});
 
 }  // namespace
 }  // namespace semlb

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# analysis/report.py on a fresh surrogate CSV: the table holds every policy x P cell, the figure is a PNG.
+# analysis/report.py on fresh surrogate CSVs: the table holds every policy x P cell, the figure is a PNG, and the
+# lazy oracle's frontier carries the target computed from reactive's rows.
 set -euo pipefail
 src=$1; work=$2; semlb=$3
 rm -rf "$work"; mkdir -p "$work/controller_eval"
@@ -10,5 +11,13 @@ table="$work/tables/controller_eval.md"
 for p in static reactive oracle; do grep -q "^| $p | [0-9.]* ± [0-9.]* | [0-9]* ± [0-9]* |" "$table" || { echo "missing row $p"; cat "$table"; exit 1; }; done
 grep -q "P=4 imbalance" "$table"
 head -c 8 "$work/figures/controller_eval.png" | od -An -c | grep -q "P   N   G"
+# The lazy oracle's frontier, with the GRU target read from the controller_eval CSV beside it.
+"$semlb" sweep "$src/experiments/foresight_frontier.yaml" --set ranks=2,4 --set seed=9000-9002 --set events=20 \
+  --results "$work" --quiet
+"${PYTHON:-/usr/bin/python3}" "$src/analysis/report.py" --results "$work" >/dev/null
+frontier="$work/tables/foresight_frontier.md"
+for p in 2 4; do for tau in 0.05 0.4; do
+  grep -q "^| $p | $tau | [0-9.]* | [0-9.]* | [0-9.]* | [0-9.]* |$" "$frontier" || { echo "missing frontier row P=$p tau=$tau"; cat "$frontier"; exit 1; }
+done; done
 if "${PYTHON:-/usr/bin/python3}" "$src/analysis/report.py" --results "$work/empty" 2>/dev/null; then echo "empty results accepted"; exit 1; fi
 echo "1 passed, 0 failed"

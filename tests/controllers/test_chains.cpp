@@ -1,4 +1,4 @@
-// Chains-on-chains partitioning against brute force, plus degenerate inputs.
+// Chains-on-chains and nearest-partition against brute force, plus degenerate inputs.
 #include <gtest/gtest.h>
 
 #include <functional>
@@ -11,24 +11,12 @@
 using namespace semlb;
 
 namespace {
-double brute_force(const std::vector<double>& w, int ranks, int min_width) {
-  const int S = static_cast<int>(w.size());
-  double best = std::numeric_limits<double>::infinity();
+// Calls visit(interior boundaries) for every partition of S slices into P parts of width >= min_width.
+void for_each_partition(int S, int P, int min_width, const std::function<void(const std::vector<int>&)>& visit) {
   std::vector<int> b;
   std::function<void(int, int)> rec = [&](int start, int left) {
     if (left == 1) {
-      if (S - start < min_width) return;
-      b.push_back(S);
-      double worst = 0, sum = 0;
-      int from = 0;
-      for (int e : b) {
-        sum = 0;
-        for (int s = from; s < e; ++s) sum += w[s];
-        worst = std::max(worst, sum);
-        from = e;
-      }
-      best = std::min(best, worst);
-      b.pop_back();
+      if (S - start >= min_width) visit(b);
       return;
     }
     for (int e = start + min_width; e <= S - (left - 1) * min_width; ++e) {
@@ -37,7 +25,25 @@ double brute_force(const std::vector<double>& w, int ranks, int min_width) {
       b.pop_back();
     }
   };
-  rec(0, ranks);
+  rec(0, P);
+}
+
+double brute_force(const std::vector<double>& w, int ranks, int min_width) {
+  double best = std::numeric_limits<double>::infinity();
+  for_each_partition(static_cast<int>(w.size()), ranks, min_width,
+                     [&](const std::vector<int>& b) { best = std::min(best, bottleneck(w, b)); });
+  return best;
+}
+
+// Least migration from `current` over the partitions within `bound` (-1 when none).
+long brute_nearest(const std::vector<double>& w, const std::vector<int>& current, int min_width, double bound) {
+  long best = -1;
+  for_each_partition(static_cast<int>(w.size()), static_cast<int>(current.size()) + 1, min_width,
+                     [&](const std::vector<int>& b) {
+                       if (bottleneck(w, b) > bound) return;
+                       const long m = migration(current, b);
+                       if (best < 0 || m < best) best = m;
+                     });
   return best;
 }
 }  // namespace
@@ -70,4 +76,36 @@ TEST(Chains, UniformWorkIsSplitEvenlyAndErrorsAreClear) {
   EXPECT_DOUBLE_EQ(bottleneck(spike, optimal_partition(spike, 4, 2)), 100.0);
   EXPECT_THROW(optimal_partition(flat, 5, 3), InputError);
   EXPECT_THROW(optimal_partition(std::vector<double>{1, -1, 1}, 1, 1), InputError);
+}
+
+TEST(Chains, NearestPartitionMovesTheLeastWithinTheBound) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 10.0);
+  int cases = 0;
+  for (int S = 2; S <= 11; ++S)
+    for (int P = 2; P <= 4; ++P)
+      for (int w = 1; w <= 2; ++w) {
+        if (P * w > S) continue;
+        for (int trial = 0; trial < 5; ++trial) {
+          std::vector<double> work(S);
+          for (auto& x : work) x = u(rng) < 2.0 ? 0.0 : u(rng);
+          const auto current = uniform_partition(P, S);
+          const double bound = bottleneck(work, optimal_partition(work, P, w)) * (1.0 + 0.1 * trial);
+          const auto b = nearest_partition(work, current, w, bound);
+          ASSERT_NO_THROW(check_partition(b, S, w));
+          ASSERT_LE(bottleneck(work, b), bound * (1 + 1e-9));
+          ASSERT_EQ(migration(current, b), brute_nearest(work, current, w, bound)) << "S=" << S << " P=" << P;
+          ++cases;
+        }
+      }
+  EXPECT_GT(cases, 200);
+}
+
+TEST(Chains, NearestPartitionKeepsAPartitionAlreadyWithinTheBoundAndRefusesAnImpossibleOne) {
+  const std::vector<double> work{1, 1, 1, 1, 1, 1, 1, 1};
+  EXPECT_EQ(nearest_partition(work, std::vector<int>{3}, 1, 5.0), (std::vector<int>{3}));
+  EXPECT_EQ(nearest_partition(work, std::vector<int>{2}, 1, 5.0), (std::vector<int>{3}));  // one slice, not two
+  EXPECT_TRUE(nearest_partition(work, std::vector<int>{}, 1, 8.0).empty());                  // one rank
+  EXPECT_THROW(nearest_partition(work, std::vector<int>{4}, 1, 3.9), InputError);
+  EXPECT_THROW(nearest_partition(work, std::vector<int>{}, 1, 7.0), InputError);
 }

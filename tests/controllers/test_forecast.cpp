@@ -37,12 +37,19 @@ TEST(Holt, ForecastNeverNegativeAndParametersChecked) {
   EXPECT_THROW(HoltForecaster(0.5, 1.5), InputError);
 }
 
-TEST(RepartitionPolicies, UseTheirInputAndNeedIt) {
+namespace {
+Observation two_ranks_of_four_slices() {
   Observation o;
   o.slices = 8;
   o.min_width = 1;
   o.boundaries = {4};
   o.times = {1.0, 1.0};
+  return o;
+}
+}  // namespace
+
+TEST(RepartitionPolicies, UseTheirInputAndNeedIt) {
+  Observation o = two_ranks_of_four_slices();
   o.slice_work = {1, 1, 1, 1, 1, 1, 6, 0};
   o.oracle_work = {6, 0, 1, 1, 1, 1, 1, 1};
   EXPECT_EQ(make_policy("persistence")->decide(o), optimal_partition(o.slice_work, 2, 1));
@@ -52,4 +59,19 @@ TEST(RepartitionPolicies, UseTheirInputAndNeedIt) {
   o.oracle_work.clear();
   EXPECT_THROW(make_policy("persistence")->decide(o), InputError);
   EXPECT_THROW(make_policy("oracle")->decide(o), InputError);
+}
+
+TEST(RepartitionPolicies, LazyOracleWaitsUntilTheTrueImbalanceExceedsTauThenMovesTheLeast) {
+  Observation o = two_ranks_of_four_slices();
+  o.oracle_work = {1, 1, 1, 1, 1, 1, 1, 1.5};  // imbalance (4.5 - 4) / 4.25 = 0.118 on the current split
+  PolicyParams lenient(std::map<std::string, std::string>{{"tau", "0.2"}});
+  EXPECT_EQ(make_policy("lazy_oracle", lenient)->decide(o), o.boundaries);
+  PolicyParams strict(std::map<std::string, std::string>{{"tau", "0.1"}});
+  EXPECT_EQ(make_policy("lazy_oracle", strict)->decide(o), (std::vector<int>{4}));  // 4 | 4.5 is already optimal
+  o.oracle_work = {1, 1, 1, 1, 1, 1, 3, 3};  // optimum 6 | 6: boundary 4 -> 6
+  EXPECT_EQ(make_policy("lazy_oracle", strict)->decide(o), (std::vector<int>{6}));
+  PolicyParams slack({{"tau", "0.1"}, {"slack", "0.2"}});  // bound 7.2: boundary 5 (5 | 7) is nearer
+  EXPECT_EQ(make_policy("lazy_oracle", slack)->decide(o), (std::vector<int>{5}));
+  o.oracle_work.clear();
+  EXPECT_THROW(make_policy("lazy_oracle")->decide(o), InputError);
 }
