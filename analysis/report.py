@@ -124,15 +124,12 @@ def holt_tuning_table(rows):
     return "\n".join(out) + "\n"
 
 
-def frontier_table(rows, results):
-    """Lazy-oracle imbalance and migration per (P, tau), beside reactive's row of controller_eval and the
-    GRU target it implies (migration <= reactive/8 within +0.5 points)."""
-    reactive = {}
-    eval_csv = os.path.join(results, "controller_eval/controller_eval.csv")
-    if os.path.exists(eval_csv):
-        for p, rs in by([r for r in read_rows(eval_csv) if r["policy"] == "reactive"], "ranks").items():
-            reactive[p] = (statistics.fmean(float(r["mean_imbalance"]) for r in rs),
-                           statistics.fmean(float(r["migration"]) for r in rs))
+def frontier_table(rows, eval_rows):
+    """Lazy-oracle imbalance and migration per (P, tau), beside the GRU target that reactive's rows of
+    controller_eval imply (migration <= reactive/8 within +0.5 points; nan without them)."""
+    reactive = {p: (statistics.fmean(float(r["mean_imbalance"]) for r in rs),
+                    statistics.fmean(float(r["migration"]) for r in rs))
+                for p, rs in by([r for r in eval_rows if r["policy"] == "reactive"], "ranks").items()}
     out = ["# What one-step foresight buys per migrated slice (lazy oracle, held-out seeds)", "",
            "Mean over seeds. Target: the GRU's bound, reactive's imbalance + 0.5 points at 1/8 of its "
            "migration (reactive from controller_eval.csv in the same results folder).", "",
@@ -313,27 +310,16 @@ def strong_scaling_table(rows):
     return "\n".join(out) + "\n"
 
 
-def machine_head(rows):  # GPU CSVs gathered from several machines carry a `machine` column
-    return " machine |" if rows and "machine" in rows[0] else ""
-
-
-def machine_rule(rows):
-    return "---|" if rows and "machine" in rows[0] else ""
-
-
-def machine_cell(row):
-    return f" {row['machine']} |" if "machine" in row else ""
-
-
 def load_balance_table(rows):
+    many = "machine" in rows[0]  # GPU CSVs gathered from several machines name each row's machine
     out = ["# Load balancing end to end", "",
            "Runtime of the time-stepping loop (start-up excluded), computation-only time, mean global imbalance (T_max-T_min)/T_mean over the rebalancing "
            "intervals and migrated slices, per initial partition and policy.", "",
-           "| initial | policy | runtime (s) | compute (s) | mean imbalance % | migrated slices |" + machine_head(rows),
-           "|---|---|---:|---:|---:|---:|" + machine_rule(rows)]
+           "| initial | policy | runtime (s) | compute (s) | mean imbalance % | migrated slices |" + (" machine |" if many else ""),
+           "|---|---|---:|---:|---:|---:|" + ("---|" if many else "")]
     for r in rows:
         out.append(f"| {r['initial']} | {r['policy']} | {float(r['wall_s']):.2f} | {float(r['compute_s']):.2f} | "
-                   f"{100 * float(r['mean_imbalance']):.1f} | {r['migrated_slices']} |" + machine_cell(r))
+                   f"{100 * float(r['mean_imbalance']):.1f} | {r['migrated_slices']} |" + (f" {r['machine']} |" if many else ""))
     return "\n".join(out) + "\n"
 
 
@@ -355,12 +341,13 @@ def rank_balance_figure(rows):
 
 
 REPORTS = {
-    # csv (relative to results) -> [(output, builder)]
+    # csv (relative to results) -> [(output, builder[, another csv the builder also reads, empty if absent])]
     "controller_eval/controller_eval.csv": [("tables/controller_eval.md", controller_table),
                                             ("figures/controller_eval.png", controller_figure)],
     "controller_long/controller_long.csv": [("tables/controller_long.md", controller_table)],
     "holt_tuning/holt_tuning.csv": [("tables/holt_tuning.md", holt_tuning_table)],
-    "foresight_frontier/foresight_frontier.csv": [("tables/foresight_frontier.md", frontier_table)],
+    "foresight_frontier/foresight_frontier.csv": [("tables/foresight_frontier.md", frontier_table,
+                                                   "controller_eval/controller_eval.csv")],
     "training_curve/training_curve.csv": [("tables/training_curve.md", training_curve_table),
                                           ("figures/training_curve.png", training_curve_figure)],
     "single_device/single_device.csv": [("tables/single_device.md", single_device_table),
@@ -373,8 +360,6 @@ REPORTS = {
     "load_balance/load_balance.csv": [("tables/load_balance.md", load_balance_table)],
     "rank_balance/rank_balance.csv": [("figures/rank_balance.png", rank_balance_figure)],
 }
-
-NEEDS_RESULTS = {frontier_table}  # builders that also read a sibling CSV
 
 
 def main():
@@ -390,8 +375,9 @@ def main():
         if not rows:
             print(f"report: {path}: no rows", file=sys.stderr)
             return 2
-        for out, build in outputs:
-            atomic_write(os.path.join(args.results, out), build(rows, args.results) if build in NEEDS_RESULTS else build(rows))
+        for out, build, *also in outputs:
+            more = [read_rows(p) if os.path.exists(p) else [] for p in (os.path.join(args.results, a) for a in also)]
+            atomic_write(os.path.join(args.results, out), build(rows, *more))
             print(f"report: wrote {os.path.join(args.results, out)}")
             made += 1
     if made == 0:

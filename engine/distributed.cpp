@@ -320,8 +320,7 @@ void DistributedSimulation::rebalance() {
     if (trace_.is_open()) trace_ << to_json(TraceEvent{obs, next}).dump() << "\n" << std::flush;
   }
   mpi_->broadcast(next, 0);
-  long moved = 0;
-  for (size_t b = 0; b < next.size(); ++b) moved += std::abs(next[b] - boundaries_[b]);
+  const long moved = migration(boundaries_, next);
   migrated_ += moved;
   iv.step = s.step;
   iv.times = times;
