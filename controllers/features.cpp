@@ -84,4 +84,20 @@ std::string feature_list() {
   return s;
 }
 
+void FeatureTracker::save_state(std::map<std::string, std::vector<double>>& out) const {
+  if (!started_) return;
+  out["tracker.prev_imbalance"] = prev_imbalance_;
+  out["tracker.prev_boundaries"].assign(prev_boundaries_.begin(), prev_boundaries_.end());
+}
+
+void FeatureTracker::load_state(const std::map<std::string, std::vector<double>>& in) {
+  const auto imb = in.find("tracker.prev_imbalance"), b = in.find("tracker.prev_boundaries");
+  started_ = imb != in.end();
+  if (!started_) return;
+  if (b == in.end() || b->second.size() != imb->second.size())
+    throw InputError("gru state: tracker.prev_boundaries must accompany tracker.prev_imbalance, one per boundary");
+  prev_imbalance_ = imb->second;
+  prev_boundaries_.assign(b->second.begin(), b->second.end());
+}
+
 }  // namespace semlb

@@ -2,6 +2,7 @@
 // the Eigen controller and the trainer. The list and formulas are documented in docs/controllers.md.
 #pragma once
 #include <array>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,9 @@ class FeatureTracker {
   explicit FeatureTracker(double ds_max_frac) : ds_max_frac_(ds_max_frac) {}
   // Throws InputError if the number of boundaries differs from the first observation's.
   std::vector<BoundaryInputs> observe(const Observation& obs, const ReactiveParams& p);
+  // History under "tracker.*" keys (checkpoints); load_state throws InputError for a malformed state.
+  void save_state(std::map<std::string, std::vector<double>>& out) const;
+  void load_state(const std::map<std::string, std::vector<double>>& in);
 
  private:
   double ds_max_frac_;

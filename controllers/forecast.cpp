@@ -12,6 +12,12 @@ HoltForecaster::HoltForecaster(double alpha, double beta) : alpha_(alpha), beta_
     throw InputError("holt: need 0 < alpha <= 1 and 0 <= beta <= 1");
 }
 
+void HoltForecaster::restore(std::vector<double> level, std::vector<double> trend) {
+  if (level.size() != trend.size()) throw InputError("holt state: level and trend differ in size");
+  level_ = std::move(level);
+  trend_ = std::move(trend);
+}
+
 std::vector<double> HoltForecaster::update(std::span<const double> y) {
   if (level_.size() != y.size()) {  // first observation (or the slice count changed): restart
     level_.assign(y.begin(), y.end());

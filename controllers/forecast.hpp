@@ -13,6 +13,11 @@ class HoltForecaster {
   HoltForecaster(double alpha, double beta);
   // Feeds one observation vector and returns the one-step-ahead forecast.
   std::vector<double> update(std::span<const double> observed);
+  // The smoothing state [slices] each (empty before the first update); restore() takes it back (InputError
+  // if the two sizes differ).
+  const std::vector<double>& level() const { return level_; }
+  const std::vector<double>& trend() const { return trend_; }
+  void restore(std::vector<double> level, std::vector<double> trend);
 
  private:
   double alpha_, beta_;

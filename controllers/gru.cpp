@@ -185,6 +185,26 @@ class GruPolicy final : public Policy {
     return apply_moves(obs.boundaries, moves, obs.slices, obs.min_width);
   }
 
+  PolicyState save_state() const override {
+    PolicyState s;
+    tracker_.save_state(s);
+    if (hidden_.size() > 0) s["hidden"].assign(hidden_.data(), hidden_.data() + hidden_.size());  // column-major H x B
+    return s;
+  }
+  void load_state(const PolicyState& s) override {
+    for (const auto& [k, v] : s)
+      if (k != "hidden" && k.rfind("tracker.", 0) != 0) throw InputError("gru state: unknown entry '" + k + "'");
+    tracker_.load_state(s);
+    const auto h = s.find("hidden");
+    if (h == s.end()) {
+      hidden_.resize(0, 0);
+      return;
+    }
+    if (h->second.size() % w_.hidden != 0) throw InputError("gru state: hidden has " + std::to_string(h->second.size()) +
+                                                              " values, not a multiple of the hidden size " + std::to_string(w_.hidden));
+    hidden_ = Eigen::Map<const Eigen::MatrixXd>(h->second.data(), w_.hidden, static_cast<Eigen::Index>(h->second.size() / w_.hidden));
+  }
+
  private:
   GruWeights w_;
   ReactiveParams p_;

@@ -9,8 +9,13 @@
 namespace semlb {
 namespace {
 
-std::map<std::string, PolicyFactory>& registry() {
-  static std::map<std::string, PolicyFactory> r;
+struct Entry {
+  PolicyFactory factory;
+  PolicyNeeds needs;
+};
+
+std::map<std::string, Entry>& registry() {
+  static std::map<std::string, Entry> r;
   return r;
 }
 
@@ -19,6 +24,13 @@ std::string joined_names() {
   for (const auto& n : policy_names()) s += (s.empty() ? "" : ", ") + n;
   return s;
 }
+
+const Entry& entry(const std::string& name) {
+  auto it = registry().find(name);
+  if (it == registry().end()) throw InputError("unknown policy '" + name + "' (known: " + joined_names() + ")");
+  return it->second;
+}
+
 
 }  // namespace
 
@@ -44,13 +56,18 @@ void PolicyParams::expect_all_used(const std::string& policy) const {
     if (!used_.count(k)) throw InputError("policy '" + policy + "' has no parameter '" + k + "'");
 }
 
-Registrar::Registrar(const std::string& name, PolicyFactory factory) { registry()[name] = std::move(factory); }
+void Policy::load_state(const PolicyState& s) {
+  if (!s.empty()) throw InputError("policy state: this policy keeps no history, the checkpoint has '" + s.begin()->first + "'");
+}
+
+Registrar::Registrar(const std::string& name, PolicyFactory factory, PolicyNeeds needs) {
+  registry()[name] = {std::move(factory), needs};
+}
+
+PolicyNeeds policy_needs(const std::string& name) { return entry(name).needs; }
 
 std::unique_ptr<Policy> make_policy(const std::string& name, PolicyParams params) {
-  auto it = registry().find(name);
-  if (it == registry().end())
-    throw InputError("unknown policy '" + name + "' (known: " + joined_names() + ")");
-  auto policy = it->second(params);
+  auto policy = entry(name).factory(params);
   params.expect_all_used(name);
   return policy;
 }

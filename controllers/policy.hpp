@@ -11,12 +11,25 @@
 
 namespace semlb {
 
+// A policy's history as named real arrays (e.g. "level", "trend", "hidden"), saved in checkpoints.
+using PolicyState = std::map<std::string, std::vector<double>>;
+
 // A rebalancing policy. It keeps its own history (Holt state, GRU hidden states) between events.
 class Policy {
  public:
   virtual ~Policy() = default;
   // Returns the interior boundaries for the next interval. obs must be valid (see validate()).
   virtual std::vector<int> decide(const Observation& obs) = 0;
+  // The history decide() depends on; empty for memoryless policies. load_state(save_state()) continues
+  // identically. load_state throws InputError for a state of the wrong shape.
+  virtual PolicyState save_state() const { return {}; }
+  virtual void load_state(const PolicyState& s);
+};
+
+// What a policy reads besides times and boundaries; a run whose source cannot provide it is refused.
+struct PolicyNeeds {
+  bool slice_work = false;  // a per-slice workload estimate (Observation::slice_work)
+  bool true_work = false;   // the noise-free work of the next interval (Observation::oracle_work)
 };
 
 // key=value options of one policy (e.g. tau=0.02). Reading a key marks it used; unused keys are errors.
@@ -41,11 +54,13 @@ using PolicyFactory = std::function<std::unique_ptr<Policy>(PolicyParams&)>;
 
 // Registers a factory at static-initialisation time: `static Registrar reg("name", factory);`.
 struct Registrar {
-  Registrar(const std::string& name, PolicyFactory factory);
+  Registrar(const std::string& name, PolicyFactory factory, PolicyNeeds needs = {});
 };
 
 // Builds a registered policy; throws InputError for an unknown name or an unknown/invalid parameter.
 std::unique_ptr<Policy> make_policy(const std::string& name, PolicyParams params = {});
 std::vector<std::string> policy_names();
+// What the named policy needs; InputError for an unknown name.
+PolicyNeeds policy_needs(const std::string& name);
 
 }  // namespace semlb

@@ -34,6 +34,12 @@ class HoltPolicy final : public Policy {
     const auto forecast = holt_.update(require(obs.slice_work, obs, "holt", "slice_work"));
     return optimal_partition(forecast, obs.ranks(), obs.min_width);
   }
+  PolicyState save_state() const override { return {{"level", holt_.level()}, {"trend", holt_.trend()}}; }
+  void load_state(const PolicyState& s) override {  // empty: no history yet
+    if (s.empty()) return holt_.restore({}, {});
+    if (s.size() != 2 || !s.count("level") || !s.count("trend")) throw InputError("holt state: expected level and trend");
+    holt_.restore(s.at("level"), s.at("trend"));
+  }
 
  private:
   HoltForecaster holt_;
@@ -64,16 +70,20 @@ class LazyOraclePolicy final : public Policy {
   double tau_, slack_;
 };
 
-const Registrar persistence_registrar("persistence",
-                                      [](PolicyParams&) { return std::make_unique<PersistencePolicy>(); });
+constexpr PolicyNeeds kSliceWork{.slice_work = true};
+constexpr PolicyNeeds kTrueWork{.true_work = true};
+
+const Registrar persistence_registrar(
+    "persistence", [](PolicyParams&) { return std::make_unique<PersistencePolicy>(); }, kSliceWork);
 // Defaults chosen on training seeds only (experiments/holt_tuning.yaml; docs/controllers.md).
 const Registrar holt_registrar("holt", [](PolicyParams& p) {
   return std::make_unique<HoltPolicy>(p.real("alpha", 0.2), p.real("beta", 0.0));
-});
-const Registrar oracle_registrar("oracle", [](PolicyParams&) { return std::make_unique<OraclePolicy>(); });
+}, kSliceWork);
+const Registrar oracle_registrar(
+    "oracle", [](PolicyParams&) { return std::make_unique<OraclePolicy>(); }, kTrueWork);
 const Registrar lazy_oracle_registrar("lazy_oracle", [](PolicyParams& p) {
   return std::make_unique<LazyOraclePolicy>(p.real("tau", 0.1), p.real("slack", 0.0));
-});
+}, kTrueWork);
 
 }  // namespace
 }  // namespace semlb

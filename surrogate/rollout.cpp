@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "controllers/balancer.hpp"
 #include "controllers/chains.hpp"
 #include "controllers/errors.hpp"
 #include "controllers/metrics.hpp"
@@ -31,40 +32,27 @@ double mean_of(const std::vector<double>& v, size_t begin, size_t end) {
 RolloutResult rollout(const Scenario& s, Policy& policy, int events, bool keep_trace) {
   if (events < 1) throw InputError("events must be >= 1, got " + std::to_string(events));
   Workload workload(s);
-  std::vector<int> boundaries = optimal_partition(workload.work(), s.ranks, s.min_width);
+  Balancer balancer("", policy, s.slices, s.min_width, optimal_partition(workload.work(), s.ranks, s.min_width));
   RolloutResult res;
   res.events = events;
   double seconds = 0, max_over_mean_sum = 0;
   for (int t = 0; t < events; ++t) {
-    const auto true_times = rank_sums(workload.work(), boundaries);
+    const auto true_times = rank_sums(workload.work(), balancer.boundaries());
     check_finite(true_times, t, "computation time");
     res.imbalance.push_back(global_imbalance(true_times));
     max_over_mean_sum += max_over_mean(true_times);
-
-    Observation obs;
-    obs.event = t;
-    obs.slices = s.slices;
-    obs.min_width = s.min_width;
-    obs.boundaries = boundaries;
-    obs.times = measured_times(s, t, true_times);
-    obs.slice_work = observed_work(s, t, workload.work());
-    obs.growth_phase = workload.growth_phase();
-    obs.growth_event = workload.growth_event();
+    Measurement m;
+    m.times = measured_times(s, t, true_times);
+    m.slice_work = observed_work(s, t, workload.work());
+    m.growth_phase = workload.growth_phase();
+    m.growth_event = workload.growth_event();
     workload.advance();
-    obs.oracle_work = workload.work();
-
-    const auto start = std::chrono::steady_clock::now();
-    auto next = policy.decide(obs);
-    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    try {
-      check_partition(next, s.slices, s.min_width);
-    } catch (const InputError& e) {
-      throw std::runtime_error("surrogate: event " + std::to_string(t) + ": the policy returned an invalid partition: " + e.what());
-    }
-    res.migration += migration(boundaries, next);
-    if (keep_trace) res.trace.push_back({std::move(obs), next});
-    boundaries = std::move(next);
+    m.true_work = workload.work();
+    auto d = balancer.rebalance(std::move(m));
+    seconds += d.seconds;
+    if (keep_trace) res.trace.push_back(std::move(d.trace));
   }
+  res.migration = balancer.migration();
   res.mean_imbalance = mean_of(res.imbalance, 0, events);
   res.mean_max_over_mean = max_over_mean_sum / events;
   const size_t q = std::max<size_t>(1, events / 4);

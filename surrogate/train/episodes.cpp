@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <thread>
 
+#include "controllers/balancer.hpp"
 #include "controllers/chains.hpp"
 #include "controllers/policy.hpp"
 #include "surrogate/rng.hpp"
@@ -34,21 +35,17 @@ Episode make_episode(const TrainConfig& c, long step, int index) {
 }
 
 ReactiveCost reactive_cost(const Episode& e) {
-  auto reactive = make_policy("reactive");
-  std::vector<int> b = e.initial_boundaries;
+  Balancer reactive("reactive", make_policy("reactive"), e.scenario.slices, e.scenario.min_width, e.initial_boundaries);
   ReactiveCost cost;
   for (size_t t = 0; t + 1 < e.work.size(); ++t) {  // the surrogate rollout's loop, without the unused work proxy
-    Observation obs;
-    obs.event = static_cast<int>(t);
-    obs.slices = e.scenario.slices;
-    obs.min_width = e.scenario.min_width;
-    obs.boundaries = b;
-    obs.times = surrogate::measured_times(e.scenario, obs.event, rank_sums(e.work[t], b));
-    const auto next = reactive->decide(obs);
-    cost.migration += migration(b, next);
-    b = next;
-    cost.max_over_mean += max_over_mean(rank_sums(e.work[t + 1], b));
+    Measurement m;
+    m.times = surrogate::measured_times(e.scenario, static_cast<int>(t), rank_sums(e.work[t], reactive.boundaries()));
+    m.growth_phase = e.growth_phase[t];
+    m.growth_event = e.growth_event[t];
+    reactive.rebalance(std::move(m));
+    cost.max_over_mean += max_over_mean(rank_sums(e.work[t + 1], reactive.boundaries()));
   }
+  cost.migration = reactive.migration();
   if (e.work.size() > 1) cost.max_over_mean /= static_cast<double>(e.work.size() - 1);
   return cost;
 }

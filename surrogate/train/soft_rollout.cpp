@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "controllers/balancer.hpp"
 #include "controllers/features.hpp"
 #include "controllers/partition.hpp"
 #include "controllers/reactive.hpp"
@@ -99,8 +100,9 @@ torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& e
   const auto flat_t = torch::from_blob(flat.data(), {N}, torch::kLong).clone();
 
   torch::Tensor b = tensor(b0, {E, B});
-  std::vector<std::vector<int>> hard(E);
-  for (long e = 0; e < E; ++e) hard[e] = eps[e].initial_boundaries;
+  std::vector<Balancer> hard;  // the deployed integer state: no policy, the GRU step below decides
+  for (const auto& ep : eps)
+    hard.emplace_back("gru", nullptr, ep.scenario.slices, ep.scenario.min_width, ep.initial_boundaries);
   std::vector<FeatureTracker> trackers(E, FeatureTracker(c.ds_max_frac));
   torch::Tensor h = torch::zeros({N, model->hidden});
   torch::Tensor imbalance_terms = torch::zeros({E}), moved = torch::zeros({E});
@@ -113,17 +115,15 @@ torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& e
     }
     // Observation of interval t on the hard state, through the controllers' own feature code.
     std::vector<float> x(N * kFeatureCount), dir(N), mag(N), dsmax(N);
+    std::vector<Observation> observed(E);
     long n = 0;
     for (long e = 0; e < E; ++e) {
       const auto& ep = eps[e];
-      Observation obs;
-      obs.event = static_cast<int>(t);
-      obs.slices = ep.scenario.slices;
-      obs.min_width = ep.scenario.min_width;
-      obs.boundaries = hard[e];
-      obs.times = surrogate::measured_times(ep.scenario, static_cast<int>(t), rank_sums(ep.work[t], hard[e]));
-      obs.growth_phase = ep.growth_phase[t];
-      obs.growth_event = ep.growth_event[t];
+      Measurement m;
+      m.times = surrogate::measured_times(ep.scenario, static_cast<int>(t), rank_sums(ep.work[t], hard[e].boundaries()));
+      m.growth_phase = ep.growth_phase[t];
+      m.growth_event = ep.growth_event[t];
+      const Observation& obs = observed[e] = hard[e].observe(std::move(m));
       for (const auto& in : trackers[e].observe(obs, ReactiveParams{})) {
         std::copy(in.features.begin(), in.features.end(), x.begin() + n * kFeatureCount);
         dir[n] = static_cast<float>(in.direction), mag[n] = static_cast<float>(in.reactive_magnitude);
@@ -145,14 +145,13 @@ torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& e
     std::vector<float> next(E * B), free(E * B, 0.f);
     n = 0;
     for (long e = 0; e < E; ++e) {
-      std::vector<long> moves(hard[e].size());
+      const auto& before = hard[e].boundaries();
+      std::vector<long> moves(before.size());
       for (auto& mv : moves) mv = std::lround(sa[n++]);
-      const auto moved_b = apply_moves(hard[e], moves, eps[e].scenario.slices, eps[e].scenario.min_width);
+      const auto moved_b = apply_moves(before, moves, eps[e].scenario.slices, eps[e].scenario.min_width);
       for (long i = 0; i < B; ++i) next[e * B + i] = i < static_cast<long>(moved_b.size()) ? moved_b[i] : right_edge[e];
-      for (size_t i = 0; i < moved_b.size(); ++i) {
-        free[e * B + i] = moved_b[i] == hard[e][i] + moves[i];
-        hard[e][i] = moved_b[i];
-      }
+      for (size_t i = 0; i < moved_b.size(); ++i) free[e * B + i] = moved_b[i] == before[i] + moves[i];
+      hard[e].commit(std::move(observed[e]), moved_b);
     }
     const auto delta = torch::zeros({E * B}).index_add(0, flat_t, step).view({E, B});
     const auto b_next = torch::where(tensor(free, {E, B}).to(torch::kBool), b + delta, tensor(next, {E, B}));
