@@ -2,6 +2,7 @@
 // and splits across the long axis, differentiation follows its rules.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <set>
 #include <thread>
@@ -43,8 +44,10 @@ TEST(Effects, GrowthAddsOneElementPerPeriodUpToTheMaximum) {
   auto growth = effect("  growth: {cycle_time: 20, min_elements: 10, max_elements: 20, offset: 1.0}\n", s);
   s.cell_fields["growth.clock"] = {0.0};
   CellContext ctx{s, 1, 2.0};  // one period (20 h / 10 elements)
-  for (int k = 0; k < 15; ++k) growth->update_cells(ctx);
-  EXPECT_EQ(s.cell_count[0], 20);  // capped at max_elements
+  for (int k = 1; k <= 15; ++k) {
+    growth->update_cells(ctx);
+    ASSERT_EQ(s.cell_count[0], std::min(10 + k, 20)) << "after " << k << " periods";  // one each, capped at max_elements
+  }
   EXPECT_EQ(s.elements(), 20);
   for (long e = 10; e < 20; ++e)  // newborns sit at `offset` from the centroid at their birth
     EXPECT_LT(std::abs(s.position[3 * e + 2] - 5), 2.0);
