@@ -108,7 +108,6 @@ TEST(Effects, DifferentiationFollowsHeightThenAge) {
 
 TEST(Effects, UnknownEffectAndUnknownParameterAreRefusedWithTheirLine) {
   try {
-    scene_from(std::string(testing::kMechanicsYaml) + "  growht: {}\n");
     auto scene = scene_from(std::string(testing::kMechanicsYaml) + "  growht: {}\n");
     make_effects(scene);
     FAIL();
