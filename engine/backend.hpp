@@ -67,7 +67,9 @@ class Backend {
   virtual void noise(double amplitude, uint64_t seed, long step) = 0;  // Y += amplitude * N(0,1)
   virtual Failure failure() = 0;
   virtual void finish() {}  // waits for queued work (so that wall times are honest)
-  // Kernel launches by name since construction: an effect that is not listed launches none.
+  // Kernel launches by name since construction: an effect that is not listed launches none. OpenCL: every
+  // kernel of kernels.cl enqueued, and "zero_forces" (a buffer fill); the C++ backends count their loops under
+  // the name of the kernel that does the same work ("bin_sort" for cpu-binned's whole counting sort).
   const std::map<std::string, long>& launches() const { return launches_; }
   // Device time per kernel when the backend profiles (OpenCL with SEMLB_OPENCL_PROFILE set); else empty.
   const std::map<std::string, double>& kernel_seconds() const { return kernel_seconds_; }

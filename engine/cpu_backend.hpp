@@ -47,7 +47,10 @@ class CpuBackend : public Backend {
         out.keys.push_back(key_[i]);
       }
   }
-  void zero_forces() override { std::fill(force_.begin(), force_.end(), 0); }
+  void zero_forces() override {
+    count("zero_forces");
+    std::fill(force_.begin(), force_.end(), 0);
+  }
   long owned() const { return owned_; }  // forces, integration and noise apply to elements [0, owned)
   long total() const { return static_cast<long>(info_.size()); }
 

@@ -13,8 +13,8 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
   std::string name() const override { return "cpu-binned"; }
 
   void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) override {
-    this->count("pair_forces");
     sort_into_bins(grid);
+    this->count("forces_binned");
     const std::vector<Real> t(table.begin(), table.end());
     const Real c2 = static_cast<Real>(cutoff * cutoff);
     const long n = this->total();
@@ -32,6 +32,7 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
 
   // Counting sort of element indices by bin (x fastest), then positions packed in that order.
   void sort_into_bins(const Grid& grid) {
+    this->count("bin_sort");
     const long n = this->total();
     bin_.resize(n);
     start_.assign(grid.bins() + 1, 0);

@@ -110,7 +110,6 @@ class OpenClBackend final : public Backend {
   }
 
   void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) override {
-    count("pair_forces");
     write_reals(table_, table);
     const Real c2 = static_cast<Real>(cutoff * cutoff);
     const cl_int n = static_cast<cl_int>(n_);
@@ -125,20 +124,17 @@ class OpenClBackend final : public Backend {
   }
 
   void membrane_forces(const std::vector<double>& m) override {
-    count("membrane");
     write_reals(membrane_, m);
     launch("membrane", owned_, kGroup, pos_.get(), membrane_.get(), force_.get(), owned());
   }
 
   void integrate(double dt_over_eta, double max_step, long step) override {
-    count("integrate");
     if (step > INT_MAX) throw std::runtime_error("opencl backends count steps in 32 bits");
     launch("integrate", owned_, kGroup, pos_.get(), force_.get(), static_cast<Real>(dt_over_eta),
            static_cast<Real>(max_step * max_step), static_cast<cl_int>(step), fail_.get(), owned());
   }
 
   void noise(double amplitude, uint64_t seed, long step) override {
-    count("noise");
     launch("noise", owned_, kGroup, pos_.get(), keys_.get(), static_cast<Real>(amplitude), static_cast<cl_ulong>(seed),
            static_cast<cl_long>(step), owned());
   }
@@ -296,6 +292,7 @@ class OpenClBackend final : public Backend {
   template <class... Args>
   void launch(const char* name, long items, size_t group, const Args&... args) {
     if (items <= 0) return;
+    count(name);  // every kernel enqueued, by name (launches())
     cl_kernel k = kernels_.at(name).get();
     cl_uint i = 0;
     (set_arg(k, i++, args, name), ...);

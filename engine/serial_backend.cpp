@@ -11,7 +11,7 @@ class SerialBackend final : public CpuBackend<Real> {
   std::string name() const override { return "serial"; }
 
   void pair_forces(const std::vector<double>& table, double cutoff, const Grid&) override {
-    this->count("pair_forces");
+    this->count("forces_allpairs");
     const std::vector<Real> t(table.begin(), table.end());
     const Real c2 = static_cast<Real>(cutoff * cutoff);
     const long owned = this->owned(), n = this->total();

@@ -1,7 +1,10 @@
 // The semlb binary: help, bad input (exit 2, one line, no output), determinism, replay == rollout.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <sstream>
+#include <vector>
 
 #include "../run_command.hpp"
 
@@ -21,10 +24,20 @@ void expect_bad_input(const std::string& args, const std::string& message, const
 }  // namespace
 
 TEST(Cli, HelpForEverySubcommand) {
-  for (const char* sub : {"", "surrogate", "replay", "sweep", "bench"}) {
+  // Every subcommand the top-level help lists (sim and train included), and at least the documented ones.
+  const auto top = run(semlb_bin() + " --help");
+  ASSERT_EQ(top.rc, 0) << top.out;
+  std::istringstream lines(top.out.substr(top.out.find("Subcommands:")));
+  std::string line;
+  std::vector<std::string> subs;
+  while (std::getline(lines, line))
+    if (line.rfind("  ", 0) == 0 && line.size() > 2 && line[2] != ' ') subs.push_back(line.substr(2, line.find(' ', 2) - 2));
+  for (const char* must : {"surrogate", "replay", "sweep", "bench", "sim"})
+    EXPECT_NE(std::find(subs.begin(), subs.end(), must), subs.end()) << must << " missing from\n" << top.out;
+  for (const auto& sub : subs) {
     const auto r = run(semlb_bin() + " " + sub + " --help");
     EXPECT_EQ(r.rc, 0) << sub;
-    EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+    EXPECT_NE(r.out.find("Usage: " + semlb_bin() + " " + sub), std::string::npos) << sub << "\n" << r.out;
   }
 }
 

@@ -1,9 +1,10 @@
 // Compare tests of the element kernels: every backend against the serial all-pairs reference on random
-// inputs, order and thread independence, and the launch counters of unlisted effects.
+// inputs, order and thread independence, and the exact kernels a run launches (none of unlisted effects).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "engine/simulation.hpp"
 #include "engine_fixtures.hpp"
@@ -117,20 +118,37 @@ TEST(Backends, ResultsDoNotDependOnCellOrder) {
   }
 }
 
+// The exact kernels of 10 steps, per backend: the element stage of the listed effects (the binning kernels of
+// the binned backends included), nothing of an unlisted effect, no ghost exchange, and no cell stage.
 TEST(Backends, UnlistedEffectsLaunchNothing) {
-  for (const auto& backend : available_backends()) {
-    auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend});
-    scene.box_lo = {0, 0, 0};
-    scene.box_hi = {40, 40, 40};
-    Simulation sim(scene, random_state(10, 5, 40.0, 1));
-    sim.advance(10);
-    const auto& l = sim.backend().launches();
-    EXPECT_EQ(l.at("pair_forces"), 10) << backend;
-    EXPECT_EQ(l.count("membrane"), 0u) << backend;
-    EXPECT_EQ(l.count("noise"), 0u) << backend;
-    EXPECT_TRUE(sim.host_state().cell_fields.empty()) << backend;  // no growth/differentiation state
-    EXPECT_EQ(sim.phases(), std::vector<std::string>({"mechanics", "integrate"})) << backend;
-  }
+  using Launches = std::map<std::string, long>;
+  const std::map<std::string, Launches> forces = {
+      {"serial", {{"forces_allpairs", 10}}},
+      {"cpu-binned", {{"bin_sort", 10}, {"forces_binned", 10}}},
+      {"opencl-allpairs", {{"forces_allpairs", 10}}},
+      {"opencl-binned", {{"bin_count", 10}, {"scan_blocks", 10}, {"scan_sums", 10}, {"scan_add", 10}, {"scatter", 10},
+                         {"forces_binned", 10}}}};
+  for (const auto& backend : available_backends())
+    for (const bool extra : {false, true}) {  // mechanics only; then with membrane and noise listed too
+      std::vector<std::string> sets = {"backend.name=" + backend};
+      if (extra) sets.insert(sets.end(), {"effects.membrane={}", "effects.noise={}"});
+      auto scene = scene_from(testing::kMechanicsYaml, sets);
+      scene.box_lo = {0, 0, 0};
+      scene.box_hi = {40, 40, 40};
+      Simulation sim(scene, random_state(10, 5, 40.0, 1));
+      sim.advance(10);
+      Launches want = forces.at(backend);
+      want["zero_forces"] = want["integrate"] = 10;
+      if (extra) want["membrane"] = want["noise"] = 10;
+      EXPECT_EQ(sim.backend().launches(), want) << backend << (extra ? " with membrane and noise" : "");
+      if (extra) continue;
+      EXPECT_TRUE(sim.host_state().cell_fields.empty()) << backend;  // no growth/differentiation state
+      EXPECT_EQ(sim.phases(), std::vector<std::string>({"mechanics", "integrate"})) << backend;
+      EXPECT_FALSE(sim.has_cell_effects()) << backend;
+      for (const auto& [part, seconds] : sim.cell_stage_seconds())  // download, upload: never run
+        EXPECT_EQ(seconds, 0.0) << backend << " " << part;
+      EXPECT_EQ(sim.cell_stage_seconds().size(), 2u) << backend;
+    }
 }
 
 TEST(Backends, UnknownBackendIsRefusedWithTheKnownOnes) {

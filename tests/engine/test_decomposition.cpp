@@ -91,9 +91,18 @@ TEST(Decomposition, CheckpointOnTwoRanksContinuesIdenticallyOnFour) {
   ASSERT_EQ(r.rc, 0) << r.out;
   r = run(mpirun(2) + kArgs + " --steps 100 --set output.checkpoint_every=100 --out " + dir + "/first");
   ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_EQ(read_state(dir + "/first/checkpoint.h5").step, 100);
   r = run(mpirun(4) + kArgs + " --steps 200 --restart " + dir + "/first/checkpoint.h5 --out " + dir + "/second");
   ASSERT_EQ(r.rc, 0) << r.out;
   EXPECT_EQ(read_state(dir + "/second/final.h5").hash(), read_state(dir + "/straight/final.h5").hash());
+  // ... and it simulated steps 100..200 only: a run from step 0 would also log step 100 and time 4 intervals.
+  EXPECT_NE(r.out.find("semlb sim: 100 steps,"), std::string::npos) << r.out;
+  const auto log = split(read_file(dir + "/second/run.csv"), '\n');
+  ASSERT_EQ(log.size(), 3u) << read_file(dir + "/second/run.csv");  // header, step 200, ""
+  EXPECT_EQ(split(log[1], ',')[0], "200");
+  const auto times = split(read_file(dir + "/second/rank_times.csv"), '\n');
+  ASSERT_EQ(times.size(), 2 + 2u * 4) << "2 events x 4 ranks rows";
+  for (size_t i = 1; i + 1 < times.size(); ++i) EXPECT_GT(std::stol(split(times[i], ',')[0]), 100) << times[i];
 }
 
 TEST(Decomposition, ReplayingAnEngineTraceReproducesItsDecisions) {

@@ -80,10 +80,29 @@ TEST(Io, RestartFromACheckpointContinuesBitForBit) {
   run_scene(straight_scene, {a, "", true, "test", ""});
   auto first_half = load_scene(scene_file, [&] { auto o = small; o.push_back("time.steps=100"); return o; }());
   run_scene(first_half, {b, "", true, "test", ""});
+  EXPECT_EQ(read_state(b + "/checkpoint.h5").step, 100);
+  // Mark the first half's log row (its wall_s): the restart keeps it; a run from step 0 would rewrite it.
+  auto rows = split(read_file(b + "/run.csv"), '\n');
+  ASSERT_EQ(rows.size(), 3u) << read_file(b + "/run.csv");  // header, step 100, ""
+  auto cells = split(rows[1], ',');
+  ASSERT_EQ(cells[0], "100");
+  cells[4] = "12345";
+  std::string marked;
+  for (const auto& c : cells) marked += (marked.empty() ? "" : ",") + c;
+  write_file_atomically(b + "/run.csv", rows[0] + "\n" + marked + "\n");
   auto second_half = load_scene(scene_file, [&] { auto o = small; o.push_back("time.steps=200"); return o; }());
-  run_scene(second_half, {b, b + "/checkpoint.h5", true, "test", ""});
+  const RunSummary second = run_scene(second_half, {b, b + "/checkpoint.h5", true, "test", ""});
+  EXPECT_EQ(second.steps, 100);  // it simulated steps 100..200 only
   EXPECT_EQ(read_state(a + "/final.h5").hash(), read_state(b + "/final.h5").hash());
-  EXPECT_EQ(split(read_file(b + "/run.csv"), '\n').size(), split(read_file(a + "/run.csv"), '\n').size());
+  EXPECT_EQ(read_state(b + "/final.h5").step, 200);
+  const auto straight = split(read_file(a + "/run.csv"), '\n'), restarted = split(read_file(b + "/run.csv"), '\n');
+  ASSERT_EQ(restarted.size(), straight.size());
+  EXPECT_EQ(restarted[1], marked);  // the first half's row, kept as it was
+  for (size_t i = 1; i < straight.size(); ++i) {  // the same steps, times, cells and elements
+    const auto want = split(straight[i], ','), got = split(restarted[i], ',');
+    EXPECT_EQ(std::vector<std::string>(got.begin(), got.begin() + std::min<size_t>(4, got.size())),
+              std::vector<std::string>(want.begin(), want.begin() + std::min<size_t>(4, want.size()))) << i;
+  }
   const std::string xmf = read_file(b + "/snapshots.xmf");
   EXPECT_NE(xmf.find("snapshots/step_000000100.h5:/elements/position"), std::string::npos);
   EXPECT_NE(xmf.find("snapshots/step_000000200.h5:/elements/position"), std::string::npos);

@@ -1,9 +1,8 @@
 // Sweeps end to end through the binary: output, kill -9 + resume (nothing lost or duplicated), torn lines.
 #include <gtest/gtest.h>
 
-#include <map>
-
 #include <filesystem>
+#include <map>
 
 #include "../run_command.hpp"
 #include "controllers/text_io.hpp"
@@ -37,15 +36,31 @@ TEST(Sweep, KilledSweepResumesWithoutLosingOrDuplicatingRows) {
   const auto killed = run("SEMLB_SWEEP_KILL_AFTER=7 " + base + dir + "/cut");
   EXPECT_EQ(killed.rc, 128 + 9) << killed.out;  // SIGKILL
   EXPECT_FALSE(fs::exists(dir + "/cut/sub/resume.csv"));  // no final file from an unfinished sweep
-  const auto partial = slurp(dir + "/cut/sub/resume.csv.partial");
-  EXPECT_GE(lines(partial), 1u + 7u);
-  std::ofstream(dir + "/cut/sub/resume.csv.partial", std::ios::app) << "holt,4,90";  // a torn last row
+  auto partial = semlb::split(slurp(dir + "/cut/sub/resume.csv.partial"), '\n');
+  partial.pop_back();  // after the last newline
+  const size_t finished = partial.size() - 1;  // whole rows of finished jobs (--jobs 2: 7 or 8)
+  ASSERT_GE(finished, 7u);
+  ASSERT_LT(finished, 30u);
+  // Mark one finished row: a resumed sweep keeps it as it is, a sweep that recomputed the job would not.
+  // The last column (us_per_decision) is 0 under --no-timing, so the marker cannot occur by chance.
+  const std::string original = partial[1];
+  const std::string marked = original.substr(0, original.rfind(',')) + ",12345";
+  ASSERT_EQ(reference.find(marked), std::string::npos) << marked;
+  partial[1] = marked;
+  std::string text;
+  for (const auto& l : partial) text += l + "\n";
+  write(dir + "/cut/sub/resume.csv.partial", text + "holt,4,90");  // and a torn last row
   const auto resumed = run(base + dir + "/cut");
   ASSERT_EQ(resumed.rc, 0) << resumed.out;
-  EXPECT_EQ(slurp(dir + "/cut/sub/resume.csv"), reference);
+  EXPECT_NE(resumed.out.find("(30 rows, " + std::to_string(finished) + " resumed)"), std::string::npos) << resumed.out;
+  std::string want = reference;
+  ASSERT_NE(want.find(original + "\n"), std::string::npos);
+  want.replace(want.find(original + "\n"), original.size(), marked);
+  EXPECT_EQ(slurp(dir + "/cut/sub/resume.csv"), want);  // the finished jobs were reused, the rest computed
   EXPECT_FALSE(fs::exists(dir + "/cut/sub/resume.csv.partial"));
 
-  const auto again = run(base + dir + "/cut");  // a finished sweep is recomputed, not reused
+  // A finished sweep is recomputed, not reused: the marked row (now in the final CSV) is replaced.
+  const auto again = run(base + dir + "/cut");
   EXPECT_NE(again.out.find("0 resumed"), std::string::npos) << again.out;
   EXPECT_EQ(slurp(dir + "/cut/sub/resume.csv"), reference);
 }

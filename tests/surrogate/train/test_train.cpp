@@ -10,6 +10,7 @@
 #include "controllers/gru.hpp"
 #include "controllers/h5.hpp"
 #include "controllers/partition.hpp"
+#include "controllers/text_io.hpp"
 #include "surrogate/train/config.hpp"
 #include "surrogate/train/episodes.hpp"
 #include "surrogate/train/soft_rollout.hpp"
@@ -129,20 +130,45 @@ TEST(Trainer, TrainedWeightsPassParityAndRunsRepeat) {
 }
 
 TEST(Trainer, KilledRunResumesToTheSameWeights) {
-  const auto ref = train_to(tiny(4), "ref");
+  // Validation every step, so that the log shows which steps each run trained.
+  const std::vector<std::string> sets = {"batch=4", "events=6", "validate_every=1", "validation_seeds=8000-8001",
+                                         "validation_ranks=2,5", "validation_events=20", "checkpoint_every=2"};
+  const auto ref = train_to(load_train_config("", [&] { auto s = sets; s.push_back("steps=4"); return s; }()), "ref");
   const auto dir = test::fresh_dir("train_kill");
-  const std::string cmd = test::semlb_bin() + " train --quiet --steps 4 --set batch=4 --set events=6 --set validate_every=0 "
-                          "--set validation_seeds=8000-8001 --set validation_ranks=2,5 --set validation_events=20 "
-                          "--set checkpoint_every=2 --out " + dir + "/w.h5";
-  const auto killed = test::run("SEMLB_TRAIN_KILL_AFTER=2 " + cmd);
+  std::string cmd = test::semlb_bin() + " train --steps 4 --out " + dir + "/w.h5";
+  for (const auto& s : sets) cmd += " --set " + s;
+  const auto killed = test::run("SEMLB_TRAIN_KILL_AFTER=2 " + cmd + " --quiet");
   EXPECT_EQ(killed.rc, 128 + 9) << killed.out;
   EXPECT_FALSE(fs::exists(dir + "/w.h5"));
   EXPECT_TRUE(fs::exists(dir + "/w.h5.ckpt"));
-  const auto resumed = test::run(cmd);
+  // The killed run logged steps 1 and 2; mark their wall_seconds: a resume keeps them, a fresh start would not.
+  auto rows = split(test::slurp(dir + "/w.log.csv"), '\n');
+  ASSERT_EQ(rows.size(), 4u) << test::slurp(dir + "/w.log.csv");  // header, steps 1 and 2, ""
+  std::string marked = rows[0] + "\n";
+  for (int i : {1, 2}) {
+    auto cells = split(rows[i], ',');
+    ASSERT_EQ(cells[0], std::to_string(i));
+    cells[1] = "-" + std::to_string(i);
+    for (size_t c = 0; c < cells.size(); ++c) marked += (c ? "," : "") + cells[c];
+    marked += "\n";
+  }
+  test::write(dir + "/w.log.csv", marked);
+  const auto resumed = test::run(cmd);  // with the progress lines
   ASSERT_EQ(resumed.rc, 0) << resumed.out;
   expect_same_weights(ref, dir + "/w.h5");
-  const auto log = test::slurp(dir + "/w.log.csv");
-  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 2);  // header + the final validation row, no duplicates
+  EXPECT_NE(resumed.out.find("resuming from " + dir + "/w.h5.ckpt at step 2"), std::string::npos) << resumed.out;
+  for (const char* trained : {"step 3 validation", "step 4 validation"})
+    EXPECT_NE(resumed.out.find(trained), std::string::npos) << resumed.out;
+  for (const char* not_again : {"step 1 validation", "step 2 validation"})
+    EXPECT_EQ(resumed.out.find(not_again), std::string::npos) << resumed.out;
+  // One row per step, in order, no duplicates; the killed run's rows kept as they were.
+  const auto log = split(test::slurp(dir + "/w.log.csv"), '\n');
+  ASSERT_EQ(log.size(), 6u) << test::slurp(dir + "/w.log.csv");
+  EXPECT_EQ(log[0] + "\n" + log[1] + "\n" + log[2] + "\n", marked);
+  for (int i : {3, 4}) {
+    EXPECT_EQ(split(log[i], ',')[0], std::to_string(i));
+    EXPECT_GE(std::stod(split(log[i], ',')[1]), 0.0) << log[i];
+  }
 }
 
 TEST(SoftRollout, TruncatedBpttKeepsTheForwardPassAndShortensGradients) {
