@@ -3,6 +3,7 @@
 
 #include "commands.hpp"
 #include "controllers/errors.hpp"
+#include "engine/distributed.hpp"
 #include "engine/driver.hpp"
 #include "engine/mpi.hpp"
 #include "engine/opencl.hpp"
@@ -30,6 +31,13 @@ void add_scene_flags(CLI::App* sub, SceneFlags& f) {
   sub->add_option("--set", f.set, "Scene override KEY.PATH=VALUE, e.g. tissue.cells=2000 (repeatable)");
 }
 
+namespace {
+void report(const engine::RunSummary& sum, const std::string& out) {
+  std::cerr << "semlb sim: " << sum.steps << " steps, " << sum.cells << " cells, " << sum.elements << " elements in "
+            << sum.wall_seconds << " s on " << sum.device << "; wrote " << out << "/final.h5\n";
+}
+}  // namespace
+
 Action add_sim(CLI::App& app) {
   struct Opts {
     std::string scene, out, restart;
@@ -54,26 +62,39 @@ Action add_sim(CLI::App& app) {
       return 0;
     }
     if (o->scene.empty() || o->out.empty()) throw InputError("sim: --scene and --out are required");
-    auto scene = engine::load_scene(o->scene, scene_overrides(o->flags));
-    engine::RunConfig rc{o->out, o->restart, o->quiet, SEMLB_GIT_REVISION, command_line()};
     std::unique_ptr<engine::Mpi> mpi;  // under mpirun: decomposed across the ranks
     if (engine::Mpi::launched()) mpi = std::make_unique<engine::Mpi>();
-    try {
-      const auto sum = mpi ? engine::run_scene_decomposed(scene, rc, *mpi) : engine::run_scene(scene, rc);
-      if (mpi && mpi->rank() != 0) return 0;
-      std::cerr << "semlb sim: " << sum.steps << " steps, " << sum.cells << " cells, " << sum.elements << " elements in "
-                << sum.wall_seconds << " s on " << sum.device << "; wrote " << o->out << "/final.h5\n";
-    } catch (const engine::SimulationError& e) {  // agreed by every rank: each exits 1, rank 0 reports
-      if (!mpi || mpi->rank() == 0)
+    if (!mpi) {
+      auto scene = engine::load_scene(o->scene, scene_overrides(o->flags));
+      engine::RunConfig rc{o->out, o->restart, o->quiet, SEMLB_GIT_REVISION, command_line()};
+      try {
+        const auto sum = engine::run_scene(scene, rc);
+        report(sum, o->out);
+      } catch (const engine::SimulationError& e) {
         std::cerr << "semlb sim: " << o->scene << ": " << e.what() << " (state written to " << o->out << "/failure.h5)\n";
-      return 1;
-    } catch (const InputError& e) {  // the scene and decomposition are the same on every rank: all stop here
-      if (!mpi || mpi->rank() == 0) throw;
-      return 2;
-    } catch (const std::exception& e) {  // one rank alone: name it and stop the whole job
-      if (!mpi || mpi->size() == 1) throw;
+        return 1;
+      }
+      return 0;
+    }
+    // Decomposed: every error reaches every rank (docs/engine.md "Failures"). Errors all ranks agreed on end
+    // the job normally, reported once by rank 0; any other is this rank's alone: name it, abort the job.
+    try {
+      engine::Scene scene;
+      engine::agree(*mpi, [&] { scene = engine::load_scene(o->scene, scene_overrides(o->flags)); });
+      engine::RunConfig rc{o->out, o->restart, o->quiet, SEMLB_GIT_REVISION, command_line()};
+      const auto sum = engine::run_scene_decomposed(scene, rc, *mpi);
+      if (mpi->rank() == 0) report(sum, o->out);
+    } catch (const engine::AgreedError& e) {
+      if (mpi->rank() == 0) {
+        std::cerr << "semlb sim: " << (e.code == 2 ? "" : o->scene + ": ") << e.what();
+        if (e.failed_step >= 0) std::cerr << " (state written to " << o->out << "/failure.h5)";
+        std::cerr << std::endl;
+      }
+      return e.code;
+    } catch (const std::exception& e) {
       std::cerr << "semlb sim: rank " << mpi->rank() << ": " << e.what() << std::endl;
-      mpi->abort(1);
+      if (mpi->size() == 1) return dynamic_cast<const InputError*>(&e) ? 2 : 1;
+      mpi->abort(dynamic_cast<const InputError*>(&e) ? 2 : 1);
     }
     return 0;
   };

@@ -62,7 +62,8 @@ class Backend {
   virtual void zero_forces() = 0;
   virtual void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;
   virtual void membrane_forces(const std::vector<double>& membrane) = 0;
-  // Y += dt/eta * F; records a Failure (and freezes) on a non-finite position or a step above max_step.
+  // Y += dt/eta * F; records a Failure on a non-finite position or a step above max_step. The failing step
+  // completes on every element; from the next step on, integrate and noise move nothing (frozen).
   virtual void integrate(double dt_over_eta, double max_step, long step) = 0;
   virtual void noise(double amplitude, uint64_t seed, long step) = 0;  // Y += amplitude * N(0,1)
   virtual Failure failure() = 0;

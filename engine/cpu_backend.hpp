@@ -65,7 +65,7 @@ class CpuBackend : public Backend {
 
   void integrate(double dt_over_eta, double max_step, long step) override {
     count("integrate");
-    if (fail_step_ >= 0) return;  // frozen at the failure
+    if (fail_step_ >= 0) return;  // frozen since the failing step (which completed on every element)
     const Real k = static_cast<Real>(dt_over_eta), limit2 = static_cast<Real>(max_step * max_step);
     const long n = owned_;
     int worst = INT_MAX;
@@ -89,6 +89,7 @@ class CpuBackend : public Backend {
 
   void noise(double amplitude, uint64_t seed, long step) override {
     count("noise");
+    if (fail_step_ >= 0 && fail_step_ < step) return;  // frozen since the failing step, as integrate
     const Real a = static_cast<Real>(amplitude);
     const long n = owned_;
 #pragma omp parallel for schedule(static) num_threads(threads())

@@ -5,12 +5,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <sstream>
 
 #include "controllers/chains.hpp"
 #include "controllers/errors.hpp"
 #include "controllers/metrics.hpp"
 #include "controllers/partition.hpp"
+#include "controllers/text_io.hpp"
 #include "controllers/trace.hpp"
 #include "effect.hpp"
 #include "tissue.hpp"
@@ -117,7 +120,48 @@ void split_cells(State& s, Owner owner, int me, std::vector<Writer>& out) {
   s = std::move(kept);
 }
 
+// Asks a fresh instance of the policy for one decision on an observation shaped like the engine's (measured
+// times, per-slice work, no true work): a policy that needs more fails here, at load time, and not on rank 0
+// alone at the first rebalancing event.
+void probe_policy(const Decomposition& d, int ranks) {
+  Observation obs;
+  obs.slices = d.slices;
+  obs.min_width = d.min_width;
+  obs.boundaries = uniform_partition(ranks, d.slices);
+  obs.times.assign(ranks, 1.0);
+  obs.slice_work.assign(d.slices, 1.0 * ranks / d.slices);
+  validate(obs);
+  make_policy(d.policy, d.params)->decide(obs);
+}
+
 }  // namespace
+
+void agree(const Mpi& mpi, const std::function<void()>& local) {
+  std::string message;
+  int code = 0;
+  try {
+    local();
+  } catch (const AgreedError& e) {
+    message = e.what();
+    code = e.code;
+  } catch (const InputError& e) {
+    message = e.what();
+    code = 2;
+  } catch (const std::exception& e) {
+    message = e.what();
+    code = 1;
+  }
+  const auto codes = mpi.allgather({static_cast<double>(code)});
+  int first = 0;
+  while (first < mpi.size() && codes[first] == 0) ++first;
+  if (first == mpi.size()) return;
+  const std::string mine = message;
+  mpi.broadcast(message, first);  // every rank now holds the first failing rank's message
+  const auto same = mpi.allgather({code != 0 && mine == message ? 1.0 : 0.0});
+  bool everyone = true;
+  for (int r = 0; r < mpi.size(); ++r) everyone = everyone && same[r] > 0;
+  throw AgreedError((everyone ? "" : "rank " + std::to_string(first) + ": ") + message, static_cast<int>(codes[first]));
+}
 
 Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
   Decomposition d;
@@ -137,12 +181,23 @@ Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
   for (const auto& k : p.keys()) d.params.set(k, p.text(k, ""));
   p.finish();
   s.finish();
+  // On 3 or more ranks the ghost exchange, which reaches the neighbouring ranks only, needs slabs at least as
+  // wide as the cutoff plus a cell's reach (taken as one cutoff) on either side. exchange_ghosts() still
+  // checks the elements at every step and stops the run if a cell reaches further.
+  const int ghost_slices = static_cast<int>(std::ceil(3 * scene.cutoff / d.width));
+  if (ranks >= 3 && d.min_width < ghost_slices) {
+    std::ostringstream m;
+    m << min_um << " um is " << d.min_width << " slices of " << d.width << " um, narrower than the ghost region on "
+      << ranks << " ranks: the cutoff plus a cell's reach of one cutoff on either side, 3 x " << scene.cutoff
+      << " um = " << ghost_slices << " slices (the default); use at most 2 ranks or a wider min_width";
+    s.fail("min_width", m.str());
+  }
   if (d.slices < ranks * d.min_width)
     s.fail("min_width", std::to_string(ranks) + " ranks need " + std::to_string(ranks * d.min_width) + " slices of " +
                             std::to_string(d.width) + " um but the domain has " + std::to_string(d.slices) +
                             ": use fewer ranks or a larger tissue");
   try {
-    make_policy(d.policy, d.params);
+    probe_policy(d, ranks);
   } catch (const InputError& e) {
     s.fail("policy", e.what());
   }
@@ -210,6 +265,15 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
   cells_at_event_ = static_cast<long>(tissue.cells());
   for (const auto& [name, section] : scene.effects)  // the growth phase the controllers see
     if (name == "growth") growth_cycle_ = section.real("cycle_time", 20.0, 1e-9, 1e12);
+  if (const char* f = std::getenv("SEMLB_FAULT_INJECT")) {  // "RANK:STEP": a test of one rank's error (docs/engine.md)
+    const auto parts = split(f, ':');
+    char* end = nullptr;
+    if (parts.size() == 2) fault_rank_ = static_cast<int>(std::strtol(parts[0].c_str(), &end, 10));
+    const bool rank_ok = end && end != parts[0].c_str() && *end == 0;
+    if (parts.size() == 2) fault_step_ = std::strtol(parts[1].c_str(), &end, 10);
+    if (!rank_ok || end == parts[1].c_str() || *end != 0)
+      throw InputError("SEMLB_FAULT_INJECT: expected RANK:STEP (integers), got '" + std::string(f) + "'");
+  }
 }
 
 int DistributedSimulation::owner_of_cell(const State& s, long c) const {
@@ -223,21 +287,35 @@ double DistributedSimulation::compute_seconds() const {
 }
 
 // Owned elements within the cutoff of a neighbour's elements go to that neighbour; only neighbours
-// exchange, so a slab must be wider than the cutoff plus the reach of cells (checked here). The backend
-// selects the bands on its device: only the x range and the band elements cross to the host.
+// exchange, so no two ranks further apart may hold elements within the cutoff of each other (checked here,
+// over all pairs of ranks). The check and the per-step failure flag (set by the previous step's
+// integration, seen before the next step moves anything) are agreed from one allgather, so every rank stops at the same step. The backend selects
+// the bands on its device: only the x range, the flag and the band elements cross to the host.
 void DistributedSimulation::exchange_ghosts() {
   const int r = mpi_->rank(), P = mpi_->size();
-  if (P == 1) return;  // no neighbours
+  if (P == 1) return;  // no neighbours; the failure is caught at the next check, the state frozen meanwhile
+  if (r == fault_rank_ && step() == fault_step_)
+    throw std::runtime_error("step " + std::to_string(step()) + ": fault injected by SEMLB_FAULT_INJECT");
   const auto t0 = std::chrono::steady_clock::now();
   Backend& b = sim_->backend();
   const auto [lo, hi] = b.x_extent();
-  const auto extents = mpi_->allgather({lo, hi});  // [lo_0, hi_0, lo_1, hi_1, ...]
-  auto los = [&](int q) { return extents[2 * q]; };
-  auto his = [&](int q) { return extents[2 * q + 1]; };
+  const Failure failure = b.failure();
+  const auto gathered = mpi_->allgather({lo, hi, static_cast<double>(failure.step)});  // 3 per rank
+  auto los = [&](int q) { return gathered[3 * q]; };
+  auto his = [&](int q) { return gathered[3 * q + 1]; };
+  bool failed = false;
+  for (int q = 0; q < P; ++q) failed = failed || gathered[3 * q + 2] >= 0;
+  if (failed) collective_check();  // every rank sees the same flags: all call it, all throw
   const double cut = scene_->cutoff, reach = cut * (1 + kGhostSlack);
-  if (r + 2 < P && los(r + 2) - cut < hi)
-    throw SimulationError("rank " + std::to_string(r) + ": elements within the cutoff of rank " + std::to_string(r + 2) +
-                          ": slabs are narrower than the ghost region (raise decomposition.min_width)");
+  for (int p = 0; p < P; ++p)  // the same verdict on every rank: all throw it together
+    for (int q = p + 2; q < P; ++q)
+      if (los(q) - reach < his(p)) {
+        std::ostringstream m;
+        m << "step " << step() << ": ranks " << p << " and " << q << " hold elements within the cutoff of each other (x up to "
+          << his(p) << " and from " << los(q) << " um) but only neighbouring ranks exchange ghosts: a cell reaches"
+          << " further than one cutoff from its slab (raise decomposition.min_width)";
+        throw AgreedError(m.str(), 1);
+      }
   Ghosts left, right;
   if (r > 0) b.band(his(r - 1) + reach, true, left);
   if (r + 1 < P) b.band(los(r + 1) - reach, false, right);
@@ -313,12 +391,21 @@ void DistributedSimulation::rebalance() {
   obs.growth_event = cells != cells_at_event_;
   cells_at_event_ = cells;
   std::vector<int> next = boundaries_;
-  if (mpi_->rank() == 0) {
+  agree(*mpi_, [&] {  // rank 0 decides: its errors (a policy's, the trace file's) stop every rank
+    if (mpi_->rank() != 0) return;
     validate(obs);
     next = policy_->decide(obs);
-    if (!trace_path_.empty() && !trace_.is_open()) trace_.open(trace_path_, std::ios::trunc);
+    try {  // rebalancing never gives a slab narrower than min_width
+      check_partition(next, dec_.slices, dec_.min_width);
+    } catch (const InputError& e) {
+      throw std::runtime_error("event " + std::to_string(obs.event) + ": policy '" + dec_.policy + "' decided " + e.what());
+    }
+    if (!trace_path_.empty() && !trace_.is_open()) {
+      trace_.open(trace_path_, std::ios::trunc);
+      if (!trace_) throw std::runtime_error(trace_path_ + ": cannot write");
+    }
     if (trace_.is_open()) trace_ << to_json(TraceEvent{obs, next}).dump() << "\n" << std::flush;
-  }
+  });
   mpi_->broadcast(next, 0);
   const long moved = migration(boundaries_, next);
   migrated_ += moved;
@@ -337,12 +424,14 @@ void DistributedSimulation::collective_check() {
   } catch (const SimulationError& e) {
     message = "rank " + std::to_string(mpi_->rank()) + ": " + e.what();
   }
-  const auto failed = mpi_->allgather({message.empty() ? 0.0 : 1.0});
+  const Failure f = sim_->backend().failure();
+  const auto failed = mpi_->allgather({static_cast<double>(f.step)});  // -1 where none
+  int first = -1;  // the rank with the earliest failing step, the lowest such rank
   for (int r = 0; r < mpi_->size(); ++r)
-    if (failed[r] > 0) {
-      mpi_->broadcast(message, r);
-      throw SimulationError(message);
-    }
+    if (failed[r] >= 0 && (first < 0 || failed[r] < failed[first])) first = r;
+  if (first < 0) return;
+  mpi_->broadcast(message, first);
+  throw AgreedError(message, 1, static_cast<long>(failed[first]));
 }
 
 void DistributedSimulation::advance(long target) {

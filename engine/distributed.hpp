@@ -3,7 +3,9 @@
 // workload-aware initial partition and rebalancing through the shared controllers.
 #pragma once
 #include <fstream>
+#include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -13,14 +15,34 @@
 
 namespace semlb::engine {
 
+// An error that every rank of a decomposed run throws at the same point with the same message (a verdict
+// reached collectively), so that the job can end normally with exit code `code` (1: run-time failure,
+// 2: bad input). `failed_step` >= 0 marks a numerical failure at that step: failure.h5 is due. Any other
+// exception in a decomposed run is one rank's alone; `semlb sim` then ends the job with MPI_Abort.
+struct AgreedError : std::runtime_error {
+  AgreedError(const std::string& message, int code, long failed_step = -1)
+      : std::runtime_error(message), code(code), failed_step(failed_step) {}
+  int code;
+  long failed_step;
+};
+
+// Runs `local` (which must not call collectives) on every rank, then agrees on the outcome: if it threw
+// on any rank, every rank throws AgreedError with the message of the lowest failing rank, prefixed
+// "rank R: " unless every rank failed with that same message, and code 2 for an InputError, else 1.
+void agree(const Mpi& mpi, const std::function<void()>& local);
+
 struct Decomposition {
-  int slices = 0, min_width = 1;  // min_width in slices: covers cutoff + twice the reach of a cell
+  // min_width in slices: on 3 or more ranks at least the ghost region, cutoff + a cell's reach (one cutoff)
+  // on either side, so that only neighbouring ranks share elements within the cutoff (docs/engine.md)
+  int slices = 0, min_width = 1;
   double x0 = 0, width = 1;       // slice s covers [x0 + s width, x0 + (s+1) width); outside is clamped
   std::string policy = "reactive", initial = "workload";
   long rebalance_every = 100;
   PolicyParams params;
 
-  static Decomposition from_scene(const Scene& scene, int ranks);  // InputError names the field
+  // InputError names the field: slab widths below the ghost region on >= 3 ranks, more ranks than the
+  // slices hold, a policy that needs what the engine cannot observe (e.g. the oracle's true work).
+  static Decomposition from_scene(const Scene& scene, int ranks);
   int slice_of(double x) const;
 };
 
@@ -73,6 +95,8 @@ class DistributedSimulation {
   double exchange_s_ = 0, migrate_s_ = 0;  // since the last rebalancing event
   long migrated_ = 0, cells_at_event_ = 0;
   int event_ = 0;
+  int fault_rank_ = -1;  // SEMLB_FAULT_INJECT=RANK:STEP: throws on that rank alone at that step (tests)
+  long fault_step_ = -1;
 };
 
 }  // namespace semlb::engine

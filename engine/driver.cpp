@@ -108,6 +108,16 @@ class RunOutputs {
   std::vector<Snapshot> snapshots_;
 };
 
+// The state written on a numerical failure: frozen since the failing step (its positions as that step's
+// moves left them), labelled with that step.
+State failing_state(State s, long step, double dt) {
+  if (step >= 0) {
+    s.step = step;
+    s.time = static_cast<double>(step) * dt;
+  }
+  return s;
+}
+
 // The next step at which the driver must stop to log or write a file.
 long next_stop(const Scene& scene, long step, long last) {
   auto next = [&](long every) { return every > 0 ? (step / every + 1) * every : last; };
@@ -148,7 +158,7 @@ RunSummary run_scene(Scene& scene, const RunConfig& config) {
       status.update(s.step, s.cells(), s.elements(), seconds_since(t0), false);
     }
   } catch (const SimulationError&) {
-    out.write("failure.h5", sim.host_state());
+    out.write("failure.h5", failing_state(sim.host_state(), sim.backend().failure().step, scene.dt));
     throw;
   }
   const State& s = sim.sync();
@@ -157,60 +167,74 @@ RunSummary run_scene(Scene& scene, const RunConfig& config) {
   return {s.step - first, s.cells(), s.elements(), seconds_since(t0), sim.backend().device_name()};
 }
 
+// Every error is collective (docs/engine.md "Failures"): the setup, rank 0's files and the run's own checks
+// are agreed on by all ranks (AgreedError); anything else is one rank's alone and aborts the job.
 RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi) {
-  State initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);
-  if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);
   scene.backend.local_rank = mpi.local_rank();
-  const long first = initial.step, last = std::max(scene.steps, first);
   const bool root = mpi.rank() == 0;
-  DistributedSimulation sim(scene, initial, mpi, root ? config.out_dir + "/trace.jsonl" : "");  // all input checked here
+  State initial;
+  std::unique_ptr<DistributedSimulation> sim;
+  agree(mpi, [&] {  // all input checked here, before anything is written
+    initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);
+    if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);
+    sim = std::make_unique<DistributedSimulation>(scene, initial, mpi, root ? config.out_dir + "/trace.jsonl" : "");
+  });
+  const long first = initial.step, last = std::max(scene.steps, first);
   std::unique_ptr<RunOutputs> out;  // rank 0 writes every file
-  if (root)
-    out = std::make_unique<RunOutputs>(scene, config, first, "step,time_h,cells,elements,wall_s",
-                                       std::map<std::string, std::string>{{"git_revision", config.git_revision},
-                                                                          {"scene", scene.name},
-                                                                          {"backend", sim.local().backend().name()},
-                                                                          {"ranks", std::to_string(mpi.size())}});
+  agree(mpi, [&] {
+    if (root)
+      out = std::make_unique<RunOutputs>(scene, config, first, "step,time_h,cells,elements,wall_s",
+                                         std::map<std::string, std::string>{{"git_revision", config.git_revision},
+                                                                            {"scene", scene.name},
+                                                                            {"backend", sim->local().backend().name()},
+                                                                            {"ranks", std::to_string(mpi.size())}});
+  });
   StatusLine status(config.quiet || !root, first, last);
   const auto t0 = std::chrono::steady_clock::now();
   double wall_before = 0;
   try {
-    while (sim.step() < last) {
-      const long stop = next_stop(scene, sim.step(), last);
-      sim.advance(stop);
-      const auto [cells, elements] = sim.totals();
-      if (root && (stop % scene.log_every == 0 || stop == last)) {
-        std::ostringstream row;
-        const double w = seconds_since(t0);
-        row << stop << "," << static_cast<double>(stop) * scene.dt << "," << cells << "," << elements << "," << w - wall_before;
-        out->log(row.str());
-        wall_before = w;
-      }
-      const bool gather = root && out->wants_state(stop);
-      if (mpi.allreduce_max(gather ? 1 : 0)) {  // the whole tissue travels to rank 0 only when a file needs it
-        const State all = sim.gather();
-        if (root) out->save(all);
-      }
+    while (sim->step() < last) {
+      const long stop = next_stop(scene, sim->step(), last);
+      sim->advance(stop);
+      const auto [cells, elements] = sim->totals();
+      // the whole tissue travels to rank 0 only when a file needs it
+      const bool gather = mpi.allreduce_max(root && out->wants_state(stop) ? 1 : 0) > 0;
+      const State all = gather ? sim->gather() : State{};
+      agree(mpi, [&] {
+        if (!root) return;
+        if (stop % scene.log_every == 0 || stop == last) {
+          std::ostringstream row;
+          const double w = seconds_since(t0);
+          row << stop << "," << static_cast<double>(stop) * scene.dt << "," << cells << "," << elements << "," << w - wall_before;
+          out->log(row.str());
+          wall_before = w;
+        }
+        if (gather) out->save(all);
+      });
       status.update(stop, cells, elements, seconds_since(t0), false);
     }
-  } catch (const SimulationError&) {
-    const State all = sim.gather();  // every rank reaches this: the failure was agreed collectively
-    if (root) out->write("failure.h5", all);
+  } catch (const AgreedError& e) {
+    if (e.failed_step < 0) throw;
+    const State all = failing_state(sim->gather(), e.failed_step, scene.dt);  // every rank is here
+    agree(mpi, [&] {
+      if (root) out->write("failure.h5", all);
+    });
     throw;
   }
-  const State all = sim.gather();
-  if (root) {
+  const State all = sim->gather();
+  agree(mpi, [&] {
+    if (!root) return;
     out->write("final.h5", all);
     std::string rows = "step,rank,compute_s,exchange_s,migrate_s,imbalance,moved_slices\n";
-    for (const auto& iv : sim.intervals())
+    for (const auto& iv : sim->intervals())
       for (size_t r = 0; r < iv.times.size(); ++r)
         rows += std::to_string(iv.step) + "," + std::to_string(r) + "," + std::to_string(iv.times[r]) + "," +
                 std::to_string(iv.exchange[r]) + "," + std::to_string(iv.migrate[r]) + "," + std::to_string(iv.imbalance) +
                 "," + std::to_string(iv.moved) + "\n";
     write_file_atomically(config.out_dir + "/rank_times.csv", rows);
     status.update(all.step, all.cells(), all.elements(), seconds_since(t0), true);
-  }
-  return {all.step - first, all.cells(), all.elements(), seconds_since(t0), sim.local().backend().device_name()};
+  });
+  return {all.step - first, all.cells(), all.elements(), seconds_since(t0), sim->local().backend().device_name()};
 }
 
 }  // namespace semlb::engine

@@ -165,11 +165,12 @@ __kernel void membrane(__global const real4* pos, __constant const SEMLB_REAL* m
   force[3 * i + 2] += semlb_to_fixed(semlb_membrane_fz(p.z, semlb_info_type(INFO(p.w)), m));
 }
 
-/* Overdamped update; the first failing step freezes the state and records (step, lowest element*4+code). */
+/* Overdamped update; the first failing step records (step, lowest element*4+code) and completes on every
+   element; later steps (fail[0] < step) move nothing, so the frozen state does not depend on launch order. */
 __kernel void integrate(__global real4* pos, __global const long* force, SEMLB_REAL dt_over_eta, SEMLB_REAL limit2,
                         int step, __global volatile int* fail, int n) {
   int i = get_global_id(0);
-  if (i >= n || fail[1] != NO_FAILURE) return;
+  if (i >= n || (fail[0] >= 0 && fail[0] < step)) return;
   real4 p = pos[i];
   SEMLB_REAL dx = semlb_displacement(force[3 * i], dt_over_eta);
   SEMLB_REAL dy = semlb_displacement(force[3 * i + 1], dt_over_eta);
@@ -185,9 +186,11 @@ __kernel void integrate(__global real4* pos, __global const long* force, SEMLB_R
   pos[i] = p;
 }
 
-__kernel void noise(__global real4* pos, __global const ulong* keys, SEMLB_REAL amplitude, ulong seed, long step, int n) {
+/* Frozen, like integrate, after a failing step. */
+__kernel void noise(__global real4* pos, __global const ulong* keys, SEMLB_REAL amplitude, ulong seed, long step,
+                    __global const volatile int* fail, int n) {
   int i = get_global_id(0);
-  if (i >= n) return;
+  if (i >= n || (fail[0] >= 0 && fail[0] < step)) return;
   real4 p = pos[i];
   ulong k = keys[i];
   p.x += amplitude * semlb_gauss(seed, k, (ulong)step, 0);

@@ -136,7 +136,7 @@ class OpenClBackend final : public Backend {
 
   void noise(double amplitude, uint64_t seed, long step) override {
     launch("noise", owned_, kGroup, pos_.get(), keys_.get(), static_cast<Real>(amplitude), static_cast<cl_ulong>(seed),
-           static_cast<cl_long>(step), owned());
+           static_cast<cl_long>(step), fail_.get(), owned());
   }
 
   Failure failure() override {

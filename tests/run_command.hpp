@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -14,17 +15,24 @@ namespace semlb::test {
 struct Result {
   int rc;
   std::string out;
+  double seconds = 0;  // wall time of the command
 };
 
 inline Result run(const std::string& cmd) {
   Result r{0, ""};
+  const auto t0 = std::chrono::steady_clock::now();
   FILE* p = popen((cmd + " 2>&1").c_str(), "r");
   std::array<char, 4096> buf;
   while (size_t n = fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
   const int status = pclose(p);
   r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
+
+// A command prefix that ends what follows after `seconds` (TERM, then KILL 5 s later): a hang becomes exit
+// code 124 or 137 and a failing test instead of a stuck suite.
+inline std::string within(int seconds) { return "timeout -k 5 " + std::to_string(seconds) + " "; }
 
 inline std::string semlb_bin() { return SEMLB_BINARY; }
 inline std::string source(const std::string& rel) { return std::string(SEMLB_SOURCE_DIR) + "/" + rel; }

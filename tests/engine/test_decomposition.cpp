@@ -20,14 +20,16 @@ using test::fresh_dir;
 using test::run;
 using test::semlb_bin;
 using test::source;
+using test::within;
 
 // 400 cells over ~180 um in x: room for 4 slabs of min_width (3 cutoffs); one thread per rank.
 const std::string kArgs = " --scene " + source("scenes/epidermis.yaml") +
                           " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=50";
 
-std::string mpirun(int ranks) {
-  return std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") + SEMLB_MPIEXEC + " --oversubscribe -np " +
-         std::to_string(ranks) + " " + semlb_bin() + " sim";
+// Every run is bounded (within()): a hang fails the test. `env` holds VAR=VALUE assignments for every rank.
+std::string mpirun(int ranks, const std::string& env = "", int seconds = 300) {
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + env + " " + within(seconds) + SEMLB_MPIEXEC +
+         " --oversubscribe -np " + std::to_string(ranks) + " " + semlb_bin() + " sim";
 }
 
 // W_s = sum of n_i n_N(i) per slice against a brute-force count, on a compact tissue (dense bin counts)
@@ -141,6 +143,118 @@ TEST(Decomposition, TooManyRanksForTheDomainIsBadInput) {
   EXPECT_EQ(r.rc, 2) << r.out;
   EXPECT_NE(r.out.find("field 'decomposition.min_width'"), std::string::npos) << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
+}
+
+// tests/data/narrow_slabs (the reported case): two cells within the cutoff of each other in a 9 um domain
+// with decomposition.min_width 0. Every rank count gives the one-device state bit for bit or is refused at
+// load time naming the field; 1 and 2 ranks need no slab between neighbours and run, 3 and 4 (which hung
+// and silently lost the cells' interaction) are refused, on every rank alike.
+TEST(Decomposition, SlabsNarrowerThanTheGhostRegionAreRefusedOrExact) {
+  const auto dir = fresh_dir("decomposition_narrow_slabs");
+  const std::string args = " --scene " + source("tests/data/narrow_slabs/scene.yaml") + " --quiet";
+  auto r = run(semlb_bin() + " sim" + args + " --out " + dir + "/single");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const State reference = read_state(dir + "/single/final.h5");
+  for (int ranks : {1, 2, 3, 4}) {
+    const std::string out = dir + "/np" + std::to_string(ranks);
+    r = run(mpirun(ranks, "", 60) + args + " --out " + out);
+    if (ranks <= 2) {
+      ASSERT_EQ(r.rc, 0) << ranks << " ranks: " << r.out;
+      const State s = read_state(out + "/final.h5");
+      EXPECT_EQ(s.position, reference.position) << ranks << " ranks";
+      EXPECT_EQ(s.hash(), reference.hash()) << ranks << " ranks";
+    } else {
+      EXPECT_EQ(r.rc, 2) << ranks << " ranks: " << r.out;
+      EXPECT_NE(r.out.find("field 'decomposition.min_width'"), std::string::npos) << r.out;
+      EXPECT_NE(r.out.find("narrower than the ghost region"), std::string::npos) << r.out;
+      EXPECT_EQ(r.out.find("rank "), std::string::npos) << "every rank refuses alike: " << r.out;
+      EXPECT_FALSE(std::filesystem::exists(out)) << "nothing written";
+    }
+  }
+}
+
+// A cell reaching further than one cutoff from its slab (here 50 um long) brings ranks 0 and 2 within the
+// cutoff of each other although min_width is valid: every rank stops at step 0 with the same message.
+TEST(Decomposition, ACellReachingPastTheNextSlabStopsEveryRank) {
+  const auto dir = fresh_dir("decomposition_long_cell");
+  State s;
+  s.cell_id = {0, 1};
+  s.cell_type = {0, 0};
+  s.cell_count = {7, 2};
+  for (double x : {5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 55.0, 62.0, 64.0}) s.position.insert(s.position.end(), {x, 5.0, 5.0});
+  s.reindex();
+  write_state(dir + "/long.h5", s, {});
+  test::write(dir + "/scene.yaml", R"(name: long
+cutoff: 8.75
+domain: {lo: [0, 0, 0], hi: [90, 10, 10]}
+tissue: {file: long.h5}
+time: {dt: 0.01, steps: 5}
+output: {log_every: 5, snapshot_every: 0, checkpoint_every: 0}
+backend: {name: serial}
+decomposition: {initial: uniform, policy: static}
+effects: {mechanics: {}}
+)");
+  const auto r = run(mpirun(3, "", 60) + " --scene " + dir + "/scene.yaml --quiet --out " + dir + "/out");
+  EXPECT_EQ(r.rc, 1) << r.out;
+  EXPECT_NE(r.out.find("step 0: ranks 0 and 2 hold elements within the cutoff"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("decomposition.min_width"), std::string::npos) << r.out;
+}
+
+// A policy that needs what the engine cannot observe (the oracle's true work) used to throw on rank 0 alone
+// at the first rebalancing event while the other ranks waited: now bad input at load time.
+TEST(Decomposition, APolicyTheEngineCannotFeedIsBadInputOnEveryRank) {
+  const auto dir = fresh_dir("decomposition_oracle");
+  const auto r = run(mpirun(2, "", 60) + kArgs + " --steps 100 --set decomposition.policy=oracle --out " + dir + "/out");
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_NE(r.out.find("decomposition.policy: "), std::string::npos) << r.out;  // set by --set
+  EXPECT_NE(r.out.find("oracle_work"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
+}
+
+// An error on one rank alone, in the middle of a step (SEMLB_FAULT_INJECT=RANK:STEP), ends the whole job
+// within seconds with one line naming the rank and the cause; the last complete checkpoint stays readable.
+TEST(Decomposition, AnErrorOnOneRankAloneEndsTheJobNamingTheRank) {
+  for (int rank : {0, 2}) {
+    const auto dir = fresh_dir("decomposition_fault_" + std::to_string(rank));
+    const auto r = run(mpirun(3, "SEMLB_FAULT_INJECT=" + std::to_string(rank) + ":25", 60) + kArgs +
+                       " --steps 100 --set output.checkpoint_every=10 --out " + dir);
+    EXPECT_LT(r.seconds, 30) << r.out;
+    EXPECT_NE(r.rc, 0) << r.out;
+    EXPECT_NE(r.rc, 124) << "timed out: " << r.out;
+    EXPECT_NE(r.out.find("semlb sim: rank " + std::to_string(rank) + ": step 25: fault injected by SEMLB_FAULT_INJECT"),
+              std::string::npos)
+        << r.out;
+    ASSERT_TRUE(std::filesystem::exists(dir + "/checkpoint.h5")) << r.out;
+    EXPECT_EQ(read_state(dir + "/checkpoint.h5").step, 20);
+    EXPECT_FALSE(std::filesystem::exists(dir + "/final.h5"));
+  }
+}
+
+// epidermis at dt = 0.2 h fails at step 0. failure.h5 is the state of that step, labelled with it: the same
+// whether the run was to stop at step 5 or 100 (noise used to keep moving the elements until the check) and
+// on 2 ranks as on one device (the other rank used to keep integrating).
+TEST(Decomposition, FailureStateIsTheFailingStepOnAnyRankCount) {
+  const auto dir = fresh_dir("decomposition_failure_state");
+  const std::string args = " --scene " + source("scenes/epidermis.yaml") +
+                           " --quiet --set time.dt=0.2 --set tissue.cells=60 --set backend.threads=1";
+  std::vector<State> states;
+  for (const std::string steps : {"5", "100"}) {
+    const std::string out = dir + "/single_" + steps;
+    const auto r = run(within(120) + semlb_bin() + " sim" + args + " --set time.steps=" + steps + " --out " + out);
+    ASSERT_EQ(r.rc, 1) << r.out;
+    ASSERT_NE(r.out.find(": step 0: element"), std::string::npos) << r.out;
+    states.push_back(read_state(out + "/failure.h5"));
+  }
+  const auto r = run(mpirun(2, "", 120) + args + " --set time.steps=100 --out " + dir + "/np2");
+  ASSERT_EQ(r.rc, 1) << r.out;
+  ASSERT_NE(r.out.find(": step 0: element"), std::string::npos) << r.out;
+  states.push_back(read_state(dir + "/np2/failure.h5"));
+  for (size_t k = 0; k < states.size(); ++k) {
+    EXPECT_EQ(states[k].step, 0) << k;
+    EXPECT_EQ(states[k].time, 0.0) << k;
+    EXPECT_EQ(states[k].position, states[0].position) << k;
+    EXPECT_EQ(states[k].hash(), states[0].hash()) << k;
+  }
 }
 
 }  // namespace
