@@ -66,6 +66,20 @@ void read_block(const YAML::Node& block, Manifest& m, const std::string& where_n
 
 }  // namespace
 
+std::string where(const Setting& s, const std::string& manifest, const std::string& key) {
+  return s.source.empty() ? semlb::where(manifest, s.line, key) : s.source + ": ";
+}
+
+long Job::integer(const std::string& key, long fallback, long min, long max, const std::string& manifest) const {
+  const Setting* s = find(key);
+  return s ? parse_integer(s->value, where(*s, manifest, key), min, max) : fallback;
+}
+
+double Job::real(const std::string& key, double fallback, double min, double max, const std::string& manifest) const {
+  const Setting* s = find(key);
+  return s ? parse_real(s->value, where(*s, manifest, key), min, max) : fallback;
+}
+
 const Setting* Job::find(const std::string& key) const {
   for (const auto& [k, v] : settings)
     if (k == key) return &v;
@@ -120,8 +134,12 @@ Manifest load_manifest(const std::string& path, const std::string& profile, cons
     if (eq == std::string::npos || eq == 0) throw InputError("--set: '" + o + "' is not KEY=VALUE");
     const std::string key = o.substr(0, eq);
     auto it = std::find_if(m.axes.begin(), m.axes.end(), [&](auto& p) { return p.first == key; });
-    if (it != m.axes.end()) it->second = axis_values(YAML::Node(o.substr(eq + 1)), "--set", key);
-    else m.fixed[key] = {o.substr(eq + 1), 0};
+    if (it != m.axes.end()) {
+      it->second = axis_values(YAML::Node(o.substr(eq + 1)), "--set", key);
+      for (auto& v : it->second) v.source = "--set " + key;
+    } else {
+      m.fixed[key] = {o.substr(eq + 1), 0, "--set " + key};
+    }
   }
   for (const auto& [field, value] : {std::pair{"name", &m.name}, {"runner", &m.runner}, {"output", &m.output}})
     if (value->empty()) throw InputError(where(path, 0, field) + "missing");
