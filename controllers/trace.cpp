@@ -70,6 +70,8 @@ TraceEvent parse_trace_line(const std::string& text, const std::string& file, lo
     j = json::parse(text);
   } catch (const json::parse_error& e) {
     throw InputError(where(file, line, "") + "not valid JSON (byte " + std::to_string(e.byte) + ")");
+  } catch (const json::out_of_range&) {  // nlohmann refuses 1e400 while parsing
+    throw InputError(where(file, line, "") + "a number does not fit a double (numbers must be finite)");
   }
   if (!j.is_object()) throw InputError(where(file, line, "") + "a trace line must be a JSON object");
   TraceEvent e;

@@ -38,7 +38,7 @@ engine::Scene job_scene(const Job& job, const std::string& manifest, const std::
   try {
     scene = engine::load_scene(path, o);
   } catch (const InputError& e) {
-    throw InputError(where(*file, manifest, "scene") + e.what());
+    throw InputError(where_of(*file, manifest, "scene") + e.what());
   }
   const std::string effects = value(job, "effects", "all");
   if (effects != "all") {
@@ -46,7 +46,7 @@ engine::Scene job_scene(const Job& job, const std::string& manifest, const std::
     for (const auto& k : keep) {
       bool found = false;
       for (const auto& [name, section] : scene.effects) found = found || name == k;
-      if (!found) throw InputError(where(*job.find("effects"), manifest, "effects") + "'" + k + "' is not an effect of " + path);
+      if (!found) throw InputError(where_of(*job.find("effects"), manifest, "effects") + "'" + k + "' is not an effect of " + path);
     }
     std::erase_if(scene.effects, [&](const auto& e) { return std::find(keep.begin(), keep.end(), e.first) == keep.end(); });
   }
@@ -60,7 +60,7 @@ long integer(const Job& job, const std::string& key, long fallback, const std::s
 void check_keys(const Job& job, const std::string& manifest, const std::vector<std::string>& known) {
   for (const auto& [k, s] : job.settings)
     if (std::find(known.begin(), known.end(), k) == known.end() && k.rfind("scene.", 0) != 0 && k.rfind("max_cells.", 0) != 0)
-      throw InputError(where(s, manifest, k) + "unknown setting for this runner");
+      throw InputError(where_of(s, manifest, k) + "unknown setting for this runner");
   for (const auto& [k, s] : job.settings)  // max_cells.BACKEND: the largest cell count BACKEND is timed at
     if (k.rfind("max_cells.", 0) == 0) integer(job, k, 0, manifest);
 }
@@ -125,7 +125,7 @@ class AccuracyRunner final : public Runner {
     engine::make_effects(scene);
     for (const auto& e : scene.effects)
       if (e.first == "growth" || e.first == "division" || e.first == "noise")
-        throw InputError((job.find("effects") ? where(*job.find("effects"), manifest, "effects") : semlb::where(manifest, 0, "effects")) +
+        throw InputError((job.find("effects") ? where_of(*job.find("effects"), manifest, "effects") : where(manifest, 0, "effects")) +
                          "accuracy runs compare element by element: leave out " + e.first);
     job.real("hours", 2.0, 1e-9, 1e9, manifest);
   }

@@ -16,7 +16,7 @@ struct Setting {
 };
 
 // "SOURCE: " for a command-line value, else "MANIFEST:LINE: field 'KEY': ".
-std::string where(const Setting& s, const std::string& manifest, const std::string& key);
+std::string where_of(const Setting& s, const std::string& manifest, const std::string& key);
 
 // One row of a sweep: key -> value, in a fixed key order.
 struct Job {

@@ -28,9 +28,9 @@ std::string get(const Job& job, const std::string& key, const std::string& fallb
 
 void check_job(const Job& job, const std::string& manifest) {
   for (const auto& [k, s] : job.settings)
-    if (!kKeys.count(k) && k.rfind("scene.", 0) != 0) throw InputError(where(s, manifest, k) + "unknown setting for this runner");
+    if (!kKeys.count(k) && k.rfind("scene.", 0) != 0) throw InputError(where_of(s, manifest, k) + "unknown setting for this runner");
   for (const char* k : {"scene", "ranks"})
-    if (!job.find(k)) throw InputError(semlb::where(manifest, 0, k) + "missing");
+    if (!job.find(k)) throw InputError(where(manifest, 0, k) + "missing");
   job.integer("ranks", 1, 1, 4096, manifest);
 }
 

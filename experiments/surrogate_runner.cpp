@@ -12,7 +12,7 @@ namespace {
 
 const Setting& required(const Job& job, const std::string& key, const std::string& manifest) {
   const Setting* s = job.find(key);
-  if (!s) throw InputError(semlb::where(manifest, 0, key) + "missing (the surrogate runner needs it)");
+  if (!s) throw InputError(where(manifest, 0, key) + "missing (the surrogate runner needs it)");
   return *s;
 }
 
@@ -24,27 +24,28 @@ class SurrogateRunner final : public Runner {
     const auto j = to_eval_job(job, manifest);
     for (const auto& [k, s] : job.settings)
       if (k != "policy" && k != "ranks" && k != "seed" && k != "events" && k.find('.') == std::string::npos)
-        throw InputError(where(s, manifest, k) + "unknown setting for the surrogate runner");
+        throw InputError(where_of(s, manifest, k) + "unknown setting for the surrogate runner");
     try {  // the scenario's slice count bounds the rank count: checked here, before any output exists
       surrogate::make_scenario(j.seed, j.ranks);
     } catch (const InputError& e) {
-      throw InputError(where(*job.find("ranks"), manifest, "ranks") + e.what() + " (scenario seed " + std::to_string(j.seed) + ")");
+      throw InputError(where_of(*job.find("ranks"), manifest, "ranks") + e.what() + " (scenario seed " + std::to_string(j.seed) + ")");
+    }
+    for (const auto& [policy, p] : params(job)) {  // every policy's parameters, also of policies this row does not run
+      try {
+        make_policy(policy, p);
+      } catch (const InputError& e) {  // blame the parameter the message names (else the policy's first one)
+        const Setting* s = nullptr;
+        for (const auto& [k, v] : job.settings)
+          if (k.rfind(policy + ".", 0) == 0 && (!s || std::string(e.what()).find("'" + k.substr(policy.size() + 1) + "'") != std::string::npos))
+            s = &v;
+        throw InputError((s ? where_of(*s, manifest, policy + ".*") : where(manifest, 0, policy + ".*")) + e.what());
+      }
     }
     try {
       make_policy(j.policy, params(job)[j.policy]);
     } catch (const InputError& e) {
       const Setting* s = job.find("policy");
-      throw InputError((s ? where(*s, manifest, "policy") : semlb::where(manifest, 0, "policy")) + e.what());
-    }
-    for (const auto& [policy, p] : params(job)) {  // parameters of policies this row does not run are checked too
-      try {
-        make_policy(policy, p);
-      } catch (const InputError& e) {
-        const Setting* s = nullptr;
-        for (const auto& [k, v] : job.settings)
-          if (k.rfind(policy + ".", 0) == 0) s = &v;
-        throw InputError((s ? where(*s, manifest, policy + ".*") : semlb::where(manifest, 0, policy + ".*")) + e.what());
-      }
+      throw InputError((s ? where_of(*s, manifest, "policy") : where(manifest, 0, "policy")) + e.what());
     }
   }
 

@@ -61,7 +61,7 @@ TEST(Cli, ErrorsNameTheirSourceAndLeaveNoPartialFile) {
                    "--param reactive.alpha: policy parameter 'alpha': '0' is outside (0, 2)", dir + "/o");
   expect_bad_input("surrogate --policies holt --param holt.beta=0.5x --quiet --out " + dir + "/o",
                    "--param holt.beta: policy parameter 'beta': '0.5x' is not a number", dir + "/o");
-  expect_bad_input("surrogate --policies static --seeds ' 9000' --quiet --out " + dir + "/o", "--seeds", dir + "/o");
+  expect_bad_input("surrogate --policies static --seeds 9000.0 --quiet --out " + dir + "/o", "--seeds: '9000.0': '9000.0' is not an integer", dir + "/o");
   expect_bad_input("sim --quiet --scene " + source("scenes/epidermis.yaml") + " --set 'effects.noise={diffusoin: 0.1}' --out " + dir + "/s",
                    "--set effects.noise: field 'effects.noise.diffusoin': unknown setting", dir + "/s");
   expect_bad_input("sim --quiet --scene " + source("tests/data/mm_domain.yaml") + " --out " + dir + "/s",
