@@ -36,15 +36,16 @@ Action add_surrogate(CLI::App& app) {
     m.runner = "surrogate";
     m.output = "controller_eval.csv";
     std::vector<experiments::Setting> policies, ranks, seeds;
-    for (const auto& p : split(o->policies, ',')) policies.push_back({p, 0});
-    for (long r : surrogate::parse_int_list(o->ranks, "--ranks")) ranks.push_back({std::to_string(r), 0});
-    for (long s : surrogate::parse_int_list(o->seeds, "--seeds")) seeds.push_back({std::to_string(s), 0});
+    // Each value remembers its flag, so that errors name it ("--ranks: ranks = 2000 must be in ...").
+    for (const auto& p : split(o->policies, ',')) policies.push_back({p, 0, "--policies"});
+    for (long r : surrogate::parse_int_list(o->ranks, "--ranks")) ranks.push_back({std::to_string(r), 0, "--ranks"});
+    for (long s : surrogate::parse_int_list(o->seeds, "--seeds")) seeds.push_back({std::to_string(s), 0, "--seeds"});
     m.axes = {{"policy", policies}, {"ranks", ranks}, {"seed", seeds}};
-    m.fixed["events"] = {std::to_string(o->events), 0};
-    if (!o->weights.empty()) m.fixed["gru.weights"] = {o->weights, 0};
+    m.fixed["events"] = {std::to_string(o->events), 0, "--events"};
+    if (!o->weights.empty()) m.fixed["gru.weights"] = {o->weights, 0, "--weights"};
     for (const auto& p : o->params) {
       surrogate::parse_policy_params({p});  // validates the POLICY.KEY=VALUE shape
-      m.fixed[p.substr(0, p.find('='))] = {p.substr(p.find('=') + 1), 0};
+      m.fixed[p.substr(0, p.find('='))] = {p.substr(p.find('=') + 1), 0, "--param " + p.substr(0, p.find('='))};
     }
     experiments::SweepOptions so;
     so.results_dir = o->out;

@@ -214,8 +214,8 @@ class GruPolicy final : public Policy {
 
 const Registrar gru_registrar("gru", [](PolicyParams& params) {
   ReactiveParams p;
-  p.tau = params.real("tau", p.tau);
-  p.alpha = params.real("alpha", p.alpha);
+  p.tau = params.real("tau", p.tau, 0.0, kMaxThreshold);
+  p.alpha = params.real("alpha", p.alpha, 0.0, 2.0, true, true);
   const std::string path = params.text("weights", "");
   if (path.empty() && !std::filesystem::exists(default_gru_weights_path()))
     throw InputError("policy 'gru': no --weights given and the shipped default " + default_gru_weights_path() +

@@ -2,6 +2,7 @@
 #include "h5.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "errors.hpp"
@@ -127,15 +128,31 @@ std::string File::read_text_attr(const std::string& name) const {
   return s.substr(0, s.find('\0'));
 }
 
+namespace {
+// A numeric attribute of the expected class holding one value (a float is not silently truncated to an
+// integer, a list is not read as its first value).
+void check_scalar(hid_t a, H5T_class_t expected, const std::string& path, const std::string& name) {
+  Id type(H5Aget_type(a), H5Tclose, "attribute type");
+  Id space(H5Aget_space(a), H5Sclose, "attribute space");
+  if (H5Tget_class(type.get()) != expected || H5Sget_simple_extent_npoints(space.get()) != 1)
+    throw InputError(path + ": attribute '" + name + "' must be one " + (expected == H5T_FLOAT ? "floating-point" : "integer") + " value");
+}
+}  // namespace
+
 long File::read_int_attr(const std::string& name) const {
   long v = 0;
-  check(H5Aread(attr(name).get(), H5T_NATIVE_LONG, &v), "read " + name);
+  Id a = attr(name);
+  check_scalar(a.get(), H5T_INTEGER, path_, name);
+  check(H5Aread(a.get(), H5T_NATIVE_LONG, &v), "read " + name);
   return v;
 }
 
 double File::read_real_attr(const std::string& name) const {
   double v = 0;
-  check(H5Aread(attr(name).get(), H5T_NATIVE_DOUBLE, &v), "read " + name);
+  Id a = attr(name);
+  check_scalar(a.get(), H5T_FLOAT, path_, name);
+  check(H5Aread(a.get(), H5T_NATIVE_DOUBLE, &v), "read " + name);
+  if (!std::isfinite(v)) throw InputError(path_ + ": attribute '" + name + "' is not finite");
   return v;
 }
 

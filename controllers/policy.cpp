@@ -1,10 +1,8 @@
 // Policy registry and PolicyParams parsing.
 #include "policy.hpp"
 
-#include <cmath>
-#include <cstdlib>
-
 #include "errors.hpp"
+#include "text_io.hpp"
 
 namespace semlb {
 namespace {
@@ -34,14 +32,15 @@ const Entry& entry(const std::string& name) {
 
 }  // namespace
 
-double PolicyParams::real(const std::string& key, double fallback) {
+double PolicyParams::real(const std::string& key, double fallback, double min, double max, bool min_open, bool max_open) {
   used_.insert(key);
   auto it = values_.find(key);
   if (it == values_.end()) return fallback;
-  char* end = nullptr;
-  const double v = std::strtod(it->second.c_str(), &end);
-  if (it->second.empty() || *end != '\0' || !std::isfinite(v))
-    throw InputError("policy parameter '" + key + "': '" + it->second + "' is not a finite number");
+  const std::string at = "policy parameter '" + key + "': ";
+  const double v = parse_real(it->second, at);
+  if (v < min || v > max || (min_open && v == min) || (max_open && v == max))
+    throw InputError(at + "'" + it->second + "' is outside " + (min_open ? "(" : "[") + format_real(min) + ", " +
+                     format_real(max) + (max_open ? ")" : "]"));
   return v;
 }
 

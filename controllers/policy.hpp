@@ -33,12 +33,19 @@ struct PolicyNeeds {
 };
 
 // key=value options of one policy (e.g. tau=0.02). Reading a key marks it used; unused keys are errors.
+// Largest imbalance threshold (tau) a policy accepts: I_t <= 2 and I_global <= P, so tau above this means
+// "never rebalance" for any run semlb can make (ranges: docs/controllers.md "Input rules").
+inline constexpr double kMaxThreshold = 100.0;
+
 class PolicyParams {
  public:
   PolicyParams() = default;
   explicit PolicyParams(std::map<std::string, std::string> values) : values_(std::move(values)) {}
 
-  double real(const std::string& key, double fallback);
+  // KEY's value parsed strictly (parse_real), in [min, max] (an open end when min_open / max_open);
+  // FALLBACK when absent. Throws InputError "policy parameter 'KEY': ...".
+  double real(const std::string& key, double fallback, double min, double max, bool min_open = false,
+              bool max_open = false);
   std::string text(const std::string& key, const std::string& fallback);
   void set(const std::string& key, const std::string& value) { values_[key] = value; }
   bool has(const std::string& key) const { return values_.count(key) != 0; }

@@ -46,8 +46,8 @@ class ReactivePolicy final : public Policy {
 
 const Registrar reactive_registrar("reactive", [](PolicyParams& params) {
   ReactiveParams p;
-  p.tau = params.real("tau", p.tau);
-  p.alpha = params.real("alpha", p.alpha);
+  p.tau = params.real("tau", p.tau, 0.0, kMaxThreshold);
+  p.alpha = params.real("alpha", p.alpha, 0.0, 2.0, true, true);
   return std::make_unique<ReactivePolicy>(p);
 });
 

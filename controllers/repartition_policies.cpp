@@ -77,12 +77,12 @@ const Registrar persistence_registrar(
     "persistence", [](PolicyParams&) { return std::make_unique<PersistencePolicy>(); }, kSliceWork);
 // Defaults chosen on training seeds only (experiments/holt_tuning.yaml; docs/controllers.md).
 const Registrar holt_registrar("holt", [](PolicyParams& p) {
-  return std::make_unique<HoltPolicy>(p.real("alpha", 0.2), p.real("beta", 0.0));
+  return std::make_unique<HoltPolicy>(p.real("alpha", 0.2, 0.0, 1.0, true), p.real("beta", 0.0, 0.0, 1.0));
 }, kSliceWork);
 const Registrar oracle_registrar(
     "oracle", [](PolicyParams&) { return std::make_unique<OraclePolicy>(); }, kTrueWork);
 const Registrar lazy_oracle_registrar("lazy_oracle", [](PolicyParams& p) {
-  return std::make_unique<LazyOraclePolicy>(p.real("tau", 0.1), p.real("slack", 0.0));
+  return std::make_unique<LazyOraclePolicy>(p.real("tau", 0.1, 0.0, kMaxThreshold), p.real("slack", 0.0, 0.0, 10.0));
 }, kTrueWork);
 
 }  // namespace

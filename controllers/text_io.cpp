@@ -1,6 +1,8 @@
-// Small text-file helpers.
+// Small text helpers: files, splitting, strict numbers, round-trip reals.
 #include "text_io.hpp"
 
+#include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -35,6 +37,53 @@ std::vector<std::string> split(const std::string& text, char separator) {
     fields.push_back(text.substr(pos, at - pos));
   fields.push_back(text.substr(pos));
   return fields;
+}
+
+namespace {
+
+std::string range_text(double min, double max) {
+  return "[" + format_real(min) + ", " + format_real(max) + "]";
+}
+
+}  // namespace
+
+double parse_real(std::string_view text, const std::string& where, double min, double max) {
+  const std::string quoted = "'" + std::string(text) + "'";
+  double v = 0;
+  const char *first = text.data(), *last = text.data() + text.size();
+  // from_chars takes no '+', no spaces and no "0x"; it does take "inf"/"nan", refused by the finiteness check.
+  const auto [p, ec] = std::from_chars(first, last, v, std::chars_format::general);
+  if (text.empty() || ec == std::errc::invalid_argument || p != last)
+    throw InputError(where + quoted + " is not a number");
+  if (ec == std::errc::result_out_of_range || !std::isfinite(v))
+    throw InputError(where + quoted + " is not a finite number in the range of a double");
+  if (v < min || v > max) throw InputError(where + quoted + " is outside " + range_text(min, max));
+  return v;
+}
+
+long parse_integer(std::string_view text, const std::string& where, long min, long max) {
+  const std::string quoted = "'" + std::string(text) + "'";
+  long v = 0;
+  const char *first = text.data(), *last = text.data() + text.size();
+  const auto [p, ec] = std::from_chars(first, last, v);
+  if (ec == std::errc::result_out_of_range) throw InputError(where + quoted + " does not fit a 64-bit integer");
+  if (text.empty() || ec != std::errc() || p != last) {
+    double unused = 0;  // say why a real was refused: integers are written as integers
+    const auto [q, rc] = std::from_chars(first, last, unused, std::chars_format::general);
+    if (!text.empty() && rc == std::errc() && q == last)
+      throw InputError(where + quoted + " is not an integer (write integers without '.' or exponent)");
+    throw InputError(where + quoted + " is not an integer");
+  }
+  if (v < min || v > max)
+    throw InputError(where + quoted + " is outside [" + std::to_string(min) + ", " + std::to_string(max) + "]");
+  return v;
+}
+
+std::string format_real(double v) {
+  char buf[64];
+  const auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  if (ec != std::errc()) throw std::logic_error("format_real: buffer too small");
+  return std::string(buf, p);
 }
 
 }  // namespace semlb

@@ -1,6 +1,9 @@
-// Small text-file helpers shared by every module: atomic writes, whole-file reads, field splitting.
+// Small text helpers shared by every module: atomic writes, whole-file reads, field splitting, and the ONE
+// strict number parser / real formatter (input rules: docs/engine.md "Input rules").
 #pragma once
+#include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace semlb {
@@ -11,5 +14,19 @@ void write_file_atomically(const std::string& path, const std::string& text);
 std::string read_file(const std::string& path);
 // Fields between separators, empty ones kept: split("a,,b", ',') = {"a", "", "b"}; split("", ',') = {""}.
 std::vector<std::string> split(const std::string& text, char separator);
+
+// Strict number parsing, used wherever a number is read from text. The whole token must be the number:
+// no surrounding spaces, no units ("0.15mm"), no hex ("0x10"), no leading '+', no "inf"/"nan"; a real is
+// finite (1e400 is refused) and an integer is written as an integer ("2.0", "1e3" are refused) that fits a
+// long. The value must lie in [min, max]. `where` prefixes the message (e.g. semlb::where(file, line,
+// field), or "--set KEY: "); errors throw InputError("<where>'<text>' is not a number", ... "outside [a, b]").
+double parse_real(std::string_view text, const std::string& where,
+                  double min = -std::numeric_limits<double>::max(), double max = std::numeric_limits<double>::max());
+long parse_integer(std::string_view text, const std::string& where,
+                   long min = std::numeric_limits<long>::min(), long max = std::numeric_limits<long>::max());
+
+// The shortest text that reads back as exactly `v` (std::to_chars): 12345.01 -> "12345.01", 0.1 -> "0.1",
+// 3 -> "3", 1e-07 -> "1e-07". Used for every real written into CSV, XDMF and other text outputs.
+std::string format_real(double v);
 
 }  // namespace semlb

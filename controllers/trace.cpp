@@ -1,6 +1,9 @@
 // JSON Lines trace reading/writing with field-level error messages.
 #include "trace.hpp"
 
+#include <cmath>
+#include <type_traits>
+
 #include "errors.hpp"
 
 namespace semlb {
@@ -19,17 +22,43 @@ json to_json(const TraceEvent& e) {
 
 namespace {
 
+// Numbers in traces are strict like everywhere else: integers are JSON integers that fit an int (2.0 and
+// 2.5 are refused, not truncated), reals are finite (nlohmann reads 1e400 as inf).
+template <class T>
+T number(const json& v, const std::string& at) {
+  if constexpr (std::is_same_v<T, int>) {
+    if (!v.is_number()) throw InputError(at + "has the wrong type (" + std::string(v.type_name()) + ")");
+    if (!v.is_number_integer()) throw InputError(at + v.dump() + " is not an integer");
+    const auto i = v.get<long long>();
+    if (v.is_number_unsigned() ? v.get<unsigned long long>() > 2147483647ULL : (i < -2147483648LL || i > 2147483647LL))
+      throw InputError(at + v.dump() + " does not fit a 32-bit integer");
+    return static_cast<int>(i);
+  } else if constexpr (std::is_same_v<T, double>) {
+    if (!v.is_number()) throw InputError(at + "has the wrong type (" + std::string(v.type_name()) + ")");
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) throw InputError(at + "must be finite");
+    return d;
+  } else {
+    if (!v.is_boolean()) throw InputError(at + "has the wrong type (" + std::string(v.type_name()) + ")");
+    return v.get<bool>();
+  }
+}
+
 template <class T>
 T field(const json& j, const char* name, const std::string& file, long line, bool required, T fallback = T{}) {
   const auto it = j.find(name);
+  const std::string at = where(file, line, name);
   if (it == j.end()) {
-    if (required) throw InputError(where(file, line, name) + "missing");
+    if (required) throw InputError(at + "missing");
     return fallback;
   }
-  try {
-    return it->get<T>();
-  } catch (const json::exception&) {
-    throw InputError(where(file, line, name) + "has the wrong type (" + std::string(it->type_name()) + ")");
+  if constexpr (std::is_same_v<T, std::vector<int>> || std::is_same_v<T, std::vector<double>>) {
+    if (!it->is_array()) throw InputError(at + "has the wrong type (" + std::string(it->type_name()) + ")");
+    T out;
+    for (size_t i = 0; i < it->size(); ++i) out.push_back(number<typename T::value_type>((*it)[i], at + "item " + std::to_string(i) + ": "));
+    return out;
+  } else {
+    return number<T>(*it, at);
   }
 }
 
@@ -41,6 +70,8 @@ TraceEvent parse_trace_line(const std::string& text, const std::string& file, lo
     j = json::parse(text);
   } catch (const json::parse_error& e) {
     throw InputError(where(file, line, "") + "not valid JSON (byte " + std::to_string(e.byte) + ")");
+  } catch (const json::out_of_range&) {  // nlohmann refuses 1e400 while parsing
+    throw InputError(where(file, line, "") + "a number does not fit a double (numbers must be finite)");
   }
   if (!j.is_object()) throw InputError(where(file, line, "") + "a trace line must be a JSON object");
   TraceEvent e;

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "controllers/errors.hpp"
 #include "controllers/text_io.hpp"
 #include "distributed.hpp"
 #include "io.hpp"
@@ -33,7 +34,8 @@ std::vector<std::string> earlier_rows(const std::string& path, long step) {
   if (!fs::exists(path)) return rows;
   const auto lines = split(read_file(path), '\n');
   for (size_t i = 1; i < lines.size(); ++i)
-    if (!lines[i].empty() && std::stol(split(lines[i], ',')[0]) <= step) rows.push_back(lines[i]);
+    if (!lines[i].empty() && parse_integer(split(lines[i], ',')[0], semlb::where(path, static_cast<long>(i) + 1, "step")) <= step)
+      rows.push_back(lines[i]);
   return rows;
 }
 
@@ -43,7 +45,8 @@ std::vector<Snapshot> earlier_snapshots(const std::string& dir, long step) {
   for (const auto& entry : fs::directory_iterator(dir + "/snapshots")) {
     const std::string name = entry.path().filename().string();
     if (name.rfind("step_", 0) != 0 || entry.path().extension() != ".h5") continue;
-    const long s = std::stol(name.substr(5, 9));
+    if (name.size() != 17 || name.substr(5, 9).find_first_not_of("0123456789") != std::string::npos) continue;  // step_NNNNNNNNN.h5
+    const long s = parse_integer(name.substr(5, 9), entry.path().string() + ": ");
     if (s > step) continue;
     const State st = read_state(entry.path().string());
     out.push_back({s, st.time, st.elements(), snapshot_name(s)});
@@ -148,8 +151,8 @@ RunSummary run_scene(Scene& scene, const RunConfig& config) {
       if (stop % scene.log_every == 0 || stop == last) {
         std::ostringstream row;
         const double w = seconds_since(t0);
-        row << s.step << "," << s.time << "," << s.cells() << "," << s.elements() << "," << w - wall_before;
-        for (size_t p = 0; p < sim.phases().size(); ++p) row << "," << sim.phase_seconds()[p] - phase_before[p];
+        row << s.step << "," << format_real(s.time) << "," << s.cells() << "," << s.elements() << "," << format_real(w - wall_before);
+        for (size_t p = 0; p < sim.phases().size(); ++p) row << "," << format_real(sim.phase_seconds()[p] - phase_before[p]);
         out.log(row.str());
         phase_before = sim.phase_seconds();
         wall_before = w;
@@ -205,7 +208,8 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
         if (stop % scene.log_every == 0 || stop == last) {
           std::ostringstream row;
           const double w = seconds_since(t0);
-          row << stop << "," << static_cast<double>(stop) * scene.dt << "," << cells << "," << elements << "," << w - wall_before;
+          row << stop << "," << format_real(static_cast<double>(stop) * scene.dt) << "," << cells << "," << elements << ","
+              << format_real(w - wall_before);
           out->log(row.str());
           wall_before = w;
         }
@@ -228,8 +232,8 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
     std::string rows = "step,rank,compute_s,exchange_s,migrate_s,imbalance,moved_slices\n";
     for (const auto& iv : sim->intervals())
       for (size_t r = 0; r < iv.times.size(); ++r)
-        rows += std::to_string(iv.step) + "," + std::to_string(r) + "," + std::to_string(iv.times[r]) + "," +
-                std::to_string(iv.exchange[r]) + "," + std::to_string(iv.migrate[r]) + "," + std::to_string(iv.imbalance) +
+        rows += std::to_string(iv.step) + "," + std::to_string(r) + "," + format_real(iv.times[r]) + "," +
+                format_real(iv.exchange[r]) + "," + format_real(iv.migrate[r]) + "," + format_real(iv.imbalance) +
                 "," + std::to_string(iv.moved) + "\n";
     write_file_atomically(config.out_dir + "/rank_times.csv", rows);
     status.update(all.step, all.cells(), all.elements(), seconds_since(t0), true);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <unordered_map>
 
 #include "controllers/errors.hpp"
 #include "controllers/h5.hpp"
@@ -38,37 +39,110 @@ void write_state(const std::string& path, const State& state, const std::map<std
   std::filesystem::rename(tmp, path);
 }
 
+namespace {
+
+// One-dimensional dataset of N values (N = the cell count, or the element count).
+void need_length(const std::string& path, const std::string& name, const std::vector<hsize_t>& dims, size_t n,
+                 const std::string& of) {
+  if (dims.size() != 1 || dims[0] != n)
+    throw InputError(path + ": dataset " + name + " must hold one value per " + of + " (" + std::to_string(n) + ")");
+}
+
+// Cell ids are unique and extendable by the division scheme (state.hpp): a cell at division depth d has no id
+// bits at or above kRootIdBits + d, d <= kMaxDivisionDepth, and no cell's id lies in another cell's future
+// subtree (ids it or its daughters will take). Without a division.depth dataset every cell is at depth 0.
+void check_ids(const std::string& path, const std::vector<int64_t>& ids, const std::vector<double>* depth_field) {
+  const std::string at = path + ": dataset /cells/id: ";
+  std::unordered_map<uint64_t, size_t> index;
+  std::vector<int> depth(ids.size(), 0);
+  for (size_t c = 0; c < ids.size(); ++c) {
+    if (depth_field) {
+      const double d = (*depth_field)[c];
+      if (!(d >= 0 && d <= kMaxDivisionDepth && d == std::floor(d)))
+        throw InputError(path + ": dataset /cells/fields/division.depth: value at " + std::to_string(c) + " is not an integer in [0, " +
+                         std::to_string(kMaxDivisionDepth) + "]");
+      depth[c] = static_cast<int>(d);
+    }
+    if (ids[c] < 0) throw InputError(at + "id " + std::to_string(ids[c]) + " at " + std::to_string(c) + " is negative");
+    const uint64_t id = static_cast<uint64_t>(ids[c]);
+    if (id >> (kRootIdBits + depth[c]))
+      throw InputError(at + "id " + std::to_string(id) + " at " + std::to_string(c) + " has bits at or above " +
+                       std::to_string(kRootIdBits + depth[c]) + " (root ids are < 2^" + std::to_string(kRootIdBits) +
+                       ", each division adds one bit; see division.depth)");
+    const auto [it, fresh] = index.emplace(id, c);
+    if (!fresh)
+      throw InputError(at + "id " + std::to_string(id) + " appears twice (cells " + std::to_string(it->second) + " and " +
+                       std::to_string(c) + "); cell ids must be unique");
+  }
+  for (size_t c = 0; c < ids.size(); ++c)  // is an ancestor position of cell c taken by a shallower cell?
+    for (int k = 0; k < depth[c]; ++k) {
+      const uint64_t prefix = static_cast<uint64_t>(ids[c]) & ((uint64_t{1} << (kRootIdBits + k)) - 1);
+      const auto it = index.find(prefix);
+      if (it != index.end() && it->second != c && depth[it->second] <= k)
+        throw InputError(at + "id " + std::to_string(ids[c]) + " at " + std::to_string(c) + " is one that cell " +
+                         std::to_string(prefix) + " (depth " + std::to_string(depth[it->second]) +
+                         ") will give a daughter; cell ids must stay unique when cells divide");
+    }
+}
+
+}  // namespace
+
 State read_state(const std::string& path) {
   const auto f = h5::File::open_read(path);
+  if (H5Aexists(f.id(), "format") > 0 && f.read_text_attr("format") != "semlb-state-v1")
+    throw InputError(path + ": attribute 'format' is '" + f.read_text_attr("format") + "', this build reads semlb-state-v1");
   std::vector<hsize_t> dims;
   State s;
   s.position = f.read("/elements/position", dims);
   if (dims.size() != 2 || dims[1] != 3) throw InputError(path + ": dataset /elements/position must be n x 3");
+  const size_t n = s.position.size() / 3;
   const auto ids = f.read_ints("/cells/id", dims);
+  if (dims.size() != 1) throw InputError(path + ": dataset /cells/id must be one-dimensional");
   const auto types = f.read_ints("/cells/type", dims);
+  need_length(path, "/cells/type", dims, ids.size(), "cell");
   const auto counts = f.read_ints("/cells/count", dims);
-  if (types.size() != ids.size() || counts.size() != ids.size())
-    throw InputError(path + ": datasets /cells/id, /cells/type and /cells/count differ in length");
+  need_length(path, "/cells/count", dims, ids.size(), "cell");
   long total = 0;
   for (size_t c = 0; c < ids.size(); ++c) {
     if (types[c] < 0 || types[c] >= kCellTypes) throw InputError(path + ": dataset /cells/type: value " + std::to_string(types[c]) + " at " + std::to_string(c) + " is not a type");
     if (counts[c] < 1 || counts[c] >= kMaxSlots) throw InputError(path + ": dataset /cells/count: value at " + std::to_string(c) + " outside 1.." + std::to_string(kMaxSlots - 1));
     total += counts[c];
   }
-  if (total * 3 != static_cast<long>(s.position.size()))
-    throw InputError(path + ": dataset /cells/count sums to " + std::to_string(total) + " elements but /elements/position has " + std::to_string(s.position.size() / 3));
-  for (double v : s.position)
-    if (!std::isfinite(v)) throw InputError(path + ": dataset /elements/position holds a non-finite value");
+  if (static_cast<size_t>(total) != n)
+    throw InputError(path + ": dataset /cells/count sums to " + std::to_string(total) + " elements but /elements/position has " + std::to_string(n));
+  for (size_t i = 0; i < s.position.size(); ++i)
+    if (!std::isfinite(s.position[i]))
+      throw InputError(path + ": dataset /elements/position: element " + std::to_string(i / 3) + " has a non-finite coordinate");
+  // Per-element copies of the cell id and type (written for viewers): when present they must agree.
+  for (const char* name : {"/elements/cell", "/elements/type"}) {
+    if (!f.has(name)) continue;
+    const auto v = f.read_ints(name, dims);
+    need_length(path, name, dims, n, "element");
+    const bool cell = std::string(name) == "/elements/cell";
+    for (size_t c = 0, e = 0; c < ids.size(); ++c)
+      for (long k = 0; k < counts[c]; ++k, ++e)
+        if (v[e] != (cell ? ids[c] : types[c]))
+          throw InputError(path + ": dataset " + name + ": element " + std::to_string(e) + " holds " + std::to_string(v[e]) +
+                           " but /cells/count places it in cell " + std::to_string(ids[c]) + (cell ? "" : " of type " + std::to_string(types[c])));
+  }
   s.cell_id.assign(ids.begin(), ids.end());
   s.cell_type.assign(types.begin(), types.end());
   s.cell_count.assign(counts.begin(), counts.end());
   s.step = H5Aexists(f.id(), "step") > 0 ? f.read_int_attr("step") : 0;
   s.time = H5Aexists(f.id(), "time") > 0 ? f.read_real_attr("time") : 0.0;
+  if (s.step < 0) throw InputError(path + ": attribute 'step' is " + std::to_string(s.step) + ", must be >= 0");
+  if (s.time < 0) throw InputError(path + ": attribute 'time' is " + format_real(s.time) + " h, must be >= 0");
   for (const char* name : {"growth.clock", "differentiation.age", "division.depth"})
     if (f.has(std::string("/cells/fields/") + name)) {
-      s.cell_fields[name] = f.read(std::string("/cells/fields/") + name, dims);
-      if (s.cell_fields[name].size() != ids.size()) throw InputError(path + ": dataset /cells/fields/" + name + " has the wrong length");
+      const std::string set = std::string("/cells/fields/") + name;
+      s.cell_fields[name] = f.read(set, dims);
+      need_length(path, set, dims, ids.size(), "cell");
+      for (size_t c = 0; c < ids.size(); ++c)
+        if (!std::isfinite(s.cell_fields[name][c]))
+          throw InputError(path + ": dataset " + set + ": value at " + std::to_string(c) + " is not finite");
     }
+  const auto depth = s.cell_fields.find("division.depth");
+  check_ids(path, ids, depth == s.cell_fields.end() ? nullptr : &depth->second);
   s.reindex();
   return s;
 }
@@ -77,7 +151,7 @@ void write_xdmf(const std::string& path, const std::vector<Snapshot>& snapshots)
   std::ostringstream x;
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Grid Name=\"tissue\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const auto& s : snapshots) {
-    x << "   <Grid Name=\"step_" << s.step << "\" GridType=\"Uniform\">\n    <Time Value=\"" << s.time << "\"/>\n"
+    x << "   <Grid Name=\"step_" << s.step << "\" GridType=\"Uniform\">\n    <Time Value=\"" << format_real(s.time) << "\"/>\n"
       << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << s.elements << "\" NodesPerElement=\"1\"/>\n"
       << "    <Geometry GeometryType=\"XYZ\">\n     <DataItem Dimensions=\"" << s.elements << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
       << s.file << ":/elements/position</DataItem>\n    </Geometry>\n";

@@ -1,8 +1,6 @@
 // Scene parsing: overrides on the YAML tree, then checked sections with line-accurate errors.
 #include "scene.hpp"
 
-#include <cmath>
-#include <sstream>
 
 #include "controllers/errors.hpp"
 #include "controllers/text_io.hpp"
@@ -14,7 +12,13 @@ Section::Section(YAML::Node node, std::string path, std::string file, std::share
 
 std::string Section::where(const std::string& key) const {
   const std::string full = path_.empty() ? key : (key.empty() ? path_ : path_ + "." + key);
-  if (overridden_ && overridden_->count(full)) return "--set " + full + ": ";
+  if (overridden_) {  // a key set by --set, or inside a map given by --set (effects.noise={...}), is blamed on it
+    std::string prefix;
+    for (const auto& part : split(full, '.')) {
+      prefix += (prefix.empty() ? "" : ".") + part;
+      if (overridden_->count(prefix)) return "--set " + prefix + ": " + (prefix == full ? "" : "field '" + full + "': ");
+    }
+  }
   long line = 0;
   if (node_.IsMap() && at(key)) line = at(key).Mark().line + 1;
   else if (node_.IsDefined() && !node_.IsNull()) line = node_.Mark().line + 1;
@@ -33,24 +37,15 @@ bool Section::has(const std::string& key) const { return node_.IsMap() && at(key
 double Section::real(const std::string& key, double fallback, double min, double max) const {
   read_.insert(key);
   if (!has(key)) return fallback;
-  double v = 0;
-  try {
-    v = at(key).as<double>();
-  } catch (const YAML::Exception&) {
-    fail(key, "'" + YAML::Dump(at(key)) + "' is not a number");
-  }
-  if (!std::isfinite(v) || v < min || v > max) {
-    std::ostringstream s;
-    s << v << " is outside [" << min << ", " << max << "]";
-    fail(key, s.str());
-  }
-  return v;
+  if (!at(key).IsScalar()) fail(key, "must be a number");
+  return parse_real(at(key).Scalar(), where(key), min, max);
 }
 
 long Section::integer(const std::string& key, long fallback, long min, long max) const {
-  const double v = real(key, static_cast<double>(fallback), static_cast<double>(min), static_cast<double>(max));
-  if (v != std::floor(v)) fail(key, "must be an integer");
-  return static_cast<long>(v);
+  read_.insert(key);
+  if (!has(key)) return fallback;
+  if (!at(key).IsScalar()) fail(key, "must be an integer");
+  return parse_integer(at(key).Scalar(), where(key), min, max);
 }
 
 std::string Section::text(const std::string& key, const std::string& fallback) const {
@@ -149,13 +144,9 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   s.auto_box = lo.size() == 1 && hi.size() == 1 && lo[0] == "auto" && hi[0] == "auto";
   if (!s.auto_box) {
     if (lo.size() != 3 || hi.size() != 3) domain.fail("lo", "lo and hi are [x, y, z] in um, or both auto");
-    for (int d = 0; d < 3; ++d) {
-      try {
-        s.box_lo[d] = std::stod(lo[d]);
-        s.box_hi[d] = std::stod(hi[d]);
-      } catch (const std::exception&) {
-        domain.fail("lo", "lo and hi must be numbers");
-      }
+    for (int d = 0; d < 3; ++d) {  // um; every coordinate a whole finite number
+      s.box_lo[d] = parse_real(lo[d], domain.where("lo"), -1e9, 1e9);
+      s.box_hi[d] = parse_real(hi[d], domain.where("hi"), -1e9, 1e9);
       if (!(s.box_hi[d] > s.box_lo[d])) domain.fail("hi", "hi must exceed lo on every axis");
     }
   }

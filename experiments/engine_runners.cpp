@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -23,12 +24,7 @@ std::string value(const Job& job, const std::string& key, const std::string& fal
   return s ? s->value : fallback;
 }
 
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
+std::string fmt(double v) { return format_real(v); }  // round-trip text (controllers/text_io.hpp)
 
 // The job's scene: `scene` (relative to the manifest), `cells`, `backend`, `precision`, `platform`,
 // `dt`, `cutoff`, `steps`, `scene.KEY` overrides; `effects` ("a+b+c" or "all") keeps only those listed.
@@ -42,7 +38,7 @@ engine::Scene job_scene(const Job& job, const std::string& manifest, const std::
   try {
     scene = engine::load_scene(path, o);
   } catch (const InputError& e) {
-    throw InputError(where(manifest, file->line, "scene") + e.what());
+    throw InputError(where_of(*file, manifest, "scene") + e.what());
   }
   const std::string effects = value(job, "effects", "all");
   if (effects != "all") {
@@ -50,7 +46,7 @@ engine::Scene job_scene(const Job& job, const std::string& manifest, const std::
     for (const auto& k : keep) {
       bool found = false;
       for (const auto& [name, section] : scene.effects) found = found || name == k;
-      if (!found) throw InputError(where(manifest, job.find("effects")->line, "effects") + "'" + k + "' is not an effect of " + path);
+      if (!found) throw InputError(where_of(*job.find("effects"), manifest, "effects") + "'" + k + "' is not an effect of " + path);
     }
     std::erase_if(scene.effects, [&](const auto& e) { return std::find(keep.begin(), keep.end(), e.first) == keep.end(); });
   }
@@ -58,21 +54,15 @@ engine::Scene job_scene(const Job& job, const std::string& manifest, const std::
 }
 
 long integer(const Job& job, const std::string& key, long fallback, const std::string& manifest) {
-  const Setting* s = job.find(key);
-  if (!s) return fallback;
-  try {
-    size_t used = 0;
-    const long v = std::stol(s->value, &used);
-    if (used == s->value.size() && v >= 0) return v;
-  } catch (const std::exception&) {
-  }
-  throw InputError(where(manifest, s->line, key) + "'" + s->value + "' is not a non-negative integer");
+  return job.integer(key, fallback, 0, std::numeric_limits<long>::max(), manifest);
 }
 
 void check_keys(const Job& job, const std::string& manifest, const std::vector<std::string>& known) {
   for (const auto& [k, s] : job.settings)
     if (std::find(known.begin(), known.end(), k) == known.end() && k.rfind("scene.", 0) != 0 && k.rfind("max_cells.", 0) != 0)
-      throw InputError(where(manifest, s.line, k) + "unknown setting for this runner");
+      throw InputError(where_of(s, manifest, k) + "unknown setting for this runner");
+  for (const auto& [k, s] : job.settings)  // max_cells.BACKEND: the largest cell count BACKEND is timed at
+    if (k.rfind("max_cells.", 0) == 0) integer(job, k, 0, manifest);
 }
 
 class TimingRunner final : public Runner {
@@ -94,7 +84,7 @@ class TimingRunner final : public Runner {
     const long steps = integer(job, "steps", 100, ""), warmup = integer(job, "warmup", 2, "");
     std::vector<std::string> row = {scene.backend.name, scene.backend.precision, value(job, "effects", "all"), value(job, "cells", "")};
     const std::string limit = value(job, "max_cells." + scene.backend.name, "");
-    if (!limit.empty() && integer(job, "cells", 0, "") > std::stol(limit)) {  // e.g. serial all-pairs at large n
+    if (!limit.empty() && integer(job, "cells", 0, "") > integer(job, "max_cells." + scene.backend.name, 0, "")) {  // e.g. serial all-pairs at large n
       row.insert(row.end(), {"", std::to_string(steps), "", "", "", "", "", "", "", "skipped: above max_cells." + scene.backend.name});
       return {row};
     }
@@ -135,12 +125,13 @@ class AccuracyRunner final : public Runner {
     engine::make_effects(scene);
     for (const auto& e : scene.effects)
       if (e.first == "growth" || e.first == "division" || e.first == "noise")
-        throw InputError(where(manifest, job.find("effects") ? job.find("effects")->line : 0, "effects") +
+        throw InputError((job.find("effects") ? where_of(*job.find("effects"), manifest, "effects") : where(manifest, 0, "effects")) +
                          "accuracy runs compare element by element: leave out " + e.first);
+    job.real("hours", 2.0, 1e-9, 1e9, manifest);
   }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
     const auto scene = job_scene(job, "", o.base_dir);
-    const double hours = std::stod(value(job, "hours", "2"));
+    const double hours = job.real("hours", 2.0, 1e-9, 1e9, "");
     double wall = 0, unused = 0;
     const auto state = run_for(scene, hours, wall);
     const auto& ref = reference(job, o, hours, unused);

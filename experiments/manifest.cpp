@@ -21,17 +21,17 @@ std::string scalar(const YAML::Node& n, const std::string& file, const std::stri
 std::vector<Setting> axis_values(const YAML::Node& n, const std::string& file, const std::string& field) {
   std::vector<Setting> out;
   if (n.IsSequence()) {
-    for (const auto& v : n) out.push_back({scalar(v, file, field), line_of(v)});
+    for (const auto& v : n) out.push_back({scalar(v, file, field), line_of(v), ""});
   } else {
     const std::string text = scalar(n, file, field);
     if (text.find('-') != std::string::npos && text.find_first_not_of("0123456789-, ") == std::string::npos) {
       try {
-        for (long v : surrogate::parse_int_list(text, field)) out.push_back({std::to_string(v), line_of(n)});
+        for (long v : surrogate::parse_int_list(text, field)) out.push_back({std::to_string(v), line_of(n), ""});
       } catch (const InputError& e) {
         throw InputError(where(file, line_of(n), field) + e.what());
       }
     } else {
-      for (auto& v : split(text, ',')) out.push_back({std::move(v), line_of(n)});
+      for (auto& v : split(text, ',')) out.push_back({std::move(v), line_of(n), ""});
     }
   }
   if (out.empty()) throw InputError(where(file, line_of(n), field) + "axis has no values");
@@ -54,7 +54,7 @@ void read_block(const YAML::Node& block, Manifest& m, const std::string& where_n
       }
     } else if (key == "set") {
       if (!kv.second.IsMap()) throw InputError(where(m.path, line_of(kv.second), "set") + "must be a mapping");
-      for (const auto& s : kv.second) m.fixed[s.first.Scalar()] = {scalar(s.second, m.path, "set." + s.first.Scalar()), line_of(s.second)};
+      for (const auto& s : kv.second) m.fixed[s.first.Scalar()] = {scalar(s.second, m.path, "set." + s.first.Scalar()), line_of(s.second), ""};
     } else if (key == "output" || key == "runner" || key == "name") {
       const std::string v = scalar(kv.second, m.path, key);
       (key == "output" ? m.output : key == "runner" ? m.runner : m.name) = v;
@@ -65,6 +65,20 @@ void read_block(const YAML::Node& block, Manifest& m, const std::string& where_n
 }
 
 }  // namespace
+
+std::string where_of(const Setting& s, const std::string& manifest, const std::string& key) {
+  return s.source.empty() ? semlb::where(manifest, s.line, key) : s.source + ": ";
+}
+
+long Job::integer(const std::string& key, long fallback, long min, long max, const std::string& manifest) const {
+  const Setting* s = find(key);
+  return s ? parse_integer(s->value, where_of(*s, manifest, key), min, max) : fallback;
+}
+
+double Job::real(const std::string& key, double fallback, double min, double max, const std::string& manifest) const {
+  const Setting* s = find(key);
+  return s ? parse_real(s->value, where_of(*s, manifest, key), min, max) : fallback;
+}
 
 const Setting* Job::find(const std::string& key) const {
   for (const auto& [k, v] : settings)
@@ -120,8 +134,12 @@ Manifest load_manifest(const std::string& path, const std::string& profile, cons
     if (eq == std::string::npos || eq == 0) throw InputError("--set: '" + o + "' is not KEY=VALUE");
     const std::string key = o.substr(0, eq);
     auto it = std::find_if(m.axes.begin(), m.axes.end(), [&](auto& p) { return p.first == key; });
-    if (it != m.axes.end()) it->second = axis_values(YAML::Node(o.substr(eq + 1)), "--set", key);
-    else m.fixed[key] = {o.substr(eq + 1), 0};
+    if (it != m.axes.end()) {
+      it->second = axis_values(YAML::Node(o.substr(eq + 1)), "--set", key);
+      for (auto& v : it->second) v.source = "--set " + key;
+    } else {
+      m.fixed[key] = {o.substr(eq + 1), 0, "--set " + key};
+    }
   }
   for (const auto& [field, value] : {std::pair{"name", &m.name}, {"runner", &m.runner}, {"output", &m.output}})
     if (value->empty()) throw InputError(where(path, 0, field) + "missing");

@@ -7,16 +7,24 @@
 
 namespace semlb::experiments {
 
-// One value with the manifest line it came from (0 when it came from the command line).
+// One value with the manifest line it came from, or (line 0) the command-line flag that gave it ("--set ranks",
+// "--ranks"): errors about the value name that source.
 struct Setting {
   std::string value;
   long line = 0;
+  std::string source;  // non-empty for values from the command line
 };
+
+// "SOURCE: " for a command-line value, else "MANIFEST:LINE: field 'KEY': ".
+std::string where_of(const Setting& s, const std::string& manifest, const std::string& key);
 
 // One row of a sweep: key -> value, in a fixed key order.
 struct Job {
   std::vector<std::pair<std::string, Setting>> settings;
   const Setting* find(const std::string& key) const;
+  // KEY parsed strictly (controllers/text_io.hpp) in [min, max]; FALLBACK when absent. Errors name the source.
+  long integer(const std::string& key, long fallback, long min, long max, const std::string& manifest) const;
+  double real(const std::string& key, double fallback, double min, double max, const std::string& manifest) const;
 };
 
 struct Manifest {

@@ -28,12 +28,10 @@ std::string get(const Job& job, const std::string& key, const std::string& fallb
 
 void check_job(const Job& job, const std::string& manifest) {
   for (const auto& [k, s] : job.settings)
-    if (!kKeys.count(k) && k.rfind("scene.", 0) != 0) throw InputError(where(manifest, s.line, k) + "unknown setting for this runner");
+    if (!kKeys.count(k) && k.rfind("scene.", 0) != 0) throw InputError(where_of(s, manifest, k) + "unknown setting for this runner");
   for (const char* k : {"scene", "ranks"})
     if (!job.find(k)) throw InputError(where(manifest, 0, k) + "missing");
-  const std::string r = get(job, "ranks", "");
-  if (r.empty() || !std::all_of(r.begin(), r.end(), ::isdigit) || std::stoi(r) < 1)
-    throw InputError(where(manifest, job.find("ranks")->line, "ranks") + "'" + r + "' is not a positive integer");
+  job.integer("ranks", 1, 1, 4096, manifest);
 }
 
 // Runs the job under mpirun into a fresh directory; returns it and the launch's wall seconds (start-up
@@ -102,24 +100,25 @@ class MpiSimRunner final : public Runner {
     const auto [dir, total] = launch(job, o);
     const auto log = csv(dir + "/run.csv");
     double wall = 0;  // the time-stepping loop: run.csv holds each log interval's wall seconds
-    for (const auto& r : log) wall += std::stod(r.at("wall_s"));
+    const std::string run_csv = dir + "/run.csv", rank_csv = dir + "/rank_times.csv";  // written by our sim
+    for (const auto& r : log) wall += parse_real(r.at("wall_s"), run_csv + ": wall_s: ");
     std::map<std::string, double> slowest;  // per interval: the slowest rank's computation time
     double imbalance = 0;
     long moved = 0;
     std::set<std::string> events;
     for (const auto& r : csv(dir + "/rank_times.csv")) {
-      slowest[r.at("step")] = std::max(slowest[r.at("step")], std::stod(r.at("compute_s")));
+      slowest[r.at("step")] = std::max(slowest[r.at("step")], parse_real(r.at("compute_s"), rank_csv + ": compute_s: "));
       if (events.insert(r.at("step")).second) {
-        imbalance += std::stod(r.at("imbalance"));
-        moved += std::stol(r.at("moved_slices"));
+        imbalance += parse_real(r.at("imbalance"), rank_csv + ": imbalance: ");
+        moved += parse_integer(r.at("moved_slices"), rank_csv + ": moved_slices: ");
       }
     }
     double compute = 0;
     for (const auto& [s, t] : slowest) compute += t;
     finish_run(job, o, dir);
-    auto fmt = [&](double v) { std::ostringstream s; s.precision(6); s << (o.timing ? v : 0.0); return s.str(); };
+    auto fmt = [&](double v) { return format_real(o.timing ? v : 0.0); };
     return {{log.back().at("elements"), fmt(total), fmt(wall), fmt(compute),
-             std::to_string(events.empty() ? 0.0 : imbalance / static_cast<double>(events.size())), std::to_string(moved),
+             format_real(events.empty() ? 0.0 : imbalance / static_cast<double>(events.size())), std::to_string(moved),
              std::to_string(events.size())}};
   }
 };

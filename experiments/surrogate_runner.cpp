@@ -1,25 +1,19 @@
 // The "surrogate" runner: one controller-evaluation rollout per job (keys: policy, ranks, seed, events,
 // and POLICY.KEY policy parameters such as holt.alpha).
-#include <charconv>
+#include <limits>
 
 #include "controllers/errors.hpp"
 #include "runner.hpp"
 #include "surrogate/evaluate.hpp"
+#include "surrogate/scenario.hpp"
 
 namespace semlb::experiments {
 namespace {
 
-long integer(const Job& job, const std::string& key, long fallback, bool required, const std::string& manifest) {
+const Setting& required(const Job& job, const std::string& key, const std::string& manifest) {
   const Setting* s = job.find(key);
-  if (!s) {
-    if (required) throw InputError(where(manifest, 0, key) + "missing (the surrogate runner needs it)");
-    return fallback;
-  }
-  long v = 0;
-  auto [p, ec] = std::from_chars(s->value.data(), s->value.data() + s->value.size(), v);
-  if (ec != std::errc() || p != s->value.data() + s->value.size() || v < 0)
-    throw InputError(where(manifest, s->line, key) + "'" + s->value + "' is not a non-negative integer");
-  return v;
+  if (!s) throw InputError(where(manifest, 0, key) + "missing (the surrogate runner needs it)");
+  return *s;
 }
 
 class SurrogateRunner final : public Runner {
@@ -30,22 +24,28 @@ class SurrogateRunner final : public Runner {
     const auto j = to_eval_job(job, manifest);
     for (const auto& [k, s] : job.settings)
       if (k != "policy" && k != "ranks" && k != "seed" && k != "events" && k.find('.') == std::string::npos)
-        throw InputError(where(manifest, s.line, k) + "unknown setting for the surrogate runner");
+        throw InputError(where_of(s, manifest, k) + "unknown setting for the surrogate runner");
+    try {  // the scenario's slice count bounds the rank count: checked here, before any output exists
+      surrogate::make_scenario(j.seed, j.ranks);
+    } catch (const InputError& e) {
+      throw InputError(where_of(*job.find("ranks"), manifest, "ranks") + e.what() + " (scenario seed " + std::to_string(j.seed) + ")");
+    }
+    for (const auto& [policy, p] : params(job)) {  // every policy's parameters, also of policies this row does not run
+      try {
+        make_policy(policy, p);
+      } catch (const InputError& e) {  // blame the parameter the message names (else the policy's first one)
+        const Setting* s = nullptr;
+        for (const auto& [k, v] : job.settings)
+          if (k.rfind(policy + ".", 0) == 0 && (!s || std::string(e.what()).find("'" + k.substr(policy.size() + 1) + "'") != std::string::npos))
+            s = &v;
+        throw InputError((s ? where_of(*s, manifest, policy + ".*") : where(manifest, 0, policy + ".*")) + e.what());
+      }
+    }
     try {
       make_policy(j.policy, params(job)[j.policy]);
     } catch (const InputError& e) {
       const Setting* s = job.find("policy");
-      throw InputError(where(manifest, s ? s->line : 0, "policy") + e.what());
-    }
-    for (const auto& [policy, p] : params(job)) {  // parameters of policies this row does not run are checked too
-      try {
-        make_policy(policy, p);
-      } catch (const InputError& e) {
-        const Setting* s = nullptr;
-        for (const auto& [k, v] : job.settings)
-          if (k.rfind(policy + ".", 0) == 0) s = &v;
-        throw InputError(where(manifest, s ? s->line : 0, policy + ".*") + e.what());
-      }
+      throw InputError((s ? where_of(*s, manifest, "policy") : where(manifest, 0, "policy")) + e.what());
     }
   }
 
@@ -56,13 +56,12 @@ class SurrogateRunner final : public Runner {
  private:
   static surrogate::EvalJob to_eval_job(const Job& job, const std::string& manifest) {
     surrogate::EvalJob j;
-    const Setting* p = job.find("policy");
-    if (!p) throw InputError(where(manifest, 0, "policy") + "missing (the surrogate runner needs it)");
-    j.policy = p->value;
-    j.ranks = static_cast<int>(integer(job, "ranks", 0, true, manifest));
-    j.seed = static_cast<uint64_t>(integer(job, "seed", 0, true, manifest));
-    j.events = static_cast<int>(integer(job, "events", 100, false, manifest));
-    if (j.ranks < 1 || j.events < 1) throw InputError(where(manifest, job.find("ranks")->line, "ranks") + "ranks and events must be >= 1");
+    j.policy = required(job, "policy", manifest).value;
+    required(job, "ranks", manifest);
+    required(job, "seed", manifest);
+    j.ranks = static_cast<int>(job.integer("ranks", 0, 1, 1 << 20, manifest));
+    j.seed = static_cast<uint64_t>(job.integer("seed", 0, 0, std::numeric_limits<long>::max(), manifest));
+    j.events = static_cast<int>(job.integer("events", 100, 1, 1 << 30, manifest));
     return j;
   }
 

@@ -12,11 +12,7 @@
 namespace semlb::surrogate {
 namespace {
 
-std::string fmt(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
+std::string fmt(double v) { return format_real(v); }  // round-trip text (controllers/text_io.hpp)
 
 void write_trace(const std::string& dir, const EvalJob& job, const RolloutResult& r) {
   std::filesystem::create_directories(dir);
@@ -58,14 +54,14 @@ std::vector<std::string> run_eval_job(const EvalJob& job, const std::map<std::st
 
 std::vector<long> parse_int_list(const std::string& text, const std::string& flag) {
   std::vector<long> out;
-  for (const auto& tok : split(text, ',')) {
-    long a = 0, b = 0;
-    int consumed = 0;
-    const bool range = std::sscanf(tok.c_str(), "%ld-%ld%n", &a, &b, &consumed) == 2 && consumed == (int)tok.size();
-    const bool single = !range && std::sscanf(tok.c_str(), "%ld%n", &a, &consumed) == 1 && consumed == (int)tok.size();
-    if ((!range && !single) || a < 0 || (range && b < a))
-      throw InputError(flag + ": '" + tok + "' is not a non-negative integer or an inclusive range A-B with A <= B");
-    if (single) b = a;
+  for (auto tok : split(text, ',')) {
+    tok.erase(0, tok.find_first_not_of(' '));  // "2-4, 8": spaces after a comma are list layout
+    tok.erase(tok.find_last_not_of(' ') + 1);
+    const auto ends = split(tok, '-');  // values are non-negative, so '-' only separates a range
+    const std::string at = flag + ": '" + tok + "': ";
+    if (ends.size() > 2) throw InputError(at + "is not a non-negative integer or an inclusive range A-B with A <= B");
+    const long a = parse_integer(ends[0], at, 0), b = ends.size() == 2 ? parse_integer(ends[1], at, 0) : a;
+    if (b < a) throw InputError(at + "is not a non-negative integer or an inclusive range A-B with A <= B");
     if (b - a > 1000000) throw InputError(flag + ": range '" + tok + "' is too long");
     for (long v = a; v <= b; ++v) out.push_back(v);
   }

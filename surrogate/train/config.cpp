@@ -3,10 +3,11 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <charconv>
+#include <type_traits>
 #include <sstream>
 
 #include "controllers/errors.hpp"
+#include "controllers/text_io.hpp"
 #include "surrogate/evaluate.hpp"
 #include "surrogate/scenario.hpp"
 
@@ -24,31 +25,16 @@ void visit(C& c, F&& f) {
   f("checkpoint_every", c.checkpoint_every), f("imbalance_norm", c.imbalance_norm), f("migration_norm", c.migration_norm);
 }
 
-void parse(const std::string& text, long& out) {
-  auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
-  if (ec != std::errc() || p != text.data() + text.size()) throw InputError("'" + text + "' is not an integer");
-}
-void parse(const std::string& text, double& out) {
-  size_t used = 0;
-  try {
-    out = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty()) throw InputError("'" + text + "' is not a number");
-}
-void parse(const std::string& text, std::string& out) { out = text; }
+void parse(const std::string& text, long& out, const std::string& at) { out = parse_integer(text, at); }
+void parse(const std::string& text, double& out, const std::string& at) { out = parse_real(text, at); }
+void parse(const std::string& text, std::string& out, const std::string&) { out = text; }
 
 void set(TrainConfig& c, const std::string& key, const std::string& value, const std::string& file, long line) {
   bool found = false;
   visit(c, [&](const char* name, auto& field) {
     if (key != name) return;
     found = true;
-    try {
-      parse(value, field);
-    } catch (const InputError& e) {
-      throw InputError(where(file, line, key) + e.what());
-    }
+    parse(value, field, file == "--set" ? "--set " + key + ": " : where(file, line, key));
   });
   if (!found) throw InputError(where(file, line, key) + "unknown training setting");
 }
@@ -107,8 +93,10 @@ TrainConfig load_train_config(const std::string& path, const std::vector<std::st
 
 std::string to_yaml(const TrainConfig& c) {
   std::ostringstream out;
-  out.precision(17);
-  visit(c, [&](const char* name, const auto& field) { out << name << ": " << field << "\n"; });
+  visit(c, [&](const char* name, const auto& field) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(field)>, double>) out << name << ": " << format_real(field) << "\n";
+    else out << name << ": " << field << "\n";
+  });
   return out.str();
 }
 

@@ -183,9 +183,10 @@ TrainSummary run_training(const TrainConfig& c, const TrainOptions& o) {
   auto log_validation = [&](long at) {
     const GruWeights current = export_weights(model, c.ds_max_frac);
     const Validation v = validate(c, &current);
-    std::ofstream(log, std::ios::app) << at << "," << seconds() << "," << last_loss << "," << learning_rate(c, at) << ","
-                                      << temperature(c, at) << "," << v.imbalance << "," << v.migration << ","
-                                      << reactive.imbalance << "," << reactive.migration << "\n";
+    std::ofstream(log, std::ios::app) << at << "," << format_real(seconds()) << "," << format_real(last_loss) << ","
+                                      << format_real(learning_rate(c, at)) << "," << format_real(temperature(c, at)) << ","
+                                      << format_real(v.imbalance) << "," << format_real(v.migration) << ","
+                                      << format_real(reactive.imbalance) << "," << format_real(reactive.migration) << "\n";
     if (o.progress)
       std::fprintf(stderr, "\ntrain: step %ld validation: imbalance %.3f%% (reactive %.3f%%), migration %.1f (reactive %.1f)\n",
                    at, 100 * v.imbalance, 100 * reactive.imbalance, v.migration, reactive.migration);

@@ -58,6 +58,29 @@ TEST(Cli, BadInputExitsTwoWithOneLineAndNoOutput) {
   expect_bad_input("replay --policy reactive --trace " + dir + "/missing.jsonl", "missing.jsonl: cannot open trace");
 }
 
+// Validation errors name their source (the flag or --set KEY), and nothing is created before every job is
+// checked: not the CSV, not its .partial, not the results directory.
+TEST(Cli, ErrorsNameTheirSourceAndLeaveNoPartialFile) {
+  const auto dir = fresh_dir("cli_source");
+  expect_bad_input("sweep " + source("experiments/controller_eval.yaml") + " --quiet --set ranks=2000 --results " + dir + "/r",
+                   "--set ranks: ranks = 2000 must be in [1, ", dir + "/r");
+  expect_bad_input("sweep " + source("experiments/controller_eval.yaml") + " --quiet --set events=1e3 --results " + dir + "/r",
+                   "--set events: '1e3' is not an integer", dir + "/r");
+  expect_bad_input("sweep " + source("experiments/controller_eval.yaml") + " --quiet --set ranks=2.5 --results " + dir + "/r",
+                   "--set ranks: '2.5' is not an integer", dir + "/r");
+  expect_bad_input("surrogate --policies static --ranks 2,2000 --quiet --out " + dir + "/o", "--ranks: ranks = 2000 must be in [1, ",
+                   dir + "/o");
+  expect_bad_input("surrogate --policies reactive --param reactive.alpha=0 --quiet --out " + dir + "/o",
+                   "--param reactive.alpha: policy parameter 'alpha': '0' is outside (0, 2)", dir + "/o");
+  expect_bad_input("surrogate --policies holt --param holt.beta=0.5x --quiet --out " + dir + "/o",
+                   "--param holt.beta: policy parameter 'beta': '0.5x' is not a number", dir + "/o");
+  expect_bad_input("surrogate --policies static --seeds 9000.0 --quiet --out " + dir + "/o", "--seeds: '9000.0': '9000.0' is not an integer", dir + "/o");
+  expect_bad_input("sim --quiet --scene " + source("scenes/epidermis.yaml") + " --set 'effects.noise={diffusoin: 0.1}' --out " + dir + "/s",
+                   "--set effects.noise: field 'effects.noise.diffusoin': unknown setting", dir + "/s");
+  expect_bad_input("sim --quiet --scene " + source("tests/data/mm_domain.yaml") + " --out " + dir + "/s",
+                   "mm_domain.yaml:5: field 'domain.hi': '0.15mm' is not a number", dir + "/s");
+}
+
 TEST(Cli, SameSeedsGiveTheSameCsv) {
   const auto dir = fresh_dir("cli_det");
   const std::string args = " surrogate --policies static,reactive,persistence,holt,oracle --ranks 2,8 --seeds 9000-9002 "
