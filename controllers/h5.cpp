@@ -40,6 +40,24 @@ File File::create(const std::string& path) {
               path);
 }
 
+std::vector<std::string> File::list(const std::string& name) const {
+  std::vector<std::string> out;
+  if (!has(name)) return out;
+  Id group(H5Gopen2(id(), name.c_str(), H5P_DEFAULT), H5Gclose, path_ + ": group " + name);
+  H5G_info_t info;
+  check(H5Gget_info(group.get(), &info), "H5Gget_info");
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    const ssize_t n = H5Lget_name_by_idx(group.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+    check(n < 0 ? -1 : 0, "H5Lget_name_by_idx");
+    std::string link(static_cast<size_t>(n) + 1, '\0');
+    check(H5Lget_name_by_idx(group.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, link.data(), link.size(), H5P_DEFAULT) < 0 ? -1 : 0,
+          "H5Lget_name_by_idx");
+    link.resize(static_cast<size_t>(n));
+    out.push_back(link);
+  }
+  return out;
+}
+
 bool File::has(const std::string& name) const {
   // Walk the path one link at a time: H5Lexists fails on a missing intermediate group.
   std::string prefix;

@@ -33,6 +33,8 @@ class File {
   hid_t id() const { return id_.get(); }
 
   bool has(const std::string& name) const;
+  // Names of the links in group `name` (empty if the group does not exist), in name order.
+  std::vector<std::string> list(const std::string& name) const;
   // Reads a dataset of any floating type as doubles; dims receives its shape. Missing -> InputError.
   std::vector<double> read(const std::string& name, std::vector<hsize_t>& dims) const;
   void write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<double>& data);

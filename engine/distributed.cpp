@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <sstream>
 
 #include "controllers/chains.hpp"
@@ -120,20 +121,6 @@ void split_cells(State& s, Owner owner, int me, std::vector<Writer>& out) {
   s = std::move(kept);
 }
 
-// Asks a fresh instance of the policy for one decision on an observation shaped like the engine's (measured
-// times, per-slice work, no true work): a policy that needs more fails here, at load time, and not on rank 0
-// alone at the first rebalancing event.
-void probe_policy(const Decomposition& d, int ranks) {
-  Observation obs;
-  obs.slices = d.slices;
-  obs.min_width = d.min_width;
-  obs.boundaries = uniform_partition(ranks, d.slices);
-  obs.times.assign(ranks, 1.0);
-  obs.slice_work.assign(d.slices, 1.0 * ranks / d.slices);
-  validate(obs);
-  make_policy(d.policy, d.params)->decide(obs);
-}
-
 }  // namespace
 
 void agree(const Mpi& mpi, const std::function<void()>& local) {
@@ -177,6 +164,8 @@ Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
   d.initial = s.text("initial", d.initial);
   if (d.initial != "workload" && d.initial != "uniform") s.fail("initial", "must be workload or uniform");
   d.rebalance_every = s.integer("rebalance_every", d.rebalance_every, 1, 1L << 40);
+  d.timing = s.text("timing", d.timing);
+  if (d.timing != "measured" && d.timing != "modelled") s.fail("timing", "must be measured or modelled");
   const Section p = s.child("params");
   for (const auto& k : p.keys()) d.params.set(k, p.text(k, ""));
   p.finish();
@@ -196,11 +185,16 @@ Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
     s.fail("min_width", std::to_string(ranks) + " ranks need " + std::to_string(ranks * d.min_width) + " slices of " +
                             std::to_string(d.width) + " um but the domain has " + std::to_string(d.slices) +
                             ": use fewer ranks or a larger tissue");
+  PolicyNeeds needs;
   try {
-    probe_policy(d, ranks);
+    needs = policy_needs(d.policy);
+    make_policy(d.policy, d.params);
   } catch (const InputError& e) {
     s.fail("policy", e.what());
   }
+  if (needs.true_work)  // the engine measures times and W_s (slice_work); only the surrogate knows the future
+    s.fail("policy", "'" + d.policy + "' needs the true work of the next interval, which a simulation cannot know "
+                     "(a surrogate baseline: use it with semlb surrogate)");
   return d;
 }
 
@@ -246,13 +240,25 @@ std::vector<double> slice_workload(const State& s, const std::vector<double>& gh
   return w;
 }
 
-DistributedSimulation::DistributedSimulation(const Scene& scene, const State& tissue, Mpi& mpi, const std::string& trace_path)
+DistributedSimulation::DistributedSimulation(const Scene& scene, const State& tissue, Mpi& mpi, const std::string& trace_path,
+                                             const std::optional<DecompositionCheckpoint>& restored)
     : scene_(&scene), mpi_(&mpi), dec_(Decomposition::from_scene(scene, mpi.size())) {
-  policy_ = make_policy(dec_.policy, dec_.params);
-  if (dec_.initial == "workload") {
-    boundaries_ = optimal_partition(slice_workload(tissue, {}, dec_, scene.cutoff), mpi.size(), dec_.min_width);
-  } else {
-    boundaries_ = uniform_partition(mpi.size(), dec_.slices);
+  const auto initial = dec_.initial == "workload"
+                           ? optimal_partition(slice_workload(tissue, {}, dec_, scene.cutoff), mpi.size(), dec_.min_width)
+                           : uniform_partition(mpi.size(), dec_.slices);
+  balancer_ = std::make_unique<Balancer>(dec_.policy, make_policy(dec_.policy, dec_.params), dec_.slices, dec_.min_width, initial);
+  cells_at_event_ = static_cast<long>(tissue.cells());
+  if (restored && (restored->ranks != mpi.size() || restored->policy != dec_.policy)) {
+    restarted_ = "the checkpoint's balancer is for " + std::to_string(restored->ranks) + " ranks with policy '" +
+                 restored->policy + "'; this run has " + std::to_string(mpi.size()) + " with '" + dec_.policy +
+                 "': rebalancing restarts from the " + dec_.initial + " partition at event 0";
+  } else if (restored) {
+    try {
+      balancer_->load_state(restored->balancer);
+    } catch (const InputError& e) {
+      throw InputError("checkpoint: " + std::string(e.what()));
+    }
+    cells_at_event_ = restored->cells_at_event;
   }
   State mine = tissue;
   std::vector<Writer> unused(mpi.size());
@@ -262,9 +268,9 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
   sim_->after_cells = [this] { migrate_cells(); };
   sim_->failure_check = [this] { collective_check(); };
   trace_path_ = mpi.rank() == 0 ? trace_path : "";  // opened at the first event: nothing is written before
-  cells_at_event_ = static_cast<long>(tissue.cells());
-  for (const auto& [name, section] : scene.effects)  // the growth phase the controllers see
-    if (name == "growth") growth_cycle_ = section.real("cycle_time", 20.0, 1e-9, 1e12);
+  if (!trace_path_.empty() && balancer_->event() > 0 && std::filesystem::exists(trace_path_))
+    for (const auto& line : split(read_file(trace_path_), '\n'))  // a restart keeps the events before its own
+      if (!line.empty() && parse_trace_line(line, trace_path_, 0).obs.event < balancer_->event()) trace_kept_ += line + "\n";
   if (const char* f = std::getenv("SEMLB_FAULT_INJECT")) {  // "RANK:STEP": a test of one rank's error (docs/engine.md)
     const auto parts = split(f, ':');
     char* end = nullptr;
@@ -277,7 +283,7 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
 }
 
 int DistributedSimulation::owner_of_cell(const State& s, long c) const {
-  return owner_of(dec_.slice_of(centroid(s, c)[0]), boundaries_);  // the ownership rule (docs/engine.md)
+  return owner_of(dec_.slice_of(centroid(s, c)[0]), balancer_->boundaries());  // the ownership rule (docs/engine.md)
 }
 
 double DistributedSimulation::compute_seconds() const {
@@ -336,7 +342,7 @@ void DistributedSimulation::exchange_ghosts() {
 
 void DistributedSimulation::migrate_cells() {
   const auto t0 = std::chrono::steady_clock::now();
-  if (sim_->host_state().step % dec_.rebalance_every == 0) rebalance();  // new boundaries first
+  if (sim_->host_state().step % dec_.rebalance_every == 0) decide(measure());  // new boundaries first
   State& s = sim_->state();
   std::vector<int> owner(s.cells());
   bool changed = false;
@@ -360,61 +366,65 @@ void DistributedSimulation::migrate_cells() {
   migrate_s_ += seconds_since(t0);
 }
 
-void DistributedSimulation::rebalance() {
+Measurement DistributedSimulation::measure() {
   const double now = compute_seconds();
   const auto seconds = mpi_->allgather({now - seconds_at_event_, exchange_s_, migrate_s_});  // 3 per rank
   seconds_at_event_ = now;
   exchange_s_ = migrate_s_ = 0;
-  std::vector<double> times;
   Interval iv{};
+  Measurement m;
   for (int r = 0; r < mpi_->size(); ++r) {
-    times.push_back(seconds[3 * r]);
+    m.times.push_back(seconds[3 * r]);
     iv.exchange.push_back(seconds[3 * r + 1]);
     iv.migrate.push_back(seconds[3 * r + 2]);
   }
   const State& s = sim_->host_state();
-  auto work = slice_workload(s, ghost_positions_, dec_, scene_->cutoff);
+  auto work = slice_workload(s, ghost_positions_, dec_, scene_->cutoff);  // integer counts: sums are exact
   mpi_->allreduce_sum(work);
-  const long cells = totals().first;
-  Observation obs;
-  obs.event = event_++;
-  obs.slices = dec_.slices;
-  obs.min_width = dec_.min_width;
-  obs.boundaries = boundaries_;
-  obs.times = times;
+  if (dec_.timing == "modelled") m.times = rank_sums(work, balancer_->boundaries());
   double total_work = 0, total_time = 0;
   for (double w : work) total_work += w;
-  for (double t : times) total_time += t;
-  for (double& w : work) w *= total_work > 0 ? total_time / total_work : 0.0;  // W_s scaled to the measured times
-  obs.slice_work = work;
-  obs.growth_phase = growth_cycle_ > 0 ? std::fmod(s.time, growth_cycle_) / growth_cycle_ : 0.0;
-  obs.growth_event = cells != cells_at_event_;
+  for (double t : m.times) total_time += t;
+  for (double& w : work) w *= total_work > 0 ? total_time / total_work : 0.0;  // W_s scaled to the times
+  m.slice_work = std::move(work);
+  m.growth_phase = sim_->growth_phase();
+  const long cells = totals().first;
+  m.growth_event = cells != cells_at_event_;
   cells_at_event_ = cells;
-  std::vector<int> next = boundaries_;
+  iv.step = s.step;
+  intervals_.push_back(std::move(iv));
+  return m;
+}
+
+void DistributedSimulation::decide(const Measurement& m) {
+  const std::vector<int> before = balancer_->boundaries();
+  std::vector<int> next = before;
   agree(*mpi_, [&] {  // rank 0 decides: its errors (a policy's, the trace file's) stop every rank
     if (mpi_->rank() != 0) return;
-    validate(obs);
-    next = policy_->decide(obs);
-    try {  // rebalancing never gives a slab narrower than min_width
-      check_partition(next, dec_.slices, dec_.min_width);
-    } catch (const InputError& e) {
-      throw std::runtime_error("event " + std::to_string(obs.event) + ": policy '" + dec_.policy + "' decided " + e.what());
-    }
-    if (!trace_path_.empty() && !trace_.is_open()) {
-      trace_.open(trace_path_, std::ios::trunc);
-      if (!trace_) throw std::runtime_error(trace_path_ + ": cannot write");
-    }
-    if (trace_.is_open()) trace_ << to_json(TraceEvent{obs, next}).dump() << "\n" << std::flush;
+    const Decision d = balancer_->rebalance(m);
+    write_trace(d.trace);
+    next = d.boundaries;
   });
   mpi_->broadcast(next, 0);
-  const long moved = migration(boundaries_, next);
-  migrated_ += moved;
-  iv.step = s.step;
-  iv.times = times;
-  iv.imbalance = global_imbalance(times);
-  iv.moved = moved;
-  intervals_.push_back(std::move(iv));
-  boundaries_ = next;
+  if (mpi_->rank() != 0) balancer_->commit(balancer_->observe(m), next);  // every rank's balancer in the same state
+  Interval& iv = intervals_.back();
+  iv.times = m.times;
+  iv.imbalance = global_imbalance(m.times);
+  iv.moved = migration(before, next);
+}
+
+void DistributedSimulation::write_trace(const TraceEvent& e) {
+  if (trace_path_.empty()) return;
+  if (!trace_.is_open()) {
+    trace_.open(trace_path_, std::ios::trunc);
+    if (!trace_) throw std::runtime_error(trace_path_ + ": cannot write");
+    trace_ << trace_kept_;
+  }
+  trace_ << to_json(e).dump() << "\n" << std::flush;
+}
+
+DecompositionCheckpoint DistributedSimulation::checkpoint() const {
+  return {mpi_->size(), dec_.policy, cells_at_event_, dec_.x0, dec_.x0 + dec_.width * dec_.slices, balancer_->save_state()};
 }
 
 void DistributedSimulation::collective_check() {

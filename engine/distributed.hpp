@@ -5,11 +5,13 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "controllers/policy.hpp"
+#include "controllers/balancer.hpp"
+#include "io.hpp"
 #include "mpi.hpp"
 #include "simulation.hpp"
 
@@ -37,6 +39,9 @@ struct Decomposition {
   int slices = 0, min_width = 1;
   double x0 = 0, width = 1;       // slice s covers [x0 + s width, x0 + (s+1) width); outside is clamped
   std::string policy = "reactive", initial = "workload";
+  // measured: each rank's computation time from its clock; modelled: its share of the workload W_s (work
+  // units), so that decisions are the same in every launch (tests, studies that need reproducible decisions)
+  std::string timing = "measured";
   long rebalance_every = 100;
   PolicyParams params;
 
@@ -54,14 +59,21 @@ int owner_of(int slice, const std::vector<int>& boundaries);
 
 class DistributedSimulation {
  public:
-  // Every rank passes the same whole tissue; each keeps the cells of its slab range.
-  DistributedSimulation(const Scene& scene, const State& tissue, Mpi& mpi, const std::string& trace_path = "");
+  // Every rank passes the same whole tissue; each keeps the cells of its slab range. `restored` (from a
+  // checkpoint) continues its balancer when it was written by as many ranks with the same policy; otherwise
+  // the run starts from the initial partition and restarted() says why.
+  DistributedSimulation(const Scene& scene, const State& tissue, Mpi& mpi, const std::string& trace_path = "",
+                        const std::optional<DecompositionCheckpoint>& restored = std::nullopt);
   void advance(long target);
   State gather();  // rank 0: the whole tissue in cell-id order; other ranks: cells empty
   std::pair<long, long> totals();  // cells and elements over all ranks (on every rank)
   long step() const { return sim_->host_state().step; }
-  const std::vector<int>& boundaries() const { return boundaries_; }
-  long migrated_slices() const { return migrated_; }
+  const std::vector<int>& boundaries() const { return balancer_->boundaries(); }
+  long migrated_slices() const { return balancer_->migration(); }
+  // The balancer for a checkpoint; complete (with the policy's history) on rank 0, which writes the files.
+  DecompositionCheckpoint checkpoint() const;
+  // Why a restart did not continue the checkpoint's balancer (empty when it did, or without a checkpoint).
+  const std::string& restarted() const { return restarted_; }
   // Per rebalancing interval: the ranks' computation times and the global imbalance (T_max-T_min)/T_mean.
   struct Interval {
     long step;
@@ -76,7 +88,12 @@ class DistributedSimulation {
  private:
   void exchange_ghosts();
   void migrate_cells();
-  void rebalance();
+  // A rebalancing event (LAMMPS-style probe / decide / move): measure() gathers the interval's times and
+  // the global W_s on every rank, decide() runs the Balancer (the policy on rank 0, broadcast, every rank's
+  // balancer committed to the same boundaries), and migrate_cells() moves the cells.
+  Measurement measure();
+  void decide(const Measurement& m);
+  void write_trace(const TraceEvent& e);
   void collective_check();
   double compute_seconds() const;
   int owner_of_cell(const State& s, long c) const;
@@ -84,17 +101,15 @@ class DistributedSimulation {
   const Scene* scene_;
   Mpi* mpi_;
   Decomposition dec_;
-  std::vector<int> boundaries_;
+  std::unique_ptr<Balancer> balancer_;
   std::unique_ptr<Simulation> sim_;
-  std::unique_ptr<Policy> policy_;
   std::vector<double> ghost_positions_;
-  std::string trace_path_;
+  std::string trace_path_, trace_kept_, restarted_;  // trace_kept_: the lines before a restart's event
   std::ofstream trace_;
   std::vector<Interval> intervals_;
-  double seconds_at_event_ = 0, growth_cycle_ = 0;
+  double seconds_at_event_ = 0;
   double exchange_s_ = 0, migrate_s_ = 0;  // since the last rebalancing event
-  long migrated_ = 0, cells_at_event_ = 0;
-  int event_ = 0;
+  long cells_at_event_ = 0;
   int fault_rank_ = -1;  // SEMLB_FAULT_INJECT=RANK:STEP: throws on that rank alone at that step (tests)
   long fault_step_ = -1;
 };

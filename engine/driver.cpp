@@ -91,13 +91,14 @@ class RunOutputs {
     write_file_atomically(dir_ + "/run.csv", csv);
   }
   bool wants_state(long step) const { return due(scene_.snapshot_every, step) || due(scene_.checkpoint_every, step); }
-  void save(const State& s) {  // the snapshot and checkpoint due at s.step
+  // The snapshot and checkpoint due at s.step; a decomposed run's checkpoint also holds its balancer.
+  void save(const State& s, const DecompositionCheckpoint* decomposition = nullptr) {
     if (due(scene_.snapshot_every, s.step)) {
       write_state(dir_ + "/" + snapshot_name(s.step), s, attrs_);
       snapshots_.push_back({s.step, s.time, s.elements(), snapshot_name(s.step)});
       write_xdmf(dir_ + "/snapshots.xmf", snapshots_);
     }
-    if (due(scene_.checkpoint_every, s.step)) write_state(dir_ + "/checkpoint.h5", s, attrs_);
+    if (due(scene_.checkpoint_every, s.step)) write_state(dir_ + "/checkpoint.h5", s, attrs_, decomposition);
   }
   void write(const std::string& name, const State& s) const { write_state(dir_ + "/" + name, s, attrs_); }
   const std::string& dir() const { return dir_; }
@@ -180,7 +181,9 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
   agree(mpi, [&] {  // all input checked here, before anything is written
     initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);
     if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);
-    sim = std::make_unique<DistributedSimulation>(scene, initial, mpi, root ? config.out_dir + "/trace.jsonl" : "");
+    const auto restored = config.restart.empty() ? std::nullopt : read_decomposition(config.restart);
+    if (restored && scene.auto_box) std::tie(scene.box_lo[0], scene.box_hi[0]) = std::pair(restored->x_lo, restored->x_hi);
+    sim = std::make_unique<DistributedSimulation>(scene, initial, mpi, root ? config.out_dir + "/trace.jsonl" : "", restored);
   });
   const long first = initial.step, last = std::max(scene.steps, first);
   std::unique_ptr<RunOutputs> out;  // rank 0 writes every file
@@ -192,6 +195,7 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
                                                                             {"backend", sim->local().backend().name()},
                                                                             {"ranks", std::to_string(mpi.size())}});
   });
+  if (root && !sim->restarted().empty()) std::cerr << "semlb sim: restart: " << sim->restarted() << "\n";
   StatusLine status(config.quiet || !root, first, last);
   const auto t0 = std::chrono::steady_clock::now();
   double wall_before = 0;
@@ -213,7 +217,10 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
           out->log(row.str());
           wall_before = w;
         }
-        if (gather) out->save(all);
+        if (gather) {
+          const auto balancer = sim->checkpoint();
+          out->save(all, &balancer);
+        }
       });
       status.update(stop, cells, elements, seconds_since(t0), false);
     }

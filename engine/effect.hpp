@@ -3,6 +3,7 @@
 #pragma once
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ class Effect {
   virtual bool changes_cells() const { return false; }           // host stage, every cell update
   // Returns true when elements or types changed (the backend then needs a fresh upload).
   virtual bool update_cells(CellContext&) { return false; }
+  // The phase in [0, 1) of this effect's growth cycle at `time` (h), if it has one: what the controllers
+  // see as Observation::growth_phase (paper Sec. IV-C).
+  virtual std::optional<double> growth_phase(double /*time*/) const { return std::nullopt; }
 };
 
 struct EffectInfo {

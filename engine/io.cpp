@@ -12,7 +12,56 @@
 
 namespace semlb::engine {
 
-void write_state(const std::string& path, const State& state, const std::map<std::string, std::string>& attributes) {
+namespace {
+
+void write_decomposition(h5::File& f, const DecompositionCheckpoint& d) {
+  const BalancerState& b = d.balancer;
+  f.write("/decomposition/boundaries", {b.boundaries.size()}, std::vector<int64_t>(b.boundaries.begin(), b.boundaries.end()));
+  f.write("/decomposition/counters", {4}, std::vector<int64_t>{kBalancerStateVersion, d.ranks, b.event, d.cells_at_event});
+  f.write("/decomposition/migration", {1}, std::vector<int64_t>{b.migration});
+  f.write("/decomposition/x_range", {2}, std::vector<double>{d.x_lo, d.x_hi});
+  f.write_attr("decomposition_policy", d.policy);
+  for (const auto& [name, values] : b.policy) f.write("/decomposition/policy/" + name, {values.size()}, values);
+}
+
+}  // namespace
+
+std::optional<DecompositionCheckpoint> read_decomposition(const std::string& path) {
+  const auto f = h5::File::open_read(path);
+  if (!f.has("/decomposition")) return std::nullopt;
+  std::vector<hsize_t> dims;
+  const auto counters = f.read_ints("/decomposition/counters", dims);
+  if (counters.size() != 4 || counters[0] != kBalancerStateVersion)
+    throw InputError(path + ": dataset /decomposition/counters: expected [version " + std::to_string(kBalancerStateVersion) +
+                     ", ranks, event, cells at the last event]");
+  DecompositionCheckpoint d;
+  d.ranks = static_cast<int>(counters[1]);
+  d.balancer.event = static_cast<int>(counters[2]);
+  d.cells_at_event = counters[3];
+  const auto boundaries = f.read_ints("/decomposition/boundaries", dims);
+  d.balancer.boundaries.assign(boundaries.begin(), boundaries.end());
+  d.balancer.migration = f.read_ints("/decomposition/migration", dims).at(0);
+  d.policy = f.read_text_attr("decomposition_policy");
+  const auto x = f.read("/decomposition/x_range", dims);
+  if (x.size() != 2 || !std::isfinite(x[0]) || !std::isfinite(x[1]) || !(x[1] > x[0]))
+    throw InputError(path + ": dataset /decomposition/x_range: expected [lo, hi] with lo < hi (um)");
+  d.x_lo = x[0];
+  d.x_hi = x[1];
+  if (d.ranks < 1 || static_cast<int>(boundaries.size()) != d.ranks - 1 || d.balancer.event < 0 || d.cells_at_event < 0 ||
+      d.balancer.migration < 0)
+    throw InputError(path + ": group /decomposition: ranks, boundaries, event or migration out of range");
+  for (const auto& name : f.list("/decomposition/policy")) {
+    const std::string dataset = "/decomposition/policy/" + name;
+    auto values = f.read(dataset, dims);
+    for (double v : values)
+      if (!std::isfinite(v)) throw InputError(path + ": dataset " + dataset + " holds a non-finite value");
+    d.balancer.policy[name] = std::move(values);
+  }
+  return d;
+}
+
+void write_state(const std::string& path, const State& state, const std::map<std::string, std::string>& attributes,
+                 const DecompositionCheckpoint* decomposition) {
   const std::string tmp = path + ".tmp";
   {
     auto f = h5::File::create(tmp);
@@ -35,6 +84,7 @@ void write_state(const std::string& path, const State& state, const std::map<std
     f.write_attr("time", s.time);
     f.write_attr("format", std::string("semlb-state-v1"));
     for (const auto& [k, v] : attributes) f.write_attr(k, v);
+    if (decomposition) write_decomposition(f, *decomposition);
   }
   std::filesystem::rename(tmp, path);
 }

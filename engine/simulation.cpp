@@ -117,4 +117,10 @@ void Simulation::check() {
   throw SimulationError(m.str());
 }
 
+double Simulation::growth_phase() const {
+  for (const auto& e : effects_)
+    if (const auto phase = e->growth_phase(state_.time)) return *phase;
+  return 0.0;
+}
+
 }  // namespace semlb::engine

@@ -39,6 +39,9 @@ class Simulation {
   const std::vector<std::string>& phases() const { return phases_; }
   const std::vector<double>& phase_seconds() const { return seconds_; }  // accumulated, per phase
   bool has_cell_effects() const { return has_cell_effects_; }
+  // The growth phase of the first effect that has a growth cycle (Effect::growth_phase), at the current
+  // time; 0 when none has.
+  double growth_phase() const;
   // The host cell stage once, now: download, the cell effects, upload. advance() runs it every
   // time.cell_update_every steps; `semlb bench cells` calls it directly.
   void update_cells();

@@ -23,6 +23,7 @@ class Growth final : public Effect {
   }
   std::string name() const override { return "growth"; }
   bool changes_cells() const override { return true; }
+  std::optional<double> growth_phase(double time) const override { return std::fmod(time, cycle_) / cycle_; }
 
   void prepare(State& s) override {  // a random phase of the element-addition clock per cell
     auto& clock = s.cell_fields["growth.clock"];

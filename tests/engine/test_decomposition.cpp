@@ -105,6 +105,37 @@ TEST(Decomposition, CheckpointOnTwoRanksContinuesIdenticallyOnFour) {
   const auto times = split(read_file(dir + "/second/rank_times.csv"), '\n');
   ASSERT_EQ(times.size(), 2 + 2u * 4) << "2 events x 4 ranks rows";
   for (size_t i = 1; i + 1 < times.size(); ++i) EXPECT_GT(std::stol(split(times[i], ',')[0]), 100) << times[i];
+  // The checkpoint's balancer is for 2 ranks: the 4-rank run starts rebalancing afresh, and says so.
+  EXPECT_NE(r.out.find("semlb sim: restart: the checkpoint's balancer is for 2 ranks"), std::string::npos) << r.out;
+  EXPECT_EQ(nlohmann::json::parse(split(read_file(dir + "/second/trace.jsonl"), '\n')[0])["event"], 0);
+}
+
+// With modelled rank times the decisions are reproducible, so a run split by a checkpoint makes the same
+// decisions as the run made in one go: trace.jsonl line for line (event numbers continue, the policy's
+// history continues) and the final state bit for bit, with the checkpoint at an event (holt) and between
+// two events (gru).
+TEST(Decomposition, ARestartContinuesTheBalancerLineForLine) {
+  for (const auto& [policy, split_at] : std::vector<std::pair<std::string, int>>{{"holt", 150}, {"gru", 125}}) {
+    const auto dir = fresh_dir("decomposition_balancer_" + policy);
+    const std::string args = kArgs + " --set decomposition.timing=modelled --set decomposition.policy=" + policy;
+    auto r = run(mpirun(3) + args + " --steps 300 --out " + dir + "/straight");
+    ASSERT_EQ(r.rc, 0) << r.out;
+    r = run(mpirun(3) + args + " --steps " + std::to_string(split_at) + " --set output.checkpoint_every=" +
+            std::to_string(split_at) + " --out " + dir + "/split");
+    ASSERT_EQ(r.rc, 0) << r.out;
+    r = run(mpirun(3) + args + " --steps 300 --restart " + dir + "/split/checkpoint.h5 --out " + dir + "/split");
+    ASSERT_EQ(r.rc, 0) << r.out;
+    EXPECT_EQ(r.out.find("restart:"), std::string::npos) << r.out;  // the balancer continued
+    const auto straight = split(read_file(dir + "/straight/trace.jsonl"), '\n');
+    const auto joined = split(read_file(dir + "/split/trace.jsonl"), '\n');
+    ASSERT_EQ(straight.size(), 1 + 300u / 50) << policy;  // 6 events (the last at step 300), then ""
+    EXPECT_EQ(joined, straight) << policy;
+    EXPECT_EQ(read_state(dir + "/split/final.h5").hash(), read_state(dir + "/straight/final.h5").hash()) << policy;
+    // The same run twice gives the same trace: modelled times do not depend on the launch.
+    r = run(mpirun(3) + args + " --steps 300 --out " + dir + "/again");
+    ASSERT_EQ(r.rc, 0) << r.out;
+    EXPECT_EQ(read_file(dir + "/again/trace.jsonl"), read_file(dir + "/straight/trace.jsonl")) << policy;
+  }
 }
 
 TEST(Decomposition, ReplayingAnEngineTraceReproducesItsDecisions) {
@@ -204,11 +235,12 @@ effects: {mechanics: {}}
 // at the first rebalancing event while the other ranks waited: now bad input at load time.
 TEST(Decomposition, APolicyTheEngineCannotFeedIsBadInputOnEveryRank) {
   const auto dir = fresh_dir("decomposition_oracle");
-  const auto r = run(mpirun(2, "", 60) + kArgs + " --steps 100 --set decomposition.policy=oracle --out " + dir + "/out");
-  EXPECT_EQ(r.rc, 2) << r.out;
-  EXPECT_NE(r.out.find("decomposition.policy: "), std::string::npos) << r.out;  // set by --set
-  EXPECT_NE(r.out.find("oracle_work"), std::string::npos) << r.out;
-  EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
+  for (const std::string policy : {"oracle", "lazy_oracle"}) {  // the policies that declare PolicyNeeds::true_work
+    const auto r = run(mpirun(2, "", 60) + kArgs + " --steps 100 --set decomposition.policy=" + policy + " --out " + dir + "/out");
+    EXPECT_EQ(r.rc, 2) << r.out;
+    EXPECT_NE(r.out.find("semlb sim: --set decomposition.policy: '" + policy + "' needs the true work"), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
+  }
 }
 
 // An error on one rank alone, in the middle of a step (SEMLB_FAULT_INJECT=RANK:STEP), ends the whole job
