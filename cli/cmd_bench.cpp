@@ -5,12 +5,12 @@
 #include <filesystem>
 #include <functional>
 
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 
 #include "commands.hpp"
 #include "controllers/features.hpp"
-#include "controllers/text_io.hpp"
-#include "engine/bench.hpp"
+#include "common/text_io.hpp"
+#include "engine/run/bench.hpp"
 #include "surrogate/evaluate.hpp"
 #include "controllers/gru.hpp"
 #include "surrogate/rollout.hpp"

@@ -2,12 +2,12 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "controllers/errors.hpp"
-#include "engine/distributed.hpp"
-#include "engine/driver.hpp"
-#include "engine/mpi.hpp"
-#include "engine/opencl.hpp"
-#include "engine/simulation.hpp"
+#include "common/errors.hpp"
+#include "engine/decomposition/distributed.hpp"
+#include "engine/run/driver.hpp"
+#include "engine/decomposition/mpi.hpp"
+#include "engine/backends/opencl.hpp"
+#include "engine/run/simulation.hpp"
 
 namespace semlb::cli {
 

@@ -2,7 +2,7 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "controllers/text_io.hpp"
+#include "common/text_io.hpp"
 #include "experiments/sweep.hpp"
 #include "surrogate/evaluate.hpp"
 

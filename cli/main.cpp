@@ -6,7 +6,7 @@
 #endif
 
 #include "commands.hpp"
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 
 namespace semlb::cli {
 namespace {

@@ -4,7 +4,7 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "errors.hpp"
+#include "common/errors.hpp"
 #include "metrics.hpp"
 #include "partition.hpp"
 

@@ -9,7 +9,7 @@
 #include <limits>
 #include <string>
 
-#include "errors.hpp"
+#include "common/errors.hpp"
 #include "partition.hpp"
 
 namespace semlb {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "errors.hpp"
+#include "common/errors.hpp"
 #include "metrics.hpp"
 #include "observation.hpp"
 #include "partition.hpp"

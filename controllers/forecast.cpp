@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-#include "errors.hpp"
+#include "common/errors.hpp"
 
 namespace semlb {
 

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <random>
 
-#include "errors.hpp"
+#include "common/errors.hpp"
 #include "features.hpp"
-#include "h5.hpp"
+#include "common/h5.hpp"
 #include "partition.hpp"
 #include "policy.hpp"
 #include "reactive.hpp"

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "errors.hpp"
+#include "common/errors.hpp"
 #include "partition.hpp"
 
 namespace semlb {

@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "errors.hpp"
+#include "common/errors.hpp"
 
 namespace semlb {
 

@@ -1,8 +1,8 @@
 // Policy registry and PolicyParams parsing.
 #include "policy.hpp"
 
-#include "errors.hpp"
-#include "text_io.hpp"
+#include "common/errors.hpp"
+#include "common/text_io.hpp"
 
 namespace semlb {
 namespace {

@@ -2,7 +2,7 @@
 #include <memory>
 
 #include "chains.hpp"
-#include "errors.hpp"
+#include "common/errors.hpp"
 #include "forecast.hpp"
 #include "metrics.hpp"
 #include "partition.hpp"

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <type_traits>
 
-#include "errors.hpp"
+#include "common/errors.hpp"
 
 namespace semlb {
 

@@ -9,11 +9,11 @@
 #include <mutex>
 #include <sstream>
 
-#include "controllers/errors.hpp"
-#include "controllers/text_io.hpp"
-#include "engine/bench.hpp"
-#include "engine/simulation.hpp"
-#include "engine/tissue.hpp"
+#include "common/errors.hpp"
+#include "common/text_io.hpp"
+#include "engine/run/bench.hpp"
+#include "engine/run/simulation.hpp"
+#include "engine/model/tissue.hpp"
 #include "runner.hpp"
 
 namespace semlb::experiments {
@@ -24,7 +24,7 @@ std::string value(const Job& job, const std::string& key, const std::string& fal
   return s ? s->value : fallback;
 }
 
-std::string fmt(double v) { return format_real(v); }  // round-trip text (controllers/text_io.hpp)
+std::string fmt(double v) { return format_real(v); }  // round-trip text (common/text_io.hpp)
 
 // The job's scene: `scene` (relative to the manifest), `cells`, `backend`, `precision`, `platform`,
 // `dt`, `cutoff`, `steps`, `scene.KEY` overrides; `effects` ("a+b+c" or "all") keeps only those listed.

@@ -3,8 +3,8 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "controllers/errors.hpp"
-#include "controllers/text_io.hpp"
+#include "common/errors.hpp"
+#include "common/text_io.hpp"
 #include "surrogate/evaluate.hpp"
 
 namespace semlb::experiments {

@@ -10,8 +10,8 @@
 #include <set>
 #include <sstream>
 
-#include "controllers/errors.hpp"
-#include "controllers/text_io.hpp"
+#include "common/errors.hpp"
+#include "common/text_io.hpp"
 #include "runner.hpp"
 
 namespace semlb::experiments {

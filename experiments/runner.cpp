@@ -3,7 +3,7 @@
 
 #include <map>
 
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 
 namespace semlb::experiments {
 namespace {

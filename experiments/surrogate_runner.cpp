@@ -2,7 +2,7 @@
 // and POLICY.KEY policy parameters such as holt.alpha).
 #include <limits>
 
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "runner.hpp"
 #include "surrogate/evaluate.hpp"
 #include "surrogate/scenario.hpp"

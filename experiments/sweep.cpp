@@ -14,8 +14,8 @@
 #include <sstream>
 #include <thread>
 
-#include "controllers/errors.hpp"
-#include "controllers/text_io.hpp"
+#include "common/errors.hpp"
+#include "common/text_io.hpp"
 
 namespace semlb::experiments {
 namespace fs = std::filesystem;

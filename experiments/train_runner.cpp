@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "controllers/errors.hpp"
-#include "controllers/text_io.hpp"
+#include "common/errors.hpp"
+#include "common/text_io.hpp"
 #include "runner.hpp"
 #include "surrogate/train/trainer.hpp"
 

@@ -4,15 +4,15 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "controllers/errors.hpp"
-#include "controllers/text_io.hpp"
+#include "common/errors.hpp"
+#include "common/text_io.hpp"
 #include "rollout.hpp"
 #include "scenario.hpp"
 
 namespace semlb::surrogate {
 namespace {
 
-std::string fmt(double v) { return format_real(v); }  // round-trip text (controllers/text_io.hpp)
+std::string fmt(double v) { return format_real(v); }  // round-trip text (common/text_io.hpp)
 
 void write_trace(const std::string& dir, const EvalJob& job, const RolloutResult& r) {
   std::filesystem::create_directories(dir);

@@ -7,7 +7,7 @@
 
 #include "controllers/balancer.hpp"
 #include "controllers/chains.hpp"
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "controllers/metrics.hpp"
 #include "controllers/partition.hpp"
 

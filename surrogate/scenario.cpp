@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "rng.hpp"
 
 namespace semlb::surrogate {

@@ -2,8 +2,8 @@
 #pragma once
 #include <array>
 
-#include "../scene.hpp"
-#include "../state.hpp"
+#include "model/scene.hpp"
+#include "model/state.hpp"
 
 namespace semlb::engine {
 

@@ -1,6 +1,6 @@
 // "differentiation": a basal cell whose centroid rises above basal_height (lost the membrane) becomes
 // spinous; a spinous cell becomes granular granular_after hours later. The type selects the adhesion set.
-#include "../effect.hpp"
+#include "effect.hpp"
 
 namespace semlb::engine {
 namespace {

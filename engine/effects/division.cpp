@@ -3,7 +3,7 @@
 // daughter_id(mother, depth) (state.hpp), the same on any number of ranks.
 #include <Eigen/Dense>
 
-#include "../effect.hpp"
+#include "effect.hpp"
 #include "cell_types.hpp"
 
 namespace semlb::engine {

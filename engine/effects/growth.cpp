@@ -2,8 +2,8 @@
 // hours (10 -> 20 elements per cycle by default), placed near the centroid.
 #include <cmath>
 
-#include "../cpu_physics.hpp"
-#include "../effect.hpp"
+#include "backends/cpu_physics.hpp"
+#include "effect.hpp"
 #include "cell_types.hpp"
 
 namespace semlb::engine {

@@ -1,6 +1,6 @@
 // "mechanics": intra- and inter-cell Morse interactions (eq. 1, V_ele), inter-cell sets per type pair.
-#include "../cpu_physics.hpp"
-#include "../effect.hpp"
+#include "backends/cpu_physics.hpp"
+#include "effect.hpp"
 
 namespace semlb::engine {
 namespace {

@@ -1,6 +1,6 @@
 // "membrane": the basement membrane at z = 0 (V_ext): a repulsive wall for every element and
 // adhesion for basal elements.
-#include "../effect.hpp"
+#include "effect.hpp"
 
 namespace semlb::engine {
 namespace {

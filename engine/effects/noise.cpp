@@ -1,7 +1,7 @@
 // "noise": Brownian displacement sqrt(2 D dt) N(0,1) per coordinate, keyed by (seed, element key, step).
 #include <cmath>
 
-#include "../effect.hpp"
+#include "effect.hpp"
 
 namespace semlb::engine {
 namespace {

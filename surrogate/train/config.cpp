@@ -6,8 +6,8 @@
 #include <type_traits>
 #include <sstream>
 
-#include "controllers/errors.hpp"
-#include "controllers/text_io.hpp"
+#include "common/errors.hpp"
+#include "common/text_io.hpp"
 #include "surrogate/evaluate.hpp"
 #include "surrogate/scenario.hpp"
 

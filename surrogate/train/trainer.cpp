@@ -13,12 +13,12 @@
 #include <numbers>
 #include <sstream>
 
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "controllers/features.hpp"
 #include "controllers/gru.hpp"
-#include "controllers/h5.hpp"
+#include "common/h5.hpp"
 #include "controllers/reactive.hpp"
-#include "controllers/text_io.hpp"
+#include "common/text_io.hpp"
 #include "episodes.hpp"
 #include "model.hpp"
 #include "soft_rollout.hpp"

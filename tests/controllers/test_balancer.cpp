@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "controllers/balancer.hpp"
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "controllers/gru.hpp"
 #include "controllers/partition.hpp"
 #include "surrogate/scenario.hpp"

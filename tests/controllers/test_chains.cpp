@@ -5,7 +5,7 @@
 #include <random>
 
 #include "controllers/chains.hpp"
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "controllers/partition.hpp"
 
 using namespace semlb;

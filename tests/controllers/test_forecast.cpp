@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "controllers/chains.hpp"
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "controllers/forecast.hpp"
 #include "controllers/policy.hpp"
 

@@ -6,10 +6,10 @@
 #include <filesystem>
 #include <random>
 
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "controllers/features.hpp"
 #include "controllers/gru.hpp"
-#include "controllers/h5.hpp"
+#include "common/h5.hpp"
 #include "controllers/partition.hpp"
 #include "controllers/policy.hpp"
 

@@ -1,7 +1,7 @@
 // Partition model: widths, validity errors, the min-width truncation sweep, migration.
 #include <gtest/gtest.h>
 
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "controllers/partition.hpp"
 
 using namespace semlb;

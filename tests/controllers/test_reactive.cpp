@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "controllers/policy.hpp"
 #include "controllers/reactive.hpp"
 

@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "controllers/gru.hpp"
-#include "controllers/h5.hpp"
+#include "common/h5.hpp"
 #include "controllers/policy.hpp"
 #include "surrogate/rollout.hpp"
 

@@ -1,7 +1,7 @@
 // Trace lines: round trip and one-line errors naming the file, line and field.
 #include <gtest/gtest.h>
 
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "controllers/trace.hpp"
 
 using namespace semlb;

@@ -4,11 +4,11 @@
 #include <string>
 #include <vector>
 
-#include "controllers/errors.hpp"
-#include "engine/backend.hpp"
-#include "engine/opencl.hpp"
-#include "engine/scene.hpp"
-#include "engine/state.hpp"
+#include "common/errors.hpp"
+#include "engine/backends/backend.hpp"
+#include "engine/backends/opencl.hpp"
+#include "engine/model/scene.hpp"
+#include "engine/model/state.hpp"
 
 namespace semlb::engine::testing {
 

@@ -1,7 +1,7 @@
 // Manifests: cartesian expansion, profiles, overrides, and line-accurate errors.
 #include <gtest/gtest.h>
 
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "experiments/manifest.hpp"
 #include "experiments/runner.hpp"
 #include "../run_command.hpp"

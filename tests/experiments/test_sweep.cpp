@@ -5,7 +5,7 @@
 #include <map>
 
 #include "../run_command.hpp"
-#include "controllers/text_io.hpp"
+#include "common/text_io.hpp"
 
 using namespace semlb::test;
 namespace fs = std::filesystem;

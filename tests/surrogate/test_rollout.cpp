@@ -3,7 +3,7 @@
 
 #include <filesystem>
 
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "controllers/features.hpp"
 #include "controllers/gru.hpp"
 #include "controllers/metrics.hpp"

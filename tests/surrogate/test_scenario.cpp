@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "surrogate/scenario.hpp"
 
 using namespace semlb::surrogate;

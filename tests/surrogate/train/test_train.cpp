@@ -5,12 +5,12 @@
 #include <filesystem>
 
 #include "../../run_command.hpp"
-#include "controllers/errors.hpp"
+#include "common/errors.hpp"
 #include "controllers/features.hpp"
 #include "controllers/gru.hpp"
-#include "controllers/h5.hpp"
+#include "common/h5.hpp"
 #include "controllers/partition.hpp"
-#include "controllers/text_io.hpp"
+#include "common/text_io.hpp"
 #include "surrogate/train/config.hpp"
 #include "surrogate/train/episodes.hpp"
 #include "surrogate/train/soft_rollout.hpp"

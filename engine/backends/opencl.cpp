@@ -1,0 +1,87 @@
+// OpenCL error checks, device listing and the platform/device choice.
+#include "opencl.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <stdexcept>
+
+#include "common/errors.hpp"
+
+namespace semlb::engine::cl {
+
+void check(cl_int status, const char* what) {
+  if (status != CL_SUCCESS) throw std::runtime_error(std::string("OpenCL: ") + what + " failed (error " + std::to_string(status) + ")");
+}
+
+namespace {
+// CL_PLATFORM_NAME / CL_DEVICE_NAME through clGetPlatformInfo / clGetDeviceInfo.
+template <class Id, class Query>
+std::string name_of(Id id, Query query, cl_uint param) {
+  size_t n = 0;
+  query(id, param, 0, nullptr, &n);
+  std::string s(n, '\0');
+  query(id, param, n, s.data(), nullptr);
+  return s.c_str();
+}
+std::string info_string(cl_platform_id p) { return name_of(p, clGetPlatformInfo, CL_PLATFORM_NAME); }
+std::string info_string(cl_device_id d) { return name_of(d, clGetDeviceInfo, CL_DEVICE_NAME); }
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+}  // namespace
+
+std::vector<DeviceInfo> list_devices() {
+  cl_uint np = 0;
+  if (clGetPlatformIDs(0, nullptr, &np) != CL_SUCCESS || np == 0) return {};
+  std::vector<cl_platform_id> platforms(np);
+  check(clGetPlatformIDs(np, platforms.data(), nullptr), "clGetPlatformIDs");
+  std::vector<DeviceInfo> out;
+  for (auto p : platforms) {
+    cl_uint nd = 0;
+    if (clGetDeviceIDs(p, CL_DEVICE_TYPE_ALL, 0, nullptr, &nd) != CL_SUCCESS) continue;
+    std::vector<cl_device_id> devices(nd);
+    check(clGetDeviceIDs(p, CL_DEVICE_TYPE_ALL, nd, devices.data(), nullptr), "clGetDeviceIDs");
+    for (auto d : devices) {
+      cl_device_type type = 0;
+      clGetDeviceInfo(d, CL_DEVICE_TYPE, sizeof type, &type, nullptr);
+      out.push_back({p, d, info_string(p), info_string(d), (type & CL_DEVICE_TYPE_GPU) != 0});
+    }
+  }
+  return out;
+}
+
+DeviceInfo choose_device(const std::string& platform, int index, int local_rank) {
+  const auto all = list_devices();
+  if (all.empty()) throw InputError("backend: no OpenCL platform found (install an ICD, e.g. pocl-opencl-icd)");
+  std::vector<std::string> names;
+  for (const auto& d : all)
+    if (std::find(names.begin(), names.end(), d.platform_name) == names.end()) names.push_back(d.platform_name);
+  std::string chosen;
+  if (!platform.empty()) {
+    for (const auto& n : names)
+      if (lower(n).find(lower(platform)) != std::string::npos) chosen = n;
+  } else {
+    std::vector<std::string> with_gpu;
+    for (const auto& d : all)
+      if (d.gpu && std::find(with_gpu.begin(), with_gpu.end(), d.platform_name) == with_gpu.end())
+        with_gpu.push_back(d.platform_name);
+    if (with_gpu.size() == 1) chosen = with_gpu[0];
+    else if (names.size() == 1) chosen = names[0];
+  }
+  std::string known;
+  for (const auto& n : names) known += (known.empty() ? "" : "; ") + n;
+  if (chosen.empty())
+    throw InputError("backend.platform: " + (platform.empty() ? std::string("several OpenCL platforms, choose one")
+                                                              : "no platform matches '" + platform + "'") +
+                     " (found: " + known + ")");
+  std::vector<DeviceInfo> devices;
+  for (const auto& d : all)
+    if (d.platform_name == chosen) devices.push_back(d);
+  if (index < 0 || index >= static_cast<int>(devices.size()))
+    throw InputError("backend.device: index " + std::to_string(index) + " but platform '" + chosen + "' has " +
+                     std::to_string(devices.size()) + " device(s)");
+  return devices[(index + local_rank) % devices.size()];
+}
+
+}  // namespace semlb::engine::cl

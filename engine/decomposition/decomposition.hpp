@@ -1,0 +1,37 @@
+// The slab decomposition along x (paper Sec. III-D): slices, the minimum slab width, the per-slice workload
+// W_s and the ownership rule; parsed and checked from a scene's `decomposition` section.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "controllers/policy.hpp"
+#include "model/scene.hpp"
+#include "model/state.hpp"
+
+namespace semlb::engine {
+
+struct Decomposition {
+  // min_width in slices: on 3 or more ranks at least the ghost region, cutoff + a cell's reach (one cutoff)
+  // on either side, so that only neighbouring ranks share elements within the cutoff (docs/engine.md)
+  int slices = 0, min_width = 1;
+  double x0 = 0, width = 1;       // slice s covers [x0 + s width, x0 + (s+1) width); outside is clamped
+  std::string policy = "reactive", initial = "workload";
+  // measured: each rank's computation time from its clock; modelled: its share of the workload W_s (work
+  // units), so that decisions are the same in every launch (tests, studies that need reproducible decisions)
+  std::string timing = "measured";
+  long rebalance_every = 100;
+  PolicyParams params;
+
+  // InputError names the field: slab widths below the ghost region on >= 3 ranks, more ranks than the
+  // slices hold, a policy that needs what the engine cannot observe (e.g. the oracle's true work).
+  static Decomposition from_scene(const Scene& scene, int ranks);
+  int slice_of(double x) const;
+};
+
+// Per-slice workload W_s = sum over cells of n_i * n_N(i) (paper eqs. 2-3): n_N(i) counts the elements in
+// the 3x3x3 bins around the cell's centroid, among the cells' own elements and `ghosts` (3 doubles each).
+std::vector<double> slice_workload(const State& cells, const std::vector<double>& ghosts, const Decomposition& d,
+                                   double cutoff);
+int owner_of(int slice, const std::vector<int>& boundaries);
+
+}  // namespace semlb::engine

@@ -1,0 +1,267 @@
+// Decomposed run: ghosts every step, cell migration after cell updates and rebalancing, decisions by
+// the controllers' policies on rank 0 (broadcast), traces in `semlb replay`'s format.
+#include "distributed.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include "controllers/chains.hpp"
+#include "common/errors.hpp"
+#include "controllers/metrics.hpp"
+#include "controllers/partition.hpp"
+#include "common/text_io.hpp"
+#include "controllers/trace.hpp"
+#include "effects/effect.hpp"
+#include "model/tissue.hpp"
+#include "wire.hpp"
+
+namespace semlb::engine {
+namespace {
+
+// Bands reach a little beyond the cutoff: devices compare in their own precision, and a surplus ghost
+// changes nothing (it lies beyond the cutoff of every owned element).
+constexpr double kGhostSlack = 0.01;
+
+}  // namespace
+
+DistributedSimulation::DistributedSimulation(const Scene& scene, const State& tissue, Mpi& mpi, const std::string& trace_path,
+                                             const std::optional<DecompositionCheckpoint>& restored)
+    : scene_(&scene), mpi_(&mpi), dec_(Decomposition::from_scene(scene, mpi.size())) {
+  const auto initial = dec_.initial == "workload"
+                           ? optimal_partition(slice_workload(tissue, {}, dec_, scene.cutoff), mpi.size(), dec_.min_width)
+                           : uniform_partition(mpi.size(), dec_.slices);
+  balancer_ = std::make_unique<Balancer>(dec_.policy, make_policy(dec_.policy, dec_.params), dec_.slices, dec_.min_width, initial);
+  cells_at_event_ = static_cast<long>(tissue.cells());
+  if (restored && (restored->ranks != mpi.size() || restored->policy != dec_.policy)) {
+    restarted_ = "the checkpoint's balancer is for " + std::to_string(restored->ranks) + " ranks with policy '" +
+                 restored->policy + "'; this run has " + std::to_string(mpi.size()) + " with '" + dec_.policy +
+                 "': rebalancing restarts from the " + dec_.initial + " partition at event 0";
+  } else if (restored) {
+    try {
+      balancer_->load_state(restored->balancer);
+    } catch (const InputError& e) {
+      throw InputError("checkpoint: " + std::string(e.what()));
+    }
+    cells_at_event_ = restored->cells_at_event;
+  }
+  State mine = tissue;
+  std::vector<Writer> unused(mpi.size());
+  split_cells(mine, [&](long c) { return owner_of_cell(mine, c); }, mpi.rank(), unused);
+  sim_ = std::make_unique<Simulation>(scene, std::move(mine));
+  sim_->before_forces = [this] { exchange_ghosts(); };
+  sim_->after_cells = [this] { migrate_cells(); };
+  sim_->failure_check = [this] { collective_check(); };
+  trace_path_ = mpi.rank() == 0 ? trace_path : "";  // opened at the first event: nothing is written before
+  if (!trace_path_.empty() && balancer_->event() > 0 && std::filesystem::exists(trace_path_))
+    for (const auto& line : split(read_file(trace_path_), '\n'))  // a restart keeps the events before its own
+      if (!line.empty() && parse_trace_line(line, trace_path_, 0).obs.event < balancer_->event()) trace_kept_ += line + "\n";
+  if (const char* f = std::getenv("SEMLB_FAULT_INJECT")) {  // "RANK:STEP": a test of one rank's error (docs/engine.md)
+    const auto parts = split(f, ':');
+    char* end = nullptr;
+    if (parts.size() == 2) fault_rank_ = static_cast<int>(std::strtol(parts[0].c_str(), &end, 10));
+    const bool rank_ok = end && end != parts[0].c_str() && *end == 0;
+    if (parts.size() == 2) fault_step_ = std::strtol(parts[1].c_str(), &end, 10);
+    if (!rank_ok || end == parts[1].c_str() || *end != 0)
+      throw InputError("SEMLB_FAULT_INJECT: expected RANK:STEP (integers), got '" + std::string(f) + "'");
+  }
+}
+
+int DistributedSimulation::owner_of_cell(const State& s, long c) const {
+  return owner_of(dec_.slice_of(centroid(s, c)[0]), balancer_->boundaries());  // the ownership rule (docs/engine.md)
+}
+
+double DistributedSimulation::compute_seconds() const {
+  double s = 0;
+  for (double p : sim_->phase_seconds()) s += p;
+  return s;
+}
+
+// Owned elements within the cutoff of a neighbour's elements go to that neighbour; only neighbours
+// exchange, so no two ranks further apart may hold elements within the cutoff of each other (checked here,
+// over all pairs of ranks). The check and the per-step failure flag (set by the previous step's
+// integration, seen before the next step moves anything) are agreed from one allgather, so every rank stops at the same step. The backend selects
+// the bands on its device: only the x range, the flag and the band elements cross to the host.
+void DistributedSimulation::exchange_ghosts() {
+  const int r = mpi_->rank(), P = mpi_->size();
+  if (P == 1) return;  // no neighbours; the failure is caught at the next check, the state frozen meanwhile
+  if (r == fault_rank_ && step() == fault_step_)
+    throw std::runtime_error("step " + std::to_string(step()) + ": fault injected by SEMLB_FAULT_INJECT");
+  const auto t0 = std::chrono::steady_clock::now();
+  Backend& b = sim_->backend();
+  const auto [lo, hi] = b.x_extent();
+  const Failure failure = b.failure();
+  const auto gathered = mpi_->allgather({lo, hi, static_cast<double>(failure.step)});  // 3 per rank
+  auto los = [&](int q) { return gathered[3 * q]; };
+  auto his = [&](int q) { return gathered[3 * q + 1]; };
+  bool failed = false;
+  for (int q = 0; q < P; ++q) failed = failed || gathered[3 * q + 2] >= 0;
+  if (failed) collective_check();  // every rank sees the same flags: all call it, all throw
+  const double cut = scene_->cutoff, reach = cut * (1 + kGhostSlack);
+  for (int p = 0; p < P; ++p)  // the same verdict on every rank: all throw it together
+    for (int q = p + 2; q < P; ++q)
+      if (los(q) - reach < his(p)) {
+        std::ostringstream m;
+        m << "step " << step() << ": ranks " << p << " and " << q << " hold elements within the cutoff of each other (x up to "
+          << his(p) << " and from " << los(q) << " um) but only neighbouring ranks exchange ghosts: a cell reaches"
+          << " further than one cutoff from its slab (raise decomposition.min_width)";
+        throw AgreedError(m.str(), 1);
+      }
+  Ghosts left, right;
+  if (r > 0) b.band(his(r - 1) + reach, true, left);
+  if (r + 1 < P) b.band(los(r + 1) - reach, false, right);
+  Ghosts g;
+  for (const auto& bytes : {mpi_->sendrecv(pack_band(left), r > 0 ? r - 1 : MPI_PROC_NULL, r + 1 < P ? r + 1 : MPI_PROC_NULL),
+                            mpi_->sendrecv(pack_band(right), r + 1 < P ? r + 1 : MPI_PROC_NULL, r > 0 ? r - 1 : MPI_PROC_NULL)})
+    unpack_band(bytes, g);
+  int cell = static_cast<int>(sim_->host_state().cells()) - 1;  // ghost cells are numbered after the owned ones
+  for (long e = 0; e < g.elements(); ++e) {  // a band holds each cell's elements contiguously
+    if (e == 0 || g.keys[e] >> 8 != g.keys[e - 1] >> 8) ++cell;
+    g.info[e] |= cell << 2;
+  }
+  b.set_ghosts(g);
+  ghost_positions_ = std::move(g.position);  // for the next W_s
+  b.finish();
+  exchange_s_ += seconds_since(t0);
+}
+
+void DistributedSimulation::migrate_cells() {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (sim_->host_state().step % dec_.rebalance_every == 0) decide(measure());  // new boundaries first
+  State& s = sim_->state();
+  std::vector<int> owner(s.cells());
+  bool changed = false;
+  for (long c = 0; c < s.cells(); ++c) {
+    owner[c] = owner_of_cell(s, c);
+    changed = changed || owner[c] != mpi_->rank();
+  }
+  std::vector<Writer> out(mpi_->size());
+  if (changed) split_cells(s, [&](long c) { return owner[c]; }, mpi_->rank(), out);
+  std::vector<std::vector<char>> parts;
+  for (auto& w : out) parts.push_back(std::move(w.bytes));
+  for (const auto& bytes : mpi_->alltoall(parts)) {
+    changed = changed || !bytes.empty();
+    unpack_cells(bytes, s);
+  }
+  if (changed) {  // else the device already holds exactly these elements
+    s.reindex();
+    sim_->reload();
+    sim_->backend().finish();
+  }
+  migrate_s_ += seconds_since(t0);
+}
+
+Measurement DistributedSimulation::measure() {
+  const double now = compute_seconds();
+  const auto seconds = mpi_->allgather({now - seconds_at_event_, exchange_s_, migrate_s_});  // 3 per rank
+  seconds_at_event_ = now;
+  exchange_s_ = migrate_s_ = 0;
+  Interval iv{};
+  Measurement m;
+  for (int r = 0; r < mpi_->size(); ++r) {
+    m.times.push_back(seconds[3 * r]);
+    iv.exchange.push_back(seconds[3 * r + 1]);
+    iv.migrate.push_back(seconds[3 * r + 2]);
+  }
+  const State& s = sim_->host_state();
+  auto work = slice_workload(s, ghost_positions_, dec_, scene_->cutoff);  // integer counts: sums are exact
+  mpi_->allreduce_sum(work);
+  if (dec_.timing == "modelled") m.times = rank_sums(work, balancer_->boundaries());
+  double total_work = 0, total_time = 0;
+  for (double w : work) total_work += w;
+  for (double t : m.times) total_time += t;
+  for (double& w : work) w *= total_work > 0 ? total_time / total_work : 0.0;  // W_s scaled to the times
+  m.slice_work = std::move(work);
+  m.growth_phase = sim_->growth_phase();
+  const long cells = totals().first;
+  m.growth_event = cells != cells_at_event_;
+  cells_at_event_ = cells;
+  iv.step = s.step;
+  intervals_.push_back(std::move(iv));
+  return m;
+}
+
+void DistributedSimulation::decide(const Measurement& m) {
+  const std::vector<int> before = balancer_->boundaries();
+  std::vector<int> next = before;
+  agree(*mpi_, [&] {  // rank 0 decides: its errors (a policy's, the trace file's) stop every rank
+    if (mpi_->rank() != 0) return;
+    const Decision d = balancer_->rebalance(m);
+    write_trace(d.trace);
+    next = d.boundaries;
+  });
+  mpi_->broadcast(next, 0);
+  if (mpi_->rank() != 0) balancer_->commit(balancer_->observe(m), next);  // every rank's balancer in the same state
+  Interval& iv = intervals_.back();
+  iv.times = m.times;
+  iv.imbalance = global_imbalance(m.times);
+  iv.moved = migration(before, next);
+}
+
+void DistributedSimulation::write_trace(const TraceEvent& e) {
+  if (trace_path_.empty()) return;
+  if (!trace_.is_open()) {
+    trace_.open(trace_path_, std::ios::trunc);
+    if (!trace_) throw std::runtime_error(trace_path_ + ": cannot write");
+    trace_ << trace_kept_;
+  }
+  trace_ << to_json(e).dump() << "\n" << std::flush;
+}
+
+DecompositionCheckpoint DistributedSimulation::checkpoint() const {
+  return {mpi_->size(), dec_.policy, cells_at_event_, dec_.x0, dec_.x0 + dec_.width * dec_.slices, balancer_->save_state()};
+}
+
+void DistributedSimulation::collective_check() {
+  std::string message;
+  try {
+    sim_->check();
+  } catch (const SimulationError& e) {
+    message = "rank " + std::to_string(mpi_->rank()) + ": " + e.what();
+  }
+  const Failure f = sim_->backend().failure();
+  const auto failed = mpi_->allgather({static_cast<double>(f.step)});  // -1 where none
+  int first = -1;  // the rank with the earliest failing step, the lowest such rank
+  for (int r = 0; r < mpi_->size(); ++r)
+    if (failed[r] >= 0 && (first < 0 || failed[r] < failed[first])) first = r;
+  if (first < 0) return;
+  mpi_->broadcast(message, first);
+  throw AgreedError(message, 1, static_cast<long>(failed[first]));
+}
+
+void DistributedSimulation::advance(long target) {
+  while (step() < target) {
+    const long stop = std::min(target, (step() / dec_.rebalance_every + 1) * dec_.rebalance_every);
+    sim_->advance(stop);
+    const bool cells_updated = sim_->has_cell_effects() && stop % scene_->cell_update_every == 0;  // migrated there
+    if (stop % dec_.rebalance_every == 0 && !cells_updated) {
+      sim_->sync();
+      migrate_cells();  // rebalances first
+    }
+  }
+}
+
+std::pair<long, long> DistributedSimulation::totals() {
+  const State& s = sim_->host_state();
+  std::vector<double> n{static_cast<double>(s.cells()), static_cast<double>(s.elements())};
+  mpi_->allreduce_sum(n);
+  return {static_cast<long>(n[0]), static_cast<long>(n[1])};
+}
+
+State DistributedSimulation::gather() {
+  const State& s = sim_->sync();
+  Writer w;
+  for (long c = 0; c < s.cells(); ++c) pack_cell(w, s, c);
+  State all;
+  all.step = s.step;
+  all.time = s.time;
+  for (const auto& [name, f] : s.cell_fields) all.cell_fields[name];
+  for (const auto& bytes : mpi_->gather(w.bytes, 0)) unpack_cells(bytes, all);
+  all.reindex();
+  return all.canonical();
+}
+
+}  // namespace semlb::engine

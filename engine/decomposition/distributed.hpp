@@ -1,0 +1,77 @@
+// The decomposed run (paper Sec. III-D/E, IV): slabs of slices along x, one rank per slab range, ghost
+// exchange with the two neighbouring ranks, whole cells owned by the rank of their centroid's slice,
+// workload-aware initial partition and rebalancing through the shared controllers (controllers/balancer).
+#pragma once
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "collective.hpp"
+#include "controllers/balancer.hpp"
+#include "decomposition.hpp"
+#include "io/io.hpp"
+#include "mpi.hpp"
+#include "run/simulation.hpp"
+
+namespace semlb::engine {
+
+class DistributedSimulation {
+ public:
+  // Every rank passes the same whole tissue; each keeps the cells of its slab range. `restored` (from a
+  // checkpoint) continues its balancer when it was written by as many ranks with the same policy; otherwise
+  // the run starts from the initial partition and restarted() says why.
+  DistributedSimulation(const Scene& scene, const State& tissue, Mpi& mpi, const std::string& trace_path = "",
+                        const std::optional<DecompositionCheckpoint>& restored = std::nullopt);
+  void advance(long target);
+  State gather();  // rank 0: the whole tissue in cell-id order; other ranks: cells empty
+  std::pair<long, long> totals();  // cells and elements over all ranks (on every rank)
+  long step() const { return sim_->host_state().step; }
+  const std::vector<int>& boundaries() const { return balancer_->boundaries(); }
+  long migrated_slices() const { return balancer_->migration(); }
+  // The balancer for a checkpoint; complete (with the policy's history) on rank 0, which writes the files.
+  DecompositionCheckpoint checkpoint() const;
+  // Why a restart did not continue the checkpoint's balancer (empty when it did, or without a checkpoint).
+  const std::string& restarted() const { return restarted_; }
+  // Per rebalancing interval: the ranks' computation times and the global imbalance (T_max-T_min)/T_mean.
+  struct Interval {
+    long step;
+    std::vector<double> times;            // computation per rank
+    std::vector<double> exchange, migrate;  // per rank: ghost exchange; cell migration and rebalancing
+    double imbalance;
+    long moved;
+  };
+  const std::vector<Interval>& intervals() const { return intervals_; }
+  Simulation& local() { return *sim_; }
+
+ private:
+  void exchange_ghosts();
+  void migrate_cells();
+  // A rebalancing event (LAMMPS-style probe / decide / move): measure() gathers the interval's times and
+  // the global W_s on every rank, decide() runs the Balancer (the policy on rank 0, broadcast, every rank's
+  // balancer committed to the same boundaries), and migrate_cells() moves the cells.
+  Measurement measure();
+  void decide(const Measurement& m);
+  void write_trace(const TraceEvent& e);
+  void collective_check();
+  double compute_seconds() const;
+  int owner_of_cell(const State& s, long c) const;
+
+  const Scene* scene_;
+  Mpi* mpi_;
+  Decomposition dec_;
+  std::unique_ptr<Balancer> balancer_;
+  std::unique_ptr<Simulation> sim_;
+  std::vector<double> ghost_positions_;
+  std::string trace_path_, trace_kept_, restarted_;  // trace_kept_: the lines before a restart's event
+  std::ofstream trace_;
+  std::vector<Interval> intervals_;
+  double seconds_at_event_ = 0;
+  double exchange_s_ = 0, migrate_s_ = 0;  // since the last rebalancing event
+  long cells_at_event_ = 0;
+  int fault_rank_ = -1;  // SEMLB_FAULT_INJECT=RANK:STEP: throws on that rank alone at that step (tests)
+  long fault_step_ = -1;
+};
+
+}  // namespace semlb::engine

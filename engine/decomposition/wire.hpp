@@ -1,0 +1,76 @@
+// The wire formats of the decomposed run: whole cells (migration, gather) and ghost bands (exchange),
+// as byte buffers that MPI moves between ranks.
+#pragma once
+#include <cstring>
+#include <vector>
+
+#include "backends/backend.hpp"
+#include "model/state.hpp"
+
+namespace semlb::engine {
+
+// Byte buffers for whole cells: id, type, count, per-cell fields (map order), positions.
+class Writer {
+ public:
+  template <class T>
+  void put(const T& v) {
+    const char* p = reinterpret_cast<const char*>(&v);
+    bytes.insert(bytes.end(), p, p + sizeof(T));
+  }
+  void put(const double* v, size_t n) {
+    const char* p = reinterpret_cast<const char*>(v);
+    bytes.insert(bytes.end(), p, p + n * sizeof(double));
+  }
+  std::vector<char> bytes;
+};
+
+class Reader {
+ public:
+  explicit Reader(const std::vector<char>& b) : b_(b) {}
+  template <class T>
+  T get() {
+    T v;
+    std::memcpy(&v, b_.data() + at_, sizeof(T));
+    at_ += sizeof(T);
+    return v;
+  }
+  bool done() const { return at_ >= b_.size(); }
+
+ private:
+  const std::vector<char>& b_;
+  size_t at_ = 0;
+};
+
+// One cell (id, type, count, per-cell fields in map order, positions) appended to `w`.
+void pack_cell(Writer& w, const State& s, long c);
+// Appends the cells in `bytes` to `s`; call s.reindex() afterwards.
+void unpack_cells(const std::vector<char>& bytes, State& s);
+// A ghost band on the wire: count, positions, keys, info.
+std::vector<char> pack_band(const Ghosts& g);
+void unpack_band(const std::vector<char>& bytes, Ghosts& g);  // appends
+
+// Keeps the cells for which keep(c) holds; the others are packed into out[owner(c)].
+template <class Owner>
+void split_cells(State& s, Owner owner, int me, std::vector<Writer>& out) {
+  State kept;
+  kept.step = s.step;
+  kept.time = s.time;
+  for (const auto& [name, f] : s.cell_fields) kept.cell_fields[name];
+  for (long c = 0; c < s.cells(); ++c) {
+    const int o = owner(c);
+    if (o != me) {
+      pack_cell(out[o], s, c);
+      continue;
+    }
+    kept.cell_id.push_back(s.cell_id[c]);
+    kept.cell_type.push_back(s.cell_type[c]);
+    kept.cell_count.push_back(s.cell_count[c]);
+    for (auto& [name, f] : s.cell_fields) kept.cell_fields[name].push_back(f[c]);
+    kept.position.insert(kept.position.end(), s.position.begin() + 3 * s.cell_first[c],
+                         s.position.begin() + 3 * (s.cell_first[c] + s.cell_count[c]));
+  }
+  kept.reindex();
+  s = std::move(kept);
+}
+
+}  // namespace semlb::engine

@@ -1,0 +1,97 @@
+// Epidermal sheet generator: cells on staggered hexagonal layers above the basement membrane (z = 0),
+// each with elements_min..elements_max elements (mean ~15) scattered in a ball inside the cell.
+#include "tissue.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <tuple>
+
+#include "backends/cpu_physics.hpp"
+#include "io/io.hpp"
+
+namespace semlb::engine {
+namespace {
+
+constexpr uint64_t kTissueStream = 0x7469737375ULL;
+
+State epidermal_sheet(const Section& t, uint64_t seed) {
+  const long cells = t.integer("cells", 60, 1, 1L << kRootIdBits);
+  const long layers = t.integer("layers", 2, 1, 1000);
+  const double radius = t.real("cell_radius", 5.0, 1e-6, 1e6);
+  const double spacing = t.real("spacing", 1.8 * radius, 1e-6, 1e6);
+  const double spread = t.real("spread", 0.6 * radius, 0, 1e6);
+  const int emin = static_cast<int>(t.integer("elements_min", 10, 1, kMaxSlots - 1));
+  const int emax = static_cast<int>(t.integer("elements_max", 20, 1, kMaxSlots - 1));
+  if (emax < emin) t.fail("elements_max", "must be >= elements_min");
+  const long per_layer = (cells + layers - 1) / layers;
+  const long nx = static_cast<long>(std::ceil(std::sqrt(static_cast<double>(per_layer))));
+  State s;
+  for (long c = 0; c < cells; ++c) {
+    const long layer = c / per_layer, k = c % per_layer, i = k % nx, j = k / nx;
+    const double stagger = layer % 2 ? 0.5 * spacing : 0.0;
+    const double cx = (i + 0.5 * (j % 2)) * spacing + stagger, cy = j * spacing * std::sqrt(3.0) / 2 + stagger / std::sqrt(3.0),
+                 cz = radius + layer * spacing * 0.85;
+    const uint64_t id = static_cast<uint64_t>(c);
+    const int n = std::min(emax, emin + static_cast<int>(uniform01(seed ^ kTissueStream, id, 0, 0) * (emax - emin + 1)));
+    s.cell_id.push_back(id);
+    s.cell_type.push_back(layer == 0 ? kBasal : kSpinous);
+    s.cell_count.push_back(n);
+    for (int e = 0; e < n; ++e) {
+      const uint64_t key = element_key(id, e);
+      double u[3], norm = 0;
+      for (int d = 0; d < 3; ++d) {
+        u[d] = gaussian(seed ^ kTissueStream, key, 1, d);
+        norm += u[d] * u[d];
+      }
+      const double r = spread * std::cbrt(uniform01(seed ^ kTissueStream, key, 2, 0)) / (std::sqrt(norm) + 1e-300);
+      s.position.insert(s.position.end(), {cx + r * u[0], cy + r * u[1], std::max(cz + r * u[2], 0.5)});
+    }
+  }
+  s.reindex();
+  return s;
+}
+
+}  // namespace
+
+std::pair<std::array<double, 3>, std::array<double, 3>> tissue_box(const State& s, double cutoff) {
+  std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
+  for (long e = 0; e < s.elements(); ++e)
+    for (int d = 0; d < 3; ++d) {
+      const double x = s.position[3 * e + d];
+      if (!std::isfinite(x)) continue;
+      lo[d] = e == 0 ? x : std::min(lo[d], x);
+      hi[d] = e == 0 ? x : std::max(hi[d], x);
+    }
+  for (int d = 0; d < 3; ++d) {
+    lo[d] -= cutoff;
+    hi[d] += cutoff;
+  }
+  lo[2] = std::min(lo[2], -cutoff);
+  hi[2] += 3 * cutoff;  // room for stratification
+  return {lo, hi};
+}
+
+void fit_box(Scene& scene, const State& s) {
+  std::tie(scene.box_lo, scene.box_hi) = tissue_box(s, scene.cutoff);
+}
+
+State make_tissue(Scene& scene) {
+  const Section& t = *scene.tissue;
+  State s;
+  const std::string file = t.text("file", "");
+  const std::string generator = t.text("generator", file.empty() ? "epidermal_sheet" : "");
+  if (!file.empty()) {
+    const auto path = std::filesystem::path(scene.path).parent_path() / file;
+    s = read_state(std::filesystem::path(file).is_absolute() ? file : path.string());
+  } else if (generator == "epidermal_sheet") {
+    s = epidermal_sheet(t, scene.seed);
+  } else {
+    t.fail("generator", "unknown generator '" + generator + "' (known: epidermal_sheet; or give tissue.file)");
+  }
+  t.finish();
+  if (scene.auto_box) fit_box(scene, s);
+  return s;
+}
+
+}  // namespace semlb::engine

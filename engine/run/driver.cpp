@@ -1,0 +1,251 @@
+// The run driver behind `semlb sim`.
+#include "driver.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "common/errors.hpp"
+#include "common/text_io.hpp"
+#include "decomposition/distributed.hpp"
+#include "io/io.hpp"
+#include "simulation.hpp"
+#include "model/tissue.hpp"
+
+namespace semlb::engine {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string snapshot_name(long step) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "snapshots/step_%09ld.h5", step);
+  return buf;
+}
+
+// Rows of an earlier run.csv up to `step` (restart continues the same log); the header is rewritten.
+std::vector<std::string> earlier_rows(const std::string& path, long step) {
+  std::vector<std::string> rows;
+  if (!fs::exists(path)) return rows;
+  const auto lines = split(read_file(path), '\n');
+  for (size_t i = 1; i < lines.size(); ++i)
+    if (!lines[i].empty() && parse_integer(split(lines[i], ',')[0], semlb::where(path, static_cast<long>(i) + 1, "step")) <= step)
+      rows.push_back(lines[i]);
+  return rows;
+}
+
+std::vector<Snapshot> earlier_snapshots(const std::string& dir, long step) {
+  std::vector<Snapshot> out;
+  if (!fs::exists(dir + "/snapshots")) return out;
+  for (const auto& entry : fs::directory_iterator(dir + "/snapshots")) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("step_", 0) != 0 || entry.path().extension() != ".h5") continue;
+    if (name.size() != 17 || name.substr(5, 9).find_first_not_of("0123456789") != std::string::npos) continue;  // step_NNNNNNNNN.h5
+    const long s = parse_integer(name.substr(5, 9), entry.path().string() + ": ");
+    if (s > step) continue;
+    const State st = read_state(entry.path().string());
+    out.push_back({s, st.time, st.elements(), snapshot_name(s)});
+  }
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.step < b.step; });
+  return out;
+}
+
+class StatusLine {
+ public:
+  StatusLine(bool quiet, long first, long last) : quiet_(quiet), tty_(isatty(2)), first_(first), last_(last) {}
+  void update(long step, long cells, long elements, double wall, bool force) {
+    if (quiet_ || (!force && wall - shown_ < (tty_ ? 1.0 : 10.0))) return;
+    shown_ = wall;
+    const double done = static_cast<double>(step - first_), left = static_cast<double>(last_ - step);
+    std::fprintf(stderr, "%sstep %ld/%ld | cells %ld | elements %ld | %.1f s | ETA %.1f s%s", tty_ ? "\r" : "", step,
+                 last_, cells, elements, wall, done > 0 ? wall / done * left : 0.0, tty_ && !force ? "" : "\n");
+  }
+
+ private:
+  bool quiet_, tty_;
+  long first_, last_;
+  double shown_ = -1e9;
+};
+
+// The files every run writes into DIR: scene.yaml, run.csv (earlier rows kept on restart), snapshots with
+// their XDMF index, checkpoint.h5, final.h5 and failure.h5.
+class RunOutputs {
+ public:
+  RunOutputs(const Scene& scene, const RunConfig& config, long first, std::string header,
+             std::map<std::string, std::string> attrs)
+      : scene_(scene), dir_(config.out_dir), header_(std::move(header)), attrs_(std::move(attrs)) {
+    fs::create_directories(dir_ + "/snapshots");
+    write_file_atomically(dir_ + "/scene.yaml", "# semlb " + config.git_revision + ": " + config.command_line + "\n" + scene.text);
+    rows_ = earlier_rows(dir_ + "/run.csv", first);
+    snapshots_ = earlier_snapshots(dir_, first);
+  }
+  void log(const std::string& row) {
+    rows_.push_back(row);
+    std::string csv = header_ + "\n";
+    for (const auto& r : rows_) csv += r + "\n";
+    write_file_atomically(dir_ + "/run.csv", csv);
+  }
+  bool wants_state(long step) const { return due(scene_.snapshot_every, step) || due(scene_.checkpoint_every, step); }
+  // The snapshot and checkpoint due at s.step; a decomposed run's checkpoint also holds its balancer.
+  void save(const State& s, const DecompositionCheckpoint* decomposition = nullptr) {
+    if (due(scene_.snapshot_every, s.step)) {
+      write_state(dir_ + "/" + snapshot_name(s.step), s, attrs_);
+      snapshots_.push_back({s.step, s.time, s.elements(), snapshot_name(s.step)});
+      write_xdmf(dir_ + "/snapshots.xmf", snapshots_);
+    }
+    if (due(scene_.checkpoint_every, s.step)) write_state(dir_ + "/checkpoint.h5", s, attrs_, decomposition);
+  }
+  void write(const std::string& name, const State& s) const { write_state(dir_ + "/" + name, s, attrs_); }
+  const std::string& dir() const { return dir_; }
+
+ private:
+  static bool due(long every, long step) { return every > 0 && step % every == 0; }
+  const Scene& scene_;
+  std::string dir_, header_;
+  std::map<std::string, std::string> attrs_;
+  std::vector<std::string> rows_;
+  std::vector<Snapshot> snapshots_;
+};
+
+// The state written on a numerical failure: frozen since the failing step (its positions as that step's
+// moves left them), labelled with that step.
+State failing_state(State s, long step, double dt) {
+  if (step >= 0) {
+    s.step = step;
+    s.time = static_cast<double>(step) * dt;
+  }
+  return s;
+}
+
+// The next step at which the driver must stop to log or write a file.
+long next_stop(const Scene& scene, long step, long last) {
+  auto next = [&](long every) { return every > 0 ? (step / every + 1) * every : last; };
+  return std::min({last, next(scene.log_every), next(scene.snapshot_every), next(scene.checkpoint_every)});
+}
+
+}  // namespace
+
+RunSummary run_scene(Scene& scene, const RunConfig& config) {
+  State initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);
+  if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);  // the tissue section is not used
+  const long first = initial.step, last = std::max(scene.steps, first);
+  Simulation sim(scene, std::move(initial));  // all input checked before anything is written
+
+  std::string header = "step,time_h,cells,elements,wall_s";
+  for (const auto& p : sim.phases()) header += "," + p + "_s";
+  RunOutputs out(scene, config, first, header,
+                 {{"git_revision", config.git_revision}, {"scene", scene.name}, {"backend", sim.backend().name()}});
+  StatusLine status(config.quiet, first, last);
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<double> phase_before = sim.phase_seconds();
+  double wall_before = 0;
+  try {
+    while (sim.host_state().step < last) {
+      const long stop = next_stop(scene, sim.host_state().step, last);
+      sim.advance(stop);
+      const State& s = sim.sync();
+      if (stop % scene.log_every == 0 || stop == last) {
+        std::ostringstream row;
+        const double w = seconds_since(t0);
+        row << s.step << "," << format_real(s.time) << "," << s.cells() << "," << s.elements() << "," << format_real(w - wall_before);
+        for (size_t p = 0; p < sim.phases().size(); ++p) row << "," << format_real(sim.phase_seconds()[p] - phase_before[p]);
+        out.log(row.str());
+        phase_before = sim.phase_seconds();
+        wall_before = w;
+      }
+      out.save(s);
+      status.update(s.step, s.cells(), s.elements(), seconds_since(t0), false);
+    }
+  } catch (const SimulationError&) {
+    out.write("failure.h5", failing_state(sim.host_state(), sim.backend().failure().step, scene.dt));
+    throw;
+  }
+  const State& s = sim.sync();
+  out.write("final.h5", s);
+  status.update(s.step, s.cells(), s.elements(), seconds_since(t0), true);
+  return {s.step - first, s.cells(), s.elements(), seconds_since(t0), sim.backend().device_name()};
+}
+
+// Every error is collective (docs/engine.md "Failures"): the setup, rank 0's files and the run's own checks
+// are agreed on by all ranks (AgreedError); anything else is one rank's alone and aborts the job.
+RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi) {
+  scene.backend.local_rank = mpi.local_rank();
+  const bool root = mpi.rank() == 0;
+  State initial;
+  std::unique_ptr<DistributedSimulation> sim;
+  agree(mpi, [&] {  // all input checked here, before anything is written
+    initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);
+    if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);
+    const auto restored = config.restart.empty() ? std::nullopt : read_decomposition(config.restart);
+    if (restored && scene.auto_box) std::tie(scene.box_lo[0], scene.box_hi[0]) = std::pair(restored->x_lo, restored->x_hi);
+    sim = std::make_unique<DistributedSimulation>(scene, initial, mpi, root ? config.out_dir + "/trace.jsonl" : "", restored);
+  });
+  const long first = initial.step, last = std::max(scene.steps, first);
+  std::unique_ptr<RunOutputs> out;  // rank 0 writes every file
+  agree(mpi, [&] {
+    if (root)
+      out = std::make_unique<RunOutputs>(scene, config, first, "step,time_h,cells,elements,wall_s",
+                                         std::map<std::string, std::string>{{"git_revision", config.git_revision},
+                                                                            {"scene", scene.name},
+                                                                            {"backend", sim->local().backend().name()},
+                                                                            {"ranks", std::to_string(mpi.size())}});
+  });
+  if (root && !sim->restarted().empty()) std::cerr << "semlb sim: restart: " << sim->restarted() << "\n";
+  StatusLine status(config.quiet || !root, first, last);
+  const auto t0 = std::chrono::steady_clock::now();
+  double wall_before = 0;
+  try {
+    while (sim->step() < last) {
+      const long stop = next_stop(scene, sim->step(), last);
+      sim->advance(stop);
+      const auto [cells, elements] = sim->totals();
+      // the whole tissue travels to rank 0 only when a file needs it
+      const bool gather = mpi.allreduce_max(root && out->wants_state(stop) ? 1 : 0) > 0;
+      const State all = gather ? sim->gather() : State{};
+      agree(mpi, [&] {
+        if (!root) return;
+        if (stop % scene.log_every == 0 || stop == last) {
+          std::ostringstream row;
+          const double w = seconds_since(t0);
+          row << stop << "," << format_real(static_cast<double>(stop) * scene.dt) << "," << cells << "," << elements << ","
+              << format_real(w - wall_before);
+          out->log(row.str());
+          wall_before = w;
+        }
+        if (gather) {
+          const auto balancer = sim->checkpoint();
+          out->save(all, &balancer);
+        }
+      });
+      status.update(stop, cells, elements, seconds_since(t0), false);
+    }
+  } catch (const AgreedError& e) {
+    if (e.failed_step < 0) throw;
+    const State all = failing_state(sim->gather(), e.failed_step, scene.dt);  // every rank is here
+    agree(mpi, [&] {
+      if (root) out->write("failure.h5", all);
+    });
+    throw;
+  }
+  const State all = sim->gather();
+  agree(mpi, [&] {
+    if (!root) return;
+    out->write("final.h5", all);
+    std::string rows = "step,rank,compute_s,exchange_s,migrate_s,imbalance,moved_slices\n";
+    for (const auto& iv : sim->intervals())
+      for (size_t r = 0; r < iv.times.size(); ++r)
+        rows += std::to_string(iv.step) + "," + std::to_string(r) + "," + format_real(iv.times[r]) + "," +
+                format_real(iv.exchange[r]) + "," + format_real(iv.migrate[r]) + "," + format_real(iv.imbalance) +
+                "," + std::to_string(iv.moved) + "\n";
+    write_file_atomically(config.out_dir + "/rank_times.csv", rows);
+    status.update(all.step, all.cells(), all.elements(), seconds_since(t0), true);
+  });
+  return {all.step - first, all.cells(), all.elements(), seconds_since(t0), sim->local().backend().device_name()};
+}
+
+}  // namespace semlb::engine

@@ -1,0 +1,36 @@
+// `semlb sim`: a scene run with snapshots, checkpoints, run.csv, status line and failure handling.
+#pragma once
+#include <string>
+
+#include "model/scene.hpp"
+
+namespace semlb::engine {
+
+class Mpi;
+
+struct RunConfig {
+  std::string out_dir;
+  std::string restart;  // a checkpoint (or any state file) to continue from; its step is kept
+  bool quiet = false;
+  std::string git_revision = "unknown", command_line;
+};
+
+struct RunSummary {
+  long steps = 0, cells = 0, elements = 0;
+  double wall_seconds = 0;
+  std::string device;
+};
+
+// Output: DIR/final.h5, DIR/snapshots/step_NNNNNNNNN.h5 + DIR/snapshots.xmf, DIR/run.csv, DIR/scene.yaml,
+// DIR/checkpoint.h5; on a numerical failure DIR/failure.h5 (the state frozen since the failing step, labelled
+// with it) and a SimulationError. Bad input throws
+// InputError before anything is written.
+RunSummary run_scene(Scene& scene, const RunConfig& config);
+// The same across the ranks of `mpi` (docs/engine.md "Decomposition"): rank 0 writes final.h5, run.csv,
+// checkpoints and snapshots (gathered, cells in id order), trace.jsonl (one line per rebalancing event, in
+// `semlb replay`'s format) and rank_times.csv (per interval and rank: computation seconds). Errors that
+// all ranks agree on (bad input, a numerical failure: then failure.h5, rank 0's files) throw AgreedError on
+// every rank; any other exception is this rank's alone (the caller aborts the job).
+RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi);
+
+}  // namespace semlb::engine

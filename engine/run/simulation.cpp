@@ -1,0 +1,126 @@
+// Simulation loop: forces -> integrate -> post-integration moves every step; cell effects every
+// cell_update_every steps on the host, with a failure check before each.
+#include "simulation.hpp"
+
+#include <chrono>
+#include <sstream>
+
+#include "model/tissue.hpp"
+
+namespace semlb::engine {
+
+Simulation::Simulation(const Scene& scene, State state)
+    : scene_(&scene), state_(std::move(state)), backend_(make_backend(scene.backend)), effects_(make_effects(scene)) {
+  grid_ = Grid::cover(scene.box_lo, scene.box_hi, scene.cutoff);
+  for (const auto& e : effects_) {
+    e->prepare(state_);
+    if (e->adds_forces()) phases_.push_back(e->name());
+  }
+  phases_.push_back("integrate");
+  for (const auto& e : effects_)
+    if (e->moves_after_integration()) phases_.push_back(e->name());
+  for (const auto& e : effects_) has_cell_effects_ = has_cell_effects_ || e->changes_cells();
+  if (has_cell_effects_) phases_.push_back("cells");
+  cell_parts_.push_back({"download", 0.0});
+  for (const auto& e : effects_)
+    if (e->changes_cells()) cell_parts_.push_back({e->name(), 0.0});
+  cell_parts_.push_back({"upload", 0.0});
+  seconds_.assign(phases_.size(), 0.0);
+  backend_->upload(state_);
+}
+
+template <class F>
+void Simulation::timed(size_t phase, F&& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  if (profile) backend_->finish();
+  seconds_[phase] += seconds_since(t0);
+}
+
+void Simulation::advance(long target) {
+  while (state_.step < target) step_once();
+  failure_check ? failure_check() : check();
+}
+
+void Simulation::reload() {
+  backend_->upload(state_);
+  refit_grid();
+}
+
+// `domain: auto` follows the tissue as it spreads and stratifies; the grid only speeds up the neighbour
+// search (sums are order-independent), so refitting it never changes the result.
+void Simulation::refit_grid() {
+  if (scene_->auto_box) {
+    const auto [lo, hi] = tissue_box(state_, scene_->cutoff);
+    grid_ = Grid::cover(lo, hi, scene_->cutoff);
+  }
+}
+
+void Simulation::step_once() {
+  const long step = state_.step;
+  size_t phase = 0;
+  if (before_forces) before_forces();
+  backend_->zero_forces();
+  for (const auto& e : effects_)
+    if (e->adds_forces()) timed(phase++, [&] { e->forces(*backend_, grid_); });
+  timed(phase++, [&] { backend_->integrate(scene_->dt / scene_->friction, scene_->max_displacement, step); });
+  for (const auto& e : effects_)
+    if (e->moves_after_integration()) timed(phase++, [&] { e->after_integration(*backend_, step); });
+  state_.step = step + 1;
+  state_.time = static_cast<double>(state_.step) * scene_->dt;
+  if (has_cell_effects_ && state_.step % scene_->cell_update_every == 0) {
+    // The failure check and the cell migration are collective in a decomposed run: outside the timers, so
+    // that a rank's computation time holds its own work and not its wait for the slowest rank.
+    failure_check ? failure_check() : check();
+    timed(phase, [&] { update_cells(); });
+    if (after_cells) after_cells();
+  }
+}
+
+void Simulation::update_cells() {
+  size_t part = 0;
+  auto t0 = std::chrono::steady_clock::now();
+  const auto lap = [&] {  // closes the current part
+    cell_parts_[part++].second += seconds_since(t0);
+    t0 = std::chrono::steady_clock::now();
+  };
+  backend_->download(state_);
+  lap();
+  CellContext ctx{state_, scene_->seed, scene_->dt * static_cast<double>(scene_->cell_update_every)};
+  bool changed = false;
+  for (const auto& e : effects_)
+    if (e->changes_cells()) {
+      changed = e->update_cells(ctx) || changed;
+      lap();
+    }
+  if (changed) backend_->upload(state_);
+  refit_grid();
+  lap();
+}
+
+const State& Simulation::sync() {
+  backend_->download(state_);
+  return state_;
+}
+
+void Simulation::check() {
+  const Failure f = backend_->failure();
+  if (!f.failed()) return;
+  backend_->download(state_);
+  long cell = 0;
+  while (cell + 1 < state_.cells() && state_.cell_first[cell + 1] <= f.element) ++cell;
+  std::ostringstream m;
+  m << "step " << f.step << ": element " << f.element << " (cell " << state_.cell_id[cell] << ", slot "
+    << f.element - state_.cell_first[cell] << "): " << f.quantity() << " (position " << state_.position[3 * f.element]
+    << ", " << state_.position[3 * f.element + 1] << ", " << state_.position[3 * f.element + 2] << "; limit "
+    << scene_->max_displacement << " um per step at time.dt = " << scene_->dt << " h): lower time.dt";
+  throw SimulationError(m.str());
+}
+
+double Simulation::growth_phase() const {
+  for (const auto& e : effects_)
+    if (const auto phase = e->growth_phase(state_.time)) return *phase;
+  return 0.0;
+}
+
+}  // namespace semlb::engine

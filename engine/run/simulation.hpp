@@ -1,0 +1,78 @@
+// One simulation on one backend: the per-step element stage, the periodic cell stage, phase timers
+// and failure detection (a failing kernel stops the run with the step, element and quantity).
+#pragma once
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "backends/backend.hpp"
+#include "effects/effect.hpp"
+#include "model/scene.hpp"
+#include "model/state.hpp"
+
+namespace semlb::engine {
+
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A numerical failure during the run (exit code 1): "step S: element E (cell C, slot K): QUANTITY ...".
+struct SimulationError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class Simulation {
+ public:
+  // Builds the backend and the scene's effects (InputError on bad parameters) and uploads `state`.
+  Simulation(const Scene& scene, State state);
+  // Runs until state().step == target; `profile` synchronises after every phase for honest timers.
+  void advance(long target);
+  // The host state with current positions (downloads them from the backend).
+  const State& sync();
+  const State& host_state() const { return state_; }  // positions as of the last sync or cell update
+  Backend& backend() { return *backend_; }
+  const Grid& grid() const { return grid_; }
+  const std::vector<std::string>& phases() const { return phases_; }
+  const std::vector<double>& phase_seconds() const { return seconds_; }  // accumulated, per phase
+  bool has_cell_effects() const { return has_cell_effects_; }
+  // The growth phase of the first effect that has a growth cycle (Effect::growth_phase), at the current
+  // time; 0 when none has.
+  double growth_phase() const;
+  // The host cell stage once, now: download, the cell effects, upload. advance() runs it every
+  // time.cell_update_every steps; `semlb bench cells` calls it directly.
+  void update_cells();
+  // Accumulated seconds of the cell stage's parts: "download", each cell effect by name, "upload".
+  const std::vector<std::pair<std::string, double>>& cell_stage_seconds() const { return cell_parts_; }
+  bool profile = true;
+  // Throws SimulationError if a kernel recorded a failure.
+  void check();
+
+  // Hooks of the decomposed run (distributed.cpp); empty by default.
+  std::function<void()> before_forces;  // every step, before the force effects (ghost exchange)
+  std::function<void()> after_cells;    // after each cell update (cell migration)
+  std::function<void()> failure_check;  // replaces check() (a collective check across ranks)
+  State& state() { return state_; }     // the host state, for the decomposed run to edit, then reload()
+  void reload();                        // uploads state() again and refits the grid
+
+ private:
+  void step_once();
+  void refit_grid();
+  template <class F>
+  void timed(size_t phase, F&& f);
+
+  Scene const* scene_;
+  State state_;
+  std::unique_ptr<Backend> backend_;
+  std::vector<std::unique_ptr<Effect>> effects_;
+  Grid grid_;
+  std::vector<std::string> phases_;
+  std::vector<double> seconds_;
+  std::vector<std::pair<std::string, double>> cell_parts_;
+  bool has_cell_effects_ = false;
+};
+
+}  // namespace semlb::engine

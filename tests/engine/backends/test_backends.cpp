@@ -1,0 +1,172 @@
+// Compare tests of the element kernels: every backend against the serial all-pairs reference on random
+// inputs, order and thread independence, and the exact kernels a run launches (none of unlisted effects).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "engine/run/simulation.hpp"
+#include "../engine_fixtures.hpp"
+
+namespace semlb::engine {
+namespace {
+
+using testing::available_backends;
+using testing::random_state;
+using testing::scene_from;
+
+// Positions after `steps` steps of mechanics + membrane on a random tissue, with the given backend.
+State run(const std::string& backend, const std::string& precision, State s, long steps, int threads = 0, double side = 40) {
+  auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.precision=" + precision,
+                                                    "backend.threads=" + std::to_string(threads), "effects.membrane={}"});
+  scene.box_lo = {0, 0, 0};
+  scene.box_hi = {side, side, side};
+  Simulation sim(scene, std::move(s));
+  sim.advance(steps);
+  return sim.sync();
+}
+
+double max_difference(const State& a, const State& b) {
+  double d = 0;
+  for (size_t i = 0; i < a.position.size(); ++i) d = std::max(d, std::abs(a.position[i] - b.position[i]));
+  return d;
+}
+
+TEST(Backends, BinnedEqualsAllPairsBitForBit) {
+  for (const char* precision : {"double", "float"}) {
+    const auto s = random_state(60, 9, 40.0, 11);
+    EXPECT_EQ(run("serial", precision, s, 5).hash(), run("cpu-binned", precision, s, 5).hash()) << precision;
+  }
+}
+
+TEST(Backends, OpenClMatchesTheCppReference) {
+  const auto backends = available_backends();
+  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end()) GTEST_SKIP() << "no OpenCL platform";
+  const auto s = random_state(60, 9, 40.0, 12);
+  const State ref = run("serial", "double", s, 5);
+  // Stated tolerances (um after 5 steps): double 1e-9 (exp/sqrt ulps of the device library), float 1e-3.
+  EXPECT_LT(max_difference(ref, run("opencl-allpairs", "double", s, 5)), 1e-9);
+  EXPECT_LT(max_difference(ref, run("opencl-binned", "double", s, 5)), 1e-9);
+  EXPECT_LT(max_difference(ref, run("opencl-binned", "float", s, 5)), 1e-3);
+  // The two device variants share the fixed-point sums, so they agree bit for bit with each other.
+  EXPECT_EQ(run("opencl-allpairs", "double", s, 5).hash(), run("opencl-binned", "double", s, 5).hash());
+  // A grid of 22^3 = 10,648 bins: the bin scan spans 42 work-groups.
+  const auto wide = random_state(3000, 4, 200.0, 15);
+  EXPECT_EQ(run("opencl-allpairs", "float", wide, 2, 0, 200).hash(), run("opencl-binned", "float", wide, 2, 0, 200).hash());
+  EXPECT_EQ(run("serial", "float", wide, 2, 0, 200).hash(), run("cpu-binned", "float", wide, 2, 0, 200).hash());
+}
+
+// The ghost exchange's device side: the x range and the bands beyond a plane, in element order, with the
+// type only; 12,000 elements span 47 scan blocks. Positions are exact in double and rounded in float.
+TEST(Backends, GhostBandsAndXRangeMatchTheHostState) {
+  const auto s = random_state(3000, 4, 200.0, 16);
+  for (const auto& name : available_backends())
+    for (const char* precision : {"double", "float"}) {
+      BackendConfig c;
+      c.name = name;
+      c.precision = precision;
+      const auto b = make_backend(c);
+      b->upload(s);
+      const double tol = std::string(precision) == "float" ? 1e-4 : 0.0;
+      const auto [lo, hi] = b->x_extent();
+      double want_lo = 1e300, want_hi = -1e300;
+      for (long e = 0; e < s.elements(); ++e) want_lo = std::min(want_lo, s.position[3 * e]), want_hi = std::max(want_hi, s.position[3 * e]);
+      EXPECT_NEAR(lo, want_lo, tol) << name << " " << precision;
+      EXPECT_NEAR(hi, want_hi, tol) << name << " " << precision;
+      for (auto [x, below] : {std::pair{30.0, true}, std::pair{170.0, false}, std::pair{-1.0, true}}) {
+        Ghosts band;
+        b->band(x, below, band);
+        std::vector<long> want;
+        for (long e = 0; e < s.elements(); ++e)
+          if (below ? s.position[3 * e] < x : s.position[3 * e] > x) want.push_back(e);
+        ASSERT_EQ(band.elements(), static_cast<long>(want.size())) << name << " " << precision << " x " << x;
+        const auto keys = s.element_keys();
+        const auto info = s.element_info();
+        for (size_t k = 0; k < want.size(); ++k) {
+          ASSERT_EQ(band.keys[k], keys[want[k]]) << name << " " << precision << " element order";
+          EXPECT_EQ(band.info[k], info[want[k]] & 3);
+          for (int d = 0; d < 3; ++d) EXPECT_NEAR(band.position[3 * k + d], s.position[3 * want[k] + d], tol);
+        }
+      }
+    }
+}
+
+TEST(Backends, ResultsDoNotDependOnThreadCount) {
+  const auto s = random_state(80, 10, 40.0, 13);
+  EXPECT_EQ(run("cpu-binned", "double", s, 4, 1).hash(), run("cpu-binned", "double", s, 4, 2).hash());
+}
+
+TEST(Backends, ResultsDoNotDependOnCellOrder) {
+  const auto s = random_state(50, 8, 40.0, 14);
+  State reversed = s;  // the same tissue with the cells stored in reverse order
+  reversed.position.clear();
+  for (long c = s.cells() - 1; c >= 0; --c)
+    reversed.position.insert(reversed.position.end(), s.position.begin() + 3 * s.cell_first[c],
+                             s.position.begin() + 3 * (s.cell_first[c] + s.cell_count[c]));
+  std::reverse(reversed.cell_id.begin(), reversed.cell_id.end());
+  std::reverse(reversed.cell_type.begin(), reversed.cell_type.end());
+  std::reverse(reversed.cell_count.begin(), reversed.cell_count.end());
+  reversed.reindex();
+  for (const auto& backend : available_backends()) {
+    const State a = run(backend, "double", s, 3), b = run(backend, "double", reversed, 3);
+    for (long c = 0; c < a.cells(); ++c) {
+      const long rc = a.cells() - 1 - c;
+      for (int k = 0; k < 3 * a.cell_count[c]; ++k)
+        ASSERT_EQ(a.position[3 * a.cell_first[c] + k], b.position[3 * b.cell_first[rc] + k]) << backend;
+    }
+  }
+}
+
+// The exact kernels of 10 steps, per backend: the element stage of the listed effects (the binning kernels of
+// the binned backends included), nothing of an unlisted effect, no ghost exchange, and no cell stage.
+TEST(Backends, UnlistedEffectsLaunchNothing) {
+  using Launches = std::map<std::string, long>;
+  const std::map<std::string, Launches> forces = {
+      {"serial", {{"forces_allpairs", 10}}},
+      {"cpu-binned", {{"bin_sort", 10}, {"forces_binned", 10}}},
+      {"opencl-allpairs", {{"forces_allpairs", 10}}},
+      {"opencl-binned", {{"bin_count", 10}, {"scan_blocks", 10}, {"scan_sums", 10}, {"scan_add", 10}, {"scatter", 10},
+                         {"forces_binned", 10}}}};
+  for (const auto& backend : available_backends())
+    for (const bool extra : {false, true}) {  // mechanics only; then with membrane and noise listed too
+      std::vector<std::string> sets = {"backend.name=" + backend};
+      if (extra) sets.insert(sets.end(), {"effects.membrane={}", "effects.noise={}"});
+      auto scene = scene_from(testing::kMechanicsYaml, sets);
+      scene.box_lo = {0, 0, 0};
+      scene.box_hi = {40, 40, 40};
+      Simulation sim(scene, random_state(10, 5, 40.0, 1));
+      sim.advance(10);
+      Launches want = forces.at(backend);
+      want["zero_forces"] = want["integrate"] = 10;
+      if (extra) want["membrane"] = want["noise"] = 10;
+      EXPECT_EQ(sim.backend().launches(), want) << backend << (extra ? " with membrane and noise" : "");
+      if (extra) continue;
+      EXPECT_TRUE(sim.host_state().cell_fields.empty()) << backend;  // no growth/differentiation state
+      EXPECT_EQ(sim.phases(), std::vector<std::string>({"mechanics", "integrate"})) << backend;
+      EXPECT_FALSE(sim.has_cell_effects()) << backend;
+      for (const auto& [part, seconds] : sim.cell_stage_seconds())  // download, upload: never run
+        EXPECT_EQ(seconds, 0.0) << backend << " " << part;
+      EXPECT_EQ(sim.cell_stage_seconds().size(), 2u) << backend;
+    }
+}
+
+TEST(Backends, UnknownBackendIsRefusedWithTheKnownOnes) {
+  auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=cuda"});
+  try {
+    Simulation sim(scene, random_state(2, 2, 5.0, 1));
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("known: cpu-binned"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Backends, OpenClPlatformIsChosenByNameNotIndex) {
+  if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL platform";
+  EXPECT_THROW(cl::choose_device("no-such-platform", 0), InputError);
+  EXPECT_THROW(cl::choose_device(cl::list_devices()[0].platform_name, 99), InputError);
+  EXPECT_EQ(cl::choose_device(cl::list_devices()[0].platform_name.substr(0, 4), 0).platform_name, cl::list_devices()[0].platform_name);
+}
+
+}  // namespace
+}  // namespace semlb::engine

@@ -1,0 +1,293 @@
+// The decomposed run under mpirun: the same final state on 1, 2 and 4 ranks as on one device, a
+// checkpoint on 2 ranks continued on 4, engine traces that `semlb replay` reproduces, and failures.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "../../run_command.hpp"
+#include "common/text_io.hpp"
+#include "engine/model/tissue.hpp"
+#include "../engine_fixtures.hpp"
+#include "engine/decomposition/distributed.hpp"
+#include "engine/effects/effect.hpp"
+#include "engine/io/io.hpp"
+#include "engine/backends/opencl.hpp"
+
+namespace semlb::engine {
+namespace {
+
+using test::fresh_dir;
+using test::run;
+using test::semlb_bin;
+using test::source;
+using test::within;
+
+// 400 cells over ~180 um in x: room for 4 slabs of min_width (3 cutoffs); one thread per rank.
+const std::string kArgs = " --scene " + source("scenes/epidermis.yaml") +
+                          " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=50";
+
+// Every run is bounded (within()): a hang fails the test. `env` holds VAR=VALUE assignments for every rank.
+std::string mpirun(int ranks, const std::string& env = "", int seconds = 300) {
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + env + " " + within(seconds) + SEMLB_MPIEXEC +
+         " --oversubscribe -np " + std::to_string(ranks) + " " + semlb_bin() + " sim";
+}
+
+// W_s = sum of n_i n_N(i) per slice against a brute-force count, on a compact tissue (dense bin counts)
+// and on one whose two halves lie 2e6 um apart (over a million bins: sorted bin indices).
+TEST(Decomposition, SliceWorkloadMatchesBruteForceDenseAndSparse) {
+  for (double gap : {0.0, 2e6}) {
+    State s = testing::random_state(40, 6, 40.0, 21);
+    for (long e = s.elements() / 2; e < s.elements(); ++e) s.position[3 * e] += gap;  // cells 20..39 move by gap
+    const double cutoff = 8.75;
+    Decomposition d;
+    d.slices = 7;
+    d.width = (gap + 40.0) / 7;
+    const auto [lo, hi] = tissue_box(s, cutoff);
+    const Grid g = Grid::cover(lo, hi, cutoff);
+    std::vector<double> want(d.slices, 0.0);
+    for (long c = 0; c < s.cells(); ++c) {
+      const auto ctr = centroid(s, c);
+      const auto b = g.bin_of(ctr.data());
+      long near = 0;
+      for (long e = 0; e < s.elements(); ++e) {
+        const auto q = g.bin_of(&s.position[3 * e]);
+        near += std::abs(q[0] - b[0]) <= 1 && std::abs(q[1] - b[1]) <= 1 && std::abs(q[2] - b[2]) <= 1;
+      }
+      want[d.slice_of(ctr[0])] += static_cast<double>(s.cell_count[c]) * static_cast<double>(near);
+    }
+    EXPECT_EQ(slice_workload(s, {}, d, cutoff), want) << "gap " << gap << ", " << g.bins() << " bins";
+    for (double& w : want) w *= 2;  // ghosts count as neighbours: each element once more doubles n_N(i)
+    EXPECT_EQ(slice_workload(s, s.position, d, cutoff), want) << "gap " << gap << " with ghosts";
+  }
+}
+
+TEST(Decomposition, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
+  const auto dir = fresh_dir("decomposition_ranks");
+  auto r = run(semlb_bin() + " sim" + kArgs + " --steps 200 --out " + dir + "/single");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const uint64_t reference = read_state(dir + "/single/final.h5").hash();
+  for (int ranks : {1, 2, 4}) {
+    const std::string out = dir + "/np" + std::to_string(ranks);
+    r = run(mpirun(ranks) + kArgs + " --steps 200 --out " + out);
+    ASSERT_EQ(r.rc, 0) << r.out;
+    EXPECT_EQ(read_state(out + "/final.h5").hash(), reference) << ranks << " ranks";
+    EXPECT_EQ(split(read_file(out + "/rank_times.csv"), '\n').size(), 2 + 4u * ranks) << "4 events x ranks rows";
+  }
+}
+
+// The device path of the ghost exchange (bands selected by OpenCL kernels), against one device.
+TEST(Decomposition, OpenClRanksMatchOneOpenClDevice) {
+  if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL platform";
+  const auto dir = fresh_dir("decomposition_opencl");
+  const std::string args = kArgs + " --steps 60 --set backend.name=opencl-binned";
+  auto r = run(semlb_bin() + " sim" + args + " --out " + dir + "/single");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  r = run(mpirun(2) + args + " --out " + dir + "/np2");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_EQ(read_state(dir + "/np2/final.h5").hash(), read_state(dir + "/single/final.h5").hash());
+}
+
+TEST(Decomposition, CheckpointOnTwoRanksContinuesIdenticallyOnFour) {
+  const auto dir = fresh_dir("decomposition_restart");
+  auto r = run(mpirun(2) + kArgs + " --steps 200 --out " + dir + "/straight");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  r = run(mpirun(2) + kArgs + " --steps 100 --set output.checkpoint_every=100 --out " + dir + "/first");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_EQ(read_state(dir + "/first/checkpoint.h5").step, 100);
+  r = run(mpirun(4) + kArgs + " --steps 200 --restart " + dir + "/first/checkpoint.h5 --out " + dir + "/second");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_EQ(read_state(dir + "/second/final.h5").hash(), read_state(dir + "/straight/final.h5").hash());
+  // ... and it simulated steps 100..200 only: a run from step 0 would also log step 100 and time 4 intervals.
+  EXPECT_NE(r.out.find("semlb sim: 100 steps,"), std::string::npos) << r.out;
+  const auto log = split(read_file(dir + "/second/run.csv"), '\n');
+  ASSERT_EQ(log.size(), 3u) << read_file(dir + "/second/run.csv");  // header, step 200, ""
+  EXPECT_EQ(split(log[1], ',')[0], "200");
+  const auto times = split(read_file(dir + "/second/rank_times.csv"), '\n');
+  ASSERT_EQ(times.size(), 2 + 2u * 4) << "2 events x 4 ranks rows";
+  for (size_t i = 1; i + 1 < times.size(); ++i) EXPECT_GT(std::stol(split(times[i], ',')[0]), 100) << times[i];
+  // The checkpoint's balancer is for 2 ranks: the 4-rank run starts rebalancing afresh, and says so.
+  EXPECT_NE(r.out.find("semlb sim: restart: the checkpoint's balancer is for 2 ranks"), std::string::npos) << r.out;
+  EXPECT_EQ(nlohmann::json::parse(split(read_file(dir + "/second/trace.jsonl"), '\n')[0])["event"], 0);
+}
+
+// With modelled rank times the decisions are reproducible, so a run split by a checkpoint makes the same
+// decisions as the run made in one go: trace.jsonl line for line (event numbers continue, the policy's
+// history continues) and the final state bit for bit, with the checkpoint at an event (holt) and between
+// two events (gru).
+TEST(Decomposition, ARestartContinuesTheBalancerLineForLine) {
+  for (const auto& [policy, split_at] : std::vector<std::pair<std::string, int>>{{"holt", 150}, {"gru", 125}}) {
+    const auto dir = fresh_dir("decomposition_balancer_" + policy);
+    const std::string args = kArgs + " --set decomposition.timing=modelled --set decomposition.policy=" + policy;
+    auto r = run(mpirun(3) + args + " --steps 300 --out " + dir + "/straight");
+    ASSERT_EQ(r.rc, 0) << r.out;
+    r = run(mpirun(3) + args + " --steps " + std::to_string(split_at) + " --set output.checkpoint_every=" +
+            std::to_string(split_at) + " --out " + dir + "/split");
+    ASSERT_EQ(r.rc, 0) << r.out;
+    r = run(mpirun(3) + args + " --steps 300 --restart " + dir + "/split/checkpoint.h5 --out " + dir + "/split");
+    ASSERT_EQ(r.rc, 0) << r.out;
+    EXPECT_EQ(r.out.find("restart:"), std::string::npos) << r.out;  // the balancer continued
+    const auto straight = split(read_file(dir + "/straight/trace.jsonl"), '\n');
+    const auto joined = split(read_file(dir + "/split/trace.jsonl"), '\n');
+    ASSERT_EQ(straight.size(), 1 + 300u / 50) << policy;  // 6 events (the last at step 300), then ""
+    EXPECT_EQ(joined, straight) << policy;
+    EXPECT_EQ(read_state(dir + "/split/final.h5").hash(), read_state(dir + "/straight/final.h5").hash()) << policy;
+    // The same run twice gives the same trace: modelled times do not depend on the launch.
+    r = run(mpirun(3) + args + " --steps 300 --out " + dir + "/again");
+    ASSERT_EQ(r.rc, 0) << r.out;
+    EXPECT_EQ(read_file(dir + "/again/trace.jsonl"), read_file(dir + "/straight/trace.jsonl")) << policy;
+  }
+}
+
+TEST(Decomposition, ReplayingAnEngineTraceReproducesItsDecisions) {
+  const auto dir = fresh_dir("decomposition_trace");
+  auto r = run(mpirun(2) + kArgs + " --steps 200 --set decomposition.params.tau=0.001 --out " + dir);
+  ASSERT_EQ(r.rc, 0) << r.out;
+  r = run(semlb_bin() + " replay --policy reactive --param reactive.tau=0.001 --trace " + dir + "/trace.jsonl");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const auto trace = split(read_file(dir + "/trace.jsonl"), '\n'), replayed = split(r.out, '\n');
+  ASSERT_GE(trace.size(), 4u);
+  for (size_t i = 0; i + 1 < trace.size(); ++i)
+    EXPECT_EQ(nlohmann::json::parse(trace[i])["decision"], nlohmann::json::parse(replayed[i])["boundaries"]) << i;
+}
+
+TEST(Decomposition, AFailingRankStopsEveryRankNamingRankStepAndCause) {
+  const auto dir = fresh_dir("decomposition_fail");
+  const auto r = run(mpirun(2) + kArgs + " --steps 50 --set time.dt=5 --out " + dir);
+  EXPECT_EQ(r.rc, 1) << r.out;
+  EXPECT_NE(r.out.find(": rank "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("displacement exceeds time.max_displacement"), std::string::npos) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/failure.h5"));
+}
+
+TEST(Decomposition, MechanicsOnlyScenesRebalanceToo) {
+  const auto dir = fresh_dir("decomposition_mechanics");
+  const auto r = run(mpirun(2) + " --scene " + source("scenes/mechanics.yaml") +
+                     " --quiet --set tissue.cells=400 --set backend.threads=1 --steps 100 --set decomposition.rebalance_every=50 --out " + dir);
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_EQ(split(read_file(dir + "/rank_times.csv"), '\n').size(), 2 + 2u * 2) << read_file(dir + "/rank_times.csv");
+  EXPECT_EQ(split(read_file(dir + "/trace.jsonl"), '\n').size(), 3u);
+}
+
+TEST(Decomposition, TooManyRanksForTheDomainIsBadInput) {
+  const auto dir = fresh_dir("decomposition_narrow");
+  const auto r = run(mpirun(2) + " --scene " + source("scenes/epidermis.yaml") + " --quiet --set tissue.cells=4 --out " + dir + "/out");
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_NE(r.out.find("field 'decomposition.min_width'"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
+}
+
+// tests/data/narrow_slabs (the reported case): two cells within the cutoff of each other in a 9 um domain
+// with decomposition.min_width 0. Every rank count gives the one-device state bit for bit or is refused at
+// load time naming the field; 1 and 2 ranks need no slab between neighbours and run, 3 and 4 (which hung
+// and silently lost the cells' interaction) are refused, on every rank alike.
+TEST(Decomposition, SlabsNarrowerThanTheGhostRegionAreRefusedOrExact) {
+  const auto dir = fresh_dir("decomposition_narrow_slabs");
+  const std::string args = " --scene " + source("tests/data/narrow_slabs/scene.yaml") + " --quiet";
+  auto r = run(semlb_bin() + " sim" + args + " --out " + dir + "/single");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const State reference = read_state(dir + "/single/final.h5");
+  for (int ranks : {1, 2, 3, 4}) {
+    const std::string out = dir + "/np" + std::to_string(ranks);
+    r = run(mpirun(ranks, "", 60) + args + " --out " + out);
+    if (ranks <= 2) {
+      ASSERT_EQ(r.rc, 0) << ranks << " ranks: " << r.out;
+      const State s = read_state(out + "/final.h5");
+      EXPECT_EQ(s.position, reference.position) << ranks << " ranks";
+      EXPECT_EQ(s.hash(), reference.hash()) << ranks << " ranks";
+    } else {
+      EXPECT_EQ(r.rc, 2) << ranks << " ranks: " << r.out;
+      EXPECT_NE(r.out.find("field 'decomposition.min_width'"), std::string::npos) << r.out;
+      EXPECT_NE(r.out.find("narrower than the ghost region"), std::string::npos) << r.out;
+      EXPECT_EQ(r.out.find("rank "), std::string::npos) << "every rank refuses alike: " << r.out;
+      EXPECT_FALSE(std::filesystem::exists(out)) << "nothing written";
+    }
+  }
+}
+
+// A cell reaching further than one cutoff from its slab (here 50 um long) brings ranks 0 and 2 within the
+// cutoff of each other although min_width is valid: every rank stops at step 0 with the same message.
+TEST(Decomposition, ACellReachingPastTheNextSlabStopsEveryRank) {
+  const auto dir = fresh_dir("decomposition_long_cell");
+  State s;
+  s.cell_id = {0, 1};
+  s.cell_type = {0, 0};
+  s.cell_count = {7, 2};
+  for (double x : {5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 55.0, 62.0, 64.0}) s.position.insert(s.position.end(), {x, 5.0, 5.0});
+  s.reindex();
+  write_state(dir + "/long.h5", s, {});
+  test::write(dir + "/scene.yaml", R"(name: long
+cutoff: 8.75
+domain: {lo: [0, 0, 0], hi: [90, 10, 10]}
+tissue: {file: long.h5}
+time: {dt: 0.01, steps: 5}
+output: {log_every: 5, snapshot_every: 0, checkpoint_every: 0}
+backend: {name: serial}
+decomposition: {initial: uniform, policy: static}
+effects: {mechanics: {}}
+)");
+  const auto r = run(mpirun(3, "", 60) + " --scene " + dir + "/scene.yaml --quiet --out " + dir + "/out");
+  EXPECT_EQ(r.rc, 1) << r.out;
+  EXPECT_NE(r.out.find("step 0: ranks 0 and 2 hold elements within the cutoff"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("decomposition.min_width"), std::string::npos) << r.out;
+}
+
+// A policy that needs what the engine cannot observe (the oracle's true work) used to throw on rank 0 alone
+// at the first rebalancing event while the other ranks waited: now bad input at load time.
+TEST(Decomposition, APolicyTheEngineCannotFeedIsBadInputOnEveryRank) {
+  const auto dir = fresh_dir("decomposition_oracle");
+  for (const std::string policy : {"oracle", "lazy_oracle"}) {  // the policies that declare PolicyNeeds::true_work
+    const auto r = run(mpirun(2, "", 60) + kArgs + " --steps 100 --set decomposition.policy=" + policy + " --out " + dir + "/out");
+    EXPECT_EQ(r.rc, 2) << r.out;
+    EXPECT_NE(r.out.find("semlb sim: --set decomposition.policy: '" + policy + "' needs the true work"), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
+  }
+}
+
+// An error on one rank alone, in the middle of a step (SEMLB_FAULT_INJECT=RANK:STEP), ends the whole job
+// within seconds with one line naming the rank and the cause; the last complete checkpoint stays readable.
+TEST(Decomposition, AnErrorOnOneRankAloneEndsTheJobNamingTheRank) {
+  for (int rank : {0, 2}) {
+    const auto dir = fresh_dir("decomposition_fault_" + std::to_string(rank));
+    const auto r = run(mpirun(3, "SEMLB_FAULT_INJECT=" + std::to_string(rank) + ":25", 60) + kArgs +
+                       " --steps 100 --set output.checkpoint_every=10 --out " + dir);
+    EXPECT_LT(r.seconds, 30) << r.out;
+    EXPECT_NE(r.rc, 0) << r.out;
+    EXPECT_NE(r.rc, 124) << "timed out: " << r.out;
+    EXPECT_NE(r.out.find("semlb sim: rank " + std::to_string(rank) + ": step 25: fault injected by SEMLB_FAULT_INJECT"),
+              std::string::npos)
+        << r.out;
+    ASSERT_TRUE(std::filesystem::exists(dir + "/checkpoint.h5")) << r.out;
+    EXPECT_EQ(read_state(dir + "/checkpoint.h5").step, 20);
+    EXPECT_FALSE(std::filesystem::exists(dir + "/final.h5"));
+  }
+}
+
+// epidermis at dt = 0.2 h fails at step 0. failure.h5 is the state of that step, labelled with it: the same
+// whether the run was to stop at step 5 or 100 (noise used to keep moving the elements until the check) and
+// on 2 ranks as on one device (the other rank used to keep integrating).
+TEST(Decomposition, FailureStateIsTheFailingStepOnAnyRankCount) {
+  const auto dir = fresh_dir("decomposition_failure_state");
+  const std::string args = " --scene " + source("scenes/epidermis.yaml") +
+                           " --quiet --set time.dt=0.2 --set tissue.cells=60 --set backend.threads=1";
+  std::vector<State> states;
+  for (const std::string steps : {"5", "100"}) {
+    const std::string out = dir + "/single_" + steps;
+    const auto r = run(within(120) + semlb_bin() + " sim" + args + " --set time.steps=" + steps + " --out " + out);
+    ASSERT_EQ(r.rc, 1) << r.out;
+    ASSERT_NE(r.out.find(": step 0: element"), std::string::npos) << r.out;
+    states.push_back(read_state(out + "/failure.h5"));
+  }
+  const auto r = run(mpirun(2, "", 120) + args + " --set time.steps=100 --out " + dir + "/np2");
+  ASSERT_EQ(r.rc, 1) << r.out;
+  ASSERT_NE(r.out.find(": step 0: element"), std::string::npos) << r.out;
+  states.push_back(read_state(dir + "/np2/failure.h5"));
+  for (size_t k = 0; k < states.size(); ++k) {
+    EXPECT_EQ(states[k].step, 0) << k;
+    EXPECT_EQ(states[k].time, 0.0) << k;
+    EXPECT_EQ(states[k].position, states[0].position) << k;
+    EXPECT_EQ(states[k].hash(), states[0].hash()) << k;
+  }
+}
+
+}  // namespace
+}  // namespace semlb::engine

@@ -1,0 +1,171 @@
+// Invariants of the cell effects: growth adds elements at the stated rate, division conserves elements
+// and splits across the long axis, differentiation follows its rules.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <set>
+#include <thread>
+
+#include "engine/effects/effect.hpp"
+#include "engine/run/simulation.hpp"
+#include "engine/model/tissue.hpp"
+#include "../engine_fixtures.hpp"
+
+namespace semlb::engine {
+namespace {
+
+using testing::scene_from;
+
+// One cell of `n` elements on a line along `axis` (spacing 1 um), at height z.
+State line_cell(int n, int axis, double z, int type = kBasal) {
+  State s;
+  s.cell_id = {5};
+  s.cell_type = {type};
+  s.cell_count = {n};
+  for (int k = 0; k < n; ++k) {
+    double p[3] = {20, 20, z};
+    p[axis] += k - (n - 1) / 2.0;
+    s.position.insert(s.position.end(), p, p + 3);
+  }
+  s.reindex();
+  return s;
+}
+
+std::unique_ptr<Effect> effect(const std::string& yaml, State& s) {
+  auto scene = scene_from(std::string(testing::kMechanicsYaml) + yaml);
+  auto effects = make_effects(scene);
+  for (auto& e : effects) e->prepare(s);
+  return std::move(effects.back());  // the effect under test sorts last after mechanics
+}
+
+TEST(Effects, GrowthAddsOneElementPerPeriodUpToTheMaximum) {
+  State s = line_cell(10, 0, 5);
+  auto growth = effect("  growth: {cycle_time: 20, min_elements: 10, max_elements: 20, offset: 1.0}\n", s);
+  s.cell_fields["growth.clock"] = {0.0};
+  CellContext ctx{s, 1, 2.0};  // one period (20 h / 10 elements)
+  for (int k = 1; k <= 15; ++k) {
+    growth->update_cells(ctx);
+    ASSERT_EQ(s.cell_count[0], std::min(10 + k, 20)) << "after " << k << " periods";  // one each, capped at max_elements
+  }
+  EXPECT_EQ(s.elements(), 20);
+  for (long e = 10; e < 20; ++e)  // newborns sit at `offset` from the centroid at their birth
+    EXPECT_LT(std::abs(s.position[3 * e + 2] - 5), 2.0);
+}
+
+TEST(Effects, GrowthSkipsTypesItIsNotFor) {
+  State s = line_cell(10, 0, 5, kGranular);
+  auto growth = effect("  growth: {cycle_time: 20}\n", s);
+  CellContext ctx{s, 1, 100.0};
+  EXPECT_FALSE(growth->update_cells(ctx));
+  EXPECT_EQ(s.elements(), 10);
+}
+
+TEST(Effects, DivisionSplitsAcrossTheLongAxis) {
+  for (int axis = 0; axis < 3; ++axis) {
+    State s = line_cell(20, axis, 10);
+    auto division = effect("  division: {at_elements: 20}\n", s);
+    CellContext ctx{s, 1, 0.1};
+    ASSERT_TRUE(division->update_cells(ctx));
+    ASSERT_EQ(s.cells(), 2);
+    EXPECT_EQ(s.cell_count[0] + s.cell_count[1], 20);
+    EXPECT_EQ(s.cell_count[0], 10);
+    EXPECT_EQ(s.cell_id[1], 5u | (1u << kRootIdBits));  // first division of cell 5
+    EXPECT_EQ(s.cell_fields.at("division.depth"), std::vector<double>({1, 1}));
+    // every element of the mother lies below every element of the daughter along the axis
+    double mother_max = -1e9, daughter_min = 1e9;
+    for (int k = 0; k < s.cell_count[0]; ++k) mother_max = std::max(mother_max, s.position[3 * k + axis]);
+    for (int k = 0; k < s.cell_count[1]; ++k) daughter_min = std::min(daughter_min, s.position[3 * (s.cell_first[1] + k) + axis]);
+    EXPECT_LT(mother_max, daughter_min) << "axis " << axis;
+  }
+}
+
+TEST(Effects, DivisionOfACoincidentClumpStillHalvesIt) {
+  State s = line_cell(20, 0, 10);
+  for (long e = 0; e < 20; ++e) s.position[3 * e] = 20;  // all elements on one point
+  auto division = effect("  division: {at_elements: 20}\n", s);
+  CellContext ctx{s, 1, 0.1};
+  ASSERT_TRUE(division->update_cells(ctx));
+  EXPECT_EQ(s.cell_count[0], 10);
+  EXPECT_EQ(s.cell_count[1], 10);
+}
+
+TEST(Effects, DifferentiationFollowsHeightThenAge) {
+  State s = line_cell(10, 0, 12);  // centroid above basal_height = 8
+  auto diff = effect("  differentiation: {basal_height: 8, granular_after: 5}\n", s);
+  CellContext ctx{s, 1, 1.0};
+  ASSERT_TRUE(diff->update_cells(ctx));
+  EXPECT_EQ(s.cell_type[0], kSpinous);
+  for (int k = 0; k < 4; ++k) diff->update_cells(ctx);
+  EXPECT_EQ(s.cell_type[0], kSpinous);
+  diff->update_cells(ctx);
+  EXPECT_EQ(s.cell_type[0], kGranular);
+  State low = line_cell(10, 0, 4);
+  auto diff2 = effect("  differentiation: {basal_height: 8}\n", low);
+  CellContext ctx2{low, 1, 1.0};
+  EXPECT_FALSE(diff2->update_cells(ctx2));
+}
+
+TEST(Effects, UnknownEffectAndUnknownParameterAreRefusedWithTheirLine) {
+  try {
+    auto scene = scene_from(std::string(testing::kMechanicsYaml) + "  growht: {}\n");
+    make_effects(scene);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("test.yaml:9: field 'effects.growht'"), std::string::npos) << e.what();
+  }
+  try {
+    auto scene = scene_from(std::string(testing::kMechanicsYaml) + "  growth: {cycle_tim: 3}\n");
+    make_effects(scene);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("field 'effects.growth.cycle_tim': unknown setting"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Effects, EpidermisRunKeepsCountsConsistentWithGrowthAndDivision) {
+  auto scene = load_scene(std::string(SEMLB_SOURCE_DIR) + "/scenes/epidermis.yaml", {"tissue.cells=8", "time.steps=10000"});
+  Simulation sim(scene, make_tissue(scene));
+  const long cells0 = sim.host_state().cells();
+  sim.advance(10000);  // 100 h: five cell cycles
+  const State& s = sim.sync();
+  EXPECT_GT(s.cells(), cells0);                                    // divisions happened
+  long sum = 0;
+  std::set<uint64_t> ids(s.cell_id.begin(), s.cell_id.end());
+  EXPECT_EQ(static_cast<long>(ids.size()), s.cells());
+  for (long c = 0; c < s.cells(); ++c) {
+    EXPECT_GE(s.cell_count[c], 1);
+    EXPECT_LE(s.cell_count[c], 20);
+    sum += s.cell_count[c];
+  }
+  EXPECT_EQ(sum, s.elements());
+  for (double v : s.position) ASSERT_TRUE(std::isfinite(v));
+  for (long e = 0; e < s.elements(); ++e) EXPECT_GT(s.position[3 * e + 2], -1.0);  // nothing fell through the membrane
+}
+
+
+// A decomposed run waits for the slowest rank in its ghost exchange, failure check and cell migration; a
+// rank's phase timers (its computation time, what the controllers balance) must not include those waits.
+TEST(Effects, CollectiveHooksOfTheCellStageAreNotTimedAsComputation) {
+  auto scene = load_scene(std::string(SEMLB_SOURCE_DIR) + "/scenes/epidermis.yaml", {"tissue.cells=8"});
+  Simulation sim(scene, make_tissue(scene));
+  int exchanges = 0, checks = 0, migrations = 0;
+  const auto nap = [](int ms) { std::this_thread::sleep_for(std::chrono::milliseconds(ms)); };
+  sim.before_forces = [&] { ++exchanges, nap(5); };
+  sim.failure_check = [&] { ++checks, nap(30); };
+  sim.after_cells = [&] { ++migrations, nap(30); };
+  const auto t0 = std::chrono::steady_clock::now();
+  sim.advance(4 * scene.cell_update_every);
+  const double wall = seconds_since(t0);
+  EXPECT_EQ(exchanges, 4 * scene.cell_update_every);  // one ghost exchange per step
+  EXPECT_EQ(migrations, 4);
+  EXPECT_GE(checks, 4);
+  const double naps = 0.005 * exchanges + 0.03 * (checks + migrations);
+  double timed = 0;
+  for (double p : sim.phase_seconds()) timed += p;
+  EXPECT_GE(wall, naps);
+  EXPECT_LT(timed, wall - naps + 1e-3);  // the naps are in the wall time only
+}
+
+}  // namespace
+}  // namespace semlb::engine
