@@ -61,12 +61,9 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
       if (!line.empty() && parse_trace_line(line, trace_path_, 0).obs.event < balancer_->event()) trace_kept_ += line + "\n";
   if (const char* f = std::getenv("SEMLB_FAULT_INJECT")) {  // "RANK:STEP": a test of one rank's error (docs/engine.md)
     const auto parts = split(f, ':');
-    char* end = nullptr;
-    if (parts.size() == 2) fault_rank_ = static_cast<int>(std::strtol(parts[0].c_str(), &end, 10));
-    const bool rank_ok = end && end != parts[0].c_str() && *end == 0;
-    if (parts.size() == 2) fault_step_ = std::strtol(parts[1].c_str(), &end, 10);
-    if (!rank_ok || end == parts[1].c_str() || *end != 0)
-      throw InputError("SEMLB_FAULT_INJECT: expected RANK:STEP (integers), got '" + std::string(f) + "'");
+    if (parts.size() != 2) throw InputError("SEMLB_FAULT_INJECT: expected RANK:STEP, got '" + std::string(f) + "'");
+    fault_rank_ = static_cast<int>(parse_integer(parts[0], "SEMLB_FAULT_INJECT: rank: ", 0, mpi.size() - 1));
+    fault_step_ = parse_integer(parts[1], "SEMLB_FAULT_INJECT: step: ", 0);
   }
 }
 
