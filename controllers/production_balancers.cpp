@@ -6,6 +6,7 @@
 #include <memory>
 #include <numeric>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "common/errors.hpp"
@@ -208,6 +209,7 @@ struct LammpsParams {
   double threshold = 1.05;   // thresh: rebalance when max/mean slab work exceeds it
   long niter = 10;           // Niter: bisection iterations
   double stopthresh = 1.05;  // stop once every cut's cumulative work is within stopthresh - 1 of its target
+  bool weight_time = false;  // weight time 1.0: rescale each slab's slice work so that it sums to its time
 };
 
 class LammpsShiftPolicy final : public Policy {
@@ -215,9 +217,16 @@ class LammpsShiftPolicy final : public Policy {
   explicit LammpsShiftPolicy(LammpsParams p) : p_(p) {}
 
   std::vector<int> decide(const Observation& obs) override {
-    const auto& cost = require_field(obs.slice_work, obs, "lammps_shift", "slice_work");
+    std::vector<double> cost = require_field(obs.slice_work, obs, "lammps_shift", "slice_work");
     const int np = obs.ranks();
     if (np < 2) return obs.boundaries;
+    if (p_.weight_time) {  // ImbalanceTime: per-particle weight x (rank time / rank weight); empty slabs spread it
+      const auto sums = rank_sums(cost, obs.boundaries);
+      const auto x = edges(obs);
+      for (int r = 0; r < np; ++r)
+        for (int s = static_cast<int>(x[r]); s < static_cast<int>(x[r + 1]); ++s)
+          cost[s] = sums[r] > 0.0 ? cost[s] * obs.times[r] / sums[r] : obs.times[r] / (x[r + 1] - x[r]);
+    }
     std::vector<double> prefix{0.0};
     for (double c : cost) prefix.push_back(prefix.back() + c);
     const double total = prefix.back();
@@ -317,6 +326,10 @@ const Registrar lammps_registrar("lammps_shift", [](PolicyParams& params) {
   p.threshold = params.real("threshold", p.threshold, 0.0, kMaxThreshold);
   p.niter = params.integer("niter", p.niter, 1, 1000);
   p.stopthresh = params.real("stopthresh", p.stopthresh, 1.0, kMaxThreshold);
+  const std::string weight = params.text("weight", "none");
+  if (weight != "none" && weight != "time")
+    throw InputError("policy parameter 'weight': '" + weight + "' is not one of none, time");
+  p.weight_time = weight == "time";
   return std::make_unique<LammpsShiftPolicy>(p);
 }, PolicyNeeds{.slice_work = true});
 

@@ -176,6 +176,16 @@ TEST(LammpsShift, ThresholdIsOnSlabWorkAndStrict) {
   EXPECT_EQ(decide("lammps_shift", obs({5}, {1.0, 3.0}, 10, 1, work), params({{"threshold", "1.01"}})), B{5});
 }
 
+TEST(LammpsShift, WeightTimeRescalesEachSlabsWorkToItsTime) {
+  // Flat slice work (slab sums 5 / 5: balanced by count) but measured times 1 / 3: with weight=time the
+  // slices weigh 0.2 and 0.6 (total 4, target 2): bisection 7.5 (sum 2.5), 6.25 (1.75), 6.875 (2.125),
+  // 6.5625 (1.9375, within 5%) -> 7. Without weighting nothing moves.
+  const auto work = repeat({{10, 1.0}});
+  EXPECT_EQ(decide("lammps_shift", obs({5}, {1.0, 3.0}, 10, 1, work)), B{5});
+  EXPECT_EQ(decide("lammps_shift", obs({5}, {1.0, 3.0}, 10, 1, work), params({{"weight", "time"}})), B{7});
+  EXPECT_THROW(make_policy("lammps_shift", params({{"weight", "neigh"}})), InputError);
+}
+
 TEST(LammpsShift, MinWidthSweepSeparatesCoincidentCuts) {
   // All work in slice 10: both cuts converge into slice 10 (10.33, 10.67 -> 10, 11); the sweep keeps the
   // middle rank at min_width 3: {10, 13}.
