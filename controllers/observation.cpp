@@ -46,4 +46,12 @@ void validate(const Observation& obs) {
     throw InputError(at + "growth_phase = " + std::to_string(obs.growth_phase) + " is not in [0, 1]");
 }
 
+const std::vector<double>& require_field(const std::vector<double>& v, const Observation& obs, const char* policy,
+                                         const char* field) {
+  if (v.empty())
+    throw InputError("event " + std::to_string(obs.event) + ": policy '" + policy + "' needs " + field +
+                     " in the observation");
+  return v;
+}
+
 }  // namespace semlb

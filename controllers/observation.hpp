@@ -22,4 +22,9 @@ struct Observation {
 // Checks every field (finite, non-negative times, valid partition, sizes); throws InputError naming the field.
 void validate(const Observation& obs);
 
+// `v` (a field of obs named `field`, e.g. obs.slice_work) if non-empty; otherwise InputError
+// "event E: policy 'POLICY' needs FIELD in the observation".
+const std::vector<double>& require_field(const std::vector<double>& v, const Observation& obs, const char* policy,
+                                         const char* field);
+
 }  // namespace semlb

@@ -2,6 +2,7 @@
 #include "partition.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <string>
 
@@ -45,6 +46,13 @@ std::vector<int> apply_moves(std::span<const int> boundaries, std::span<const lo
     out[i] = static_cast<int>(std::clamp(static_cast<long>(out[i]) + moves[i], std::min(lo, hi), hi));
   }
   return out;
+}
+
+std::vector<int> apply_targets(std::span<const int> boundaries, std::span<const double> targets, int slices,
+                               int min_width) {
+  std::vector<long> moves(boundaries.size());
+  for (size_t i = 0; i < moves.size(); ++i) moves[i] = std::lround(targets[i] - boundaries[i]);
+  return apply_moves(boundaries, moves, slices, min_width);
 }
 
 long migration(std::span<const int> before, std::span<const int> after) {

@@ -16,6 +16,11 @@ void check_partition(std::span<const int> boundaries, int slices, int min_width)
 std::vector<int> apply_moves(std::span<const int> boundaries, std::span<const long> moves, int slices,
                              int min_width);
 
+// Moves each boundary to the nearest integer of its real-valued target (move = lround(target - b): half away
+// from zero), then applies the moves with apply_moves (the min-width sweep). targets: [P-1], in slices.
+std::vector<int> apply_targets(std::span<const int> boundaries, std::span<const double> targets, int slices,
+                               int min_width);
+
 // Migration of one rebalancing event: sum over boundaries of |b_new - b_old| (slices moved).
 long migration(std::span<const int> before, std::span<const int> after);
 

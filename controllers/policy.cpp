@@ -44,6 +44,12 @@ double PolicyParams::real(const std::string& key, double fallback, double min, d
   return v;
 }
 
+long PolicyParams::integer(const std::string& key, long fallback, long min, long max) {
+  used_.insert(key);
+  auto it = values_.find(key);
+  return it == values_.end() ? fallback : parse_integer(it->second, "policy parameter '" + key + "': ", min, max);
+}
+
 std::string PolicyParams::text(const std::string& key, const std::string& fallback) {
   used_.insert(key);
   auto it = values_.find(key);

@@ -46,6 +46,9 @@ class PolicyParams {
   // FALLBACK when absent. Throws InputError "policy parameter 'KEY': ...".
   double real(const std::string& key, double fallback, double min, double max, bool min_open = false,
               bool max_open = false);
+  // KEY's value parsed strictly as an integer (parse_integer: "2.0" is refused), in [min, max]; FALLBACK when
+  // absent. Throws InputError "policy parameter 'KEY': ...".
+  long integer(const std::string& key, long fallback, long min, long max);
   std::string text(const std::string& key, const std::string& fallback);
   void set(const std::string& key, const std::string& value) { values_[key] = value; }
   bool has(const std::string& key) const { return values_.count(key) != 0; }

@@ -11,18 +11,10 @@
 namespace semlb {
 namespace {
 
-const std::vector<double>& require(const std::vector<double>& v, const Observation& obs, const char* policy,
-                                   const char* field) {
-  if (v.empty())
-    throw InputError("event " + std::to_string(obs.event) + ": policy '" + policy + "' needs " + field +
-                     " in the observation");
-  return v;
-}
-
 class PersistencePolicy final : public Policy {
  public:
   std::vector<int> decide(const Observation& obs) override {
-    return optimal_partition(require(obs.slice_work, obs, "persistence", "slice_work"), obs.ranks(),
+    return optimal_partition(require_field(obs.slice_work, obs, "persistence", "slice_work"), obs.ranks(),
                              obs.min_width);
   }
 };
@@ -31,7 +23,7 @@ class HoltPolicy final : public Policy {
  public:
   HoltPolicy(double alpha, double beta) : holt_(alpha, beta) {}
   std::vector<int> decide(const Observation& obs) override {
-    const auto forecast = holt_.update(require(obs.slice_work, obs, "holt", "slice_work"));
+    const auto forecast = holt_.update(require_field(obs.slice_work, obs, "holt", "slice_work"));
     return optimal_partition(forecast, obs.ranks(), obs.min_width);
   }
   PolicyState save_state() const override { return {{"level", holt_.level()}, {"trend", holt_.trend()}}; }
@@ -48,7 +40,7 @@ class HoltPolicy final : public Policy {
 class OraclePolicy final : public Policy {
  public:
   std::vector<int> decide(const Observation& obs) override {
-    return optimal_partition(require(obs.oracle_work, obs, "oracle", "oracle_work"), obs.ranks(),
+    return optimal_partition(require_field(obs.oracle_work, obs, "oracle", "oracle_work"), obs.ranks(),
                              obs.min_width);
   }
 };
@@ -60,7 +52,7 @@ class LazyOraclePolicy final : public Policy {
  public:
   LazyOraclePolicy(double tau, double slack) : tau_(tau), slack_(slack) {}
   std::vector<int> decide(const Observation& obs) override {
-    const auto& work = require(obs.oracle_work, obs, "lazy_oracle", "oracle_work");
+    const auto& work = require_field(obs.oracle_work, obs, "lazy_oracle", "oracle_work");
     if (global_imbalance(rank_sums(work, obs.boundaries)) <= tau_) return obs.boundaries;
     const double best = bottleneck(work, optimal_partition(work, obs.ranks(), obs.min_width));
     return nearest_partition(work, obs.boundaries, obs.min_width, best * (1.0 + slack_));
