@@ -34,6 +34,11 @@ File File::open_read(const std::string& path) {
   return File(Id(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, path + ": not an HDF5 file"), path);
 }
 
+File File::open_write(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw InputError(path + ": no such file");
+  return File(Id(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, path + ": cannot open HDF5 file for writing"), path);
+}
+
 File File::create(const std::string& path) {
   return File(Id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
                  path + ": cannot create HDF5 file"),

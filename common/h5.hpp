@@ -29,6 +29,7 @@ class File {
  public:
   static File open_read(const std::string& path);    // throws InputError naming the path
   static File create(const std::string& path);       // truncates
+  static File open_write(const std::string& path);   // an existing file, read-write (tests, tools)
   const std::string& path() const { return path_; }
   hid_t id() const { return id_.get(); }
 

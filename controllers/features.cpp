@@ -96,6 +96,8 @@ void FeatureTracker::load_state(const std::map<std::string, std::vector<double>>
   if (!started_) return;
   if (b == in.end() || b->second.size() != imb->second.size())
     throw InputError("gru state: tracker.prev_boundaries must accompany tracker.prev_imbalance, one per boundary");
+  for (double v : b->second)
+    if (v != std::floor(v) || v < 0 || v > 1e9) throw InputError("gru state: tracker.prev_boundaries must be slice indices");
   prev_imbalance_ = imb->second;
   prev_boundaries_.assign(b->second.begin(), b->second.end());
 }

@@ -200,8 +200,11 @@ class GruPolicy final : public Policy {
       hidden_.resize(0, 0);
       return;
     }
-    if (h->second.size() % w_.hidden != 0) throw InputError("gru state: hidden has " + std::to_string(h->second.size()) +
-                                                              " values, not a multiple of the hidden size " + std::to_string(w_.hidden));
+    const auto tracked = s.find("tracker.prev_imbalance");
+    const size_t boundaries = tracked == s.end() ? 0 : tracked->second.size();
+    if (h->second.size() != boundaries * w_.hidden)
+      throw InputError("gru state: hidden has " + std::to_string(h->second.size()) + " values, expected the hidden size " +
+                       std::to_string(w_.hidden) + " x " + std::to_string(boundaries) + " boundaries");
     hidden_ = Eigen::Map<const Eigen::MatrixXd>(h->second.data(), w_.hidden, static_cast<Eigen::Index>(h->second.size() / w_.hidden));
   }
 

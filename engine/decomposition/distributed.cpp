@@ -36,15 +36,18 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
                            : uniform_partition(mpi.size(), dec_.slices);
   balancer_ = std::make_unique<Balancer>(dec_.policy, make_policy(dec_.policy, dec_.params), dec_.slices, dec_.min_width, initial);
   cells_at_event_ = static_cast<long>(tissue.cells());
-  if (restored && (restored->ranks != mpi.size() || restored->policy != dec_.policy)) {
+  if (restored && (restored->ranks != mpi.size() || restored->policy != dec_.policy || restored->slices != dec_.slices ||
+                   restored->min_width != dec_.min_width)) {
     restarted_ = "the checkpoint's balancer is for " + std::to_string(restored->ranks) + " ranks with policy '" +
-                 restored->policy + "'; this run has " + std::to_string(mpi.size()) + " with '" + dec_.policy +
-                 "': rebalancing restarts from the " + dec_.initial + " partition at event 0";
+                 restored->policy + "' on " + std::to_string(restored->slices) + " slices (min width " +
+                 std::to_string(restored->min_width) + "); this run has " + std::to_string(mpi.size()) + " with '" +
+                 dec_.policy + "' on " + std::to_string(dec_.slices) + " (min width " + std::to_string(dec_.min_width) +
+                 "): rebalancing restarts from the " + dec_.initial + " partition at event 0";
   } else if (restored) {
     try {
       balancer_->load_state(restored->balancer);
     } catch (const InputError& e) {
-      throw InputError("checkpoint: " + std::string(e.what()));
+      throw InputError(restored->file + ": group /decomposition: " + e.what());
     }
     cells_at_event_ = restored->cells_at_event;
   }
@@ -209,7 +212,8 @@ void DistributedSimulation::write_trace(const TraceEvent& e) {
 }
 
 DecompositionCheckpoint DistributedSimulation::checkpoint() const {
-  return {mpi_->size(), dec_.policy, cells_at_event_, dec_.x0, dec_.x0 + dec_.width * dec_.slices, balancer_->save_state()};
+  return {"", mpi_->size(), dec_.slices, dec_.min_width, dec_.policy, cells_at_event_, dec_.x0, dec_.x0 + dec_.width * dec_.slices,
+          balancer_->save_state()};
 }
 
 void DistributedSimulation::collective_check() {

@@ -17,7 +17,8 @@ namespace {
 void write_decomposition(h5::File& f, const DecompositionCheckpoint& d) {
   const BalancerState& b = d.balancer;
   f.write("/decomposition/boundaries", {b.boundaries.size()}, std::vector<int64_t>(b.boundaries.begin(), b.boundaries.end()));
-  f.write("/decomposition/counters", {4}, std::vector<int64_t>{kBalancerStateVersion, d.ranks, b.event, d.cells_at_event});
+  f.write("/decomposition/counters", {6},
+          std::vector<int64_t>{kBalancerStateVersion, d.ranks, b.event, d.cells_at_event, d.slices, d.min_width});
   f.write("/decomposition/migration", {1}, std::vector<int64_t>{b.migration});
   f.write("/decomposition/x_range", {2}, std::vector<double>{d.x_lo, d.x_hi});
   f.write_attr("decomposition_policy", d.policy);
@@ -30,29 +31,43 @@ std::optional<DecompositionCheckpoint> read_decomposition(const std::string& pat
   const auto f = h5::File::open_read(path);
   if (!f.has("/decomposition")) return std::nullopt;
   std::vector<hsize_t> dims;
-  const auto counters = f.read_ints("/decomposition/counters", dims);
-  if (counters.size() != 4 || counters[0] != kBalancerStateVersion)
-    throw InputError(path + ": dataset /decomposition/counters: expected [version " + std::to_string(kBalancerStateVersion) +
-                     ", ranks, event, cells at the last event]");
+  auto ints = [&](const std::string& name, size_t size) {
+    auto v = f.read_ints("/decomposition/" + name, dims);
+    if (v.size() != size || dims.size() != 1)
+      throw InputError(path + ": dataset /decomposition/" + name + ": expected " + std::to_string(size) + " values in one dimension");
+    return v;
+  };
+  auto in_range = [&](int64_t v, int64_t lo, int64_t hi, const std::string& what) {
+    if (v < lo || v > hi)
+      throw InputError(path + ": dataset /decomposition/counters: " + what + " = " + std::to_string(v) + " is outside [" +
+                       std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return v;
+  };
+  const auto counters = ints("counters", 6);
+  if (counters[0] != kBalancerStateVersion)
+    throw InputError(path + ": dataset /decomposition/counters: format version " + std::to_string(counters[0]) +
+                     ", this build reads version " + std::to_string(kBalancerStateVersion));
   DecompositionCheckpoint d;
-  d.ranks = static_cast<int>(counters[1]);
-  d.balancer.event = static_cast<int>(counters[2]);
-  d.cells_at_event = counters[3];
-  const auto boundaries = f.read_ints("/decomposition/boundaries", dims);
+  d.file = path;
+  d.ranks = static_cast<int>(in_range(counters[1], 1, 1 << 20, "ranks"));
+  d.balancer.event = static_cast<int>(in_range(counters[2], 0, (1L << 31) - 2, "event"));
+  d.cells_at_event = in_range(counters[3], 0, 1L << 50, "cells at the last event");
+  d.slices = static_cast<int>(in_range(counters[4], 1, 1 << 30, "slices"));
+  d.min_width = static_cast<int>(in_range(counters[5], 1, d.slices, "min_width"));
+  const auto boundaries = ints("boundaries", static_cast<size_t>(d.ranks - 1));
   d.balancer.boundaries.assign(boundaries.begin(), boundaries.end());
-  d.balancer.migration = f.read_ints("/decomposition/migration", dims).at(0);
+  d.balancer.migration = ints("migration", 1)[0];
+  if (d.balancer.migration < 0) throw InputError(path + ": dataset /decomposition/migration: negative");
   d.policy = f.read_text_attr("decomposition_policy");
   const auto x = f.read("/decomposition/x_range", dims);
   if (x.size() != 2 || !std::isfinite(x[0]) || !std::isfinite(x[1]) || !(x[1] > x[0]))
     throw InputError(path + ": dataset /decomposition/x_range: expected [lo, hi] with lo < hi (um)");
   d.x_lo = x[0];
   d.x_hi = x[1];
-  if (d.ranks < 1 || static_cast<int>(boundaries.size()) != d.ranks - 1 || d.balancer.event < 0 || d.cells_at_event < 0 ||
-      d.balancer.migration < 0)
-    throw InputError(path + ": group /decomposition: ranks, boundaries, event or migration out of range");
   for (const auto& name : f.list("/decomposition/policy")) {
     const std::string dataset = "/decomposition/policy/" + name;
     auto values = f.read(dataset, dims);
+    if (dims.size() != 1) throw InputError(path + ": dataset " + dataset + ": expected one dimension");
     for (double v : values)
       if (!std::isfinite(v)) throw InputError(path + ": dataset " + dataset + " holds a non-finite value");
     d.balancer.policy[name] = std::move(values);

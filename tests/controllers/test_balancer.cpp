@@ -138,4 +138,15 @@ TEST(Balancer, RefusesAStateOfAnotherRankCount) {
   s = b.save_state();
   s.policy["bogus"] = {1.0};
   EXPECT_THROW(b.load_state(s), InputError);
+  // gru: the hidden states must match the tracked boundaries (H x B), the tracked boundaries be slice indices.
+  Balancer g = make("gru", run);
+  for (int t = 0; t < 3; ++t) g.rebalance(run.next(g));
+  const BalancerState good = g.save_state();
+  EXPECT_NO_THROW(g.load_state(good));
+  s = good;
+  s.policy["hidden"].push_back(0.0);
+  EXPECT_THROW(g.load_state(s), InputError);
+  s = good;
+  s.policy["tracker.prev_boundaries"][0] += 0.5;
+  EXPECT_THROW(g.load_state(s), InputError);
 }

@@ -53,6 +53,57 @@ TEST(Io, BadStateFilesAreRefusedNamingFileAndDataset) {
   EXPECT_THROW(read_state(dir + "/missing.h5"), InputError);
 }
 
+// The balancer part of a decomposed run's checkpoint: written and read back exactly; every field checked on
+// reading (a corrupt dataset is bad input naming the file and dataset, never an internal error).
+TEST(Io, DecompositionCheckpointRoundTripsAndIsChecked) {
+  const auto dir = fresh_dir("io_decomposition");
+  const State s = testing::random_state(6, 4, 20.0, 3);
+  DecompositionCheckpoint d{"", 3, 40, 4, "gru", 6, -1.5, 38.25,
+                            BalancerState{7, 12, {10, 25}, {{"hidden", {0.5, -0.25}}, {"tracker.prev_imbalance", {0.1, 0.2}}}}};
+  write_state(dir + "/ok.h5", s, {}, &d);
+  const auto back = read_decomposition(dir + "/ok.h5");
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->file, dir + "/ok.h5");
+  EXPECT_EQ(std::tie(back->ranks, back->slices, back->min_width, back->policy, back->cells_at_event),
+            std::tie(d.ranks, d.slices, d.min_width, d.policy, d.cells_at_event));
+  EXPECT_EQ(std::pair(back->x_lo, back->x_hi), std::pair(d.x_lo, d.x_hi));
+  EXPECT_EQ(back->balancer.event, 7);
+  EXPECT_EQ(back->balancer.migration, 12);
+  EXPECT_EQ(back->balancer.boundaries, d.balancer.boundaries);
+  EXPECT_EQ(back->balancer.policy, d.balancer.policy);
+  write_state(dir + "/plain.h5", s, {});
+  EXPECT_FALSE(read_decomposition(dir + "/plain.h5"));  // a one-device checkpoint has no balancer
+
+  // Each corruption rewrites one dataset of a copy.
+  const std::vector<std::tuple<std::string, std::vector<int64_t>, std::string>> ints{
+      {"/decomposition/migration", {}, "/decomposition/migration"},
+      {"/decomposition/migration", {1, 2}, "/decomposition/migration"},
+      {"/decomposition/migration", {-1}, "/decomposition/migration"},
+      {"/decomposition/counters", {1, 3, 7, 6, 40}, "/decomposition/counters"},
+      {"/decomposition/counters", {2, 3, 7, 6, 40, 4}, "format version 2"},
+      {"/decomposition/counters", {1, (1L << 32) + 3, 7, 6, 40, 4}, "ranks = 4294967299"},
+      {"/decomposition/counters", {1, 3, (1L << 31) - 1, 6, 40, 4}, "event = 2147483647"},
+      {"/decomposition/counters", {1, 3, 7, 6, 40, 41}, "min_width = 41"},
+      {"/decomposition/boundaries", {10}, "/decomposition/boundaries"},
+  };
+  for (const auto& [dataset, values, expected] : ints) {
+    fs::copy_file(dir + "/ok.h5", dir + "/bad.h5", fs::copy_options::overwrite_existing);
+    {
+      auto f = h5::File::open_write(dir + "/bad.h5");
+      H5Ldelete(f.id(), dataset.c_str(), H5P_DEFAULT);
+      f.write(dataset, {values.size()}, values);
+    }
+    try {
+      read_decomposition(dir + "/bad.h5");
+      ADD_FAILURE() << dataset << " accepted";
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.rfind(dir + "/bad.h5: ", 0), 0u) << m;
+      EXPECT_NE(m.find(expected), std::string::npos) << m;
+    }
+  }
+}
+
 TEST(Io, SceneErrorsNameFileLineAndField) {
   const char* yaml = "name: x\ntime:\n  dt: -1\n";
   try {
