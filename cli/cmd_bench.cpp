@@ -53,8 +53,8 @@ void for_each_scene(const std::string& scene_file, const std::string& backends, 
   for (const auto& backend : split(backends, ','))
     for (long n : surrogate::parse_int_list(cells, "--cells")) {
       auto o = scene_overrides(flags);
-      o.push_back("backend.name=" + backend);
-      o.push_back("tissue.cells=" + std::to_string(n));
+      o.push_back(engine::scene_override("backend", backend, "--backends: "));
+      o.push_back(engine::scene_override("cells", std::to_string(n), "--cells: "));
       auto scene = engine::load_scene(scene_file, o);
       fn(scene, backend);
       std::fflush(stdout);

@@ -12,14 +12,14 @@
 namespace semlb::cli {
 
 // --backend/--precision/--platform/--device/--steps/--seed become scene overrides (applied after --set).
+// Each flag is named after its scene setting (engine::scene_settings()).
 std::vector<std::string> scene_overrides(const SceneFlags& f) {
   std::vector<std::string> o = f.set;
-  if (!f.backend.empty()) o.push_back("backend.name=" + f.backend);
-  if (!f.precision.empty()) o.push_back("backend.precision=" + f.precision);
-  if (!f.platform.empty()) o.push_back("backend.platform=" + f.platform);
-  if (f.device >= 0) o.push_back("backend.device=" + std::to_string(f.device));
-  if (f.steps >= 0) o.push_back("time.steps=" + std::to_string(f.steps));
-  if (f.seed >= 0) o.push_back("seed=" + std::to_string(f.seed));
+  auto number = [](long v) { return v >= 0 ? std::to_string(v) : std::string(); };  // -1: not given
+  for (const auto& [name, value] : {std::pair<std::string, std::string>{"backend", f.backend}, {"precision", f.precision},
+                                    {"platform", f.platform}, {"device", number(f.device)}, {"steps", number(f.steps)},
+                                    {"seed", number(f.seed)}})
+    if (!value.empty()) o.push_back(engine::scene_override(name, value, "--" + name + ": "));
   return o;
 }
 

@@ -25,7 +25,7 @@ Action add_sweep(CLI::App& app) {
   sub->add_flag("--no-timing", o->no_timing, "Write wall-clock columns as 0 (byte-identical reruns)");
   sub->add_flag("--quiet", o->quiet, "No progress line");
   sub->add_flag("--keep-runs", o->keep_runs,
-                "Keep each job's run files (engine MPI runs: run.csv, rank_times.csv, trace.jsonl) under runs/ beside the CSV");
+                "Keep each job's run files (engine MPI runs: scene.yaml, run.csv, rank_times.csv, trace.jsonl) under runs/ beside the CSV");
   return [o, sub] {
     if (!*sub) return -1;  // not the chosen subcommand
     const auto m = experiments::load_manifest(o->manifest, o->profile, o->sets);

@@ -26,14 +26,16 @@ std::string value(const Job& job, const std::string& key, const std::string& fal
 
 std::string fmt(double v) { return format_real(v); }  // round-trip text (common/text_io.hpp)
 
-// The job's scene: `scene` (relative to the manifest), `cells`, `backend`, `precision`, `platform`,
-// `dt`, `cutoff`, `steps`, `scene.KEY` overrides; `effects` ("a+b+c" or "all") keeps only those listed.
+// The scene settings (engine::scene_settings()) these runners take by name; `steps` is theirs (timed steps).
+const std::vector<std::string> kSceneNames = {"cells", "backend", "precision", "platform", "dt", "cutoff"};
+
+// The job's scene: `scene` (relative to the manifest), the kSceneNames settings, `scene.KEY` overrides;
+// `effects` ("a+b+c" or "all") keeps only those listed.
 engine::Scene job_scene(const Job& job, const std::string& manifest, const std::string& base_dir) {
   const Setting* file = job.find("scene");
   if (!file) throw InputError(where(manifest, 0, "scene") + "missing (engine runners need a scene file)");
   const std::string path = std::filesystem::path(file->value).is_absolute() ? file->value : base_dir + "/" + file->value;
-  const auto o = scene_overrides(job, {{"cells", "tissue.cells"}, {"backend", "backend.name"}, {"precision", "backend.precision"},
-                                      {"platform", "backend.platform"}, {"dt", "time.dt"}, {"cutoff", "cutoff"}});
+  const auto o = scene_overrides(job, kSceneNames, manifest);
   engine::Scene scene;
   try {
     scene = engine::load_scene(path, o);
@@ -57,9 +59,11 @@ long integer(const Job& job, const std::string& key, long fallback, const std::s
   return job.integer(key, fallback, 0, std::numeric_limits<long>::max(), manifest);
 }
 
+// Refuses a setting that is neither one of kSceneNames, nor `known` (the runner's own), nor scene.KEY / max_cells.KEY.
 void check_keys(const Job& job, const std::string& manifest, const std::vector<std::string>& known) {
+  auto listed = [](const std::vector<std::string>& v, const std::string& k) { return std::find(v.begin(), v.end(), k) != v.end(); };
   for (const auto& [k, s] : job.settings)
-    if (std::find(known.begin(), known.end(), k) == known.end() && k.rfind("scene.", 0) != 0 && k.rfind("max_cells.", 0) != 0)
+    if (!listed(known, k) && !listed(kSceneNames, k) && k.rfind("scene.", 0) != 0 && k.rfind("max_cells.", 0) != 0)
       throw InputError(where_of(s, manifest, k) + "unknown setting for this runner");
   for (const auto& [k, s] : job.settings)  // max_cells.BACKEND: the largest cell count BACKEND is timed at
     if (k.rfind("max_cells.", 0) == 0) integer(job, k, 0, manifest);
@@ -73,7 +77,7 @@ class TimingRunner final : public Runner {
   }
   bool measures_time() const override { return true; }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
-    check_keys(job, manifest, {"scene", "cells", "backend", "precision", "platform", "effects", "steps", "warmup", "dt", "cutoff"});
+    check_keys(job, manifest, {"scene", "effects", "steps", "warmup"});
     auto scene = job_scene(job, manifest, o.base_dir);
     engine::make_effects(scene);  // parameters checked now, not an hour into the sweep
     integer(job, "steps", 100, manifest);
@@ -119,8 +123,7 @@ class AccuracyRunner final : public Runner {
   }
   bool measures_time() const override { return true; }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
-    check_keys(job, manifest, {"scene", "cells", "backend", "precision", "platform", "effects", "dt", "cutoff", "hours",
-                               "reference_dt", "reference_cutoff"});
+    check_keys(job, manifest, {"scene", "effects", "hours", "reference_dt", "reference_cutoff"});
     auto scene = job_scene(job, manifest, o.base_dir);
     engine::make_effects(scene);
     for (const auto& e : scene.effects)

@@ -12,6 +12,9 @@
 
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
+#include "engine/decomposition/decomposition.hpp"
+#include "engine/model/scene.hpp"
+#include "engine/run/driver.hpp"
 #include "runner.hpp"
 
 namespace semlb::experiments {
@@ -19,25 +22,59 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::set<std::string> kKeys = {"scene", "ranks", "cells", "steps", "policy", "initial", "backend", "rebalance_every"};
+// The scene settings (engine::scene_settings()) these runners take by name.
+const std::vector<std::string> kSceneNames = {"cells", "steps", "policy", "initial", "backend", "rebalance_every"};
 
 std::string get(const Job& job, const std::string& key, const std::string& fallback) {
   const Setting* s = job.find(key);
   return s ? s->value : fallback;
 }
 
-void check_job(const Job& job, const std::string& manifest) {
+std::string scene_path(const Job& job, const RunOptions& o) {
+  const std::string scene = get(job, "scene", "");
+  return fs::path(scene).is_absolute() ? scene : o.base_dir + "/" + scene;
+}
+
+// The row's policy (its scene.decomposition.policy, else `policy`, else the scene file's, else the engine's
+// default) and where an error about it points.
+std::pair<std::string, std::string> row_policy(const Job& job, const std::string& manifest, const RunOptions& o) {
+  for (const char* k : {"scene.decomposition.policy", "policy"})  // scene.KEY overrides come last, so win
+    if (const Setting* s = job.find(k)) return {s->value, where_of(*s, manifest, k)};
+  engine::Scene scene;
+  try {
+    scene = engine::load_scene(scene_path(job, o), scene_overrides(job, kSceneNames, manifest));
+  } catch (const InputError& e) {
+    throw InputError(where_of(*job.find("scene"), manifest, "scene") + e.what());
+  }
+  return {scene.decomposition->text("policy", engine::Decomposition{}.policy), scene.decomposition->where("policy")};
+}
+
+// Refuses, before anything runs: an unknown setting, a missing scene or rank count, a value of the wrong type,
+// a bad POLICY.KEY parameter, and a row whose policy the engine cannot run (PolicyNeeds::true_work).
+void check_job(const Job& job, const std::string& manifest, const RunOptions& o) {
   for (const auto& [k, s] : job.settings)
-    if (!kKeys.count(k) && k.rfind("scene.", 0) != 0) throw InputError(where_of(s, manifest, k) + "unknown setting for this runner");
+    if (k != "scene" && k != "ranks" && std::find(kSceneNames.begin(), kSceneNames.end(), k) == kSceneNames.end() &&
+        k.rfind("scene.", 0) != 0 && !is_policy_param(k))
+      throw InputError(where_of(s, manifest, k) + "unknown setting for this runner");
   for (const char* k : {"scene", "ranks"})
     if (!job.find(k)) throw InputError(where(manifest, 0, k) + "missing");
   job.integer("ranks", 1, 1, 4096, manifest);
+  scene_overrides(job, kSceneNames, manifest);  // typed values
+  check_policy_params(job, manifest);  // every policy's parameters, also of policies this row does not run
+  const auto [policy, at] = row_policy(job, manifest, o);
+  try {
+    engine::check_engine_policy(policy);
+    make_policy(policy, policy_params(job, manifest)[policy]);
+  } catch (const InputError& e) {
+    throw InputError(at + e.what());
+  }
 }
 
 // Runs the job under mpirun into a fresh directory; returns it and the launch's wall seconds (start-up
-// included). Throws with mpirun's output on failure.
+// included). The row's policy gets its POLICY.KEY settings as decomposition.params.KEY (other policies' are
+// not passed). Throws with mpirun's output on failure.
 std::pair<std::string, double> launch(const Job& job, const RunOptions& o) {
-  const std::string scene = fs::path(get(job, "scene", "")).is_absolute() ? get(job, "scene", "") : o.base_dir + "/" + get(job, "scene", "");
+  const std::string scene = scene_path(job, o);
   std::string key;
   for (const auto& [k, s] : job.settings) key += k + "=" + s.value + ";";
   const fs::path dir = fs::temp_directory_path() / ("semlb_mpi_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(key)));
@@ -46,10 +83,11 @@ std::pair<std::string, double> launch(const Job& job, const RunOptions& o) {
   cmd << "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " << SEMLB_MPIEXEC << " --oversubscribe -np " << get(job, "ranks", "1")
       << " " << fs::read_symlink("/proc/self/exe").string() << " sim --quiet --scene " << scene << " --out " << dir.string()
       << " --set backend.threads=1";
-  for (const auto& o : scene_overrides(job, {{"cells", "tissue.cells"}, {"steps", "time.steps"}, {"policy", "decomposition.policy"},
-                                             {"initial", "decomposition.initial"}, {"backend", "backend.name"},
-                                             {"rebalance_every", "decomposition.rebalance_every"}}))
-    cmd << " --set " << o;
+  auto overrides = scene_overrides(job, kSceneNames, "");
+  const std::string policy = row_policy(job, "", o).first;
+  for (const auto& [k, s] : job.settings)
+    if (is_policy_param(k) && k.rfind(policy + ".", 0) == 0) overrides.push_back("decomposition.params." + k.substr(policy.size() + 1) + "=" + s.value);
+  for (const auto& o : overrides) cmd << " --set " << o;
   cmd << " 2>&1";
   const auto t0 = std::chrono::steady_clock::now();
   FILE* p = popen(cmd.str().c_str(), "r");
@@ -69,16 +107,22 @@ void finish_run(const Job& job, const RunOptions& o, const std::string& dir) {
     std::replace(label.begin(), label.end(), '/', '-');
     const fs::path to = fs::path(o.trace_dir) / label;
     fs::create_directories(to);
-    for (const char* f : {"run.csv", "rank_times.csv", "trace.jsonl"})
+    for (const char* f : {"scene.yaml", "run.csv", engine::rank_times::kFile, "trace.jsonl"})
       if (fs::exists(fs::path(dir) / f)) fs::copy_file(fs::path(dir) / f, to / f, fs::copy_options::overwrite_existing);
   }
   fs::remove_all(dir);
 }
 
-std::vector<std::map<std::string, std::string>> csv(const std::string& path) {
+// The rows of a CSV our sim wrote, by column name; std::runtime_error naming the file when one of `columns`
+// is not in its header.
+template <class Names>
+std::vector<std::map<std::string, std::string>> csv(const std::string& path, const Names& columns) {
   const auto lines = split(read_file(path), '\n');
   std::vector<std::map<std::string, std::string>> rows;
   const auto header = split(lines[0], ',');
+  for (const auto& c : columns)
+    if (std::find(header.begin(), header.end(), c) == header.end())
+      throw std::runtime_error(path + ": no column '" + std::string(c) + "' in its header '" + lines[0] + "'");
   for (size_t i = 1; i < lines.size(); ++i) {
     if (lines[i].empty()) continue;
     const auto f = split(lines[i], ',');
@@ -95,22 +139,24 @@ class MpiSimRunner final : public Runner {
     return {"elements", "total_s", "wall_s", "compute_s", "mean_imbalance", "migrated_slices", "events"};
   }
   bool measures_time() const override { return true; }
-  void check(const Job& job, const std::string& manifest, const RunOptions&) const override { check_job(job, manifest); }
+  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
+    namespace rt = engine::rank_times;
     const auto [dir, total] = launch(job, o);
-    const auto log = csv(dir + "/run.csv");
+    const std::string run_csv = dir + "/run.csv", rank_csv = dir + "/" + rt::kFile;  // written by our sim
+    const auto log = csv(run_csv, std::vector<std::string>{"elements", "wall_s"});
     double wall = 0;  // the time-stepping loop: run.csv holds each log interval's wall seconds
-    const std::string run_csv = dir + "/run.csv", rank_csv = dir + "/rank_times.csv";  // written by our sim
     for (const auto& r : log) wall += parse_real(r.at("wall_s"), run_csv + ": wall_s: ");
     std::map<std::string, double> slowest;  // per interval: the slowest rank's computation time
     double imbalance = 0;
     long moved = 0;
     std::set<std::string> events;
-    for (const auto& r : csv(dir + "/rank_times.csv")) {
-      slowest[r.at("step")] = std::max(slowest[r.at("step")], parse_real(r.at("compute_s"), rank_csv + ": compute_s: "));
-      if (events.insert(r.at("step")).second) {
-        imbalance += parse_real(r.at("imbalance"), rank_csv + ": imbalance: ");
-        moved += parse_integer(r.at("moved_slices"), rank_csv + ": moved_slices: ");
+    for (const auto& r : csv(rank_csv, rt::kColumns)) {
+      const std::string& step = r.at(rt::kStep);
+      slowest[step] = std::max(slowest[step], parse_real(r.at(rt::kComputeS), rank_csv + ": " + rt::kComputeS + ": "));
+      if (events.insert(step).second) {
+        imbalance += parse_real(r.at(rt::kImbalance), rank_csv + ": " + rt::kImbalance + ": ");
+        moved += parse_integer(r.at(rt::kMovedSlices), rank_csv + ": " + rt::kMovedSlices + ": ");
       }
     }
     double compute = 0;
@@ -125,14 +171,22 @@ class MpiSimRunner final : public Runner {
 
 class MpiIntervalsRunner final : public Runner {
  public:
-  std::vector<std::string> columns() const override { return {"step", "rank", "compute_s", "imbalance", "moved_slices"}; }
+  // rank_times.csv's columns of the same names (engine::rank_times), less the exchange and migration times.
+  std::vector<std::string> columns() const override {
+    namespace rt = engine::rank_times;
+    return {rt::kStep, rt::kRank, rt::kComputeS, rt::kImbalance, rt::kMovedSlices};
+  }
   bool measures_time() const override { return true; }
-  void check(const Job& job, const std::string& manifest, const RunOptions&) const override { check_job(job, manifest); }
+  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
+    namespace rt = engine::rank_times;
     const std::string dir = launch(job, o).first;
     std::vector<std::vector<std::string>> rows;
-    for (const auto& r : csv(dir + "/rank_times.csv"))
-      rows.push_back({r.at("step"), r.at("rank"), o.timing ? r.at("compute_s") : "0", r.at("imbalance"), r.at("moved_slices")});
+    for (const auto& r : csv(dir + "/" + rt::kFile, rt::kColumns)) {
+      std::vector<std::string> row;
+      for (const auto& c : columns()) row.push_back(c == rt::kComputeS && !o.timing ? "0" : r.at(c));
+      rows.push_back(std::move(row));
+    }
     finish_run(job, o, dir);
     return rows;
   }

@@ -4,6 +4,8 @@
 #include <map>
 
 #include "common/errors.hpp"
+#include "engine/model/scene.hpp"
+#include "surrogate/evaluate.hpp"
 
 namespace semlb::experiments {
 namespace {
@@ -13,13 +15,43 @@ std::map<std::string, std::function<std::unique_ptr<Runner>()>>& registry() {
 }
 }  // namespace
 
-std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::pair<std::string, std::string>>& keys) {
+std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::string>& names, const std::string& manifest) {
   std::vector<std::string> o;
-  for (const auto& [key, scene_key] : keys)
-    if (const Setting* s = job.find(key)) o.push_back(scene_key + "=" + s->value);
+  for (const auto& name : names)
+    if (const Setting* s = job.find(name)) o.push_back(engine::scene_override(name, s->value, where_of(*s, manifest, name)));
   for (const auto& [k, s] : job.settings)
     if (k.rfind("scene.", 0) == 0) o.push_back(k.substr(6) + "=" + s.value);
   return o;
+}
+
+bool is_policy_param(const std::string& key) { return key.find('.') != std::string::npos && key.rfind("scene.", 0) != 0; }
+
+std::map<std::string, PolicyParams> policy_params(const Job& job, const std::string& manifest) {
+  std::vector<std::string> options;
+  for (const auto& [k, s] : job.settings)
+    if (is_policy_param(k)) {
+      try {
+        surrogate::parse_policy_params({k + "=" + s.value});
+      } catch (const InputError&) {
+        throw InputError(where_of(s, manifest, k) + "is not POLICY.KEY (a policy parameter such as holt.alpha)");
+      }
+      options.push_back(k + "=" + s.value);
+    }
+  return surrogate::parse_policy_params(options);
+}
+
+void check_policy_params(const Job& job, const std::string& manifest) {
+  for (const auto& [policy, p] : policy_params(job, manifest)) {
+    try {
+      make_policy(policy, p);
+    } catch (const InputError& e) {  // blame the parameter the message names (else the policy's first one)
+      const Setting* s = nullptr;
+      for (const auto& [k, v] : job.settings)
+        if (k.rfind(policy + ".", 0) == 0 && (!s || std::string(e.what()).find("'" + k.substr(policy.size() + 1) + "'") != std::string::npos))
+          s = &v;
+      throw InputError((s ? where_of(*s, manifest, policy + ".*") : where(manifest, 0, policy + ".*")) + e.what());
+    }
+  }
 }
 
 RunnerRegistrar::RunnerRegistrar(const std::string& name, std::function<std::unique_ptr<Runner>()> factory) {

@@ -1,10 +1,12 @@
 // Sweep runners registered by name (a manifest's `runner:`): each turns one Job into CSV rows.
 #pragma once
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "controllers/policy.hpp"
 #include "manifest.hpp"
 
 namespace semlb::experiments {
@@ -27,9 +29,19 @@ class Runner {
   virtual bool measures_time() const { return false; }
 };
 
-// Scene overrides ("tissue.cells=400") from a job: each job key in `keys` maps to its scene key, and a
-// `scene.KEY` setting passes through as KEY. Shared by the engine runners.
-std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::pair<std::string, std::string>>& keys);
+// Scene overrides ("tissue.cells=400") from a job: each of `names` (engine::scene_settings() names, the
+// runner's choice) that the job sets, its value type-checked (InputError naming its manifest line), then
+// every `scene.KEY` setting as KEY. Shared by the engine runners.
+std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::string>& names, const std::string& manifest);
+
+// True for a POLICY.KEY setting (holt.alpha): a key with a '.' that is not a scene.KEY override.
+bool is_policy_param(const std::string& key);
+// The job's POLICY.KEY settings grouped by policy (surrogate::parse_policy_params); a malformed one is an
+// InputError naming its manifest line.
+std::map<std::string, PolicyParams> policy_params(const Job& job, const std::string& manifest);
+// Builds every policy that has POLICY.KEY settings in the job, also policies this row does not run, so that
+// a bad parameter is refused before anything runs; InputError names the parameter's line.
+void check_policy_params(const Job& job, const std::string& manifest);
 
 struct RunnerRegistrar {
   RunnerRegistrar(const std::string& name, std::function<std::unique_ptr<Runner>()> factory);

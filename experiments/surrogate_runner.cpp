@@ -23,26 +23,16 @@ class SurrogateRunner final : public Runner {
   void check(const Job& job, const std::string& manifest, const RunOptions&) const override {
     const auto j = to_eval_job(job, manifest);
     for (const auto& [k, s] : job.settings)
-      if (k != "policy" && k != "ranks" && k != "seed" && k != "events" && k.find('.') == std::string::npos)
+      if (k != "policy" && k != "ranks" && k != "seed" && k != "events" && !is_policy_param(k))
         throw InputError(where_of(s, manifest, k) + "unknown setting for the surrogate runner");
     try {  // the scenario's slice count bounds the rank count: checked here, before any output exists
       surrogate::make_scenario(j.seed, j.ranks);
     } catch (const InputError& e) {
       throw InputError(where_of(*job.find("ranks"), manifest, "ranks") + e.what() + " (scenario seed " + std::to_string(j.seed) + ")");
     }
-    for (const auto& [policy, p] : params(job)) {  // every policy's parameters, also of policies this row does not run
-      try {
-        make_policy(policy, p);
-      } catch (const InputError& e) {  // blame the parameter the message names (else the policy's first one)
-        const Setting* s = nullptr;
-        for (const auto& [k, v] : job.settings)
-          if (k.rfind(policy + ".", 0) == 0 && (!s || std::string(e.what()).find("'" + k.substr(policy.size() + 1) + "'") != std::string::npos))
-            s = &v;
-        throw InputError((s ? where_of(*s, manifest, policy + ".*") : where(manifest, 0, policy + ".*")) + e.what());
-      }
-    }
+    check_policy_params(job, manifest);  // every policy's parameters, also of policies this row does not run
     try {
-      make_policy(j.policy, params(job)[j.policy]);
+      make_policy(j.policy, policy_params(job, manifest)[j.policy]);
     } catch (const InputError& e) {
       const Setting* s = job.find("policy");
       throw InputError((s ? where_of(*s, manifest, "policy") : where(manifest, 0, "policy")) + e.what());
@@ -50,7 +40,7 @@ class SurrogateRunner final : public Runner {
   }
 
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& options) const override {
-    return {surrogate::run_eval_job(to_eval_job(job, ""), params(job), options.timing, options.trace_dir)};
+    return {surrogate::run_eval_job(to_eval_job(job, ""), policy_params(job, ""), options.timing, options.trace_dir)};
   }
 
  private:
@@ -63,13 +53,6 @@ class SurrogateRunner final : public Runner {
     j.seed = static_cast<uint64_t>(job.integer("seed", 0, 0, std::numeric_limits<long>::max(), manifest));
     j.events = static_cast<int>(job.integer("events", 100, 1, 1 << 30, manifest));
     return j;
-  }
-
-  static std::map<std::string, PolicyParams> params(const Job& job) {
-    std::vector<std::string> options;
-    for (const auto& [k, s] : job.settings)
-      if (k.find('.') != std::string::npos) options.push_back(k + "=" + s.value);
-    return surrogate::parse_policy_params(options);
   }
 };
 

@@ -37,7 +37,7 @@ struct Failure {
 // Elements of other ranks within reach of this rank's elements: they exert forces but are not moved.
 struct Ghosts {
   std::vector<double> position;  // 3 per element
-  std::vector<int> info;         // (cell index, counted after the owned cells) << 2 | type
+  std::vector<int> info;         // semlb_info_pack(cell index, counted after the owned cells, type)
   std::vector<uint64_t> keys;
   long elements() const { return static_cast<long>(keys.size()); }
 };

@@ -21,7 +21,8 @@ typedef SEMLB_REAL semlb_real;
 #define SEMLB_MORSE_INTER(ti, tj) (4 + 4 * ((ti) * SEMLB_TYPES + (tj)))
 #define SEMLB_TABLE_SIZE (4 + 4 * SEMLB_TYPES * SEMLB_TYPES)
 
-/* An element's packed info: cell index (within the local state) and cell type. */
+/* An element's packed info: cell index (within the local state) << 2 | cell type (0..3). */
+static inline int semlb_info_pack(int cell, int type) { return cell << 2 | type; }
 static inline int semlb_info_cell(int info) { return info >> 2; }
 static inline int semlb_info_type(int info) { return info & 3; }
 

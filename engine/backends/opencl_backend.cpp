@@ -7,6 +7,7 @@
 
 #include "backend.hpp"
 #include "common/errors.hpp"
+#include "cpu_physics.hpp"
 #include "opencl.hpp"
 
 namespace semlb::engine {
@@ -100,7 +101,7 @@ class OpenClBackend final : public Backend {
     out.keys.resize(m);
     read(band_keys_, out.keys.data(), m * sizeof(uint64_t));
     to_positions(packed, out.position);
-    for (const Real4& p : packed) out.info.push_back(unpack_info(p[3]) & 3);
+    for (const Real4& p : packed) out.info.push_back(phys64::semlb_info_type(unpack_info(p[3])));
   }
 
   void zero_forces() override {

@@ -47,17 +47,19 @@ Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
     s.fail("min_width", std::to_string(ranks) + " ranks need " + std::to_string(ranks * d.min_width) + " slices of " +
                             std::to_string(d.width) + " um but the domain has " + std::to_string(d.slices) +
                             ": use fewer ranks or a larger tissue");
-  PolicyNeeds needs;
   try {
-    needs = policy_needs(d.policy);
+    check_engine_policy(d.policy);
     make_policy(d.policy, d.params);
   } catch (const InputError& e) {
     s.fail("policy", e.what());
   }
-  if (needs.true_work)  // the engine measures times and W_s (slice_work); only the surrogate knows the future
-    s.fail("policy", "'" + d.policy + "' needs the true work of the next interval, which a simulation cannot know "
-                     "(a surrogate baseline: use it with semlb surrogate)");
   return d;
+}
+
+void check_engine_policy(const std::string& policy) {
+  if (policy_needs(policy).true_work)  // the engine measures times and W_s (slice_work); only the surrogate knows the future
+    throw InputError("'" + policy + "' needs the true work of the next interval, which a simulation cannot know "
+                     "(a surrogate baseline: use it with semlb surrogate)");
 }
 
 int Decomposition::slice_of(double x) const {

@@ -28,6 +28,11 @@ struct Decomposition {
   int slice_of(double x) const;
 };
 
+// Throws InputError (the reason, no location) for a policy a simulation cannot run: an unknown name, or one
+// that needs what the engine cannot measure (PolicyNeeds::true_work: the oracles' work of the next interval).
+// Decomposition::from_scene and the sweep's engine runners (before anything runs) both refuse through it.
+void check_engine_policy(const std::string& policy);
+
 // Per-slice workload W_s = sum over cells of n_i * n_N(i) (paper eqs. 2-3): n_N(i) counts the elements in
 // the 3x3x3 bins around the cell's centroid, among the cells' own elements and `ghosts` (3 doubles each).
 std::vector<double> slice_workload(const State& cells, const std::vector<double>& ghosts, const Decomposition& d,

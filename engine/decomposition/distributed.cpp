@@ -15,6 +15,7 @@
 #include "controllers/partition.hpp"
 #include "common/text_io.hpp"
 #include "controllers/trace.hpp"
+#include "backends/cpu_physics.hpp"
 #include "effects/effect.hpp"
 #include "model/tissue.hpp"
 #include "wire.hpp"
@@ -119,8 +120,8 @@ void DistributedSimulation::exchange_ghosts() {
     unpack_band(bytes, g);
   int cell = static_cast<int>(sim_->host_state().cells()) - 1;  // ghost cells are numbered after the owned ones
   for (long e = 0; e < g.elements(); ++e) {  // a band holds each cell's elements contiguously
-    if (e == 0 || g.keys[e] >> 8 != g.keys[e - 1] >> 8) ++cell;
-    g.info[e] |= cell << 2;
+    if (e == 0 || cell_id_of_key(g.keys[e]) != cell_id_of_key(g.keys[e - 1])) ++cell;
+    g.info[e] = phys64::semlb_info_pack(cell, phys64::semlb_info_type(g.info[e]));
   }
   b.set_ghosts(g);
   ghost_positions_ = std::move(g.position);  // for the next W_s

@@ -1,6 +1,7 @@
 // Scene parsing: overrides on the YAML tree, then checked sections with line-accurate errors.
 #include "scene.hpp"
 
+#include <stdexcept>
 
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
@@ -170,6 +171,28 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   for (const auto& name : effects.keys()) s.effects.emplace_back(name, effects.child(name));
   top.finish();
   return s;
+}
+
+const std::vector<SceneSetting>& scene_settings() {
+  using T = SceneSetting::Type;
+  static const std::vector<SceneSetting> settings = {
+      {"cells", "tissue.cells", T::integer},          {"steps", "time.steps", T::integer},
+      {"dt", "time.dt", T::real},                     {"cutoff", "cutoff", T::real},
+      {"seed", "seed", T::integer},                   {"backend", "backend.name", T::text},
+      {"precision", "backend.precision", T::text},    {"platform", "backend.platform", T::text},
+      {"device", "backend.device", T::integer},       {"policy", "decomposition.policy", T::text},
+      {"initial", "decomposition.initial", T::text},  {"rebalance_every", "decomposition.rebalance_every", T::integer}};
+  return settings;
+}
+
+std::string scene_override(const std::string& name, const std::string& value, const std::string& where) {
+  for (const auto& s : scene_settings())
+    if (name == s.name) {
+      if (s.type == SceneSetting::Type::integer) parse_integer(value, where);
+      if (s.type == SceneSetting::Type::real) parse_real(value, where);
+      return std::string(s.key) + "=" + value;
+    }
+  throw std::logic_error("scene_override: '" + name + "' is not a scene setting");
 }
 
 Scene load_scene(const std::string& file, const std::vector<std::string>& overrides) {

@@ -62,6 +62,21 @@ struct Scene {
   std::vector<std::pair<std::string, Section>> effects;  // in file order
 };
 
+// A scene setting that CLI flags and sweep manifests give by name (`cells` sets tissue.cells), with the type
+// of its value; any other scene key is set with `--set KEY=VALUE` (a manifest's `scene.KEY`).
+struct SceneSetting {
+  enum class Type { text, integer, real };
+  const char* name;  // the flag / manifest name
+  const char* key;   // the scene key it sets
+  Type type;
+};
+// The named settings, each written once here; docs/engine.md "Scene format" gives their ranges and defaults.
+const std::vector<SceneSetting>& scene_settings();
+// The override "KEY=VALUE" of the named setting. The value is checked against the setting's type (parsed
+// strictly, common/text_io.hpp; InputError prefixed by `where`), its range when the scene is loaded.
+// std::logic_error for a name that is not in scene_settings() (a programming error).
+std::string scene_override(const std::string& name, const std::string& value, const std::string& where);
+
 // Loads FILE and applies `key.path=value` overrides (the value is YAML). Throws InputError.
 Scene load_scene(const std::string& file, const std::vector<std::string>& overrides);
 // Same from text (FILE only names the source in messages).

@@ -5,6 +5,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "backends/cpu_physics.hpp"
+
 namespace semlb::engine {
 
 namespace {
@@ -27,7 +29,7 @@ int type_from_name(const std::string& name) {
 std::vector<int> State::element_info() const {
   std::vector<int> info(elements());
   for (long c = 0; c < cells(); ++c)
-    for (int k = 0; k < cell_count[c]; ++k) info[cell_first[c] + k] = static_cast<int>(c << 2) | cell_type[c];
+    for (int k = 0; k < cell_count[c]; ++k) info[cell_first[c] + k] = phys64::semlb_info_pack(static_cast<int>(c), cell_type[c]);
   return info;
 }
 

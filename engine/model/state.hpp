@@ -12,9 +12,12 @@ inline constexpr int kCellTypes = 3;
 const char* type_name(int type);
 int type_from_name(const std::string& name);  // -1 if unknown
 
-// An element's identity: its cell id and its slot within the cell (stable across ranks and orders).
-inline uint64_t element_key(uint64_t cell_id, int slot) { return (cell_id << 8) | static_cast<uint64_t>(slot); }
-inline constexpr int kMaxSlots = 256;
+// An element's identity: its cell id and its slot within the cell (stable across ranks and orders):
+// cell_id << kSlotBits | slot.
+inline constexpr int kSlotBits = 8;
+inline constexpr int kMaxSlots = 1 << kSlotBits;
+inline uint64_t element_key(uint64_t cell_id, int slot) { return (cell_id << kSlotBits) | static_cast<uint64_t>(slot); }
+inline uint64_t cell_id_of_key(uint64_t key) { return key >> kSlotBits; }
 
 // Cell ids need no global counter, so that they are the same on any number of ranks: the initial cells are
 // 0 .. 2^20-1; at its d-th division a cell keeps its id and its daughter gets id | 2^(20+d) (a path in a
@@ -40,7 +43,7 @@ struct State {
 
   long elements() const { return static_cast<long>(position.size() / 3); }
   long cells() const { return static_cast<long>(cell_id.size()); }
-  // Packed info (cell index << 2 | type) and key per element, in element order.
+  // Packed info (semlb_info_pack(cell index, type), backends/evaluator.h) and key per element, in element order.
   std::vector<int> element_info() const;
   std::vector<uint64_t> element_keys() const;
   // Recomputes cell_first from cell_count; throws std::logic_error when sizes disagree.

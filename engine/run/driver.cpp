@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <sstream>
 
 #include "common/errors.hpp"
@@ -236,13 +237,20 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
   agree(mpi, [&] {
     if (!root) return;
     out->write("final.h5", all);
-    std::string rows = "step,rank,compute_s,exchange_s,migrate_s,imbalance,moved_slices\n";
+    namespace rt = rank_times;
+    std::string rows;
+    for (const char* c : rt::kColumns) (rows += rows.empty() ? "" : ",") += c;
+    rows += "\n";
     for (const auto& iv : sim->intervals())
-      for (size_t r = 0; r < iv.times.size(); ++r)
-        rows += std::to_string(iv.step) + "," + std::to_string(r) + "," + format_real(iv.times[r]) + "," +
-                format_real(iv.exchange[r]) + "," + format_real(iv.migrate[r]) + "," + format_real(iv.imbalance) +
-                "," + std::to_string(iv.moved) + "\n";
-    write_file_atomically(config.out_dir + "/rank_times.csv", rows);
+      for (size_t r = 0; r < iv.times.size(); ++r) {
+        const std::map<std::string_view, std::string> field = {
+            {rt::kStep, std::to_string(iv.step)}, {rt::kRank, std::to_string(r)}, {rt::kComputeS, format_real(iv.times[r])},
+            {rt::kExchangeS, format_real(iv.exchange[r])}, {rt::kMigrateS, format_real(iv.migrate[r])},
+            {rt::kImbalance, format_real(iv.imbalance)}, {rt::kMovedSlices, std::to_string(iv.moved)}};
+        for (size_t c = 0; c < rt::kColumns.size(); ++c) (rows += c ? "," : "") += field.at(rt::kColumns[c]);
+        rows += "\n";
+      }
+    write_file_atomically(config.out_dir + "/" + rt::kFile, rows);
     status.update(all.step, all.cells(), all.elements(), seconds_since(t0), true);
   });
   return {all.step - first, all.cells(), all.elements(), seconds_since(t0), sim->local().backend().device_name()};

@@ -1,5 +1,6 @@
 // `semlb sim`: a scene run with snapshots, checkpoints, run.csv, status line and failure handling.
 #pragma once
+#include <array>
 #include <string>
 
 #include "model/scene.hpp"
@@ -21,6 +22,17 @@ struct RunSummary {
   std::string device;
 };
 
+// DIR/rank_times.csv of a decomposed run: one row per rebalancing interval and rank. Columns, written and read
+// by these names in kColumns' order: the interval's last step, the rank, its computation, ghost-exchange and
+// migration seconds (computation in work units under decomposition.timing: modelled), the interval's
+// I_global and the slices moved at its end.
+namespace rank_times {
+inline constexpr const char* kFile = "rank_times.csv";
+inline constexpr const char *kStep = "step", *kRank = "rank", *kComputeS = "compute_s", *kExchangeS = "exchange_s",
+                            *kMigrateS = "migrate_s", *kImbalance = "imbalance", *kMovedSlices = "moved_slices";
+inline constexpr std::array<const char*, 7> kColumns = {kStep, kRank, kComputeS, kExchangeS, kMigrateS, kImbalance, kMovedSlices};
+}  // namespace rank_times
+
 // Output: DIR/final.h5, DIR/snapshots/step_NNNNNNNNN.h5 + DIR/snapshots.xmf, DIR/run.csv, DIR/scene.yaml,
 // DIR/checkpoint.h5; on a numerical failure DIR/failure.h5 (the state frozen since the failing step, labelled
 // with it) and a SimulationError. Bad input throws
@@ -28,7 +40,7 @@ struct RunSummary {
 RunSummary run_scene(Scene& scene, const RunConfig& config);
 // The same across the ranks of `mpi` (docs/engine.md "Decomposition"): rank 0 writes final.h5, run.csv,
 // checkpoints and snapshots (gathered, cells in id order), trace.jsonl (one line per rebalancing event, in
-// `semlb replay`'s format) and rank_times.csv (per interval and rank: computation seconds). Errors that
+// `semlb replay`'s format) and rank_times.csv (rank_times::kColumns). Errors that
 // all ranks agree on (bad input, a numerical failure: then failure.h5, rank 0's files) throw AgreedError on
 // every rank; any other exception is this rank's alone (the caller aborts the job).
 RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi);

@@ -1,0 +1,80 @@
+// The model's layouts and names: element keys, packed element info, the named scene settings.
+#include <gtest/gtest.h>
+
+#include <set>
+#include <stdexcept>
+
+#include "common/errors.hpp"
+#include "common/text_io.hpp"
+#include "engine/backends/cpu_physics.hpp"
+#include "engine/model/scene.hpp"
+#include "engine/model/state.hpp"
+
+namespace semlb::engine {
+namespace {
+
+TEST(Model, ElementKeysGiveBackTheirCellId) {
+  std::set<uint64_t> keys;
+  for (uint64_t id : {uint64_t{0}, uint64_t{1}, (uint64_t{1} << kRootIdBits) - 1, daughter_id(5, kMaxDivisionDepth - 1)})
+    for (int slot : {0, 1, kMaxSlots - 1}) {
+      EXPECT_EQ(cell_id_of_key(element_key(id, slot)), id) << id << " " << slot;
+      keys.insert(element_key(id, slot));
+    }
+  EXPECT_EQ(keys.size(), 4u * 3u) << "keys are unique";
+  EXPECT_LT(element_key(7, kMaxSlots - 1), element_key(8, 0)) << "a cell's keys are contiguous";
+}
+
+TEST(Model, ElementInfoPacksTheCellIndexAndType) {
+  for (int cell : {0, 1, 12345, (1 << 28) - 1})
+    for (int type = 0; type < kCellTypes; ++type) {
+      const int info = phys64::semlb_info_pack(cell, type);
+      EXPECT_EQ(phys64::semlb_info_cell(info), cell);
+      EXPECT_EQ(phys64::semlb_info_type(info), type);
+    }
+  State s;
+  s.cell_id = {10, 20};
+  s.cell_type = {kGranular, kSpinous};
+  s.cell_count = {2, 1};
+  s.position.assign(9, 0.0);
+  s.reindex();
+  EXPECT_EQ(s.element_info(), (std::vector<int>{phys64::semlb_info_pack(0, kGranular), phys64::semlb_info_pack(0, kGranular),
+                                                phys64::semlb_info_pack(1, kSpinous)}));
+}
+
+// Every named setting reaches the scene field it names, with its value checked against its type.
+TEST(Model, SceneSettingsSetTheirKeysWithTypedValues) {
+  const std::vector<std::pair<std::string, std::string>> given = {
+      {"cells", "40"},         {"steps", "7"},        {"dt", "0.005"},        {"cutoff", "9.5"},
+      {"seed", "3"},           {"backend", "serial"}, {"precision", "float"}, {"platform", "Portable"},
+      {"device", "2"},         {"policy", "holt"},    {"initial", "uniform"}, {"rebalance_every", "25"}};
+  ASSERT_EQ(given.size(), scene_settings().size());
+  std::vector<std::string> o;
+  for (const auto& [name, value] : given) o.push_back(scene_override(name, value, "x: "));
+  const Scene s = load_scene(std::string(SEMLB_SOURCE_DIR) + "/scenes/epidermis.yaml", o);
+  EXPECT_EQ(s.tissue->integer("cells", 0, 0, 1000), 40);
+  EXPECT_EQ(s.steps, 7);
+  EXPECT_EQ(s.dt, 0.005);
+  EXPECT_EQ(s.cutoff, 9.5);
+  EXPECT_EQ(s.seed, 3u);
+  EXPECT_EQ(s.backend.name, "serial");
+  EXPECT_EQ(s.backend.precision, "float");
+  EXPECT_EQ(s.backend.platform, "Portable");
+  EXPECT_EQ(s.backend.device, 2);
+  EXPECT_EQ(s.decomposition->text("policy", ""), "holt");
+  EXPECT_EQ(s.decomposition->text("initial", ""), "uniform");
+  EXPECT_EQ(s.decomposition->integer("rebalance_every", 0, 0, 1000), 25);
+
+  try {
+    scene_override("cells", "4e2", "--cells: ");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--cells: '4e2' is not an integer", 0), 0u) << e.what();
+  }
+  EXPECT_THROW(scene_override("dt", "fast", ""), InputError);
+  EXPECT_EQ(scene_override("dt", "1e-3", ""), "time.dt=1e-3");
+  EXPECT_EQ(scene_override("backend", "any text", ""), "backend.name=any text");
+  EXPECT_THROW(scene_override("colour", "red", ""), std::logic_error);
+}
+
+}  // namespace
+}  // namespace semlb::engine
