@@ -23,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // The scene settings (engine::scene_settings()) these runners take by name.
-const std::vector<std::string> kSceneNames = {"cells", "steps", "policy", "initial", "backend", "rebalance_every"};
+const std::vector<std::string> kSceneNames = {"cells", "steps", "policy", "initial", "backend", "rebalance_every", "timing"};
 
 std::string get(const Job& job, const std::string& key, const std::string& fallback) {
   const Setting* s = job.find(key);

@@ -181,7 +181,8 @@ const std::vector<SceneSetting>& scene_settings() {
       {"seed", "seed", T::integer},                   {"backend", "backend.name", T::text},
       {"precision", "backend.precision", T::text},    {"platform", "backend.platform", T::text},
       {"device", "backend.device", T::integer},       {"policy", "decomposition.policy", T::text},
-      {"initial", "decomposition.initial", T::text},  {"rebalance_every", "decomposition.rebalance_every", T::integer}};
+      {"initial", "decomposition.initial", T::text},  {"rebalance_every", "decomposition.rebalance_every", T::integer},
+      {"timing", "decomposition.timing", T::text}};
   return settings;
 }
 

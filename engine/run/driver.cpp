@@ -80,7 +80,7 @@ class RunOutputs {
   RunOutputs(const Scene& scene, const RunConfig& config, long first, std::string header,
              std::map<std::string, std::string> attrs)
       : scene_(scene), dir_(config.out_dir), header_(std::move(header)), attrs_(std::move(attrs)) {
-    fs::create_directories(dir_ + "/snapshots");
+    fs::create_directories(dir_);
     write_file_atomically(dir_ + "/scene.yaml", "# semlb " + config.git_revision + ": " + config.command_line + "\n" + scene.text);
     rows_ = earlier_rows(dir_ + "/run.csv", first);
     snapshots_ = earlier_snapshots(dir_, first);
@@ -95,6 +95,7 @@ class RunOutputs {
   // The snapshot and checkpoint due at s.step; a decomposed run's checkpoint also holds its balancer.
   void save(const State& s, const DecompositionCheckpoint* decomposition = nullptr) {
     if (due(scene_.snapshot_every, s.step)) {
+      fs::create_directories(dir_ + "/snapshots");
       write_state(dir_ + "/" + snapshot_name(s.step), s, attrs_);
       snapshots_.push_back({s.step, s.time, s.elements(), snapshot_name(s.step)});
       write_xdmf(dir_ + "/snapshots.xmf", snapshots_);
@@ -241,6 +242,7 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
     std::string rows;
     for (const char* c : rt::kColumns) (rows += rows.empty() ? "" : ",") += c;
     rows += "\n";
+    for (const auto& row : earlier_rows(config.out_dir + "/" + rt::kFile, first)) rows += row + "\n";  // a restart's
     for (const auto& iv : sim->intervals())
       for (size_t r = 0; r < iv.times.size(); ++r) {
         const std::map<std::string_view, std::string> field = {

@@ -131,6 +131,17 @@ TEST(Decomposition, ARestartContinuesTheBalancerLineForLine) {
     ASSERT_EQ(straight.size(), 1 + 300u / 50) << policy;  // 6 events (the last at step 300), then ""
     EXPECT_EQ(joined, straight) << policy;
     EXPECT_EQ(read_state(dir + "/split/final.h5").hash(), read_state(dir + "/straight/final.h5").hash()) << policy;
+    // rank_times.csv keeps the rows before the checkpoint too: with modelled times the two files are equal
+    // but for the measured exchange and migration seconds (columns 3 and 4).
+    auto modelled_columns = [](const std::string& file) {
+      std::vector<std::string> out;
+      for (const auto& line : split(read_file(file), '\n')) {
+        auto f = split(line, ',');
+        if (f.size() == 7) out.push_back(f[0] + "," + f[1] + "," + f[2] + "," + f[5] + "," + f[6]);
+      }
+      return out;
+    };
+    EXPECT_EQ(modelled_columns(dir + "/split/rank_times.csv"), modelled_columns(dir + "/straight/rank_times.csv")) << policy;
     // The same run twice gives the same trace: modelled times do not depend on the launch.
     r = run(mpirun(3) + args + " --steps 300 --out " + dir + "/again");
     ASSERT_EQ(r.rc, 0) << r.out;

@@ -46,7 +46,8 @@ TEST(Model, SceneSettingsSetTheirKeysWithTypedValues) {
   const std::vector<std::pair<std::string, std::string>> given = {
       {"cells", "40"},         {"steps", "7"},        {"dt", "0.005"},        {"cutoff", "9.5"},
       {"seed", "3"},           {"backend", "serial"}, {"precision", "float"}, {"platform", "Portable"},
-      {"device", "2"},         {"policy", "holt"},    {"initial", "uniform"}, {"rebalance_every", "25"}};
+      {"device", "2"},         {"policy", "holt"},    {"initial", "uniform"}, {"rebalance_every", "25"},
+      {"timing", "modelled"}};
   ASSERT_EQ(given.size(), scene_settings().size());
   std::vector<std::string> o;
   for (const auto& [name, value] : given) o.push_back(scene_override(name, value, "x: "));
@@ -63,6 +64,7 @@ TEST(Model, SceneSettingsSetTheirKeysWithTypedValues) {
   EXPECT_EQ(s.decomposition->text("policy", ""), "holt");
   EXPECT_EQ(s.decomposition->text("initial", ""), "uniform");
   EXPECT_EQ(s.decomposition->integer("rebalance_every", 0, 0, 1000), 25);
+  EXPECT_EQ(s.decomposition->text("timing", ""), "modelled");
 
   try {
     scene_override("cells", "4e2", "--cells: ");
