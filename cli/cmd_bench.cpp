@@ -135,17 +135,17 @@ Action add_bench(CLI::App& app) {
   sub->add_option("--scene", o->scene, "Scene (default: scenes/mechanics.yaml for bench engine, scenes/epidermis.yaml for bench cells)");
   sub->add_option("--backends", o->backends, "Comma-separated backends (bench engine, cells)")->capture_default_str();
   sub->add_option("--cells", o->cells, "Cell counts, e.g. 200,2000 (bench engine, cells)")->capture_default_str();
-  sub->add_option("--warmup", o->warmup, "Untimed steps first (bench engine)")->capture_default_str();
+  sub->add_option("--warmup", o->warmup, "Untimed steps first (bench engine)")->capture_default_str()->check(strict_integer(0));
   sub->add_option("--precision", o->flags.precision, "double or float (bench engine, cells; default: the scene's)");
   sub->add_option("--platform", o->flags.platform, "OpenCL platform name substring (bench engine, cells)");
-  sub->add_option("--device", o->flags.device, "OpenCL device index (bench engine, cells)");
+  sub->add_option("--device", o->flags.device, "OpenCL device index (bench engine, cells)")->check(strict_integer(0, 1024));
   sub->add_option("--set", o->flags.set, "Scene override KEY.PATH=VALUE (bench engine, cells; repeatable)");
-  sub->add_option("--steps", o->steps, "Steps to time (bench train, engine); cell updates (bench cells)")->capture_default_str()->check(CLI::PositiveNumber);
-  sub->add_option("--threads", o->threads, "Episode-generation threads (bench train)")->capture_default_str()->check(CLI::PositiveNumber);
-  sub->add_option("--ranks", o->ranks, "Ranks")->capture_default_str()->check(CLI::Range(1, 4096));
-  sub->add_option("--events", o->events, "Events per rollout")->capture_default_str()->check(CLI::PositiveNumber);
-  sub->add_option("--repeats", o->repeats, "Repetitions (the median is printed)")->capture_default_str()->check(CLI::PositiveNumber);
-  sub->add_option("--seed", o->seed, "Scenario seed")->capture_default_str();
+  sub->add_option("--steps", o->steps, "Steps to time (bench train, engine); cell updates (bench cells)")->capture_default_str()->check(strict_integer(1));
+  sub->add_option("--threads", o->threads, "Episode-generation threads (bench train)")->capture_default_str()->check(strict_integer(1));
+  sub->add_option("--ranks", o->ranks, "Ranks")->capture_default_str()->check(strict_integer(1, 4096));
+  sub->add_option("--events", o->events, "Events per rollout")->capture_default_str()->check(strict_integer(1));
+  sub->add_option("--repeats", o->repeats, "Repetitions (the median is printed)")->capture_default_str()->check(strict_integer(1));
+  sub->add_option("--seed", o->seed, "Scenario seed")->capture_default_str()->check(strict_integer(0));
   sub->add_option("--weights", o->weights, "GRU weights (default: a random zero-head GRU of the shipped shape)");
   return [o, sub] {
     if (!*sub) return -1;  // not the chosen subcommand

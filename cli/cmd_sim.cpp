@@ -27,7 +27,7 @@ void add_scene_flags(CLI::App* sub, SceneFlags& f) {
   sub->add_option("--backend", f.backend, "serial, cpu-binned, opencl-allpairs or opencl-binned (default: the scene's)");
   sub->add_option("--precision", f.precision, "double or float (default: the scene's)");
   sub->add_option("--platform", f.platform, "OpenCL platform name substring, e.g. NVIDIA or Portable");
-  sub->add_option("--device", f.device, "OpenCL device index within the platform");
+  sub->add_option("--device", f.device, "OpenCL device index within the platform")->check(strict_integer(0, 1024));
   sub->add_option("--set", f.set, "Scene override KEY.PATH=VALUE, e.g. tissue.cells=2000 (repeatable)");
 }
 
@@ -48,8 +48,8 @@ Action add_sim(CLI::App& app) {
   auto* sub = app.add_subcommand("sim", "Run a scene: DIR/final.h5, snapshots + XDMF, run.csv, checkpoint.h5");
   sub->add_option("--scene", o->scene, "Scene file (YAML), e.g. scenes/epidermis.yaml");
   sub->add_option("--out", o->out, "Output directory");
-  sub->add_option("--steps", o->flags.steps, "Final step number (default: the scene's time.steps)");
-  sub->add_option("--seed", o->flags.seed, "Random seed (default: the scene's)");
+  sub->add_option("--steps", o->flags.steps, "Final step number (default: the scene's time.steps)")->check(strict_integer(0, 1L << 40));
+  sub->add_option("--seed", o->flags.seed, "Random seed (default: the scene's)")->check(strict_integer(0, 1L << 53));
   sub->add_option("--restart", o->restart, "Continue from a checkpoint (DIR/checkpoint.h5): bit-for-bit");
   add_scene_flags(sub, o->flags);
   sub->add_flag("--quiet", o->quiet, "No status line");

@@ -20,11 +20,11 @@ Action add_surrogate(CLI::App& app) {
   sub->add_option("--policies", o->policies, "Comma-separated policy names (static,reactive,persistence,holt,gru,oracle,lazy_oracle)")->required();
   sub->add_option("--ranks", o->ranks, "Rank counts, e.g. 2,4,8,16 or 2-16")->capture_default_str();
   sub->add_option("--seeds", o->seeds, "Scenario seeds, inclusive ranges (evaluation seeds: 9000-9999)")->capture_default_str();
-  sub->add_option("--events", o->events, "Rebalancing events per rollout")->capture_default_str()->check(CLI::PositiveNumber);
+  sub->add_option("--events", o->events, "Rebalancing events per rollout")->capture_default_str()->check(strict_integer(1));
   sub->add_option("--out", o->out, "Output directory (writes DIR/controller_eval.csv)")->required();
   sub->add_option("--weights", o->weights, "GRU weights file (HDF5); default: the shipped weights");
   sub->add_option("--param", o->params, "Policy parameter POLICY.KEY=VALUE, e.g. reactive.tau=0.05 (repeatable)");
-  sub->add_option("--jobs", o->jobs, "Worker threads")->capture_default_str()->check(CLI::PositiveNumber);
+  sub->add_option("--jobs", o->jobs, "Worker threads")->capture_default_str()->check(strict_integer(1));
   sub->add_flag("--dump-traces", o->dump_traces, "Also write every rollout as a JSON Lines trace under DIR/traces/");
   sub->add_flag("--no-timing", o->no_timing, "Write us_per_decision as 0 so that reruns are byte-identical");
   sub->add_flag("--quiet", o->quiet, "No progress line");

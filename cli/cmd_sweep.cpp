@@ -21,7 +21,7 @@ Action add_sweep(CLI::App& app) {
   sub->add_option("--profile", o->profile, "Profile (small, paper); default: small when the manifest has it");
   sub->add_option("--set", o->sets, "Override KEY=VALUE (an axis takes a comma list or A-B range; repeatable)");
   sub->add_option("--results", o->results, "Results directory")->capture_default_str();
-  sub->add_option("--jobs", o->jobs, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  sub->add_option("--jobs", o->jobs, "Worker threads (default: all cores)")->check(strict_integer(0, 4096));
   sub->add_flag("--no-timing", o->no_timing, "Write wall-clock columns as 0 (byte-identical reruns)");
   sub->add_flag("--quiet", o->quiet, "No progress line");
   sub->add_flag("--keep-runs", o->keep_runs,

@@ -2,6 +2,7 @@
 #pragma once
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,10 @@ struct SceneFlags {
 };
 void add_scene_flags(CLI::App* sub, SceneFlags& flags);
 std::vector<std::string> scene_overrides(const SceneFlags& flags);  // only when built with libtorch (SEMLB_WITH_TORCH)
+
+// CLI11 check for an integer option: the whole argument is an integer in [min, max], read by the one strict
+// parser (common/text_io.hpp: no hex, no '+', no trailing text); the message names the value and the range.
+CLI::Validator strict_integer(long min, long max = std::numeric_limits<long>::max());
 
 // The full command line, recorded next to results.
 std::string command_line();

@@ -7,12 +7,26 @@
 
 #include "commands.hpp"
 #include "common/errors.hpp"
+#include "common/text_io.hpp"
 
 namespace semlb::cli {
 namespace {
 std::string g_command_line;
 }
 std::string command_line() { return g_command_line; }
+
+CLI::Validator strict_integer(long min, long max) {
+  return CLI::Validator(
+      [min, max](std::string& text) -> std::string {
+        try {
+          parse_integer(text, "", min, max);
+          return "";
+        } catch (const InputError& e) {
+          return e.what();
+        }
+      },
+      "INT", "strict_integer");
+}
 void set_command_line(int argc, char** argv) {
   for (int i = 0; i < argc; ++i) g_command_line += (i ? " " : "") + std::string(argv[i]);
 }
