@@ -3,6 +3,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
 #include "surrogate/evaluate.hpp"
@@ -38,6 +40,19 @@ std::vector<Setting> axis_values(const YAML::Node& n, const std::string& file, c
   return out;
 }
 
+// Sets (or replaces) axis NAME in AXES.
+void put_axis(Axes& axes, const std::string& name, std::vector<Setting> values) {
+  auto it = std::find_if(axes.begin(), axes.end(), [&](auto& p) { return p.first == name; });
+  if (it == axes.end()) axes.emplace_back(name, std::move(values)); else it->second = std::move(values);
+}
+
+Axes read_axes(const YAML::Node& n, const std::string& file, const std::string& field) {
+  if (!n.IsMap() || n.size() == 0) throw InputError(where(file, line_of(n), field) + "must be a non-empty mapping");
+  Axes axes;
+  for (const auto& a : n) put_axis(axes, a.first.Scalar(), axis_values(a.second, file, field + "." + a.first.Scalar()));
+  return axes;
+}
+
 void read_block(const YAML::Node& block, Manifest& m, const std::string& where_name) {
   if (!block) return;
   if (!block.IsMap()) throw InputError(where(m.path, line_of(block), where_name) + "must be a mapping");
@@ -47,10 +62,16 @@ void read_block(const YAML::Node& block, Manifest& m, const std::string& where_n
       if (!kv.second.IsMap()) throw InputError(where(m.path, line_of(kv.second), "axes") + "must be a mapping");
       for (const auto& a : kv.second) {
         const std::string name = a.first.Scalar();
-        auto values = axis_values(a.second, m.path, "axes." + name);
-        auto it = std::find_if(m.axes.begin(), m.axes.end(), [&](auto& p) { return p.first == name; });
-        if (it == m.axes.end()) m.axes.emplace_back(name, std::move(values)); else it->second = std::move(values);
+        put_axis(m.axes, name, axis_values(a.second, m.path, "axes." + name));
         m.fixed.erase(name);
+      }
+    } else if (key == "groups") {  // a profile's groups replace the manifest's
+      if (!kv.second.IsSequence() || kv.second.size() == 0)
+        throw InputError(where(m.path, line_of(kv.second), "groups") + "must be a non-empty list of axis mappings");
+      m.groups.clear();
+      for (size_t i = 0; i < kv.second.size(); ++i) {
+        m.groups.push_back(read_axes(kv.second[i], m.path, "groups[" + std::to_string(i) + "]"));
+        for (const auto& a : m.groups.back()) m.fixed.erase(a.first);
       }
     } else if (key == "set") {
       if (!kv.second.IsMap()) throw InputError(where(m.path, line_of(kv.second), "set") + "must be a mapping");
@@ -59,7 +80,7 @@ void read_block(const YAML::Node& block, Manifest& m, const std::string& where_n
       const std::string v = scalar(kv.second, m.path, key);
       (key == "output" ? m.output : key == "runner" ? m.runner : m.name) = v;
     } else if (key != "profiles" && key != "description") {
-      throw InputError(where(m.path, line_of(kv.first), key) + "unknown manifest key (known: name, description, runner, output, axes, set, profiles)");
+      throw InputError(where(m.path, line_of(kv.first), key) + "unknown manifest key (known: name, description, runner, output, axes, groups, set, profiles)");
     }
   }
 }
@@ -89,10 +110,14 @@ const Setting* Job::find(const std::string& key) const {
 std::vector<std::string> Manifest::axis_names() const {
   std::vector<std::string> n;
   for (const auto& a : axes) n.push_back(a.first);
+  for (const auto& g : groups)
+    for (const auto& a : g)
+      if (std::find(n.begin(), n.end(), a.first) == n.end()) n.push_back(a.first);
   return n;
 }
 
-std::vector<Job> Manifest::expand() const {
+namespace {
+std::vector<Job> product(const Axes& axes) {  // last axis fastest
   std::vector<Job> jobs(1);
   for (const auto& [name, values] : axes) {
     std::vector<Job> next;
@@ -103,6 +128,18 @@ std::vector<Job> Manifest::expand() const {
         next.push_back(std::move(k));
       }
     jobs = std::move(next);
+  }
+  return jobs;
+}
+}  // namespace
+
+std::vector<Job> Manifest::expand() const {
+  std::vector<Job> jobs;
+  if (groups.empty()) jobs = product(axes);
+  for (const auto& g : groups) {
+    Axes all = g;
+    all.insert(all.end(), axes.begin(), axes.end());
+    for (auto& j : product(all)) jobs.push_back(std::move(j));
   }
   for (auto& j : jobs)
     for (const auto& [k, v] : fixed) j.settings.emplace_back(k, v);
@@ -133,14 +170,23 @@ Manifest load_manifest(const std::string& path, const std::string& profile, cons
     const size_t eq = o.find('=');
     if (eq == std::string::npos || eq == 0) throw InputError("--set: '" + o + "' is not KEY=VALUE");
     const std::string key = o.substr(0, eq);
-    auto it = std::find_if(m.axes.begin(), m.axes.end(), [&](auto& p) { return p.first == key; });
-    if (it != m.axes.end()) {
+    bool axis = false;  // a shared axis, or the axis of every group that has it
+    std::vector<Axes*> all{&m.axes};
+    for (auto& g : m.groups) all.push_back(&g);
+    for (Axes* axes : all) {
+      auto it = std::find_if(axes->begin(), axes->end(), [&](auto& p) { return p.first == key; });
+      if (it == axes->end()) continue;
       it->second = axis_values(YAML::Node(o.substr(eq + 1)), "--set", key);
       for (auto& v : it->second) v.source = "--set " + key;
-    } else {
-      m.fixed[key] = {o.substr(eq + 1), 0, "--set " + key};
+      axis = true;
     }
+    if (!axis) m.fixed[key] = {o.substr(eq + 1), 0, "--set " + key};
   }
+  for (size_t i = 0; i < m.groups.size(); ++i)
+    for (const auto& [name, values] : m.groups[i])
+      if (std::any_of(m.axes.begin(), m.axes.end(), [&](auto& p) { return p.first == name; }))
+        throw InputError(where(path, values.front().line, "groups[" + std::to_string(i) + "]." + name) +
+                         "is also a shared axis (under axes:); name it in one place");
   for (const auto& [field, value] : {std::pair{"name", &m.name}, {"runner", &m.runner}, {"output", &m.output}})
     if (value->empty()) throw InputError(where(path, 0, field) + "missing");
   return m;

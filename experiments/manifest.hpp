@@ -1,4 +1,5 @@
-// Experiment manifests (YAML): a runner, axes expanded as a cartesian product, fixed settings, profiles.
+// Experiment manifests (YAML): a runner, axes expanded as a cartesian product (or a union of products, one per
+// axis group), fixed settings, profiles.
 // Format: README.md "Manifest format".
 #pragma once
 #include <map>
@@ -27,14 +28,20 @@ struct Job {
   double real(const std::string& key, double fallback, double min, double max, const std::string& manifest) const;
 };
 
+using Axes = std::vector<std::pair<std::string, std::vector<Setting>>>;  // in manifest order
+
 struct Manifest {
   std::string path, name, runner, output;
-  std::vector<std::pair<std::string, std::vector<Setting>>> axes;  // in manifest order
+  Axes axes;                  // shared by every row
+  std::vector<Axes> groups;   // `groups:`: each adds the product of its own axes with the shared ones
   std::map<std::string, Setting> fixed;
   std::string profile;
 
-  std::vector<Job> expand() const;  // last axis varies fastest; fixed settings follow the axes
-  std::vector<std::string> axis_names() const;
+  // Without groups: the product of the axes, last axis fastest. With groups: for each group in order, the
+  // product of the group's axes (outer) and the shared axes; a row lacks the axes of the other groups.
+  // Fixed settings follow the axes.
+  std::vector<Job> expand() const;
+  std::vector<std::string> axis_names() const;  // shared axes, then each group's new ones, first seen first
 };
 
 // Loads FILE, applies the profile ("small" if the manifest has one and none is given), then `key=value`

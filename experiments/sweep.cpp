@@ -45,9 +45,15 @@ Layout make_layout(const Manifest& m, const Runner& r) {
   return l;
 }
 
+// A job's value of axis A; empty when the job's axis group lacks A.
+std::string axis_value(const Job& j, const std::string& a) {
+  const Setting* s = j.find(a);
+  return s ? s->value : "";
+}
+
 std::string key_of(const Job& j, const Layout& l) {
   std::string k;
-  for (const auto& a : l.axes) k += j.find(a)->value + '\x1f';
+  for (const auto& a : l.axes) k += axis_value(j, a) + '\x1f';
   return k;
 }
 
@@ -179,10 +185,11 @@ SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overri
         std::string line;  // all rows of the job, appended with one write
         for (const auto& row : runner->run(job, run)) {
           std::vector<std::string> cells;
-          for (const auto& a : layout.extra_axes) cells.push_back(job.find(a)->value);
+          for (const auto& a : layout.extra_axes) cells.push_back(axis_value(job, a));
           for (size_t c = 0; c < row.size(); ++c) {  // key columns keep the manifest's spelling
-            const bool axis = std::find(layout.axes.begin(), layout.axes.end(), columns[c]) != layout.axes.end();
-            cells.push_back(axis ? job.find(columns[c])->value : row[c]);
+            const Setting* axis = std::find(layout.axes.begin(), layout.axes.end(), columns[c]) != layout.axes.end()
+                                      ? job.find(columns[c]) : nullptr;
+            cells.push_back(axis ? axis->value : row[c]);
           }
           line += csv_line(cells);
         }

@@ -90,3 +90,68 @@ TEST(Manifest, RunnerChecksSettingsBeforeRunning) {
   }
   EXPECT_THROW(make_runner("warp", m.path), InputError);
 }
+
+namespace {
+const char* kGroups = R"(name: demo
+runner: surrogate
+output: demo.csv
+axes:
+  ranks: [2, 4]
+  seed: "9000-9001"
+groups:
+  - policy: [reactive]
+    reactive.tau: [0.02, 0.2]
+    reactive.alpha: [0.5]
+  - policy: [all_tensor]
+    all_tensor.gamma: [4, 8, 16]
+  - policy: [gru]
+set:
+  events: 10
+profiles:
+  small: {}
+  one: {groups: [{policy: [static]}]}
+)";
+}  // namespace
+
+TEST(Manifest, GroupsExpandToTheUnionOfTheirProducts) {
+  const auto m = load_manifest(manifest(kGroups), "", {});
+  const auto jobs = m.expand();
+  ASSERT_EQ(jobs.size(), (2u + 3u + 1u) * 2u * 2u);
+  EXPECT_EQ(jobs[0].find("policy")->value, "reactive");
+  EXPECT_EQ(jobs[0].find("reactive.tau")->value, "0.02");
+  EXPECT_EQ(jobs[1].find("seed")->value, "9001");  // the shared axes vary fastest
+  EXPECT_EQ(jobs[4].find("reactive.tau")->value, "0.2");
+  EXPECT_EQ(jobs[8].find("policy")->value, "all_tensor");
+  EXPECT_EQ(jobs[8].find("reactive.tau"), nullptr);  // a row lacks the other groups' axes
+  EXPECT_EQ(jobs[12].find("all_tensor.gamma")->value, "8");
+  EXPECT_EQ(jobs[20].find("policy")->value, "gru");
+  EXPECT_EQ(jobs[20].find("all_tensor.gamma"), nullptr);
+  EXPECT_EQ(jobs[23].find("events")->value, "10");
+  EXPECT_EQ(m.axis_names(), (std::vector<std::string>{"ranks", "seed", "policy", "reactive.tau", "reactive.alpha",
+                                                      "all_tensor.gamma"}));
+  // --set replaces a group's axis wherever it appears, and a shared axis as before
+  const auto o = load_manifest(manifest(kGroups), "", {"reactive.tau=0.5", "ranks=8", "policy=gru"});
+  const auto few = o.expand();
+  ASSERT_EQ(few.size(), (1u + 3u + 1u) * 1u * 2u);
+  EXPECT_EQ(few[0].find("reactive.tau")->value, "0.5");
+  EXPECT_EQ(few[0].find("reactive.tau")->source, "--set reactive.tau");
+  EXPECT_EQ(few[0].find("policy")->value, "gru");
+  EXPECT_EQ(few[9].find("ranks")->value, "8");
+  // a profile's groups replace the manifest's
+  EXPECT_EQ(load_manifest(manifest(kGroups), "one", {}).expand().size(), 1u * 2u * 2u);
+}
+
+TEST(Manifest, GroupErrorsNameFileLineAndField) {
+  std::string shared = kGroups;
+  shared.replace(shared.find("    reactive.alpha"), 0, "    seed: [1]\n");
+  EXPECT_NE(error_of(shared).find("m.yaml:10: field 'groups[0].seed': is also a shared axis"), std::string::npos)
+      << error_of(shared);
+  EXPECT_NE(error_of(std::string(kBase) + "groups: {policy: [static]}\n").find(":15: field 'groups': must be a non-empty list"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(kBase) + "groups:\n  - [static]\n").find(":16: field 'groups[0]': must be a non-empty mapping"),
+            std::string::npos);
+  std::string empty = kGroups;
+  empty.replace(empty.find("[4, 8, 16]"), 10, "[]");
+  EXPECT_NE(error_of(empty).find(":12: field 'groups[1].all_tensor.gamma': axis has no values"), std::string::npos)
+      << error_of(empty);
+}

@@ -120,3 +120,34 @@ TEST(Sweep, MpiSimTimesNestLaunchLoopComputationAndRunsAreKept) {
   EXPECT_GE(v.at("total_s"), v.at("wall_s")) << csv[1];
   EXPECT_EQ(v.at("events"), 4);
 }
+
+// Axis groups: each group's parameter axis becomes a column, empty in the rows of the other groups, and each
+// row runs with its own group's parameters only.
+TEST(Sweep, AxisGroupsWriteEmptyCellsForOtherGroupsAxes) {
+  const auto dir = fresh_dir("sweep_groups");
+  write(dir + "/m.yaml", R"(name: groups
+runner: surrogate
+output: g.csv
+axes:
+  ranks: [4]
+  seed: [9000]
+groups:
+  - policy: [reactive]
+    reactive.tau: [0, 100]
+  - policy: [all_tensor]
+    all_tensor.gamma: [4]
+set:
+  events: 20
+)");
+  const auto r = run(semlb_bin() + " sweep " + dir + "/m.yaml --no-timing --quiet --results " + dir + "/out");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const auto rows = semlb::split(slurp(dir + "/out/g.csv"), '\n');
+  ASSERT_EQ(rows.size(), 1u + 3u + 1u);  // header, 3 rows, after the last newline
+  EXPECT_EQ(rows[0].substr(0, rows[0].find(",ranks")), "reactive.tau,all_tensor.gamma,policy");
+  EXPECT_EQ(rows[1].rfind("0,,reactive,4,9000,20,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[2].rfind("100,,reactive,4,9000,20,", 0), 0u) << rows[2];
+  EXPECT_EQ(rows[3].rfind(",4,all_tensor,4,9000,20,", 0), 0u) << rows[3];
+  const auto migration = [](const std::string& row) { return semlb::split(row, ',')[9]; };
+  EXPECT_NE(migration(rows[1]), "0");  // tau 0 rebalances ...
+  EXPECT_EQ(migration(rows[2]), "0");  // ... tau 100 never does: the row ran with its own group's value
+}
