@@ -1,4 +1,5 @@
 // `semlb sim`: run a scene (snapshots, checkpoints, run.csv) on one backend.
+#include <cstdio>
 #include <iostream>
 
 #include "commands.hpp"
@@ -92,7 +93,11 @@ Action add_sim(CLI::App& app) {
       }
       return e.code;
     } catch (const std::exception& e) {
-      std::cerr << "semlb sim: rank " << mpi->rank() << ": " << e.what() << std::endl;
+      // One write(2) for the whole line: unbuffered stderr would send it in pieces, and mpirun's abort notice
+      // could land between them.
+      const std::string line = "semlb sim: rank " + std::to_string(mpi->rank()) + ": " + e.what() + "\n";
+      std::fwrite(line.data(), 1, line.size(), stderr);
+      std::fflush(stderr);
       if (mpi->size() == 1) return dynamic_cast<const InputError*>(&e) ? 2 : 1;
       mpi->abort(dynamic_cast<const InputError*>(&e) ? 2 : 1);
     }

@@ -81,6 +81,20 @@ TEST(Cli, ErrorsNameTheirSourceAndLeaveNoPartialFile) {
                    "mm_domain.yaml:5: field 'domain.hi': '0.15mm' is not a number", dir + "/s");
 }
 
+// Integer flags go through the one strict parser: hex, '+', negative counts and trailing text are refused.
+TEST(Cli, IntegerFlagsAreStrict) {
+  const auto dir = fresh_dir("cli_integers");
+  const std::string sim = "sim --scene " + source("scenes/mechanics.yaml") + " --set tissue.cells=20 --quiet --out " + dir + "/s";
+  expect_bad_input(sim + " --steps 0x10", "--steps: '0x10' is not an integer", dir + "/s");
+  expect_bad_input(sim + " --steps +7", "--steps: '+7' is not an integer", dir + "/s");
+  expect_bad_input(sim + " --steps -1", "--steps: '-1' is outside [0, ", dir + "/s");
+  expect_bad_input(sim + " --seed -5", "--seed: '-5' is outside [0, ", dir + "/s");
+  expect_bad_input(sim + " --device -1", "--device: '-1' is outside [0, 1024]", dir + "/s");
+  expect_bad_input("surrogate --policies static --events 0x5 --quiet --out " + dir + "/o", "--events: '0x5' is not an integer",
+                   dir + "/o");
+  expect_bad_input("surrogate --policies static --jobs 0 --quiet --out " + dir + "/o", "--jobs: '0' is outside [1, ", dir + "/o");
+}
+
 TEST(Cli, SameSeedsGiveTheSameCsv) {
   const auto dir = fresh_dir("cli_det");
   const std::string args = " surrogate --policies static,reactive,persistence,holt,oracle --ranks 2,8 --seeds 9000-9002 "
