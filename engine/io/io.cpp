@@ -89,8 +89,14 @@ void write_state(const std::string& path, const State& state, const std::map<std
         cell[s.cell_first[k] + e] = static_cast<int64_t>(s.cell_id[k]);
         type[s.cell_first[k] + e] = s.cell_type[k];
       }
+    std::vector<int64_t> slot(n), vertex(n);
+    for (long k = 0; k < s.cells(); ++k)
+      for (int e = 0; e < s.cell_count[k]; ++e) slot[s.cell_first[k] + e] = e;
+    for (hsize_t i = 0; i < n; ++i) vertex[i] = static_cast<int64_t>(i);
     f.write("/elements/cell", {n}, cell);
     f.write("/elements/type", {n}, type);
+    f.write("/elements/slot", {n}, slot);
+    f.write("/elements/vertex", {n}, vertex);
     f.write("/cells/id", {c}, std::vector<int64_t>(s.cell_id.begin(), s.cell_id.end()));
     f.write("/cells/type", {c}, std::vector<int64_t>(s.cell_type.begin(), s.cell_type.end()));
     f.write("/cells/count", {c}, std::vector<int64_t>(s.cell_count.begin(), s.cell_count.end()));
@@ -178,17 +184,21 @@ State read_state(const std::string& path) {
   for (size_t i = 0; i < s.position.size(); ++i)
     if (!std::isfinite(s.position[i]))
       throw InputError(path + ": dataset /elements/position: element " + std::to_string(i / 3) + " has a non-finite coordinate");
-  // Per-element copies of the cell id and type (written for viewers): when present they must agree.
-  for (const char* name : {"/elements/cell", "/elements/type"}) {
+  // Per-element copies written for viewers (the cell id, type and slot, the vertex connectivity): when present
+  // they must agree with /cells.
+  for (const std::string name : {"/elements/cell", "/elements/type", "/elements/slot", "/elements/vertex"}) {
     if (!f.has(name)) continue;
     const auto v = f.read_ints(name, dims);
     need_length(path, name, dims, n, "element");
-    const bool cell = std::string(name) == "/elements/cell";
     for (size_t c = 0, e = 0; c < ids.size(); ++c)
-      for (long k = 0; k < counts[c]; ++k, ++e)
-        if (v[e] != (cell ? ids[c] : types[c]))
+      for (long k = 0; k < counts[c]; ++k, ++e) {
+        const int64_t want = name == "/elements/cell" ? ids[c] : name == "/elements/type" ? types[c] : name == "/elements/slot" ? k
+                                                                                                  : static_cast<int64_t>(e);
+        if (v[e] != want)
           throw InputError(path + ": dataset " + name + ": element " + std::to_string(e) + " holds " + std::to_string(v[e]) +
-                           " but /cells/count places it in cell " + std::to_string(ids[c]) + (cell ? "" : " of type " + std::to_string(types[c])));
+                           ", expected " + std::to_string(want) + " (/cells/count places it at slot " + std::to_string(k) + " of cell " +
+                           std::to_string(ids[c]) + ", type " + std::to_string(types[c]) + ")");
+      }
   }
   s.cell_id.assign(ids.begin(), ids.end());
   s.cell_type.assign(types.begin(), types.end());
@@ -216,13 +226,22 @@ void write_xdmf(const std::string& path, const std::vector<Snapshot>& snapshots)
   std::ostringstream x;
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Grid Name=\"tissue\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const auto& s : snapshots) {
+    auto item = [&](const std::string& dims, const char* type, const char* dataset) {
+      x << "     <DataItem Dimensions=\"" << dims << "\" NumberType=\"" << type << "\" Precision=\"8\" Format=\"HDF\">" << s.file
+        << ":/elements/" << dataset << "</DataItem>\n";
+    };
+    const std::string n = std::to_string(s.elements);
     x << "   <Grid Name=\"step_" << s.step << "\" GridType=\"Uniform\">\n    <Time Value=\"" << format_real(s.time) << "\"/>\n"
-      << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << s.elements << "\" NodesPerElement=\"1\"/>\n"
-      << "    <Geometry GeometryType=\"XYZ\">\n     <DataItem Dimensions=\"" << s.elements << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
-      << s.file << ":/elements/position</DataItem>\n    </Geometry>\n";
-    for (const char* a : {"cell", "type"})
-      x << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">\n     <DataItem Dimensions=\"" << s.elements
-        << "\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">" << s.file << ":/elements/" << a << "</DataItem>\n    </Attribute>\n";
+      << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\">\n";
+    item(n, "Int", "vertex");  // one cell per element: without it ParaView's Xdmf3 reader makes no cells
+    x << "    </Topology>\n    <Geometry GeometryType=\"XYZ\">\n";
+    item(n + " 3", "Float", "position");
+    x << "    </Geometry>\n";
+    for (const char* a : {"cell", "type", "slot"}) {
+      x << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">\n";
+      item(n, "Int", a);
+      x << "    </Attribute>\n";
+    }
     x << "   </Grid>\n";
   }
   x << "  </Grid>\n </Domain>\n</Xdmf>\n";

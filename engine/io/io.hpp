@@ -25,7 +25,8 @@ struct DecompositionCheckpoint {
   BalancerState balancer;
 };
 
-// Writes PATH atomically (PATH.tmp, then rename): /elements/{position,cell,type}, /cells/{id,type,count},
+// Writes PATH atomically (PATH.tmp, then rename): /elements/{position,cell,type,slot,vertex} (slot: the element's
+// index in its cell; vertex: 0..n-1, the connectivity the XDMF index points at), /cells/{id,type,count},
 // /cells/fields/NAME, root attributes step, time and the given text attributes, and `decomposition` if given.
 void write_state(const std::string& path, const State& state, const std::map<std::string, std::string>& attributes,
                  const DecompositionCheckpoint* decomposition = nullptr);
@@ -40,7 +41,9 @@ struct Snapshot {
   long elements;
   std::string file;  // relative to the XDMF file
 };
-// A temporal collection of polyvertex grids (positions, cell id and type per element).
+// Writes PATH atomically: an XDMF 3 temporal collection with one grid per state file (written by write_state):
+// one Polyvertex cell per element (connectivity /elements/vertex), positions, and the cell id, type and slot
+// as point data. ParaView's default reader (Xdmf3) opens it. A single state gets a collection of one.
 void write_xdmf(const std::string& path, const std::vector<Snapshot>& snapshots);
 
 }  // namespace semlb::engine

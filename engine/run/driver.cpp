@@ -73,8 +73,9 @@ class StatusLine {
   double shown_ = -1e9;
 };
 
-// The files every run writes into DIR: scene.yaml, run.csv (earlier rows kept on restart), snapshots with
-// their XDMF index, checkpoint.h5, final.h5 and failure.h5.
+// The files every run writes into DIR: scene.yaml, run.csv (earlier rows kept on restart), snapshots (the
+// first state's included) with their XDMF index snapshots.xmf, and checkpoint.h5, final.h5 and failure.h5,
+// each with its own index (checkpoint.xmf, final.xmf, failure.xmf).
 class RunOutputs {
  public:
   RunOutputs(const Scene& scene, const RunConfig& config, long first, std::string header,
@@ -92,21 +93,35 @@ class RunOutputs {
     write_file_atomically(dir_ + "/run.csv", csv);
   }
   bool wants_state(long step) const { return due(scene_.snapshot_every, step) || due(scene_.checkpoint_every, step); }
+  // Whether the run's first state (step 0, or a restart's step) needs a snapshot: due and not already written.
+  bool wants_first_snapshot(long step) const {
+    return due(scene_.snapshot_every, step) &&
+           std::none_of(snapshots_.begin(), snapshots_.end(), [&](const Snapshot& s) { return s.step == step; });
+  }
+  // The snapshot of the run's first state, if wants_first_snapshot (no checkpoint: the run starts from it).
+  void save_first(const State& s) {
+    if (wants_first_snapshot(s.step)) snapshot(s);
+  }
   // The snapshot and checkpoint due at s.step; a decomposed run's checkpoint also holds its balancer.
   void save(const State& s, const DecompositionCheckpoint* decomposition = nullptr) {
-    if (due(scene_.snapshot_every, s.step)) {
-      fs::create_directories(dir_ + "/snapshots");
-      write_state(dir_ + "/" + snapshot_name(s.step), s, attrs_);
-      snapshots_.push_back({s.step, s.time, s.elements(), snapshot_name(s.step)});
-      write_xdmf(dir_ + "/snapshots.xmf", snapshots_);
-    }
-    if (due(scene_.checkpoint_every, s.step)) write_state(dir_ + "/checkpoint.h5", s, attrs_, decomposition);
+    if (due(scene_.snapshot_every, s.step)) snapshot(s);
+    if (due(scene_.checkpoint_every, s.step)) write("checkpoint.h5", s, decomposition);
   }
-  void write(const std::string& name, const State& s) const { write_state(dir_ + "/" + name, s, attrs_); }
+  // DIR/NAME.h5 and its XDMF index DIR/NAME.xmf (a temporal collection of one).
+  void write(const std::string& name, const State& s, const DecompositionCheckpoint* decomposition = nullptr) const {
+    write_state(dir_ + "/" + name, s, attrs_, decomposition);
+    write_xdmf(dir_ + "/" + fs::path(name).stem().string() + ".xmf", {{s.step, s.time, s.elements(), name}});
+  }
   const std::string& dir() const { return dir_; }
 
  private:
   static bool due(long every, long step) { return every > 0 && step % every == 0; }
+  void snapshot(const State& s) {
+    fs::create_directories(dir_ + "/snapshots");
+    write_state(dir_ + "/" + snapshot_name(s.step), s, attrs_);
+    snapshots_.push_back({s.step, s.time, s.elements(), snapshot_name(s.step)});
+    write_xdmf(dir_ + "/snapshots.xmf", snapshots_);
+  }
   const Scene& scene_;
   std::string dir_, header_;
   std::map<std::string, std::string> attrs_;
@@ -146,6 +161,7 @@ RunSummary run_scene(Scene& scene, const RunConfig& config) {
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<double> phase_before = sim.phase_seconds();
   double wall_before = 0;
+  out.save_first(sim.sync());
   try {
     while (sim.host_state().step < last) {
       const long stop = next_stop(scene, sim.host_state().step, last);
@@ -201,6 +217,12 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
   StatusLine status(config.quiet || !root, first, last);
   const auto t0 = std::chrono::steady_clock::now();
   double wall_before = 0;
+  if (mpi.allreduce_max(root && out->wants_first_snapshot(first) ? 1 : 0) > 0) {
+    const State all = sim->gather();
+    agree(mpi, [&] {
+      if (root) out->save_first(all);
+    });
+  }
   try {
     while (sim->step() < last) {
       const long stop = next_stop(scene, sim->step(), last);

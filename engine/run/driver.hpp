@@ -33,9 +33,10 @@ inline constexpr const char *kStep = "step", *kRank = "rank", *kComputeS = "comp
 inline constexpr std::array<const char*, 7> kColumns = {kStep, kRank, kComputeS, kExchangeS, kMigrateS, kImbalance, kMovedSlices};
 }  // namespace rank_times
 
-// Output: DIR/final.h5, DIR/snapshots/step_NNNNNNNNN.h5 + DIR/snapshots.xmf, DIR/run.csv, DIR/scene.yaml,
-// DIR/checkpoint.h5; on a numerical failure DIR/failure.h5 (the state frozen since the failing step, labelled
-// with it) and a SimulationError. Bad input throws
+// Output: DIR/final.h5, DIR/snapshots/step_NNNNNNNNN.h5 (the first step's included) + DIR/snapshots.xmf,
+// DIR/run.csv, DIR/scene.yaml, DIR/checkpoint.h5; on a numerical failure DIR/failure.h5 (the state frozen since
+// the failing step, labelled with it) and a SimulationError. Each of final, checkpoint and failure.h5 has an
+// XDMF index beside it (NAME.xmf). Bad input throws
 // InputError before anything is written.
 RunSummary run_scene(Scene& scene, const RunConfig& config);
 // The same across the ranks of `mpi` (docs/engine.md "Decomposition"): rank 0 writes final.h5, run.csv,
