@@ -196,8 +196,8 @@ State read_state(const std::string& path) {
                                                                                                   : static_cast<int64_t>(e);
         if (v[e] != want)
           throw InputError(path + ": dataset " + name + ": element " + std::to_string(e) + " holds " + std::to_string(v[e]) +
-                           ", expected " + std::to_string(want) + " (/cells/count places it at slot " + std::to_string(k) + " of cell " +
-                           std::to_string(ids[c]) + ", type " + std::to_string(types[c]) + ")");
+                           " but /cells/count places it in cell " + std::to_string(ids[c]) + " (type " + std::to_string(types[c]) +
+                           ", slot " + std::to_string(k) + "): expected " + std::to_string(want));
       }
   }
   s.cell_id.assign(ids.begin(), ids.end());

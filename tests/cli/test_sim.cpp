@@ -15,7 +15,8 @@ TEST(CliSim, WritesFinalStateSnapshotsXdmfRunCsvAndSceneCopy) {
   const auto r = run(semlb_bin() + " sim --scene " + source("scenes/epidermis.yaml") + " --out " + dir +
                      "/out --steps 100 --set tissue.cells=20 --set output.snapshot_every=50 --quiet");
   ASSERT_EQ(r.rc, 0) << r.out;
-  for (const char* f : {"final.h5", "run.csv", "scene.yaml", "snapshots.xmf", "snapshots/step_000000050.h5", "snapshots/step_000000100.h5"})
+  for (const char* f : {"final.h5", "final.xmf", "run.csv", "scene.yaml", "snapshots.xmf", "snapshots/step_000000000.h5",
+                        "snapshots/step_000000050.h5", "snapshots/step_000000100.h5"})
     EXPECT_TRUE(fs::exists(dir + "/out/" + f)) << f;
   EXPECT_EQ(slurp(dir + "/out/run.csv").substr(0, 40), "step,time_h,cells,elements,wall_s,mechan");
   EXPECT_NE(slurp(dir + "/out/scene.yaml").find("cells: 20"), std::string::npos);

@@ -215,6 +215,24 @@ TEST(Io, StateFileInvariants) {
          f.write("/elements/type", {12}, std::vector<int64_t>(12, 0));
        },
        "dataset /elements/type: element 4 holds 0"},
+      {"element_slot",
+       [&](h5::File& f) {
+         base(f, {3, 10, 17});
+         f.write("/elements/slot", {12}, std::vector<int64_t>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11});
+       },
+       "dataset /elements/slot: element 4 holds 4 but /cells/count places it in cell 10 (type 1, slot 0): expected 0"},
+      {"element_vertex",
+       [&](h5::File& f) {
+         base(f, {3, 10, 17});
+         f.write("/elements/vertex", {12}, std::vector<int64_t>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 10});
+       },
+       "dataset /elements/vertex: element 10 holds 11 but /cells/count places it in cell 17 (type 2, slot 2): expected 10"},
+      {"vertex_length",
+       [&](h5::File& f) {
+         base(f, {3, 10, 17});
+         f.write("/elements/vertex", {11}, std::vector<int64_t>(11, 0));
+       },
+       "dataset /elements/vertex must hold one value per element (12)"},
       {"position_nan",
        [&](h5::File& f) {
          auto p = good.position;
@@ -317,7 +335,9 @@ TEST(Io, OutputTimesRoundTrip) {
     xmf_times.push_back(parse_real(xmf.substr(at, xmf.find('"', at) - at), ""));
   }
   ASSERT_EQ(csv_times.size(), 3u);
-  EXPECT_EQ(xmf_times, csv_times);
+  ASSERT_EQ(xmf_times.size(), 4u);  // the first state's snapshot (step 1234500), then one per logged step
+  EXPECT_EQ(xmf_times[0], read_state(dir + "/out/snapshots/step_001234500.h5").time);
+  EXPECT_EQ(std::vector<double>(xmf_times.begin() + 1, xmf_times.end()), csv_times);
   for (size_t i = 0; i < csv_times.size(); ++i) {
     const State snap = read_state(dir + "/out/snapshots/step_00123450" + std::to_string(i + 1) + ".h5");
     EXPECT_EQ(csv_times[i], snap.time);  // bit for bit
@@ -358,9 +378,18 @@ TEST(Io, RestartFromACheckpointContinuesBitForBit) {
     EXPECT_EQ(std::vector<std::string>(got.begin(), got.begin() + std::min<size_t>(4, got.size())),
               std::vector<std::string>(want.begin(), want.begin() + std::min<size_t>(4, want.size()))) << i;
   }
+  // Snapshots of steps 0 (the first run's first state), 100 (once: the restart's first state is already
+  // there) and 200, as in the straight run.
   const std::string xmf = read_file(b + "/snapshots.xmf");
-  EXPECT_NE(xmf.find("snapshots/step_000000100.h5:/elements/position"), std::string::npos);
-  EXPECT_NE(xmf.find("snapshots/step_000000200.h5:/elements/position"), std::string::npos);
+  auto count = [&](const std::string& text) {
+    size_t k = 0;
+    for (size_t at = 0; (at = xmf.find(text, at)) != std::string::npos; ++at) ++k;
+    return k;
+  };
+  for (const char* step : {"000000000", "000000100", "000000200"})
+    EXPECT_EQ(count(std::string("snapshots/step_") + step + ".h5:/elements/position"), 1u) << step << "\n" << xmf;
+  EXPECT_EQ(count("<Grid Name=\"step_"), 3u) << xmf;
+  EXPECT_EQ(xmf, read_file(a + "/snapshots.xmf"));
 }
 
 }  // namespace
