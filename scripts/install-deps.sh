@@ -10,6 +10,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtorch-dev
   python3 python3-matplotlib python3-h5py
+  python3-paraview
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
