@@ -20,7 +20,7 @@ slurm_start() {
   SLURM_PIDS+=("$(cat "$dir/munge/munged.pid")")
   cat >"$dir/slurm.conf" <<EOF
 ClusterName=semlbtest
-SlurmctldHost=$host
+SlurmctldHost=$host(127.0.0.1)
 SlurmUser=root
 SlurmdUser=root
 AuthType=auth/munge
@@ -47,7 +47,7 @@ JobCompType=jobcomp/none
 MaxArraySize=10000
 MinJobAge=600
 SchedulerParameters=sched_interval=1
-NodeName=$host CPUs=$cpus RealMemory=$mem State=UNKNOWN
+NodeName=$host NodeAddr=127.0.0.1 CPUs=$cpus RealMemory=$mem State=UNKNOWN
 PartitionName=debug Nodes=$host Default=YES MaxTime=INFINITE State=UP OverSubscribe=FORCE:4
 EOF
   export SLURM_CONF=$dir/slurm.conf
