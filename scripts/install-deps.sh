@@ -10,6 +10,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtorch-dev
   python3 python3-matplotlib python3-h5py
+  slurm-wlm munge   # tests/experiments/test_slurm.sh starts a single-node Slurm of its own
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
