@@ -45,8 +45,8 @@ Action add_sweep(CLI::App& app) {
       sub->add_flag("--no-wait", o->no_wait, "Return after submitting; rerun the same command to collect")->group(slurm),
       sub->add_option("--array-throttle", o->slurm.array_throttle, "At most N array tasks at once")
           ->check(strict_integer(1, 1000000))->group(slurm),
-      sub->add_option("--task", o->slurm.task, "Run one job (an array task) into its part file")
-          ->check(strict_integer(0))->group("")};
+      sub->add_option("--task", o->slurm.task, "Run these jobs (an array task: INDEX,INDEX,...) into part files")
+          ->group("")};
   return [o, sub, slurm_only] {
     if (!*sub) return -1;  // not the chosen subcommand
     if (o->launcher != "slurm")

@@ -1,5 +1,5 @@
-// The "slurm" sweep launcher: the unfinished jobs as one Slurm job array (array index = job index), each task
-// writing its rows to its own part file; the sweep waits (squeue + part files), collects, assembles OUTPUT.
+// The "slurm" sweep launcher: the unfinished jobs as one Slurm job array (each task runs one or more jobs and
+// writes each job's rows to its own part file); the sweep waits (squeue + part files), collects, assembles OUTPUT.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -21,14 +21,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Beside OUTPUT: OUTPUT.slurm/{sweep.sbatch, jobs, parts/INDEX.csv, logs/JOBID_INDEX.out, runs/}.
+// Beside OUTPUT: OUTPUT.slurm/{sweep.sbatch, jobs, parts/JOB.csv, logs/JOBID_TASK.out, runs/}.
 struct Dirs {
   fs::path root, parts, logs, runs, jobs, script;
   explicit Dirs(const std::string& csv)
       : root(fs::absolute(csv + ".slurm")), parts(root / "parts"), logs(root / "logs"), runs(root / "runs"),
         jobs(root / "jobs"), script(root / "sweep.sbatch") {}
   fs::path part(size_t i) const { return parts / (std::to_string(i) + ".csv"); }
-  fs::path log(const std::string& job, size_t i) const { return logs / (job + "_" + std::to_string(i) + ".out"); }
+  fs::path log(const std::string& job, size_t task) const { return logs / (job + "_" + std::to_string(task) + ".out"); }
 };
 
 std::string quote(const std::string& s) {  // for /bin/sh
@@ -49,19 +49,8 @@ std::string command(const std::string& cmd) {
   return out;
 }
 
-// "0-3,7,9-10" for {0,1,2,3,7,9,10}.
-std::string ranges(const std::vector<size_t>& v) {
-  std::string s;
-  for (size_t a = 0; a < v.size();) {
-    size_t b = a;
-    while (b + 1 < v.size() && v[b + 1] == v[b] + 1) ++b;
-    s += (s.empty() ? "" : ",") + std::to_string(v[a]) + (b > a ? "-" + std::to_string(v[b]) : "");
-    a = b + 1;
-  }
-  return s;
-}
-
-// The array task's command: this binary, the same manifest, profile, overrides and output options, plus --task.
+// The array task's command: this binary, the same manifest, profile, overrides and output options, plus --task
+// with the task's job indices (from the script's `jobs` array).
 std::string task_command(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o) {
   std::string c = quote(fs::read_symlink("/proc/self/exe").string()) + " sweep " + quote(fs::absolute(m.path).string()) +
                   (m.profile.empty() ? "" : " --profile " + quote(m.profile)) + " --results " + quote(fs::absolute(o.results_dir).string()) +
@@ -70,49 +59,93 @@ std::string task_command(const Manifest& m, const std::vector<std::string>& over
   if (!o.run.timing) c += " --no-timing";
   if (!o.run.trace_dir.empty()) c += " --keep-runs";
   if (o.slurm.gpus_per_rank > 0) c += " --gpus-per-rank " + std::to_string(o.slurm.gpus_per_rank);
-  return c + " --task \"$SLURM_ARRAY_TASK_ID\"";
+  return c + " --task \"${jobs[$SLURM_ARRAY_TASK_ID]}\"";
 }
 
-std::string batch_script(const SweepPlan& plan, const std::vector<size_t>& todo, const Dirs& d,
+using Tasks = std::vector<std::vector<size_t>>;  // array index -> the job indices that task runs, in order
+
+// The cluster's MaxArraySize (array indices must be below it); Slurm's default, 1001, when scontrol cannot tell.
+size_t max_array_size() {
+  try {
+    std::stringstream ss(command("scontrol show config"));
+    for (std::string line; std::getline(ss, line);)
+      if (line.rfind("MaxArraySize", 0) == 0) return std::max(1L, parse_integer(line.substr(line.find('=') + 1).substr(1), "MaxArraySize: "));
+  } catch (const std::exception&) {
+  }
+  return 1001;
+}
+
+// `todo` in consecutive runs of equal size (the last shorter), as few jobs per task as MaxArraySize allows.
+Tasks split_tasks(const std::vector<size_t>& todo) {
+  const size_t n = max_array_size(), per = (todo.size() + n - 1) / n;
+  Tasks t;
+  for (size_t k = 0; k < todo.size(); k += per) t.emplace_back(todo.begin() + k, todo.begin() + std::min(todo.size(), k + per));
+  return t;
+}
+
+std::string job_list(const std::vector<size_t>& jobs) {
+  std::string s;
+  for (size_t k = 0; k < jobs.size(); ++k) s += (k ? "," : "") + std::to_string(jobs[k]);
+  return s;
+}
+
+// A value for an `#SBATCH` line: one line, no comment character sbatch would cut it at.
+std::string sbatch_value(const std::string& flag, const std::string& v) {
+  if (v.find_first_of("\n\r#") != std::string::npos) throw InputError(flag + ": '" + v + "' may not hold a newline or '#'");
+  return v;
+}
+
+std::string batch_script(const SweepPlan& plan, const Tasks& tasks, const Dirs& d,
                          const std::vector<std::string>& overrides, const SweepOptions& o) {
   int ranks = 1;  // every task of an array asks for the same: the most ranks among the jobs
-  for (size_t i : todo) ranks = std::max(ranks, plan.runner().mpi_ranks(plan.jobs()[i]));
+  size_t count = 0;
+  for (const auto& t : tasks)
+    for (size_t i : t) ranks = std::max(ranks, plan.runner().mpi_ranks(plan.jobs()[i])), ++count;
+  std::string name = plan.manifest().name;
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
   const auto& s = o.slurm;
   std::ostringstream b;
-  b << "#!/bin/bash\n# semlb sweep " << plan.manifest().name << ": " << todo.size() << " of " << plan.jobs().size()
-    << " jobs; array index = job index\n"
-    << "#SBATCH --job-name=semlb-" << plan.manifest().name << "\n"
-    << "#SBATCH --array=" << ranges(todo) << (s.array_throttle > 0 ? "%" + std::to_string(s.array_throttle) : "") << "\n"
+  b << "#!/bin/bash\n# semlb sweep " << name << ": " << count << " of " << plan.jobs().size() << " jobs in "
+    << tasks.size() << " array tasks; task K runs the jobs ${jobs[K]}\n"
+    << "#SBATCH --job-name=semlb-" << name << "\n"
+    << "#SBATCH --array=0-" << tasks.size() - 1 << (s.array_throttle > 0 ? "%" + std::to_string(s.array_throttle) : "") << "\n"
     << "#SBATCH --ntasks=" << ranks << "\n#SBATCH --cpus-per-task=1\n"
-    << "#SBATCH --output=" << (d.logs / "%A_%a.out").string() << "\n";
-  if (!s.partition.empty()) b << "#SBATCH --partition=" << s.partition << "\n";
-  if (!s.time.empty()) b << "#SBATCH --time=" << s.time << "\n";
-  if (!s.account.empty()) b << "#SBATCH --account=" << s.account << "\n";
+    << "#SBATCH --output=" << sbatch_value("--results", (d.logs / "%A_%a.out").string()) << "\n";
+  if (!s.partition.empty()) b << "#SBATCH --partition=" << sbatch_value("--partition", s.partition) << "\n";
+  if (!s.time.empty()) b << "#SBATCH --time=" << sbatch_value("--time", s.time) << "\n";
+  if (!s.account.empty()) b << "#SBATCH --account=" << sbatch_value("--account", s.account) << "\n";
   if (s.gpus_per_rank > 0) b << "#SBATCH --gpus-per-task=" << s.gpus_per_rank << "\n";
-  for (const auto& a : s.sbatch_args) b << "#SBATCH " << a << "\n";
-  b << "set -euo pipefail\nexec " << task_command(plan.manifest(), overrides, o) << "\n";
+  for (const auto& a : s.sbatch_args) b << "#SBATCH " << sbatch_value("--sbatch-arg", a) << "\n";
+  b << "set -euo pipefail\njobs=(";
+  for (size_t k = 0; k < tasks.size(); ++k) b << (k % 16 ? " " : "\n  ") << job_list(tasks[k]);
+  b << "\n)\nexec " << task_command(plan.manifest(), overrides, o) << "\n";
   return b.str();
 }
 
-// Slurm job id -> the job indices it was submitted for, in submission order (OUTPUT.slurm/jobs).
-std::vector<std::pair<std::string, std::vector<size_t>>> read_submissions(const Dirs& d) {
-  std::vector<std::pair<std::string, std::vector<size_t>>> subs;
+// Each submission (OUTPUT.slurm/jobs, a line `JOBID TASK;TASK;...`, TASK = `INDEX,INDEX,...`): its Slurm job id
+// and tasks, in submission order.
+std::vector<std::pair<std::string, Tasks>> read_submissions(const Dirs& d) {
+  std::vector<std::pair<std::string, Tasks>> subs;
   if (!fs::exists(d.jobs)) return subs;
   long n = 0;
   for (const auto& line : split(read_file(d.jobs.string()), '\n')) {
     ++n;
     if (line.empty()) continue;
     const auto f = split(line, ' ');
-    if (f.size() != 2) throw InputError(where(d.jobs.string(), n, "") + "expected 'JOBID INDEX,INDEX,...'");
-    std::vector<size_t> idx;
-    for (const auto& x : split(f[1], ','))
-      idx.push_back(static_cast<size_t>(parse_integer(x, where(d.jobs.string(), n, "") + "index: ")));
-    subs.emplace_back(f[0], idx);
+    if (f.size() != 2) throw InputError(where(d.jobs.string(), n, "") + "expected 'JOBID INDEX,INDEX;INDEX,...'");
+    Tasks tasks;
+    for (const auto& t : split(f[1], ';')) {
+      tasks.emplace_back();
+      for (const auto& x : split(t, ','))
+        tasks.back().push_back(static_cast<size_t>(parse_integer(x, where(d.jobs.string(), n, "") + "index: ")));
+    }
+    subs.emplace_back(f[0], tasks);
   }
   return subs;
 }
 
-// Array tasks of `jobs` still in the queue: "JOBID_INDEX" -> squeue state (PD, R, CG, ...).
+// Array tasks of `jobs` still in the queue: "JOBID_TASK" -> squeue state (PD, R, CG, ...).
 std::map<std::string, std::string> queued(const std::set<std::string>& jobs) {
   std::map<std::string, std::string> q;
   if (jobs.empty()) return q;
@@ -137,44 +170,57 @@ void collect(SweepPlan& plan, const Dirs& d) {
   }
 }
 
+// Where a job was last submitted: the Slurm job id and the array index of its task.
+struct Submitted {
+  std::string id;
+  size_t task = 0;
+  std::string name() const { return id + "_" + std::to_string(task); }
+};
+
 struct Status {
   size_t done = 0, running = 0, pending = 0;
-  std::vector<size_t> failed;                 // submitted, not queued, no rows
-  std::map<size_t, std::string> last_job;     // job index -> the Slurm job id of its latest submission
-  std::set<size_t> active;
+  std::vector<size_t> failed;            // submitted, not queued, no rows
+  std::map<size_t, Submitted> last;      // job index -> its latest submission
+  std::set<size_t> active;               // queued or running
 };
 
 Status status(SweepPlan& plan, const Dirs& d) {
   Status st;
   std::set<std::string> ids;
-  for (const auto& [id, idx] : read_submissions(d)) {
+  for (const auto& [id, tasks] : read_submissions(d)) {
     ids.insert(id);
-    for (size_t i : idx) st.last_job[i] = id;
+    for (size_t t = 0; t < tasks.size(); ++t)
+      for (size_t i : tasks[t]) st.last[i] = {id, t};
   }
-  const auto q = queued(ids);  // before collecting: a task that left the queue has written its part file
+  const auto q = queued(ids);  // before collecting: a task that left the queue has written its part files
   collect(plan, d);
   for (size_t i = 0; i < plan.jobs().size(); ++i) {
     if (plan.done(i)) { ++st.done; continue; }
-    const auto it = st.last_job.find(i);
-    const auto state = it == st.last_job.end() ? q.end() : q.find(it->second + "_" + std::to_string(i));
-    if (state != q.end()) {
-      st.active.insert(i);
-      ++(state->second == "PD" ? st.pending : st.running);
-    } else if (it != st.last_job.end()) {
+    const auto it = st.last.find(i);
+    if (it == st.last.end()) continue;  // never submitted
+    const auto state = q.find(it->second.name());
+    if (state == q.end()) {
       st.failed.push_back(i);
+      continue;
     }
+    st.active.insert(i);
+    ++(state->second == "PD" ? st.pending : st.running);
   }
   return st;
 }
 
-std::string last_line(const fs::path& log) {
+// The log's line about job i ("job I failed: ..."), else its last line (e.g. Slurm's note of a time limit).
+std::string log_line(const fs::path& log, size_t i) {
   if (!fs::exists(log)) return "(no log)";
   auto lines = split(read_file(log.string()), '\n');
+  for (const auto& l : lines)
+    if (l.find("job " + std::to_string(i) + " failed: ") != std::string::npos) return l;
   while (!lines.empty() && lines.back().empty()) lines.pop_back();
   return lines.empty() ? "(empty log)" : lines.back();
 }
 
-// One array task: job `index` with its ranks started by srun, rows written atomically to parts/INDEX.csv.
+// One array task: its jobs in order, each job's ranks started by srun and its rows written atomically to
+// parts/INDEX.csv. A failing job is reported ("job I failed: ...") and the others still run; then it throws.
 SweepSummary run_task(const Manifest& m, const SweepOptions& o) {
   SweepOptions to = o;
   to.run.mpi_launcher = "srun --mpi=pmix --kill-on-bad-exit=1 --cpus-per-task=1" +
@@ -183,25 +229,36 @@ SweepSummary run_task(const Manifest& m, const SweepOptions& o) {
   const Dirs d((fs::path(o.results_dir) / m.output).string());
   to.run.scratch_dir = d.runs.string();  // shared with rank 0, which may run on another node
   const SweepPlan plan(m, to, SweepPlan::Partial::ignore);
-  if (o.slurm.task >= static_cast<long>(plan.jobs().size()))
-    throw InputError("--task: " + std::to_string(o.slurm.task) + " is not a job index (the manifest has " +
-                     std::to_string(plan.jobs().size()) + " jobs)");
-  const auto i = static_cast<size_t>(o.slurm.task);
-  const char* fail = std::getenv("SEMLB_SWEEP_FAIL_JOB");  // test hook: this job index fails
-  if (fail && std::atol(fail) == o.slurm.task)
-    throw std::runtime_error("job " + std::to_string(i) + ": failure injected by SEMLB_SWEEP_FAIL_JOB");
+  std::vector<size_t> jobs;
+  for (const auto& x : split(o.slurm.task, ',')) {
+    const long i = parse_integer(x, "--task: ");
+    if (i < 0 || static_cast<size_t>(i) >= plan.jobs().size())
+      throw InputError("--task: " + x + " is not a job index (the manifest has " + std::to_string(plan.jobs().size()) + " jobs)");
+    jobs.push_back(static_cast<size_t>(i));
+  }
   fs::create_directories(d.runs);
-  write_file_atomically(d.part(i).string(), plan.header() + plan.rows(i));
+  const char* fail = std::getenv("SEMLB_SWEEP_FAIL_JOB");  // test hook: this job index fails
+  size_t failed = 0;
+  for (size_t i : jobs) {
+    try {
+      if (fail && std::to_string(i) == fail) throw std::runtime_error("failure injected by SEMLB_SWEEP_FAIL_JOB");
+      write_file_atomically(d.part(i).string(), plan.header() + plan.rows(i));
+    } catch (const std::exception& e) {
+      std::cerr << "job " << i << " failed: " << e.what() << std::endl;
+      ++failed;
+    }
+  }
+  if (failed) throw std::runtime_error(std::to_string(failed) + " of this task's " + std::to_string(jobs.size()) + " jobs failed");
   SweepSummary sum;
-  sum.csv_path = d.part(i).string();
-  sum.rows = sum.ran = 1;
+  sum.csv_path = d.parts.string();
+  sum.rows = sum.ran = jobs.size();
   sum.finished = false;
   return sum;
 }
 
 SweepSummary run_slurm(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o) {
   if (m.path.empty()) throw InputError("--launcher slurm: the manifest must be a file (array tasks read it)");
-  if (o.slurm.task >= 0) return run_task(m, o);
+  if (!o.slurm.task.empty()) return run_task(m, o);
   SweepPlan plan(m, o, o.slurm.dry_run ? SweepPlan::Partial::read_only : SweepPlan::Partial::resume);
   const Dirs d(plan.csv_path());
   SweepSummary sum;
@@ -216,24 +273,25 @@ SweepSummary run_slurm(const Manifest& m, const std::vector<std::string>& overri
   sum.resumed = o.slurm.dry_run ? sum.rows - todo.size() : st.done;
   if (o.slurm.dry_run) {
     if (todo.empty()) std::cerr << "every job is done; nothing to submit\n";
-    else std::cout << batch_script(plan, todo, d, overrides, o);
+    else std::cout << batch_script(plan, split_tasks(todo), d, overrides, o);
     sum.finished = false;
     return sum;
   }
   std::string submitted;
   if (!todo.empty()) {
     for (const auto& p : {d.parts, d.logs, d.runs}) fs::create_directories(p);
-    write_file_atomically(d.script.string(), batch_script(plan, todo, d, overrides, o));
+    const Tasks tasks = split_tasks(todo);
+    write_file_atomically(d.script.string(), batch_script(plan, tasks, d, overrides, o));
     std::string id = command("sbatch --parsable " + quote(d.script.string()));
     id = id.substr(0, id.find_first_of(";\n"));  // "JOBID[;CLUSTER]"
     parse_integer(id, "sbatch --parsable: job id: ");
     std::string line = id + " ";
-    for (size_t k = 0; k < todo.size(); ++k) line += (k ? "," : "") + std::to_string(todo[k]);
-    std::string old = fs::exists(d.jobs) ? read_file(d.jobs.string()) : "";
+    for (size_t k = 0; k < tasks.size(); ++k) line += (k ? ";" : "") + job_list(tasks[k]);
+    const std::string old = fs::exists(d.jobs) ? read_file(d.jobs.string()) : "";
     write_file_atomically(d.jobs.string(), old + line + "\n");
     submitted = id;
-    std::cerr << "submitted Slurm job " << id << ": " << todo.size() << " of " << sum.rows << " jobs (array "
-              << ranges(todo) << "), logs in " << d.logs.string() << "\n";
+    std::cerr << "submitted Slurm job " << id << ": " << todo.size() << " of " << sum.rows << " jobs as array 0-"
+              << tasks.size() - 1 << " (" << tasks[0].size() << " per task), logs in " << d.logs.string() << "\n";
   }
   sum.ran = todo.size();
   const bool tty = isatty(fileno(stderr));
@@ -257,9 +315,10 @@ SweepSummary run_slurm(const Manifest& m, const std::vector<std::string>& overri
     std::string msg = std::to_string(st.failed.size()) + " of " + std::to_string(sum.rows) +
                       " jobs failed (rerun the same command to resubmit them):";
     for (size_t i : st.failed) {
-      const std::string& id = st.last_job.at(i);
-      msg += "\n  job " + std::to_string(i) + ": array index " + std::to_string(i) + " of Slurm job " + id + " (" + id +
-             "_" + std::to_string(i) + "), log " + d.log(id, i).string() + ": " + last_line(d.log(id, i));
+      const auto& at = st.last.at(i);
+      const auto log = d.log(at.id, at.task);
+      msg += "\n  job " + std::to_string(i) + ": array index " + std::to_string(at.task) + " of Slurm job " + at.id + " (" +
+             at.name() + "), log " + log.string() + ": " + log_line(log, i);
     }
     throw std::runtime_error(msg);
   }

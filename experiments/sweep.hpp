@@ -20,7 +20,7 @@ struct SlurmOptions {
   bool dry_run = false;                  // print the batch script, submit nothing
   bool wait = true;                      // false: return after submitting (a rerun collects)
   int array_throttle = 0;                // > 0: at most N array tasks at once (`--array=LIST%N`)
-  long task = -1;                        // >= 0: run only this job (an array task) into its part file
+  std::string task;                      // non-empty: an array task, these job indices ("3,4") into part files
   std::string command;                   // `semlb sweep ...` as given, less launcher-only flags: the task's command
 };
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # A throwaway single-node Slurm (munged, slurmctld, slurmd from Debian's slurm-wlm and munge) under a directory;
 # sourced by test_slurm.sh: `slurm_start DIR` exports SLURM_CONF, `slurm_stop` ends the daemons by PID.
+# MaxArraySize is 10, so that a sweep of more than 10 jobs runs several jobs per array task.
 
 SLURM_PIDS=()
 
@@ -44,7 +45,7 @@ ReturnToService=2
 AccountingStorageType=accounting_storage/none
 JobAcctGatherType=jobacct_gather/none
 JobCompType=jobcomp/none
-MaxArraySize=10000
+MaxArraySize=10
 MinJobAge=600
 SchedulerParameters=sched_interval=1
 NodeName=$host NodeAddr=127.0.0.1 CPUs=$cpus RealMemory=$mem State=UNKNOWN

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # `semlb sweep --launcher slurm` against a real single-node Slurm started here (tests/experiments/slurm_cluster.sh):
-# a surrogate and a 2-rank engine manifest give the local run's CSV byte for byte; a task cancelled with scancel
-# is resubmitted (alone) by a rerun; a failing task is reported with its array index, job id and log, and a rerun
-# completes it. Every Slurm command runs under `timeout`, so a broken Slurm fails the test instead of hanging.
+# a surrogate (12 jobs, 2 per array task: MaxArraySize is 10) and a 2-rank engine manifest give the local run's
+# CSV byte for byte; a task cancelled with scancel is resubmitted (alone) by a rerun; a failing job is reported
+# with its array index, job id and log, its task's other job is kept, and a rerun completes it. Every Slurm command runs under `timeout`, so a broken Slurm fails the test instead of hanging.
 # Usage: test_slurm.sh SOURCE_DIR WORK_DIR SEMLB
 set -euo pipefail
 src=$1; work=$2; semlb=$3
@@ -54,34 +54,36 @@ sweep "$work/engine.yaml" --launcher slurm --quiet --results "$work/slurm" 2>"$w
 same "$work/slurm" "$work/local" e/e
 [[ $(grep -c "^static,.*,1,0," "$work/slurm/e/e.csv") -gt 0 ]] || fail "no rank-1 rows in the engine CSV"
 
-# 2. A task cancelled with scancel: the --no-wait submission returns at once; the rerun resubmits only that task.
+# 2. A task cancelled with scancel: the --no-wait submission returns at once; the rerun resubmits only its jobs.
 out=$(sweep "$work/surrogate.yaml" --launcher slurm --quiet --no-wait --array-throttle 1 --results "$work/cancel" 2>&1)
-job=$(sed -n 's/^submitted Slurm job \([0-9]*\): 12 of 12 jobs (array 0-11).*/\1/p' <<<"$out")
+job=$(sed -n 's/^submitted Slurm job \([0-9]*\): 12 of 12 jobs as array 0-5 (2 per task).*/\1/p' <<<"$out")
 [[ -n $job ]] || fail "no submission line: $out"
 [[ ! -e $work/cancel/s/s.csv ]] || fail "--no-wait wrote OUTPUT"
-timeout 30 scancel "${job}_11"
-for _ in $(seq 1 50); do timeout 30 squeue -h -r -j "$job" -o %K | grep -qx 11 || break; sleep 0.2; done
-! timeout 30 squeue -h -r -j "$job" -o %K | grep -qx 11 || fail "scancel left task 11 queued"
+timeout 30 scancel "${job}_5"  # jobs 10 and 11, still pending behind the throttle
+for _ in $(seq 1 50); do timeout 30 squeue -h -r -j "$job" -o %K | grep -qx 5 || break; sleep 0.2; done
+! timeout 30 squeue -h -r -j "$job" -o %K | grep -qx 5 || fail "scancel left task 5 queued"
 out=$(sweep "$work/surrogate.yaml" --launcher slurm --results "$work/cancel" 2>&1) || fail "rerun after scancel: $out"
-grep -q "^submitted Slurm job [0-9]*: 1 of 12 jobs (array 11)" <<<"$out" || fail "the rerun did not resubmit exactly task 11: $out"
+grep -q "^submitted Slurm job [0-9]*: 2 of 12 jobs as array 0-1 (1 per task)" <<<"$out" || fail "the rerun did not resubmit exactly jobs 10 and 11: $out"
+[[ $(grep -c "^submitted" <<<"$out") -eq 1 ]] || fail "more than one submission: $out"
 same "$work/cancel" "$work/local" s/s
 
-# 3. A failing task: reported with its array index, Slurm job id and log (which holds the error); the rerun
-# resubmits it alone and the CSV is complete, without duplicates.
+# 3. A failing job (3, in task 1 with job 2): reported with its array index, Slurm job id and log (which holds the
+# error); job 2 is kept; the rerun resubmits job 3 alone and the CSV is complete, without duplicates.
 out=$(SEMLB_SWEEP_FAIL_JOB=3 sweep "$work/surrogate.yaml" --launcher slurm --quiet --results "$work/fail" 2>&1) && fail "a failing task passed: $out"
-line=$(grep "^  job 3: array index 3 of Slurm job [0-9]* ([0-9]*_3), log " <<<"$out") || fail "failure not reported: $out"
+line=$(grep "^  job 3: array index 1 of Slurm job [0-9]* ([0-9]*_1), log " <<<"$out") || fail "failure not reported: $out"
 log=$(sed -n 's/.*, log \(.*\.out\): .*/\1/p' <<<"$line")
-[[ -f $log ]] && grep -q "failure injected by SEMLB_SWEEP_FAIL_JOB" "$log" || fail "log $log lacks the error: $line"
+[[ -f $log ]] && grep -q "^job 3 failed: failure injected by SEMLB_SWEEP_FAIL_JOB" "$log" || fail "log $log lacks the error: $line"
+grep -q "job 3 failed: failure injected" <<<"$line" || fail "the report does not quote the log: $line"
 grep -q "1 of 12 jobs failed" <<<"$out" || fail "failure count: $out"
 [[ $(($(wc -l <"$work/fail/s/s.csv.partial"))) -eq 12 ]] || fail "the 11 finished rows are not in .partial"
 out=$(sweep "$work/surrogate.yaml" --launcher slurm --results "$work/fail" 2>&1) || fail "rerun after a failure: $out"
-grep -q "^submitted Slurm job [0-9]*: 1 of 12 jobs (array 3)" <<<"$out" || fail "the rerun did not resubmit exactly task 3: $out"
+grep -q "^submitted Slurm job [0-9]*: 1 of 12 jobs as array 0-0 (1 per task)" <<<"$out" || fail "the rerun did not resubmit exactly job 3: $out"
 same "$work/fail" "$work/local" s/s
 
 # 4. --dry-run prints the batch script (the throttle, the engine's 2 ranks, GPUs per rank) and submits nothing.
 out=$(sweep "$work/engine.yaml" --launcher slurm --dry-run --array-throttle 2 --gpus-per-rank 1 --time 00:10:00 \
   --sbatch-arg=--gres=gpu:2 --results "$work/dry" 2>&1)
-for l in "#SBATCH --array=0-1%2" "#SBATCH --ntasks=2" "#SBATCH --gpus-per-task=1" "#SBATCH --time=00:10:00" "#SBATCH --gres=gpu:2"; do
+for l in "#SBATCH --array=0-1%2" "#SBATCH --ntasks=2" "  0 1" "#SBATCH --gpus-per-task=1" "#SBATCH --time=00:10:00" "#SBATCH --gres=gpu:2"; do
   grep -qxF -- "$l" <<<"$out" || fail "dry run lacks '$l': $out"
 done
 [[ ! -e $work/dry ]] || fail "--dry-run wrote files"
