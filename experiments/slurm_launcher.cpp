@@ -67,7 +67,7 @@ using Tasks = std::vector<std::vector<size_t>>;  // array index -> the job indic
 // The cluster's MaxArraySize (array indices must be below it); Slurm's default, 1001, when scontrol cannot tell.
 size_t max_array_size() {
   try {
-    std::stringstream ss(command("scontrol show config"));
+    std::stringstream ss(command("timeout 30 scontrol show config"));  // a broken config makes it retry for 60 s
     for (std::string line; std::getline(ss, line);)
       if (line.rfind("MaxArraySize", 0) == 0) return std::max(1L, parse_integer(line.substr(line.find('=') + 1).substr(1), "MaxArraySize: "));
   } catch (const std::exception&) {
