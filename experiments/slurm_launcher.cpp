@@ -150,7 +150,8 @@ std::map<std::string, std::string> queued(const std::set<std::string>& jobs) {
   std::map<std::string, std::string> q;
   if (jobs.empty()) return q;
   static const std::set<std::string> ended = {"CD", "F", "CA", "TO", "NF", "OOM", "BF", "DL", "PR", "RV"};
-  std::stringstream ss(command("squeue -h -r -o '%F %K %t'"));  // every job: an old id may be gone from Slurm
+  // All of this user's jobs rather than `-j IDS`, which fails once one of them is gone from Slurm.
+  std::stringstream ss(command("squeue --me -h -r -o '%F %K %t'"));
   for (std::string id, task, state; ss >> id >> task >> state;)
     if (jobs.count(id) && !ended.count(state)) q[id + "_" + task] = state;
   return q;

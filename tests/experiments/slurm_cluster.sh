@@ -69,9 +69,14 @@ EOF
   return 1
 }
 
-# Ends the daemons slurm_start started, by PID (slurmd and slurmctld first, munged last), waiting at most 10 s.
+# Cancels this cluster's jobs (waiting at most 10 s for them to end, so no task outlives the test), then ends the
+# daemons slurm_start started, by PID (slurmd and slurmctld first, munged last), waiting at most 10 s for each.
 slurm_stop() {
   local i p
+  if [[ ${#SLURM_PIDS[@]} -eq 3 ]]; then
+    timeout 10 scancel --me 2>/dev/null || true
+    for _ in $(seq 1 50); do [[ -z $(timeout 10 squeue --me -h 2>/dev/null) ]] && break; sleep 0.2; done
+  fi
   for ((i = ${#SLURM_PIDS[@]} - 1; i >= 0; i--)); do
     p=${SLURM_PIDS[i]}
     kill "$p" 2>/dev/null || continue
