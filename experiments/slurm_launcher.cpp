@@ -85,7 +85,10 @@ Tasks split_tasks(const std::vector<size_t>& todo) {
 
 std::string job_list(const std::vector<size_t>& jobs) {
   std::string s;
-  for (size_t k = 0; k < jobs.size(); ++k) s += (k ? "," : "") + std::to_string(jobs[k]);
+  for (size_t k = 0; k < jobs.size(); ++k) {
+    if (k) s += ',';
+    s += std::to_string(jobs[k]);
+  }
   return s;
 }
 
@@ -287,7 +290,10 @@ SweepSummary run_slurm(const Manifest& m, const std::vector<std::string>& overri
     id = id.substr(0, id.find_first_of(";\n"));  // "JOBID[;CLUSTER]"
     parse_integer(id, "sbatch --parsable: job id: ");
     std::string line = id + " ";
-    for (size_t k = 0; k < tasks.size(); ++k) line += (k ? ";" : "") + job_list(tasks[k]);
+    for (size_t k = 0; k < tasks.size(); ++k) {
+      if (k) line += ';';
+      line += job_list(tasks[k]);
+    }
     const std::string old = fs::exists(d.jobs) ? read_file(d.jobs.string()) : "";
     write_file_atomically(d.jobs.string(), old + line + "\n");
     submitted = id;
