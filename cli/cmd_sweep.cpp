@@ -4,6 +4,7 @@
 #include <thread>
 
 #include "commands.hpp"
+#include "common/errors.hpp"
 #include "experiments/sweep.hpp"
 
 namespace semlb::cli {
@@ -13,7 +14,9 @@ Action add_sweep(CLI::App& app) {
     std::string manifest, profile, results = "results";
     std::vector<std::string> sets;
     int jobs = 0;
-    bool no_timing = false, quiet = false, keep_runs = false;
+    bool no_timing = false, quiet = false, keep_runs = false, no_wait = false;
+    std::string launcher = "local";
+    experiments::SlurmOptions slurm;
   };
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("sweep", "Run an experiment manifest; rerunning resumes an interrupted sweep");
@@ -26,8 +29,29 @@ Action add_sweep(CLI::App& app) {
   sub->add_flag("--quiet", o->quiet, "No progress line");
   sub->add_flag("--keep-runs", o->keep_runs,
                 "Keep each job's run files (engine MPI runs: scene.yaml, run.csv, rank_times.csv, trace.jsonl) under runs/ beside the CSV");
-  return [o, sub] {
+  std::string names;
+  for (const auto& n : experiments::launcher_names()) names += (names.empty() ? "" : ", ") + n;
+  sub->add_option("--launcher", o->launcher, "Where the jobs run: " + names)->capture_default_str();
+  const std::string slurm = "Slurm (--launcher slurm)";
+  std::vector<CLI::Option*> slurm_only = {
+      sub->add_option("--partition", o->slurm.partition, "Slurm partition")->group(slurm),
+      sub->add_option("--time", o->slurm.time, "Time limit of each array task, HH:MM:SS")->group(slurm),
+      sub->add_option("--account", o->slurm.account, "Slurm account")->group(slurm),
+      sub->add_option("--gpus-per-rank", o->slurm.gpus_per_rank, "GPUs per MPI rank (--gpus-per-task)")
+          ->check(strict_integer(1, 64))->group(slurm),
+      sub->add_option("--sbatch-arg", o->slurm.sbatch_args, "Extra #SBATCH line, e.g. --sbatch-arg=--gres=gpu:4 (repeatable)")
+          ->group(slurm),
+      sub->add_flag("--dry-run", o->slurm.dry_run, "Print the batch script; submit nothing")->group(slurm),
+      sub->add_flag("--no-wait", o->no_wait, "Return after submitting; rerun the same command to collect")->group(slurm),
+      sub->add_option("--array-throttle", o->slurm.array_throttle, "At most N array tasks at once")
+          ->check(strict_integer(1, 1000000))->group(slurm),
+      sub->add_option("--task", o->slurm.task, "Run these jobs (an array task: INDEX,INDEX,...) into part files")
+          ->group("")};
+  return [o, sub, slurm_only] {
     if (!*sub) return -1;  // not the chosen subcommand
+    if (o->launcher != "slurm")
+      for (const auto* opt : slurm_only)
+        if (opt->count()) throw InputError(opt->get_name() + ": only with --launcher slurm");
     const auto m = experiments::load_manifest(o->manifest, o->profile, o->sets);
     experiments::SweepOptions so;
     so.results_dir = o->results;
@@ -36,8 +60,11 @@ Action add_sweep(CLI::App& app) {
     if (o->keep_runs) so.run.trace_dir = (std::filesystem::path(o->results) / m.output).parent_path() / "runs";
     so.progress = !o->quiet;
     so.git_revision = SEMLB_GIT_REVISION;
+    so.launcher = o->launcher;
+    so.slurm = o->slurm;
+    so.slurm.wait = !o->no_wait;
     const auto sum = experiments::run_sweep(m, o->sets, so);
-    std::cerr << "wrote " << sum.csv_path << " (" << sum.rows << " rows, " << sum.resumed << " resumed)\n";
+    if (sum.finished) std::cerr << "wrote " << sum.csv_path << " (" << sum.rows << " rows, " << sum.resumed << " resumed)\n";
     return 0;
   };
 }

@@ -70,18 +70,18 @@ void check_job(const Job& job, const std::string& manifest, const RunOptions& o)
   }
 }
 
-// Runs the job under mpirun into a fresh directory; returns it and the launch's wall seconds (start-up
+// Runs the job under mpirun (or o.mpi_launcher) into a fresh directory; returns it and the launch's wall seconds (start-up
 // included). The row's policy gets its POLICY.KEY settings as decomposition.params.KEY (other policies' are
 // not passed). Throws with mpirun's output on failure.
 std::pair<std::string, double> launch(const Job& job, const RunOptions& o) {
   const std::string scene = scene_path(job, o);
   std::string key;
   for (const auto& [k, s] : job.settings) key += k + "=" + s.value + ";";
-  const fs::path dir = fs::temp_directory_path() / ("semlb_mpi_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(key)));
+  const fs::path dir = (o.scratch_dir.empty() ? fs::temp_directory_path() : fs::path(o.scratch_dir)) / ("semlb_mpi_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(key)));
   fs::remove_all(dir);
   std::ostringstream cmd;
-  cmd << "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " << SEMLB_MPIEXEC << " --oversubscribe -np " << get(job, "ranks", "1")
-      << " " << fs::read_symlink("/proc/self/exe").string() << " sim --quiet --scene " << scene << " --out " << dir.string()
+  const std::string mpi = o.mpi_launcher.empty() ? std::string(SEMLB_MPIEXEC) + " --oversubscribe -np" : o.mpi_launcher;
+  cmd << "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " << mpi << " " << get(job, "ranks", "1") << " " << fs::read_symlink("/proc/self/exe").string() << " sim --quiet --scene " << scene << " --out " << dir.string()
       << " --set backend.threads=1";
   auto overrides = scene_overrides(job, kSceneNames, "");
   const std::string policy = row_policy(job, "", o).first;
@@ -94,7 +94,7 @@ std::pair<std::string, double> launch(const Job& job, const RunOptions& o) {
   std::string out;
   char buf[4096];
   while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  if (pclose(p) != 0) throw std::runtime_error("mpirun failed: " + cmd.str() + "\n" + out);
+  if (pclose(p) != 0) throw std::runtime_error("MPI launch failed: " + cmd.str() + "\n" + out);
   return {dir.string(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()};
 }
 
@@ -139,6 +139,7 @@ class MpiSimRunner final : public Runner {
     return {"elements", "total_s", "wall_s", "compute_s", "mean_imbalance", "migrated_slices", "events"};
   }
   bool measures_time() const override { return true; }
+  int mpi_ranks(const Job& job) const override { return static_cast<int>(job.integer("ranks", 1, 1, 4096, "")); }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
     namespace rt = engine::rank_times;
@@ -177,6 +178,7 @@ class MpiIntervalsRunner final : public Runner {
     return {rt::kStep, rt::kRank, rt::kComputeS, rt::kImbalance, rt::kMovedSlices};
   }
   bool measures_time() const override { return true; }
+  int mpi_ranks(const Job& job) const override { return static_cast<int>(job.integer("ranks", 1, 1, 4096, "")); }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
     namespace rt = engine::rank_times;

@@ -15,6 +15,10 @@ struct RunOptions {
   bool timing = true;     // false: wall-clock columns are written as 0 (byte-identical reruns)
   std::string trace_dir;  // non-empty: runners that produce traces write them here
   std::string base_dir;   // relative file paths in a manifest are relative to the manifest's folder
+  // How MPI runners start their ranks: a command the rank count is appended to. Empty: this machine's
+  // `mpirun --oversubscribe -np` (the slurm launcher's tasks use `srun --mpi=pmix ... --ntasks`).
+  std::string mpi_launcher;
+  std::string scratch_dir;  // where MPI runs write their files (rank 0 may be on another node); empty: /tmp
 };
 
 class Runner {
@@ -27,6 +31,8 @@ class Runner {
   virtual std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& options) const = 0;
   // True when rows hold wall times that concurrent jobs would distort: the sweep then runs one at a time.
   virtual bool measures_time() const { return false; }
+  // The MPI ranks the job launches (a launcher reserves them); 0 for runners that run in this process.
+  virtual int mpi_ranks(const Job&) const { return 0; }
 };
 
 // Scene overrides ("tissue.cells=400") from a job: each of `names` (engine::scene_settings() names, the

@@ -27,64 +27,10 @@ std::string csv_line(const std::vector<std::string>& cells) {
   return s + "\n";
 }
 
-// The sweep's own key columns (axes the runner does not write) come first, then the runner's columns.
-struct Layout {
-  std::vector<std::string> header;
-  std::vector<std::string> axes;         // resume key, in manifest order
-  std::vector<std::string> extra_axes;   // axes not among the runner's columns
-};
-
-Layout make_layout(const Manifest& m, const Runner& r) {
-  Layout l;
-  l.axes = m.axis_names();
-  const auto cols = r.columns();
-  for (const auto& a : l.axes)
-    if (std::find(cols.begin(), cols.end(), a) == cols.end()) l.extra_axes.push_back(a);
-  l.header = l.extra_axes;
-  l.header.insert(l.header.end(), cols.begin(), cols.end());
-  return l;
-}
-
 // A job's value of axis A; empty when the job's axis group lacks A.
 std::string axis_value(const Job& j, const std::string& a) {
   const Setting* s = j.find(a);
   return s ? s->value : "";
-}
-
-std::string key_of(const Job& j, const Layout& l) {
-  std::string k;
-  for (const auto& a : l.axes) k += axis_value(j, a) + '\x1f';
-  return k;
-}
-
-std::string key_of_row(const std::vector<std::string>& row, const std::vector<std::string>& header, const Layout& l) {
-  std::string k;
-  for (const auto& a : l.axes) k += row[std::find(header.begin(), header.end(), a) - header.begin()] + '\x1f';
-  return k;
-}
-
-// Reads finished rows (job key -> its lines) from an earlier CSV; a torn last line (no newline) is dropped.
-// A job's rows are appended in one write, so a job is either complete or (torn line aside) absent.
-std::map<std::string, std::string> read_rows(const std::string& path, const Layout& l, std::vector<std::string>& order) {
-  std::map<std::string, std::string> rows;
-  std::string text = read_file(path);
-  if (text.empty()) return rows;
-  if (text.back() != '\n') text.erase(text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1);
-  std::stringstream ss(text);
-  std::string line;
-  std::getline(ss, line);
-  if (csv_line(l.header) != line + "\n")
-    throw InputError(path + ":1: header differs from this manifest's columns; move the file away to start afresh");
-  long n = 1;
-  while (std::getline(ss, line)) {
-    ++n;
-    const auto cells = split(line, ',');
-    if (cells.size() != l.header.size()) throw InputError(where(path, n, "") + "row has the wrong number of columns");
-    const auto key = key_of_row(cells, l.header, l);
-    if (!rows.count(key)) order.push_back(key);
-    rows[key] += line + "\n";  // a job may have several rows
-  }
-  return rows;
 }
 
 class Appender {  // one write(2) per row with O_APPEND: a kill leaves whole rows or a torn last line
@@ -145,57 +91,143 @@ long kill_after_rows() {  // test hook: SEMLB_SWEEP_KILL_AFTER=N sends SIGKILL t
 
 }  // namespace
 
-SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o) {
-  const auto runner = make_runner(m.runner, m.path);
-  const auto jobs = m.expand();
-  RunOptions run = o.run;
-  if (run.base_dir.empty() && !m.path.empty()) run.base_dir = fs::path(m.path).parent_path().string();
-  for (const auto& j : jobs) runner->check(j, m.path, run);
-  const Layout layout = make_layout(m, *runner);
+SweepPlan::SweepPlan(const Manifest& m, const SweepOptions& o, Partial partial)
+    : m_(m), runner_(make_runner(m.runner, m.path)), jobs_(m.expand()), run_(o.run) {
+  if (run_.base_dir.empty() && !m.path.empty()) run_.base_dir = fs::path(m.path).parent_path().string();
+  for (const auto& j : jobs_) runner_->check(j, m.path, run_);
+  // The sweep's own key columns (axes the runner does not write) come first, then the runner's columns.
+  layout_.axes = m.axis_names();
+  const auto cols = runner_->columns();
+  for (const auto& a : layout_.axes)
+    if (std::find(cols.begin(), cols.end(), a) == cols.end()) layout_.extra_axes.push_back(a);
+  layout_.header = layout_.extra_axes;
+  layout_.header.insert(layout_.header.end(), cols.begin(), cols.end());
 
-  SweepSummary sum;
-  sum.csv_path = (fs::path(o.results_dir) / m.output).string();
-  const std::string partial = sum.csv_path + ".partial";
-  fs::create_directories(fs::path(sum.csv_path).parent_path());
-  if (o.fresh) fs::remove(partial);
+  csv_ = (fs::path(o.results_dir) / m.output).string();
+  partial_ = csv_ + ".partial";
+  if (partial == Partial::ignore) return;
+  std::vector<std::string> order;
+  if (partial == Partial::read_only) {
+    if (fs::exists(partial_) && !o.fresh) done_ = read_rows(partial_, order);
+    return;
+  }
+  fs::create_directories(fs::path(csv_).parent_path());
+  if (o.fresh) fs::remove(partial_);
   // Only an interrupted run (.partial) is resumed; a finished OUTPUT is always recomputed, since the code
   // that produced it may have changed since.
-  if (!fs::exists(partial)) write_file_atomically(partial, csv_line(layout.header));
+  if (!fs::exists(partial_)) write_file_atomically(partial_, header());
+  done_ = read_rows(partial_, order);
+  std::string text = header();  // without a torn last line, so that appends start on a fresh line
+  for (auto& k : order) text += done_[k];
+  write_file_atomically(partial_, text);
+}
+
+std::string SweepPlan::header() const { return csv_line(layout_.header); }
+
+std::string SweepPlan::key(size_t i) const {
+  std::string k;
+  for (const auto& a : layout_.axes) k += axis_value(jobs_[i], a) + '\x1f';
+  return k;
+}
+
+bool SweepPlan::done(size_t i) const { return done_.count(key(i)) > 0; }
+
+// Reads finished rows (job key -> its lines) from an earlier CSV; a torn last line (no newline) is dropped.
+// A job's rows are appended in one write, so a job is either complete or (torn line aside) absent.
+std::map<std::string, std::string> SweepPlan::read_rows(const std::string& path, std::vector<std::string>& order) const {
+  std::map<std::string, std::string> rows;
+  std::string text = read_file(path);
+  if (text.empty()) return rows;
+  if (text.back() != '\n') text.erase(text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1);
+  std::stringstream ss(text);
+  std::string line;
+  std::getline(ss, line);
+  if (header() != line + "\n")
+    throw InputError(path + ":1: header differs from this manifest's columns; move the file away to start afresh");
+  long n = 1;
+  while (std::getline(ss, line)) {
+    ++n;
+    const auto cells = split(line, ',');
+    if (cells.size() != layout_.header.size()) throw InputError(where(path, n, "") + "row has the wrong number of columns");
+    std::string key;
+    for (const auto& a : layout_.axes)
+      key += cells[std::find(layout_.header.begin(), layout_.header.end(), a) - layout_.header.begin()] + '\x1f';
+    if (!rows.count(key)) order.push_back(key);
+    rows[key] += line + "\n";  // a job may have several rows
+  }
+  return rows;
+}
+
+std::string SweepPlan::rows(size_t i) const {
+  const Job& job = jobs_[i];
+  const auto columns = runner_->columns();
+  std::string lines;
+  for (const auto& row : runner_->run(job, run_)) {
+    std::vector<std::string> cells;
+    for (const auto& a : layout_.extra_axes) cells.push_back(axis_value(job, a));
+    for (size_t c = 0; c < row.size(); ++c) {  // key columns keep the manifest's spelling
+      const Setting* axis = std::find(layout_.axes.begin(), layout_.axes.end(), columns[c]) != layout_.axes.end()
+                                ? job.find(columns[c]) : nullptr;
+      cells.push_back(axis ? axis->value : row[c]);
+    }
+    lines += csv_line(cells);
+  }
+  return lines;
+}
+
+bool SweepPlan::record(size_t i, const std::string& lines) {
+  if (done(i)) return false;
+  Appender(partial_).append(lines);
+  done_[key(i)] = lines;
+  return true;
+}
+
+std::string SweepPlan::rows_from_file(size_t i, const std::string& path) const {
   std::vector<std::string> order;
-  auto done = read_rows(partial, layout, order);
-  write_file_atomically(partial, [&] { std::string s = csv_line(layout.header); for (auto& k : order) s += done[k]; return s; }());
+  auto rows = read_rows(path, order);
+  if (order.empty()) return "";  // a job without rows
+  if (order.size() != 1 || order[0] != key(i))
+    throw InputError(path + ": rows are not job " + std::to_string(i) + "'s of this manifest; remove the file to rerun the job");
+  return rows[order[0]];
+}
 
+void SweepPlan::finish(const std::vector<std::string>& overrides, const SweepOptions& o) const {
+  std::string text = header();  // job order; rows of other jobs in .partial are dropped
+  for (size_t i = 0; i < jobs_.size(); ++i) text += done_.at(key(i));
+  write_file_atomically(csv_, text);
+  fs::remove(partial_);
+  copy_manifest(m_, overrides, o, csv_);
+}
+
+namespace {
+
+std::map<std::string, Launcher>& launchers() {
+  static std::map<std::string, Launcher> r;
+  return r;
+}
+
+// The local launcher: worker threads on this machine, one OUTPUT.partial append per finished job.
+SweepSummary run_local(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o) {
+  SweepPlan plan(m, o);
   std::vector<size_t> todo;
-  for (size_t i = 0; i < jobs.size(); ++i)
-    if (!done.count(key_of(jobs[i], layout))) todo.push_back(i);
-  sum.rows = jobs.size();
-  sum.resumed = jobs.size() - todo.size();
+  for (size_t i = 0; i < plan.jobs().size(); ++i)
+    if (!plan.done(i)) todo.push_back(i);
+  SweepSummary sum;
+  sum.csv_path = plan.csv_path();
+  sum.rows = plan.jobs().size();
+  sum.resumed = sum.rows - todo.size();
 
-  Appender out(partial);
-  Progress progress(m.name, jobs.size(), sum.resumed, o.progress);
+  Progress progress(m.name, sum.rows, sum.resumed, o.progress);
   std::mutex mu;
   std::atomic<size_t> next{0};
   std::exception_ptr error;
   const long kill_after = kill_after_rows();
-  const auto columns = runner->columns();
   auto worker = [&] {
     for (size_t t; (t = next++) < todo.size();) {
-      const Job& job = jobs[todo[t]];
       try {
-        std::string line;  // all rows of the job, appended with one write
-        for (const auto& row : runner->run(job, run)) {
-          std::vector<std::string> cells;
-          for (const auto& a : layout.extra_axes) cells.push_back(axis_value(job, a));
-          for (size_t c = 0; c < row.size(); ++c) {  // key columns keep the manifest's spelling
-            const Setting* axis = std::find(layout.axes.begin(), layout.axes.end(), columns[c]) != layout.axes.end()
-                                      ? job.find(columns[c]) : nullptr;
-            cells.push_back(axis ? axis->value : row[c]);
-          }
-          line += csv_line(cells);
-        }
+        const std::string lines = plan.rows(todo[t]);  // all rows of the job, appended with one write
         std::lock_guard lock(mu);
-        out.append(line);
-        done[key_of(job, layout)] = line;
+        plan.record(todo[t], lines);
         ++sum.ran;
         progress.tick();
         if (kill_after >= 0 && static_cast<long>(sum.ran) >= kill_after) std::raise(SIGKILL);
@@ -208,17 +240,34 @@ SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overri
   };
   std::vector<std::thread> pool;
   // Runners that measure wall time run one job at a time: concurrent jobs would share the device.
-  const int workers = runner->measures_time() && o.run.timing ? 1 : std::max(1, o.jobs);
+  const int workers = plan.runner().measures_time() && o.run.timing ? 1 : std::max(1, o.jobs);
   for (int i = 0; i < workers; ++i) pool.emplace_back(worker);
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);  // the .partial file keeps every finished row for a resume
-
-  std::string final_text = csv_line(layout.header);  // job order; rows of other jobs in .partial are dropped
-  for (const auto& j : jobs) final_text += done[key_of(j, layout)];
-  write_file_atomically(sum.csv_path, final_text);
-  fs::remove(partial);
-  copy_manifest(m, overrides, o, sum.csv_path);
+  plan.finish(overrides, o);
   return sum;
+}
+
+const LauncherRegistrar local("local", run_local);
+
+}  // namespace
+
+LauncherRegistrar::LauncherRegistrar(const std::string& name, Launcher launcher) { launchers()[name] = std::move(launcher); }
+
+std::vector<std::string> launcher_names() {
+  std::vector<std::string> names;
+  for (const auto& [k, v] : launchers()) names.push_back(k);
+  return names;
+}
+
+SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o) {
+  const auto it = launchers().find(o.launcher);
+  if (it == launchers().end()) {
+    std::string known;
+    for (const auto& n : launcher_names()) known += (known.empty() ? "" : ", ") + n;
+    throw InputError("--launcher: unknown launcher '" + o.launcher + "' (known: " + known + ")");
+  }
+  return it->second(m, overrides, o);
 }
 
 }  // namespace semlb::experiments

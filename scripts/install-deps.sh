@@ -10,7 +10,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtorch-dev
   python3 python3-matplotlib python3-h5py
-  python3-paraview
+  python3-paraview   # tests/engine/io/test_paraview.sh opens the XDMF outputs with ParaView's default reader
+  slurm-wlm munge    # tests/experiments/test_slurm.sh starts a single-node Slurm of its own
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

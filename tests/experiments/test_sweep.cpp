@@ -77,6 +77,27 @@ TEST(Sweep, BadManifestExitsTwoWithoutOutput) {
   EXPECT_FALSE(fs::exists(dir + "/out"));
 }
 
+TEST(Sweep, LauncherFlagsAreCheckedBeforeAnythingIsWritten) {
+  const auto dir = fresh_dir("sweep_launcher");
+  write(dir + "/m.yaml", kManifest);
+  const std::string base = semlb_bin() + " sweep " + dir + "/m.yaml --results " + dir + "/out";
+  auto r = run(base + " --launcher pbs");
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_EQ(r.out, "semlb: --launcher: unknown launcher 'pbs' (known: local, slurm)\n");
+  r = run(base + " --partition gpu");  // a Slurm flag without the slurm launcher
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_EQ(r.out, "semlb: --partition: only with --launcher slurm\n");
+  r = run(base + " --launcher slurm --dry-run --sbatch-arg='--comment=a#b'");
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_NE(r.out.find("--sbatch-arg: '--comment=a#b' may not hold a newline or '#'"), std::string::npos) << r.out;
+  // --dry-run prints the batch script for all 30 jobs (no Slurm needed) and writes nothing.
+  r = run("env -u SLURM_CONF " + base + " --launcher slurm --dry-run --array-throttle 3 --time 1:00:00");
+  EXPECT_EQ(r.rc, 0) << r.out;
+  for (const char* l : {"#SBATCH --ntasks=1\n", "#SBATCH --time=1:00:00\n", "%3\n", "30 of 30 jobs", " --task \"${jobs[$SLURM_ARRAY_TASK_ID]}\""})
+    EXPECT_NE(r.out.find(l), std::string::npos) << l << "\n" << r.out;
+  EXPECT_FALSE(fs::exists(dir + "/out"));
+}
+
 TEST(Sweep, ShippedManifestsParse) {
   for (const auto& entry : fs::directory_iterator(source("experiments")))
     if (entry.path().extension() == ".yaml") {
