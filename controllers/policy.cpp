@@ -2,6 +2,7 @@
 #include "policy.hpp"
 
 #include "common/errors.hpp"
+#include "common/registry.hpp"
 #include "common/text_io.hpp"
 
 namespace semlb {
@@ -12,23 +13,16 @@ struct Entry {
   PolicyNeeds needs;
 };
 
-std::map<std::string, Entry>& registry() {
-  static std::map<std::string, Entry> r;
+Registry<Entry>& registry() {
+  static Registry<Entry> r;
   return r;
 }
 
-std::string joined_names() {
-  std::string s;
-  for (const auto& n : policy_names()) s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
-
 const Entry& entry(const std::string& name) {
-  auto it = registry().find(name);
-  if (it == registry().end()) throw InputError("unknown policy '" + name + "' (known: " + joined_names() + ")");
-  return it->second;
+  const Entry* e = registry().find(name);
+  if (!e) throw InputError("unknown policy '" + name + "' (known: " + registry().known() + ")");
+  return *e;
 }
-
 
 }  // namespace
 
@@ -66,7 +60,7 @@ void Policy::load_state(const PolicyState& s) {
 }
 
 Registrar::Registrar(const std::string& name, PolicyFactory factory, PolicyNeeds needs) {
-  registry()[name] = {std::move(factory), needs};
+  registry().add(name, {std::move(factory), needs});
 }
 
 PolicyNeeds policy_needs(const std::string& name) { return entry(name).needs; }
@@ -77,10 +71,6 @@ std::unique_ptr<Policy> make_policy(const std::string& name, PolicyParams params
   return policy;
 }
 
-std::vector<std::string> policy_names() {
-  std::vector<std::string> names;
-  for (const auto& [k, v] : registry()) names.push_back(k);
-  return names;
-}
+std::vector<std::string> policy_names() { return registry().names(); }
 
 }  // namespace semlb

@@ -4,13 +4,14 @@
 #include <map>
 
 #include "common/errors.hpp"
+#include "common/registry.hpp"
 #include "engine/model/scene.hpp"
 #include "surrogate/evaluate.hpp"
 
 namespace semlb::experiments {
 namespace {
-std::map<std::string, std::function<std::unique_ptr<Runner>()>>& registry() {
-  static std::map<std::string, std::function<std::unique_ptr<Runner>()>> r;
+Registry<std::function<std::unique_ptr<Runner>()>>& registry() {
+  static Registry<std::function<std::unique_ptr<Runner>()>> r;
   return r;
 }
 }  // namespace
@@ -55,17 +56,14 @@ void check_policy_params(const Job& job, const std::string& manifest) {
 }
 
 RunnerRegistrar::RunnerRegistrar(const std::string& name, std::function<std::unique_ptr<Runner>()> factory) {
-  registry()[name] = std::move(factory);
+  registry().add(name, std::move(factory));
 }
 
 std::unique_ptr<Runner> make_runner(const std::string& name, const std::string& manifest) {
-  auto it = registry().find(name);
-  if (it == registry().end()) {
-    std::string known;
-    for (const auto& [k, v] : registry()) known += (known.empty() ? "" : ", ") + k;
-    throw InputError(where(manifest, 0, "runner") + "unknown runner '" + name + "' (known: " + known + ")");
-  }
-  return it->second();
+  const auto* factory = registry().find(name);
+  if (!factory)
+    throw InputError(where(manifest, 0, "runner") + "unknown runner '" + name + "' (known: " + registry().known() + ")");
+  return (*factory)();
 }
 
 }  // namespace semlb::experiments

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "common/errors.hpp"
+#include "common/registry.hpp"
 #include "common/text_io.hpp"
 
 namespace semlb::experiments {
@@ -201,8 +202,8 @@ void SweepPlan::finish(const std::vector<std::string>& overrides, const SweepOpt
 
 namespace {
 
-std::map<std::string, Launcher>& launchers() {
-  static std::map<std::string, Launcher> r;
+Registry<Launcher>& launchers() {
+  static Registry<Launcher> r;
   return r;
 }
 
@@ -252,22 +253,14 @@ const LauncherRegistrar local("local", run_local);
 
 }  // namespace
 
-LauncherRegistrar::LauncherRegistrar(const std::string& name, Launcher launcher) { launchers()[name] = std::move(launcher); }
+LauncherRegistrar::LauncherRegistrar(const std::string& name, Launcher launcher) { launchers().add(name, std::move(launcher)); }
 
-std::vector<std::string> launcher_names() {
-  std::vector<std::string> names;
-  for (const auto& [k, v] : launchers()) names.push_back(k);
-  return names;
-}
+std::vector<std::string> launcher_names() { return launchers().names(); }
 
 SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o) {
-  const auto it = launchers().find(o.launcher);
-  if (it == launchers().end()) {
-    std::string known;
-    for (const auto& n : launcher_names()) known += (known.empty() ? "" : ", ") + n;
-    throw InputError("--launcher: unknown launcher '" + o.launcher + "' (known: " + known + ")");
-  }
-  return it->second(m, overrides, o);
+  const Launcher* launcher = launchers().find(o.launcher);
+  if (!launcher) throw InputError("--launcher: unknown launcher '" + o.launcher + "' (known: " + launchers().known() + ")");
+  return (*launcher)(m, overrides, o);
 }
 
 }  // namespace semlb::experiments

@@ -5,11 +5,12 @@
 #include <cmath>
 
 #include "common/errors.hpp"
+#include "common/registry.hpp"
 
 namespace semlb::engine {
 namespace {
-std::map<std::string, BackendFactory>& registry() {
-  static std::map<std::string, BackendFactory> r;
+Registry<BackendFactory>& registry() {
+  static Registry<BackendFactory> r;
   return r;
 }
 }  // namespace
@@ -41,23 +42,15 @@ std::string Failure::quantity() const {
 }
 
 BackendRegistrar::BackendRegistrar(const std::string& name, BackendFactory factory) {
-  registry()[name] = std::move(factory);
+  registry().add(name, std::move(factory));
 }
 
-std::vector<std::string> backend_names() {
-  std::vector<std::string> names;
-  for (const auto& [n, f] : registry()) names.push_back(n);
-  return names;
-}
+std::vector<std::string> backend_names() { return registry().names(); }
 
 std::unique_ptr<Backend> make_backend(const BackendConfig& config) {
-  const auto it = registry().find(config.name);
-  if (it == registry().end()) {
-    std::string known;
-    for (const auto& n : backend_names()) known += (known.empty() ? "" : ", ") + n;
-    throw InputError("backend '" + config.name + "' is unknown (known: " + known + ")");
-  }
-  return it->second(config);
+  const BackendFactory* factory = registry().find(config.name);
+  if (!factory) throw InputError("backend '" + config.name + "' is unknown (known: " + registry().known() + ")");
+  return (*factory)(config);
 }
 
 }  // namespace semlb::engine

@@ -5,33 +5,26 @@
 #include <map>
 
 #include "common/errors.hpp"
+#include "common/registry.hpp"
 
 namespace semlb::engine {
 namespace {
-std::map<std::string, EffectInfo>& registry() {
-  static std::map<std::string, EffectInfo> r;
+Registry<EffectInfo>& registry() {
+  static Registry<EffectInfo> r;
   return r;
 }
 }  // namespace
 
-EffectRegistrar::EffectRegistrar(const std::string& name, EffectInfo info) { registry()[name] = std::move(info); }
+EffectRegistrar::EffectRegistrar(const std::string& name, EffectInfo info) { registry().add(name, std::move(info)); }
 
-std::vector<std::string> effect_names() {
-  std::vector<std::string> out;
-  for (const auto& [n, i] : registry()) out.push_back(n);
-  return out;
-}
+std::vector<std::string> effect_names() { return registry().names(); }
 
 std::vector<std::unique_ptr<Effect>> make_effects(const Scene& scene) {
   std::vector<std::pair<int, std::unique_ptr<Effect>>> made;
   for (const auto& [name, section] : scene.effects) {
-    const auto it = registry().find(name);
-    if (it == registry().end()) {
-      std::string known;
-      for (const auto& n : effect_names()) known += (known.empty() ? "" : ", ") + n;
-      section.fail("", "effect '" + name + "' is unknown (known: " + known + ")");
-    }
-    made.emplace_back(it->second.order, it->second.make(section, scene));
+    const EffectInfo* info = registry().find(name);
+    if (!info) section.fail("", "effect '" + name + "' is unknown (known: " + registry().known() + ")");
+    made.emplace_back(info->order, info->make(section, scene));
     section.finish();
   }
   std::stable_sort(made.begin(), made.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
