@@ -12,7 +12,7 @@
 
 namespace semlb::cli {
 
-// --backend/--precision/--platform/--device/--steps/--seed become scene overrides (applied after --set).
+// --backend/--precision/--platform/--device/--steps/--seed become scene overrides (a setting given both ways is an error).
 // Each flag is named after its scene setting (engine::scene_settings()).
 std::vector<std::string> scene_overrides(const SceneFlags& f) {
   std::vector<std::string> o = f.set;
@@ -20,7 +20,13 @@ std::vector<std::string> scene_overrides(const SceneFlags& f) {
   for (const auto& [name, value] : {std::pair<std::string, std::string>{"backend", f.backend}, {"precision", f.precision},
                                     {"platform", f.platform}, {"device", number(f.device)}, {"steps", number(f.steps)},
                                     {"seed", number(f.seed)}})
-    if (!value.empty()) o.push_back(engine::scene_override(name, value, "--" + name + ": "));
+    if (!value.empty()) {
+      const std::string assignment = engine::scene_override(name, value, "--" + name + ": ");
+      const std::string key = assignment.substr(0, assignment.find('='));
+      for (const auto& s : f.set)  // the flag would hide the --set value unparsed: say so instead
+        if (s.substr(0, s.find('=')) == key) throw InputError("--" + name + ": " + key + " is also given by --set; give it once");
+      o.push_back(assignment);
+    }
   return o;
 }
 

@@ -74,6 +74,9 @@ long parse_integer(std::string_view text, const std::string& where, long min, lo
       throw InputError(where + quoted + " is not an integer (write integers without '.' or exponent)");
     throw InputError(where + quoted + " is not an integer");
   }
+  const size_t digits = text[0] == '-' ? 1 : 0;  // "010" is 8 to a YAML 1.1 reader and 10 to us: refuse it
+  if (text.size() > digits + 1 && text[digits] == '0')
+    throw InputError(where + quoted + " has a leading zero (ambiguous: octal to some readers); write it without");
   if (v < min || v > max)
     throw InputError(where + quoted + " is outside [" + std::to_string(min) + ", " + std::to_string(max) + "]");
   return v;

@@ -7,6 +7,7 @@
 
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
+#include "common/yaml.hpp"
 #include "surrogate/evaluate.hpp"
 
 namespace semlb::experiments {
@@ -147,14 +148,7 @@ std::vector<Job> Manifest::expand() const {
 }
 
 Manifest load_manifest(const std::string& path, const std::string& profile, const std::vector<std::string>& overrides) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path + ": cannot open manifest");
-  } catch (const YAML::Exception& e) {
-    throw InputError(where(path, e.mark.line + 1, "") + "YAML syntax error: " + e.msg);
-  }
+  const YAML::Node root = load_yaml_file(path, "manifest");
   Manifest m;
   m.path = path;
   if (!root.IsMap()) throw InputError(path + ": a manifest must be a YAML mapping");

@@ -43,7 +43,7 @@ Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
       << " um = " << ghost_slices << " slices (the default); use at most 2 ranks or a wider min_width";
     s.fail("min_width", m.str());
   }
-  if (d.slices < ranks * d.min_width)
+  if (ranks >= 2 && d.slices < ranks * d.min_width)  // one rank holds the whole domain, however narrow
     s.fail("min_width", std::to_string(ranks) + " ranks need " + std::to_string(ranks * d.min_width) + " slices of " +
                             std::to_string(d.width) + " um but the domain has " + std::to_string(d.slices) +
                             ": use fewer ranks or a larger tissue");

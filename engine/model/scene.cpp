@@ -5,6 +5,7 @@
 
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
+#include "common/yaml.hpp"
 
 namespace semlb::engine {
 
@@ -98,6 +99,7 @@ void apply_override(YAML::Node root, const std::string& assignment, std::set<std
   } catch (const YAML::Exception& e) {
     throw InputError("--set " + path + ": value is not YAML: " + e.msg);
   }
+  refuse_duplicate_keys(value, "--set " + path);
   std::vector<YAML::Node> chain{root};
   const auto parts = split(path, '.');
   for (size_t i = 0; i + 1 < parts.size(); ++i) {
@@ -123,12 +125,7 @@ void read_backend(const Section& s, BackendConfig& b) {
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& file, const std::vector<std::string>& overrides) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    throw InputError(semlb::where(file, e.mark.line + 1, "") + "not valid YAML: " + e.msg);
-  }
+  YAML::Node root = load_yaml(text, file, "scene");
   if (!root.IsMap()) throw InputError(file + ": a scene is a YAML map");
   auto overridden = std::make_shared<std::set<std::string>>();
   for (const auto& o : overrides) apply_override(root, o, *overridden);

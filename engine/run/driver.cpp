@@ -150,6 +150,7 @@ long next_stop(const Scene& scene, long step, long last) {
 RunSummary run_scene(Scene& scene, const RunConfig& config) {
   State initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);
   if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);  // the tissue section is not used
+  Decomposition::from_scene(scene, 1);  // a scene meant for mpirun is checked on one device too
   const long first = initial.step, last = std::max(scene.steps, first);
   Simulation sim(scene, std::move(initial));  // all input checked before anything is written
 

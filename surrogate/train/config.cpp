@@ -8,6 +8,7 @@
 
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
+#include "common/yaml.hpp"
 #include "surrogate/evaluate.hpp"
 #include "surrogate/scenario.hpp"
 
@@ -66,14 +67,7 @@ void check(const TrainConfig& c) {
 TrainConfig load_train_config(const std::string& path, const std::vector<std::string>& overrides) {
   TrainConfig c;
   if (!path.empty()) {
-    YAML::Node root;
-    try {
-      root = YAML::LoadFile(path);
-    } catch (const YAML::BadFile&) {
-      throw InputError(path + ": cannot open training config");
-    } catch (const YAML::Exception& e) {
-      throw InputError(where(path, e.mark.line + 1, "") + "YAML syntax error: " + e.msg);
-    }
+    const YAML::Node root = load_yaml_file(path, "training config");
     if (root && !root.IsNull()) {
       if (!root.IsMap()) throw InputError(path + ": a training config must be a YAML mapping");
       for (const auto& kv : root) {

@@ -81,6 +81,30 @@ TEST(Cli, ErrorsNameTheirSourceAndLeaveNoPartialFile) {
                    "mm_domain.yaml:5: field 'domain.hi': '0.15mm' is not a number", dir + "/s");
 }
 
+// Input that yaml-cpp alone would accept silently: a duplicate key (it keeps the first), an integer with a
+// leading zero (octal to a YAML 1.1 reader), a --set hidden by its flag, a misspelt decomposition setting on
+// one device (the section is read only under mpirun otherwise).
+TEST(Cli, AmbiguousInputIsRefused) {
+  const auto dir = fresh_dir("cli_ambiguous");
+  const std::string scene = slurp(source("scenes/mechanics.yaml"));
+  write(dir + "/dup.yaml", scene + "seed: 2\n");
+  expect_bad_input("sim --quiet --scene " + dir + "/dup.yaml --out " + dir + "/s", "dup.yaml:" , dir + "/s");
+  expect_bad_input("sim --quiet --scene " + dir + "/dup.yaml --out " + dir + "/s", "field 'seed': duplicate key (first at line ", dir + "/s");
+  write(dir + "/dup_nested.yaml", scene + "decomposition: {policy: static, policy: reactive}\n");
+  expect_bad_input("sim --quiet --scene " + dir + "/dup_nested.yaml --out " + dir + "/s", "field 'decomposition.policy': duplicate key",
+                   dir + "/s");
+  const std::string sim = "sim --scene " + source("scenes/mechanics.yaml") + " --set tissue.cells=20 --quiet --out " + dir + "/s";
+  expect_bad_input(sim + " --set seed=010", "--set seed: '010' has a leading zero", dir + "/s");
+  expect_bad_input(sim + " --steps 010", "--steps: '010' has a leading zero", dir + "/s");
+  expect_bad_input(sim + " --steps 5 --set time.steps=abc", "--steps: time.steps is also given by --set", dir + "/s");
+  expect_bad_input(sim + " --set decomposition.polcy=reactive", "--set decomposition.polcy: unknown setting", dir + "/s");
+  expect_bad_input(sim + " --set decomposition.policy=warp", "--set decomposition.policy: ", dir + "/s");
+  write(dir + "/m.yaml", "name: m\nname: n\nrunner: surrogate\n");
+  expect_bad_input("sweep " + dir + "/m.yaml --quiet --results " + dir + "/r", "m.yaml:2: field 'name': duplicate key (first at line 1)",
+                   dir + "/r");
+  ASSERT_EQ(run(semlb_bin() + " " + sim + " --steps 0 --set decomposition.policy=reactive").rc, 0);  // valid: accepted
+}
+
 // Integer flags go through the one strict parser: hex, '+', negative counts and trailing text are refused.
 TEST(Cli, IntegerFlagsAreStrict) {
   const auto dir = fresh_dir("cli_integers");

@@ -58,6 +58,14 @@ TEST(TextIo, ParseIntegerRefusesRealsOverflowAndTrailingText) {
   }
 }
 
+TEST(TextIo, ParseIntegerRefusesLeadingZeros) {
+  EXPECT_EQ(parse_integer("0", "x: "), 0);
+  EXPECT_EQ(parse_integer("-0", "x: "), 0);
+  EXPECT_EQ(parse_integer("100", "x: "), 100);
+  EXPECT_EQ(parse_integer("-7", "x: "), -7);
+  for (const char* bad : {"010", "00", "-01", "0007"}) EXPECT_THROW(parse_integer(bad, "x: "), InputError) << bad;
+}
+
 TEST(TextIo, FormatRealRoundTripsAndKeepsNearbyTimesApart) {
   for (double v : {12345.01, 12345.02, 12345.03, 0.1, 1.0 / 3.0, 1e-300, 5e-324, 1.7976931348623157e308, -0.0, 3.0,
                    123456789.123456789})
