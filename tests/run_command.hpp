@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 
@@ -37,8 +38,11 @@ inline std::string within(int seconds) { return "timeout -k 5 " + std::to_string
 inline std::string semlb_bin() { return SEMLB_BINARY; }
 inline std::string source(const std::string& rel) { return std::string(SEMLB_SOURCE_DIR) + "/" + rel; }
 
+// A scratch folder per test and per build tree (two checkouts running their suites at once do not collide).
 inline std::string fresh_dir(const std::string& name) {
-  const auto d = std::filesystem::temp_directory_path() / ("semlb_" + name);
+  char tree[32];
+  std::snprintf(tree, sizeof tree, "%016zx", std::hash<std::string>{}(SEMLB_BINARY));
+  const auto d = std::filesystem::temp_directory_path() / ("semlb_" + std::string(tree)) / name;
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d.string();

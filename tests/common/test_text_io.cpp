@@ -1,6 +1,8 @@
 // Text helpers: field splitting keeps empty fields; atomic writes leave no temporary behind.
 #include <gtest/gtest.h>
 
+#include "../run_command.hpp"
+
 #include <cstdlib>
 #include <filesystem>
 
@@ -16,7 +18,7 @@ TEST(TextIo, SplitKeepsEmptyFields) {
 }
 
 TEST(TextIo, AtomicWriteRoundTripsAndMissingFilesAreInputErrors) {
-  const auto path = (std::filesystem::temp_directory_path() / "semlb_text_io.txt").string();
+  const auto path = semlb::test::fresh_dir("text_io") + "/semlb_text_io.txt";
   write_file_atomically(path, "one\ntwo\n");
   EXPECT_EQ(read_file(path), "one\ntwo\n");
   EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));

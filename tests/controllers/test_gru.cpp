@@ -2,6 +2,8 @@
 // long rollouts stay bounded, and the HDF5 weights format (round trip and refusals).
 #include <gtest/gtest.h>
 
+#include "../run_command.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -18,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string temp_file(const std::string& name) { return (fs::temp_directory_path() / ("semlb_test_" + name)).string(); }
+std::string temp_file(const std::string& name) { return semlb::test::fresh_dir("gru_" + name) + "/" + name; }
 
 std::string write_weights(const GruWeights& w, const std::string& name) {
   const auto path = temp_file(name);

@@ -1,6 +1,8 @@
 // Hard rollouts: metrics, determinism, static/oracle properties, zero-head GRU == reactive.
 #include <gtest/gtest.h>
 
+#include "../run_command.hpp"
+
 #include <filesystem>
 
 #include "common/errors.hpp"
@@ -67,7 +69,7 @@ TEST(Rollout, OracleIsTheFloorOfMaxOverMean) {
 }
 
 TEST(Rollout, ZeroHeadGruEqualsReactiveOn400EventRollouts) {
-  const auto path = (std::filesystem::temp_directory_path() / "semlb_rollout_zero.h5").string();
+  const auto path = semlb::test::fresh_dir("rollout_zero") + "/zero.h5";
   save_gru_weights(path, GruWeights::random_zero_head(24, kFeatureCount, 17));
   PolicyParams params;
   params.set("weights", path);
