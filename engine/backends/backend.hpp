@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "backends/cpu_physics.hpp"
 #include "model/scene.hpp"
 #include "model/state.hpp"
 
@@ -23,6 +24,16 @@ struct Grid {
   static Grid cover(const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cutoff);
   std::array<int, 3> bin_of(const double* p) const;
 };
+
+// The scene's cell effects as one set of rules (backends/cells.h): growth, division, differentiation.
+using CellRules = cellrules::semlb_cell_rules;
+
+// The cell stage on the host State (cells.cpp): the reference. Growth, division, differentiation of every
+// cell in stored order; new cells (daughters) after the existing ones in their mothers' order. Uses and updates
+// the cell fields "growth.clock", "division.depth", "differentiation.age" of the effects that are on.
+// Returns true when elements were added or cells divided. Throws std::runtime_error when a cell would
+// divide more than kMaxDivisionDepth times.
+bool run_cell_stage(State& s, const CellRules& rules, uint64_t seed, double elapsed_h, long step);
 
 // A run-time failure inside a kernel: the first step at which it happened, the lowest element index
 // that failed then, and what went wrong.
@@ -52,7 +63,17 @@ class Backend {
   virtual void upload(const State& state) = 0;
   // Replaces the ghost elements (kept after the owned ones); forces on owned elements include them.
   virtual void set_ghosts(const Ghosts& ghosts) = 0;
-  virtual void download(State& state) = 0;  // positions of the owned elements only
+  // The owned elements' positions; after a cell stage on the device also the cells (ids, types, counts)
+  // and the cell fields the state lists ("growth.clock", "division.depth", "differentiation.age").
+  virtual void download(State& state) = 0;
+  // One cell stage (run_cell_stage's rules, `step` keys the newborns). C++ backends run the host reference
+  // on `host` (positions downloaded first) and upload; OpenCL runs it on the device and leaves `host` stale
+  // until download. Returns true when elements were added or cells divided (the grid may need refitting).
+  virtual bool update_cells(State& host, const CellRules& rules, uint64_t seed, double elapsed_h, long step) = 0;
+  // InputError when this backend cannot run the cell stage (an OpenCL device without double precision).
+  virtual void require_cells() {}
+  // The owned elements' bounding box over finite coordinates ({lo, hi}; zeros when there are none).
+  virtual std::array<std::array<double, 3>, 2> bounds() = 0;
   // The ghost exchange without a full download: the owned elements' x range ({+inf, -inf} when there are
   // none), and the owned elements with x below `x` (below) or above it, in owned order, as Ghosts whose
   // info holds only the type (the receiver numbers the cells).

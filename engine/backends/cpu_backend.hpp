@@ -33,6 +33,24 @@ class CpuBackend : public Backend {
     force_.assign(3 * owned_, 0);
   }
   void download(State& s) override { s.position.assign(pos_.begin(), pos_.begin() + 3 * owned_); }
+  bool update_cells(State& host, const CellRules& rules, uint64_t seed, double elapsed_h, long step) override {
+    count("cell_stage");
+    download(host);
+    const bool changed = run_cell_stage(host, rules, seed, elapsed_h, step);
+    upload(host);  // types may have changed even when no element was added
+    return changed;
+  }
+  std::array<std::array<double, 3>, 2> bounds() override {
+    std::array<std::array<double, 3>, 2> b{};
+    for (int d = 0; d < 3; ++d) {
+      double lo = INFINITY, hi = -INFINITY;
+      for (long i = 0; i < owned_; ++i)
+        if (std::isfinite(pos_[3 * i + d])) lo = std::fmin(lo, pos_[3 * i + d]), hi = std::fmax(hi, pos_[3 * i + d]);
+      b[0][d] = lo <= hi ? lo : 0.0;
+      b[1][d] = lo <= hi ? hi : 0.0;
+    }
+    return b;
+  }
   std::array<double, 2> x_extent() override {
     std::array<double, 2> e{INFINITY, -INFINITY};
     for (long i = 0; i < owned_; ++i) e = {std::fmin(e[0], pos_[3 * i]), std::fmax(e[1], pos_[3 * i])};

@@ -23,6 +23,19 @@ namespace semlb::engine::phys32 {
 #undef SEMLB_REAL
 }  // namespace semlb::engine::phys32
 
+// The cell stage's rules (cells.h) on the host State's arrays (3 doubles per element); see cells.cpp.
+namespace semlb::engine::cellrules {
+using phys64::semlb_info_pack;
+using phys64::semlb_mix;
+#define SEMLB_CELL_IN const double*
+#define SEMLB_CELL_X(in, e, d) (in)[3 * (e) + (d)]
+#define SEMLB_CELL_OUT double*
+#define SEMLB_CELL_KEYS void*
+#define SEMLB_CELL_PUT(out, keys, e, x, y, z, info, key) \
+  ((out)[3 * (e)] = (x), (out)[3 * (e) + 1] = (y), (out)[3 * (e) + 2] = (z), (void)(keys), (void)(info), (void)(key))
+#include "cells.h"
+}  // namespace semlb::engine::cellrules
+
 namespace semlb::engine {
 
 template <class Real>

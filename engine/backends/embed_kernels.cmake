@@ -1,7 +1,10 @@
-# Writes OUT: a C++ string holding KERNELS with its `#include "evaluator.h"` replaced by EVALUATOR.
+# Writes OUT: a C++ string holding KERNELS with its `#include "evaluator.h"` and `#include "cells.h"`
+# replaced by EVALUATOR and CELLS.
 file(READ ${EVALUATOR} evaluator)
+file(READ ${CELLS} cells)
 file(READ ${KERNELS} kernels)
 string(REPLACE "#include \"evaluator.h\"" "${evaluator}" source "${kernels}")
-file(WRITE ${OUT} "// Generated from engine/kernels.cl and engine/evaluator.h: do not edit.\n"
+string(REPLACE "#include \"cells.h\"" "${cells}" source "${source}")
+file(WRITE ${OUT} "// Generated from engine/kernels.cl, engine/evaluator.h and engine/cells.h: do not edit.\n"
   "namespace semlb::engine {\nextern const char* const kKernelSource;\n"
   "const char* const kKernelSource = R\"SEMLBCL(${source})SEMLBCL\";\n}\n")

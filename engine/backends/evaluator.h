@@ -51,18 +51,20 @@ static inline SEMLB_ULONG semlb_mix(SEMLB_ULONG z) {
   return z ^ (z >> 31);
 }
 
-/* Uniform in (0, 1] from the counter (seed, key, step, stream). */
-static inline semlb_real semlb_uniform(SEMLB_ULONG seed, SEMLB_ULONG key, SEMLB_ULONG step, SEMLB_ULONG stream) {
-  SEMLB_ULONG z = semlb_mix(semlb_mix(semlb_mix(seed ^ (stream << 56)) ^ key) ^ step);
-  return (semlb_real)((double)((z >> 11) + 1) * (1.0 / 9007199254740992.0));
-}
-
-/* Standard normal by Box-Muller from two counter streams. */
-static inline semlb_real semlb_gauss(SEMLB_ULONG seed, SEMLB_ULONG key, SEMLB_ULONG step, SEMLB_ULONG stream) {
-  semlb_real u1 = semlb_uniform(seed, key, step, 2 * stream);
-  semlb_real u2 = semlb_uniform(seed, key, step, 2 * stream + 1);
-  return SEMLB_SQRT((semlb_real)-2.0 * SEMLB_LOG(u1)) * SEMLB_COS((semlb_real)6.283185307179586 * u2);
-}
+/* Uniform in (0, 1] from the counter (seed, key, step, stream), and a standard normal by Box-Muller from
+ * two counter streams, in type T: semlb_uniform / semlb_gauss in semlb_real here; cells.h defines the
+ * double ones of the cell stage with the same macro. */
+#define SEMLB_DEFINE_RANDOM(T, UNIFORM, GAUSS)                                                                 \
+  static inline T UNIFORM(SEMLB_ULONG seed, SEMLB_ULONG key, SEMLB_ULONG step, SEMLB_ULONG stream) {           \
+    SEMLB_ULONG z = semlb_mix(semlb_mix(semlb_mix(seed ^ (stream << 56)) ^ key) ^ step);                      \
+    return (T)((double)((z >> 11) + 1) * (1.0 / 9007199254740992.0));                                        \
+  }                                                                                                          \
+  static inline T GAUSS(SEMLB_ULONG seed, SEMLB_ULONG key, SEMLB_ULONG step, SEMLB_ULONG stream) {             \
+    T u1 = UNIFORM(seed, key, step, 2 * stream);                                                             \
+    T u2 = UNIFORM(seed, key, step, 2 * stream + 1);                                                         \
+    return SEMLB_SQRT((T)-2.0 * SEMLB_LOG(u1)) * SEMLB_COS((T)6.283185307179586 * u2);                       \
+  }
+SEMLB_DEFINE_RANDOM(semlb_real, semlb_uniform, semlb_gauss)
 
 /* Force on element i from element j, added to acc[0..2] in fixed point; d = Y_i - Y_j (eq. 1 with the
  * Morse V_ele of docs/engine.md). Returns 0 outside the cutoff, 1 when added, and -1 for coincident

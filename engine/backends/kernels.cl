@@ -236,3 +236,142 @@ __kernel void band_gather(__global const real4* pos, __global const ulong* keys,
   out_pos[starts[i]] = pos[i];
   out_keys[starts[i]] = keys[i];
 }
+
+/* ---- Cell stage (growth, division, differentiation) on the device; rules from cells.h. ---------------- */
+/* The bounding box of the finite coordinates of pos[0..n): per group lo.xyz, hi.xyz into out[6 group ..]. */
+__kernel void bounds(__global const real4* pos, int n, __global SEMLB_REAL* out, __local SEMLB_REAL* lo,
+                     __local SEMLB_REAL* hi) {
+  int l = get_local_id(0), w = get_local_size(0);
+  for (int d = 0; d < 3; ++d) {
+    SEMLB_REAL a = (SEMLB_REAL)INFINITY, b = -(SEMLB_REAL)INFINITY;
+    for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
+      SEMLB_REAL x = ((__global const SEMLB_REAL*)pos)[4 * i + d];
+      if (isfinite(x)) {
+        a = fmin(a, x);
+        b = fmax(b, x);
+      }
+    }
+    lo[l] = a;
+    hi[l] = b;
+    for (int off = w / 2; off > 0; off >>= 1) {
+      barrier(CLK_LOCAL_MEM_FENCE);
+      if (l < off) {
+        lo[l] = fmin(lo[l], lo[l + off]);
+        hi[l] = fmax(hi[l], hi[l + off]);
+      }
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (l == 0) {
+      out[6 * get_group_id(0) + d] = lo[0];
+      out[6 * get_group_id(0) + 3 + d] = hi[0];
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+}
+
+#ifdef SEMLB_CELLS /* built when the device has fp64: the cell bookkeeping is double on every backend */
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#pragma OPENCL FP_CONTRACT OFF
+#ifdef SEMLB_DOUBLE
+#define CELL_INFO(i) as_double((long)(i))
+#else
+#define CELL_INFO(i) as_float(i)
+#endif
+#define SEMLB_CELL_IN __global const real4*
+#define SEMLB_CELL_X(in, e, d) ((double)((__global const SEMLB_REAL*)(in))[4 * (e) + (d)])
+#define SEMLB_CELL_OUT __global real4*
+#define SEMLB_CELL_KEYS __global ulong*
+#define SEMLB_CELL_PUT(out, keys, e, x, y, z, info, key) \
+  ((out)[e] = (real4)((SEMLB_REAL)(x), (SEMLB_REAL)(y), (SEMLB_REAL)(z), CELL_INFO(info)), (keys)[e] = (key))
+#include "cells.h"
+
+/* Per cell: growth (clock, births), the division decision and its split plan. counts[c] = the cell's
+   elements after the stage, counts[n + c] = its daughter's (0 if none); divides[c] = 0 or 1; a cell that
+   would divide past the id depth records its index in fail[0] (atomic_min). */
+__kernel void cells_plan(int n, semlb_cell_rules r, ulong seed, ulong step, double elapsed, __global const real4* pos,
+                         __global const ulong* id, __global const int* type, __global const int* first,
+                         __global const int* count, __global double* clock, __global const double* depth,
+                         __global int* births, __global double* old_centroid, __global semlb_cell_split* split,
+                         __global int* counts, __global int* divides, __global volatile int* fail) {
+  int c = get_global_id(0);
+  if (c >= n) return;
+  double clk = clock[c], ctr[3];
+  int t = type[c], cnt = count[c];
+  int b = semlb_cell_births(&r, t, cnt, elapsed, &clk);
+  clock[c] = clk;
+  births[c] = b;
+  semlb_cell_centroid(pos, first[c], cnt, ctr);
+  for (int d = 0; d < 3; ++d) old_centroid[3 * c + d] = ctr[d];
+  int grown = cnt + b;
+  int div = r.division && ((r.division_types >> t) & 1) && grown >= r.at_elements;
+  if (div && (int)depth[c] >= SEMLB_CELL_MAX_DEPTH) {
+    atomic_min(&fail[0], c);
+    div = 0;
+  }
+  int leave = 0;
+  if (div) {
+    semlb_cell_split s;
+    semlb_cell_plan_split(pos, first[c], cnt, b, ctr, &r, seed, id[c], step, &s);
+    split[c] = s;
+    leave = s.leave;
+  }
+  divides[c] = div;
+  counts[c] = grown - leave;
+  counts[n + c] = leave;
+}
+
+/* Per cell: writes the mother (index c) and its daughter (index n + dstarts[c]) into the new arrays:
+   elements at estarts[c] / estarts[n + c] (exclusive scans of counts and divides). */
+__kernel void cells_rewrite(int n, semlb_cell_rules r, ulong seed, ulong step, __global const real4* pos,
+                            __global const ulong* id, __global const int* type, __global const int* first,
+                            __global const int* count, __global const double* clock, __global const double* depth,
+                            __global const double* age, __global const int* births, __global const double* old_centroid,
+                            __global const semlb_cell_split* split, __global const int* counts,
+                            __global const int* divides, __global const int* estarts, __global const int* dstarts,
+                            __global real4* out_pos, __global ulong* out_keys, __global ulong* out_id,
+                            __global int* out_type, __global int* out_first, __global int* out_count,
+                            __global double* out_clock, __global double* out_depth, __global double* out_age) {
+  int c = get_global_id(0);
+  if (c >= n) return;
+  int div = divides[c], t = type[c];
+  double dep = depth[c] + div, ctr[3] = {old_centroid[3 * c], old_centroid[3 * c + 1], old_centroid[3 * c + 2]};
+  ulong me = id[c], daughter = div ? me | ((ulong)1 << (SEMLB_CELL_ROOT_ID_BITS + (int)depth[c])) : 0;
+  int dc = n + dstarts[c];
+  out_id[c] = me;
+  out_type[c] = t;
+  out_first[c] = estarts[c];
+  out_count[c] = counts[c];
+  out_clock[c] = clock[c];
+  out_depth[c] = dep;
+  out_age[c] = age[c];
+  semlb_cell_split s;
+  if (div) {
+    s = split[c];
+    out_id[dc] = daughter;
+    out_type[dc] = t;
+    out_first[dc] = estarts[n + c];
+    out_count[dc] = counts[n + c];
+    out_clock[dc] = clock[c];
+    out_depth[dc] = dep;
+    out_age[dc] = age[c];
+  }
+  semlb_cell_rewrite(pos, first[c], count[c], births[c], ctr, &r, seed, step, me, t, estarts[c], c, div ? &s : 0,
+                     daughter, estarts[n + c], dc, out_pos, out_keys);
+}
+
+/* Per cell of the new state: differentiation on its own centroid; a new type is written into its elements. */
+__kernel void cells_differentiate(int n, semlb_cell_rules r, double elapsed, __global real4* pos,
+                                  __global const int* first, __global const int* count, __global int* type,
+                                  __global double* age) {
+  int c = get_global_id(0);
+  if (c >= n) return;
+  double ctr[3], a = age[c];
+  int t = type[c];
+  semlb_cell_centroid(pos, first[c], count[c], ctr);
+  int changed = semlb_cell_differentiate(&r, ctr[2], elapsed, &t, &a);
+  age[c] = a;
+  if (!changed) return;
+  type[c] = t;
+  for (int k = 0; k < count[c]; ++k) pos[first[c] + k].w = CELL_INFO(semlb_info_pack(c, t));
+}
+#endif

@@ -33,11 +33,11 @@ class OpenClBackend final : public Backend {
  public:
   OpenClBackend(const BackendConfig& c, bool binned) : binned_(binned) {
     dev_ = cl::choose_device(c.platform, c.device, c.local_rank);
-    if (std::is_same_v<Real, double>) {
-      cl_device_fp_config fp64 = 0;
-      clGetDeviceInfo(dev_.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, nullptr);
-      if (!fp64) throw InputError("backend.precision: device '" + dev_.device_name + "' has no double precision; use float");
-    }
+    cl_device_fp_config fp64 = 0;
+    clGetDeviceInfo(dev_.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, nullptr);
+    has_fp64_ = fp64 != 0;
+    if (std::is_same_v<Real, double> && !has_fp64_)
+      throw InputError("backend.precision: device '" + dev_.device_name + "' has no double precision; use float");
     cl_int err = CL_SUCCESS;
     ctx_ = cl::Context(clCreateContext(nullptr, 1, &dev_.device, nullptr, nullptr, &err));
     cl::check(err, "clCreateContext");
@@ -49,6 +49,8 @@ class OpenClBackend final : public Backend {
     table_ = buffer(64 * sizeof(Real));
     membrane_ = buffer(8 * sizeof(Real));
     extent_ = buffer(2 * kExtentGroups * sizeof(Real));
+    bounds_ = buffer(6 * kExtentGroups * sizeof(Real));
+    cell_fail_ = buffer(sizeof(cl_int));
   }
 
   std::string name() const override { return binned_ ? "opencl-binned" : "opencl-allpairs"; }
@@ -60,6 +62,7 @@ class OpenClBackend final : public Backend {
     write_elements(0, s.position, s.element_info(), s.element_keys());
     const cl_int none[2] = {-1, INT_MAX};
     write(fail_, none, sizeof none);
+    upload_cells(s);
   }
 
   void set_ghosts(const Ghosts& g) override {
@@ -75,7 +78,116 @@ class OpenClBackend final : public Backend {
     n_ = owned_ + g.elements();
   }
 
-  void download(State& s) override { to_positions(read_packed(pos_, owned_), s.position); }
+  void download(State& s) override {
+    to_positions(read_packed(pos_, owned_), s.position);
+    if (!cells_stale_) return;  // the host's cells are current unless a cell stage ran here since
+    const long m = cells_;
+    s.cell_id.resize(m);
+    s.cell_type.resize(m);
+    s.cell_count.resize(m);
+    read(cell_.id, s.cell_id.data(), m * sizeof(uint64_t));
+    read(cell_.type, s.cell_type.data(), m * sizeof(cl_int));
+    read(cell_.count, s.cell_count.data(), m * sizeof(cl_int));
+    for (const auto& [name, mem] : cell_.fields())
+      if (auto f = s.cell_fields.find(name); f != s.cell_fields.end()) {
+        f->second.resize(m);
+        read(*mem, f->second.data(), m * sizeof(double));
+      }
+    s.reindex();
+    cells_stale_ = false;
+  }
+
+  void require_cells() override {
+    if (!has_fp64_)
+      throw InputError("effects: the cell stage needs double precision on the device, and '" + dev_.device_name +
+                       "' has none (cl_khr_fp64); use a device with it or a C++ backend");
+  }
+
+  std::array<std::array<double, 3>, 2> bounds() override {
+    std::array<std::array<double, 3>, 2> b{};
+    if (!owned_) return b;
+    std::array<Real, 6 * kExtentGroups> part{};
+    launch("bounds", kExtentGroups * kScanGroup, kScanGroup, pos_.get(), owned(), bounds_.get(),
+           LocalBytes{kScanGroup * sizeof(Real)}, LocalBytes{kScanGroup * sizeof(Real)});
+    read(bounds_, part.data(), sizeof part);
+    for (int d = 0; d < 3; ++d) {
+      double lo = INFINITY, hi = -INFINITY;
+      for (size_t g = 0; g < kExtentGroups; ++g) lo = std::fmin(lo, part[6 * g + d]), hi = std::fmax(hi, part[6 * g + 3 + d]);
+      b[0][d] = lo <= hi ? lo : 0.0;
+      b[1][d] = lo <= hi ? hi : 0.0;
+    }
+    return b;
+  }
+
+  // The cell stage on the device: cells_plan, scans of the new counts and of the divisions, cells_rewrite into
+  // the second element and cell buffers (swapped after), cells_differentiate. Only the new element and cell
+  // counts and the depth-error flag come back.
+  bool update_cells(State&, const CellRules& rules, uint64_t seed, double elapsed_h, long step) override {
+    require_cells();
+    const long n = cells_;
+    if (n == 0) return false;
+    if (n > plan_capacity_) {
+      plan_capacity_ = n + n / 4 + 64;
+      const long p = plan_capacity_;
+      births_ = buffer(p * sizeof(cl_int));
+      old_centroid_ = buffer(3 * p * sizeof(double));
+      split_ = buffer(p * sizeof(cellrules::semlb_cell_split));
+      counts2_ = buffer(2 * p * sizeof(cl_int));
+      estarts_ = buffer((2 * p + 1) * sizeof(cl_int));
+      esums_ = buffer(round_up(2 * p, kScanGroup) / kScanGroup * sizeof(cl_int));
+      divides_ = buffer(p * sizeof(cl_int));
+      dstarts_ = buffer((p + 1) * sizeof(cl_int));
+      dsums_ = buffer(round_up(p, kScanGroup) / kScanGroup * sizeof(cl_int));
+    }
+    const cl_int none = INT_MAX, nc = static_cast<cl_int>(n);
+    write(cell_fail_, &none, sizeof none);
+    const cl_ulong seed_ = seed, step_ = static_cast<cl_ulong>(step);
+    launch("cells_plan", n, kGroup, nc, rules, seed_, step_, elapsed_h, pos_.get(), cell_.id.get(), cell_.type.get(),
+           cell_.first.get(), cell_.count.get(), cell_.clock.get(), cell_.depth.get(), births_.get(), old_centroid_.get(),
+           split_.get(), counts2_.get(), divides_.get(), cell_fail_.get());
+    exclusive_scan(counts2_, estarts_, esums_, estarts_, 2 * n);
+    exclusive_scan(divides_, dstarts_, dsums_, dstarts_, n);
+    cl_int total = 0, daughters = 0, failed = INT_MAX;
+    read(estarts_, &total, sizeof total, 2 * n * sizeof(cl_int));
+    read(dstarts_, &daughters, sizeof daughters, n * sizeof(cl_int));
+    read(cell_fail_, &failed, sizeof failed);
+    if (failed != INT_MAX) {
+      cl_ulong id = 0;
+      double depth = 0;
+      read(cell_.id, &id, sizeof id, failed * sizeof id);
+      read(cell_.depth, &depth, sizeof depth, failed * sizeof depth);
+      throw std::runtime_error("cell " + std::to_string(id) + " divided " + std::to_string(static_cast<int>(depth)) +
+                               " times: cell ids are exhausted");
+    }
+    const long m = n + daughters;
+    if (m > back_.capacity) back_.allocate(*this, m + m / 4 + 64);
+    cl::Mem in_pos = std::move(pos_), in_keys = std::move(keys_);
+    const bool grow = total > capacity_;
+    if (grow) {  // grow on the device: the rewrite reads the old buffers and writes the new ones
+      allocate(total + total / 4 + 64);
+    } else {
+      pos_ = std::move(pos_back_);
+      keys_ = std::move(keys_back_);
+    }
+    launch("cells_rewrite", n, kGroup, nc, rules, seed_, step_, in_pos.get(), cell_.id.get(), cell_.type.get(),
+           cell_.first.get(), cell_.count.get(), cell_.clock.get(), cell_.depth.get(), cell_.age.get(), births_.get(),
+           old_centroid_.get(), split_.get(), counts2_.get(), divides_.get(), estarts_.get(), dstarts_.get(), pos_.get(),
+           keys_.get(), back_.id.get(), back_.type.get(), back_.first.get(), back_.count.get(), back_.clock.get(),
+           back_.depth.get(), back_.age.get());
+    if (!grow) {  // the old pair is the spare for the next stage (allocate() made a fresh spare when growing)
+      pos_back_ = std::move(in_pos);
+      keys_back_ = std::move(in_keys);
+    }
+    std::swap(cell_, back_);
+    if (rules.differentiation)
+      launch("cells_differentiate", m, kGroup, static_cast<cl_int>(m), rules, elapsed_h, pos_.get(), cell_.first.get(),
+             cell_.count.get(), cell_.type.get(), cell_.age.get());
+    const bool changed = total != owned_ || daughters > 0;
+    n_ = owned_ = total;
+    cells_ = m;
+    cells_stale_ = true;
+    return changed;
+  }
 
   std::array<double, 2> x_extent() override {
     if (!owned_) return {INFINITY, -INFINITY};
@@ -209,7 +321,7 @@ class OpenClBackend final : public Backend {
     const char* text = source.c_str();
     program_ = cl::Program(clCreateProgramWithSource(ctx_.get(), 1, &text, nullptr, &err));
     cl::check(err, "clCreateProgramWithSource");
-    const std::string options = std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "";
+    const std::string options = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") + (has_fp64_ ? " -DSEMLB_CELLS" : "");
     if (clBuildProgram(program_.get(), 1, &dev_.device, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
       size_t n = 0;
       clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
@@ -218,10 +330,15 @@ class OpenClBackend final : public Backend {
       throw std::runtime_error("OpenCL: kernels failed to build on " + device_name() + ":\n" + log);
     }
     for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned",
-                          "forces_allpairs", "membrane", "integrate", "noise", "x_extent", "band_flags", "band_gather"}) {
+                          "forces_allpairs", "membrane", "integrate", "noise", "x_extent", "band_flags", "band_gather", "bounds"}) {
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
       cl::check(err, k);
     }
+    if (has_fp64_)
+      for (const char* k : {"cells_plan", "cells_rewrite", "cells_differentiate"}) {
+        kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
+        cl::check(err, k);
+      }
   }
 
   cl::Mem buffer(size_t bytes) {
@@ -248,6 +365,8 @@ class OpenClBackend final : public Backend {
     capacity_ = capacity;
     pos_ = buffer(capacity * sizeof(Real4));
     keys_ = buffer(capacity * sizeof(uint64_t));
+    pos_back_ = buffer(capacity * sizeof(Real4));  // the cell stage's output (swapped with pos_, keys_)
+    keys_back_ = buffer(capacity * sizeof(uint64_t));
     force_ = buffer(3 * capacity * sizeof(cl_long));
     bin_ = buffer(capacity * sizeof(cl_int));
     sorted_pos_ = buffer(capacity * sizeof(Real4));
@@ -310,7 +429,44 @@ class OpenClBackend final : public Backend {
     }
   }
 
-  bool binned_, profile_ = false;
+  // Per-cell arrays on the device (cell index order, as the host State): the cell stage reads one set and
+  // writes the other, then swaps them.
+  struct Cells {
+    cl::Mem id, type, first, count, clock, depth, age;
+    long capacity = 0;
+    void allocate(OpenClBackend& b, long cap) {
+      capacity = cap;
+      id = b.buffer(cap * sizeof(uint64_t));
+      for (cl::Mem* m : {&type, &first, &count}) *m = b.buffer(cap * sizeof(cl_int));
+      for (cl::Mem* m : {&clock, &depth, &age}) *m = b.buffer(cap * sizeof(double));
+    }
+    std::vector<std::pair<const char*, const cl::Mem*>> fields() const {
+      return {{"growth.clock", &clock}, {"division.depth", &depth}, {"differentiation.age", &age}};
+    }
+  };
+
+  void upload_cells(const State& s) {
+    const long m = s.cells();
+    cells_ = m;
+    cells_stale_ = false;
+    if (m > cell_.capacity) cell_.allocate(*this, m + m / 4 + 64);
+    std::vector<cl_int> first(s.cell_first.begin(), s.cell_first.end());
+    write(cell_.id, s.cell_id.data(), m * sizeof(uint64_t));
+    write(cell_.type, s.cell_type.data(), m * sizeof(cl_int));
+    write(cell_.first, first.data(), m * sizeof(cl_int));
+    write(cell_.count, s.cell_count.data(), m * sizeof(cl_int));
+    const std::vector<double> zeros(m, 0.0);
+    for (const auto& [name, mem] : cell_.fields()) {
+      const auto f = s.cell_fields.find(name);
+      write(*mem, f == s.cell_fields.end() ? zeros.data() : f->second.data(), m * sizeof(double));
+    }
+  }
+
+  bool binned_, profile_ = false, has_fp64_ = false, cells_stale_ = false;
+  Cells cell_, back_;
+  long cells_ = 0, plan_capacity_ = 0;
+  cl::Mem pos_back_, keys_back_, bounds_, cell_fail_, births_, old_centroid_, split_, counts2_, estarts_, esums_, divides_,
+      dstarts_, dsums_;
   cl::DeviceInfo dev_{};
   cl::Context ctx_;
   cl::Queue queue_;

@@ -131,6 +131,7 @@ void DistributedSimulation::exchange_ghosts() {
 
 void DistributedSimulation::migrate_cells() {
   const auto t0 = std::chrono::steady_clock::now();
+  sim_->sync();  // the host cells are stale after a cell stage on the device (a download for now)
   if (sim_->host_state().step % dec_.rebalance_every == 0) decide(measure());  // new boundaries first
   State& s = sim_->state();
   std::vector<int> owner(s.cells());
@@ -239,10 +240,7 @@ void DistributedSimulation::advance(long target) {
     const long stop = std::min(target, (step() / dec_.rebalance_every + 1) * dec_.rebalance_every);
     sim_->advance(stop);
     const bool cells_updated = sim_->has_cell_effects() && stop % scene_->cell_update_every == 0;  // migrated there
-    if (stop % dec_.rebalance_every == 0 && !cells_updated) {
-      sim_->sync();
-      migrate_cells();  // rebalances first
-    }
+    if (stop % dec_.rebalance_every == 0 && !cells_updated) migrate_cells();  // syncs, rebalances first
   }
 }
 

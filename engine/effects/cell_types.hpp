@@ -17,4 +17,11 @@ inline std::array<bool, kCellTypes> read_types(const Section& s, const std::stri
   return on;
 }
 
+// The types as a bit mask (bit t: type t), the form of CellRules.
+inline int type_mask(const std::array<bool, kCellTypes>& on) {
+  int mask = 0;
+  for (int t = 0; t < kCellTypes; ++t) mask |= on[t] ? 1 << t : 0;
+  return mask;
+}
+
 }  // namespace semlb::engine

@@ -1,5 +1,6 @@
 // "differentiation": a basal cell whose centroid rises above basal_height (lost the membrane) becomes
-// spinous; a spinous cell becomes granular granular_after hours later. The type selects the adhesion set.
+// spinous; a spinous cell becomes granular granular_after hours later. The type selects the adhesion set
+// (the rule: backends/cells.h).
 #include "effect.hpp"
 
 namespace semlb::engine {
@@ -13,22 +14,10 @@ class Differentiation final : public Effect {
   bool changes_cells() const override { return true; }
   void prepare(State& s) override { s.cell_fields["differentiation.age"].resize(s.cell_id.size(), 0.0); }
 
-  bool update_cells(CellContext& ctx) override {
-    State& s = ctx.state;
-    auto& age = s.cell_fields["differentiation.age"];
-    bool changed = false;
-    for (long c = 0; c < s.cells(); ++c) {
-      age[c] += ctx.elapsed;
-      int next = s.cell_type[c];
-      if (next == kBasal && centroid(s, c)[2] > basal_height_) next = kSpinous;
-      else if (next == kSpinous && age[c] >= granular_after_) next = kGranular;
-      if (next != s.cell_type[c]) {
-        s.cell_type[c] = next;
-        age[c] = 0;
-        changed = true;
-      }
-    }
-    return changed;
+  void cell_rules(CellRules& r) const override {
+    r.differentiation = 1;
+    r.basal_height = basal_height_;
+    r.granular_after = granular_after_;
   }
 
  private:

@@ -1,4 +1,4 @@
-// Effect registry and the host-side helpers shared by cell effects.
+// Effect registry and the centroid of a cell.
 #include "effect.hpp"
 
 #include <algorithm>
@@ -33,40 +33,10 @@ std::vector<std::unique_ptr<Effect>> make_effects(const Scene& scene) {
   return out;
 }
 
-std::array<double, 3> centroid(const State& s, long cell) {
-  std::array<double, 3> c{0, 0, 0};
-  const long first = s.cell_first[cell];
-  const int n = s.cell_count[cell];
-  for (int k = 0; k < n; ++k)
-    for (int d = 0; d < 3; ++d) c[d] += s.position[3 * (first + k) + d];
-  for (int d = 0; d < 3; ++d) c[d] /= std::max(n, 1);
+std::array<double, 3> centroid(const State& s, long cell) {  // the cell stage's rule (cells.h)
+  std::array<double, 3> c{};
+  cellrules::semlb_cell_centroid(s.position.data(), s.cell_first[cell], s.cell_count[cell], c.data());
   return c;
-}
-
-Positions elements_of(const State& s, long cell) {
-  Positions out(s.cell_count[cell]);
-  for (size_t k = 0; k < out.size(); ++k)
-    for (int d = 0; d < 3; ++d) out[k][d] = s.position[3 * (s.cell_first[cell] + k) + d];
-  return out;
-}
-
-void copy_elements(const State& s, long cell, std::vector<double>& out) {
-  const auto first = s.position.begin() + 3 * s.cell_first[cell];
-  out.insert(out.end(), first, first + 3 * s.cell_count[cell]);
-}
-
-void rewrite_elements(State& s, const std::function<void(long, std::vector<double>&)>& emit, long added) {
-  std::vector<double> out;
-  out.reserve(s.position.size() + 3 * static_cast<size_t>(std::max(added, 0L)));
-  std::vector<int> counts(s.cells());
-  for (long c = 0; c < s.cells(); ++c) {
-    const size_t before = out.size();
-    emit(c, out);
-    counts[c] = static_cast<int>((out.size() - before) / 3);
-  }
-  s.position.swap(out);
-  s.cell_count.swap(counts);
-  s.reindex();
 }
 
 }  // namespace semlb::engine

@@ -63,6 +63,10 @@ std::pair<std::array<double, 3>, std::array<double, 3>> tissue_box(const State& 
       lo[d] = e == 0 ? x : std::min(lo[d], x);
       hi[d] = e == 0 ? x : std::max(hi[d], x);
     }
+  return padded_box(lo, hi, cutoff);
+}
+
+std::pair<std::array<double, 3>, std::array<double, 3>> padded_box(std::array<double, 3> lo, std::array<double, 3> hi, double cutoff) {
   for (int d = 0; d < 3; ++d) {
     lo[d] -= cutoff;
     hi[d] += cutoff;

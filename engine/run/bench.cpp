@@ -82,7 +82,8 @@ CellStageTiming time_cell_stage(Scene& scene, long updates) {
   sim.update_cells();  // untimed: first allocations
   const auto before = sim.cell_stage_seconds();
   for (long u = 0; u < updates; ++u) sim.update_cells();
-  CellStageTiming t{sim.host_state().cells(), sim.host_state().elements(), updates, sim.backend().name(),
+  const State& s = sim.sync();
+  CellStageTiming t{s.cells(), s.elements(), updates, sim.backend().name(),
                     sim.backend().device_name(), sim.cell_stage_seconds()};
   for (size_t p = 0; p < t.parts.size(); ++p)
     t.parts[p].second = (t.parts[p].second - before[p].second) / static_cast<double>(updates);

@@ -36,7 +36,7 @@ struct Timing {
 struct CellStageTiming {
   long cells = 0, elements = 0, updates = 0;
   std::string backend, device;
-  std::vector<std::pair<std::string, double>> parts;  // download, each cell effect, upload
+  std::vector<std::pair<std::string, double>> parts;  // "stage", "grid" (Simulation::cell_stage_seconds)
 };
 CellStageTiming time_cell_stage(Scene& scene, long updates);
 

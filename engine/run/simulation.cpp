@@ -1,5 +1,5 @@
 // Simulation loop: forces -> integrate -> post-integration moves every step; cell effects every
-// cell_update_every steps on the host, with a failure check before each.
+// cell_update_every steps on the backend (the device for OpenCL), with a failure check before each.
 #include "simulation.hpp"
 
 #include <chrono>
@@ -19,12 +19,17 @@ Simulation::Simulation(const Scene& scene, State state)
   phases_.push_back("integrate");
   for (const auto& e : effects_)
     if (e->moves_after_integration()) phases_.push_back(e->name());
-  for (const auto& e : effects_) has_cell_effects_ = has_cell_effects_ || e->changes_cells();
-  if (has_cell_effects_) phases_.push_back("cells");
-  cell_parts_.push_back({"download", 0.0});
   for (const auto& e : effects_)
-    if (e->changes_cells()) cell_parts_.push_back({e->name(), 0.0});
-  cell_parts_.push_back({"upload", 0.0});
+    if (e->changes_cells()) {
+      has_cell_effects_ = true;
+      e->cell_rules(rules_);  // in the registered order: growth, division, differentiation
+    }
+  rules_.single = scene.backend.precision == "float";
+  if (has_cell_effects_) {
+    phases_.push_back("cells");
+    backend_->require_cells();
+  }
+  cell_parts_ = {{"stage", 0.0}, {"grid", 0.0}};
   seconds_.assign(phases_.size(), 0.0);
   backend_->upload(state_);
 }
@@ -50,8 +55,9 @@ void Simulation::reload() {
 // `domain: auto` follows the tissue as it spreads and stratifies; the grid only speeds up the neighbour
 // search (sums are order-independent), so refitting it never changes the result.
 void Simulation::refit_grid() {
-  if (scene_->auto_box) {
-    const auto [lo, hi] = tissue_box(state_, scene_->cutoff);
+  if (scene_->auto_box) {  // the box of the backend's elements: the host state may be stale
+    const auto b = backend_->bounds();
+    const auto [lo, hi] = padded_box(b[0], b[1], scene_->cutoff);
     grid_ = Grid::cover(lo, hi, scene_->cutoff);
   }
 }
@@ -78,24 +84,17 @@ void Simulation::step_once() {
 }
 
 void Simulation::update_cells() {
-  size_t part = 0;
   auto t0 = std::chrono::steady_clock::now();
-  const auto lap = [&] {  // closes the current part
-    cell_parts_[part++].second += seconds_since(t0);
+  const auto lap = [&](size_t part) {  // closes a part; under profile after the queued work finished
+    if (profile) backend_->finish();
+    cell_parts_[part].second += seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
   };
-  backend_->download(state_);
-  lap();
-  CellContext ctx{state_, scene_->seed, scene_->dt * static_cast<double>(scene_->cell_update_every)};
-  bool changed = false;
-  for (const auto& e : effects_)
-    if (e->changes_cells()) {
-      changed = e->update_cells(ctx) || changed;
-      lap();
-    }
-  if (changed) backend_->upload(state_);
-  refit_grid();
-  lap();
+  const double elapsed = scene_->dt * static_cast<double>(scene_->cell_update_every);
+  const bool changed = backend_->update_cells(state_, rules_, scene_->seed, elapsed, state_.step);
+  lap(0);
+  if (changed) refit_grid();
+  lap(1);
 }
 
 const State& Simulation::sync() {

@@ -33,7 +33,8 @@ class Simulation {
   void advance(long target);
   // The host state with current positions (downloads them from the backend).
   const State& sync();
-  const State& host_state() const { return state_; }  // positions as of the last sync or cell update
+  // The host state as of the last sync (after a cell stage on the device its cells are stale until then).
+  const State& host_state() const { return state_; }
   Backend& backend() { return *backend_; }
   const Grid& grid() const { return grid_; }
   const std::vector<std::string>& phases() const { return phases_; }
@@ -42,10 +43,11 @@ class Simulation {
   // The growth phase of the first effect that has a growth cycle (Effect::growth_phase), at the current
   // time; 0 when none has.
   double growth_phase() const;
-  // The host cell stage once, now: download, the cell effects, upload. advance() runs it every
-  // time.cell_update_every steps; `semlb bench cells` calls it directly.
+  // The cell stage once, now, on the backend (Backend::update_cells with the cell effects' rules), then the grid
+  // refit. advance() runs it every time.cell_update_every steps; `semlb bench cells` calls it directly.
   void update_cells();
-  // Accumulated seconds of the cell stage's parts: "download", each cell effect by name, "upload".
+  // Accumulated seconds of the cell stage's parts: "stage" (the backend's cell stage; for the C++ backends
+  // with their download and upload) and "grid" (bounding box and grid refit); honest only under `profile`.
   const std::vector<std::pair<std::string, double>>& cell_stage_seconds() const { return cell_parts_; }
   bool profile = true;
   // Throws SimulationError if a kernel recorded a failure.
@@ -73,6 +75,7 @@ class Simulation {
   std::vector<double> seconds_;
   std::vector<std::pair<std::string, double>> cell_parts_;
   bool has_cell_effects_ = false;
+  CellRules rules_{};
 };
 
 }  // namespace semlb::engine

@@ -64,7 +64,7 @@ TEST(CliSim, BenchCellsTimesEachPartOfTheCellStage) {
   ASSERT_EQ(r.rc, 0) << r.out;
   EXPECT_NE(r.out.find("cpu-binned double, 3"), std::string::npos) << r.out;  // cells grown from 300 by divisions
   double sum = 0, total = 0;
-  for (const char* part : {"download", "growth", "division", "differentiation", "upload", "total"}) {
+  for (const char* part : {"stage", "grid", "total"}) {
     const auto at = r.out.find(std::string("\n  ") + part + " ");
     ASSERT_NE(at, std::string::npos) << part << "\n" << r.out;
     const double ms = std::stod(r.out.substr(at + 3 + std::string(part).size()));

@@ -146,10 +146,46 @@ TEST(Backends, UnlistedEffectsLaunchNothing) {
       EXPECT_TRUE(sim.host_state().cell_fields.empty()) << backend;  // no growth/differentiation state
       EXPECT_EQ(sim.phases(), std::vector<std::string>({"mechanics", "integrate"})) << backend;
       EXPECT_FALSE(sim.has_cell_effects()) << backend;
-      for (const auto& [part, seconds] : sim.cell_stage_seconds())  // download, upload: never run
+      for (const auto& [part, seconds] : sim.cell_stage_seconds())  // stage, grid: never run
         EXPECT_EQ(seconds, 0.0) << backend << " " << part;
       EXPECT_EQ(sim.cell_stage_seconds().size(), 2u) << backend;
     }
+}
+
+// A scene with cell effects runs the cell stage every cell update: on OpenCL as device kernels (differentiation's
+// only when it is listed), on the C++ backends as the host reference; a scene without them launches none
+// (UnlistedEffectsLaunchNothing compares the whole map).
+TEST(Backends, CellEffectsLaunchTheCellStage) {
+  const std::vector<std::string> cell_kernels = {"cells_plan", "cells_rewrite", "cells_differentiate", "cell_stage"};
+  for (const auto& backend : available_backends())
+    for (const bool differentiation : {false, true}) {
+      std::vector<std::string> sets = {"backend.name=" + backend, "effects.growth={}", "effects.division={}"};
+      if (differentiation) sets.push_back("effects.differentiation={}");
+      auto scene = scene_from(testing::kMechanicsYaml, sets);
+      scene.box_lo = {0, 0, 0};
+      scene.box_hi = {40, 40, 40};
+      Simulation sim(scene, random_state(10, 5, 40.0, 1));
+      sim.advance(30);  // three cell updates
+      const auto& l = sim.backend().launches();
+      const auto n = [&](const std::string& k) { return l.count(k) ? l.at(k) : 0L; };
+      const bool device = backend.rfind("opencl", 0) == 0;
+      EXPECT_EQ(n("cells_plan"), device ? 3 : 0) << backend;
+      EXPECT_EQ(n("cells_rewrite"), device ? 3 : 0) << backend;
+      EXPECT_EQ(n("cells_differentiate"), device && differentiation ? 3 : 0) << backend;
+      EXPECT_EQ(n("cell_stage"), device ? 0 : 3) << backend;
+      double stage = 0;
+      for (const auto& [part, seconds] : sim.cell_stage_seconds()) stage += seconds;
+      EXPECT_GT(stage, 0.0) << backend;
+    }
+  auto plain = scene_from(testing::kMechanicsYaml);
+  plain.box_lo = {0, 0, 0};
+  plain.box_hi = {40, 40, 40};
+  for (const auto& backend : available_backends()) {
+    plain.backend.name = backend;
+    Simulation sim(plain, random_state(10, 5, 40.0, 1));
+    sim.advance(30);
+    for (const auto& k : cell_kernels) EXPECT_EQ(sim.backend().launches().count(k), 0u) << backend << " " << k;
+  }
 }
 
 TEST(Backends, UnknownBackendIsRefusedWithTheKnownOnes) {

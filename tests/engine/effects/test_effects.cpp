@@ -32,20 +32,24 @@ State line_cell(int n, int axis, double z, int type = kBasal) {
   return s;
 }
 
-std::unique_ptr<Effect> effect(const std::string& yaml, State& s) {
+// The cell rules of the listed cell effects (their fields prepared on `s`), and one stage of them.
+CellRules rules_of(const std::string& yaml, State& s) {
   auto scene = scene_from(std::string(testing::kMechanicsYaml) + yaml);
-  auto effects = make_effects(scene);
-  for (auto& e : effects) e->prepare(s);
-  return std::move(effects.back());  // the effect under test sorts last after mechanics
+  CellRules r{};
+  for (auto& e : make_effects(scene)) {
+    e->prepare(s);
+    e->cell_rules(r);
+  }
+  return r;
 }
+bool stage(State& s, const CellRules& r, double elapsed) { return run_cell_stage(s, r, 1, elapsed, s.step); }
 
 TEST(Effects, GrowthAddsOneElementPerPeriodUpToTheMaximum) {
   State s = line_cell(10, 0, 5);
-  auto growth = effect("  growth: {cycle_time: 20, min_elements: 10, max_elements: 20, offset: 1.0}\n", s);
+  const auto r = rules_of("  growth: {cycle_time: 20, min_elements: 10, max_elements: 20, offset: 1.0}\n", s);
   s.cell_fields["growth.clock"] = {0.0};
-  CellContext ctx{s, 1, 2.0};  // one period (20 h / 10 elements)
   for (int k = 1; k <= 15; ++k) {
-    growth->update_cells(ctx);
+    stage(s, r, 2.0);  // one period (20 h / 10 elements)
     ASSERT_EQ(s.cell_count[0], std::min(10 + k, 20)) << "after " << k << " periods";  // one each, capped at max_elements
   }
   EXPECT_EQ(s.elements(), 20);
@@ -55,18 +59,16 @@ TEST(Effects, GrowthAddsOneElementPerPeriodUpToTheMaximum) {
 
 TEST(Effects, GrowthSkipsTypesItIsNotFor) {
   State s = line_cell(10, 0, 5, kGranular);
-  auto growth = effect("  growth: {cycle_time: 20}\n", s);
-  CellContext ctx{s, 1, 100.0};
-  EXPECT_FALSE(growth->update_cells(ctx));
+  const auto r = rules_of("  growth: {cycle_time: 20}\n", s);
+  EXPECT_FALSE(stage(s, r, 100.0));
   EXPECT_EQ(s.elements(), 10);
 }
 
 TEST(Effects, DivisionSplitsAcrossTheLongAxis) {
   for (int axis = 0; axis < 3; ++axis) {
     State s = line_cell(20, axis, 10);
-    auto division = effect("  division: {at_elements: 20}\n", s);
-    CellContext ctx{s, 1, 0.1};
-    ASSERT_TRUE(division->update_cells(ctx));
+    const auto r = rules_of("  division: {at_elements: 20}\n", s);
+    ASSERT_TRUE(stage(s, r, 0.1));
     ASSERT_EQ(s.cells(), 2);
     EXPECT_EQ(s.cell_count[0] + s.cell_count[1], 20);
     EXPECT_EQ(s.cell_count[0], 10);
@@ -83,27 +85,25 @@ TEST(Effects, DivisionSplitsAcrossTheLongAxis) {
 TEST(Effects, DivisionOfACoincidentClumpStillHalvesIt) {
   State s = line_cell(20, 0, 10);
   for (long e = 0; e < 20; ++e) s.position[3 * e] = 20;  // all elements on one point
-  auto division = effect("  division: {at_elements: 20}\n", s);
-  CellContext ctx{s, 1, 0.1};
-  ASSERT_TRUE(division->update_cells(ctx));
+  const auto r = rules_of("  division: {at_elements: 20}\n", s);
+  ASSERT_TRUE(stage(s, r, 0.1));
   EXPECT_EQ(s.cell_count[0], 10);
   EXPECT_EQ(s.cell_count[1], 10);
 }
 
 TEST(Effects, DifferentiationFollowsHeightThenAge) {
   State s = line_cell(10, 0, 12);  // centroid above basal_height = 8
-  auto diff = effect("  differentiation: {basal_height: 8, granular_after: 5}\n", s);
-  CellContext ctx{s, 1, 1.0};
-  ASSERT_TRUE(diff->update_cells(ctx));
+  const auto r = rules_of("  differentiation: {basal_height: 8, granular_after: 5}\n", s);
+  stage(s, r, 1.0);
   EXPECT_EQ(s.cell_type[0], kSpinous);
-  for (int k = 0; k < 4; ++k) diff->update_cells(ctx);
+  for (int k = 0; k < 4; ++k) stage(s, r, 1.0);
   EXPECT_EQ(s.cell_type[0], kSpinous);
-  diff->update_cells(ctx);
+  stage(s, r, 1.0);
   EXPECT_EQ(s.cell_type[0], kGranular);
   State low = line_cell(10, 0, 4);
-  auto diff2 = effect("  differentiation: {basal_height: 8}\n", low);
-  CellContext ctx2{low, 1, 1.0};
-  EXPECT_FALSE(diff2->update_cells(ctx2));
+  const auto r2 = rules_of("  differentiation: {basal_height: 8}\n", low);
+  stage(low, r2, 1.0);
+  EXPECT_EQ(low.cell_type[0], kBasal);
 }
 
 TEST(Effects, UnknownEffectAndUnknownParameterAreRefusedWithTheirLine) {

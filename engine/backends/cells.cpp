@@ -1,0 +1,89 @@
+// The cell stage on the host State with the rules of cells.h: the reference of every backend.
+#include <stdexcept>
+#include <string>
+
+#include "backend.hpp"
+
+namespace semlb::engine {
+
+static_assert(SEMLB_CELL_SLOT_BITS == kSlotBits && SEMLB_CELL_ROOT_ID_BITS == kRootIdBits &&
+              SEMLB_CELL_MAX_DEPTH == kMaxDivisionDepth, "cells.h and state.hpp disagree on the id layout");
+
+namespace {
+std::vector<double>* field(State& s, bool on, const char* name) {
+  if (!on) return nullptr;
+  auto& f = s.cell_fields[name];
+  f.resize(s.cell_id.size(), 0.0);
+  return &f;
+}
+}  // namespace
+
+bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_h, long step) {
+  using namespace cellrules;
+  const long n = s.cells();
+  std::vector<double>* clock = field(s, r.growth != 0, "growth.clock");
+  std::vector<double>* depth = field(s, r.division != 0, "division.depth");
+  field(s, r.differentiation != 0, "differentiation.age");
+  std::vector<int> births(n, 0);
+  std::vector<std::array<double, 3>> old_centroid(n);
+  std::vector<semlb_cell_split> split(n);
+  std::vector<char> divides(n, 0);
+  long daughters = 0, total = 0;
+  bool changed = false;
+  const uint64_t key_step = static_cast<uint64_t>(step);
+  for (long c = 0; c < n; ++c) {
+    double clk = clock ? (*clock)[c] : 0.0;
+    births[c] = semlb_cell_births(&r, s.cell_type[c], s.cell_count[c], elapsed_h, &clk);
+    if (clock) (*clock)[c] = clk;
+    semlb_cell_centroid(s.position.data(), s.cell_first[c], s.cell_count[c], old_centroid[c].data());
+    const int grown = s.cell_count[c] + births[c];
+    divides[c] = r.division && ((r.division_types >> s.cell_type[c]) & 1) && grown >= r.at_elements;
+    if (divides[c]) {
+      const int d = static_cast<int>((*depth)[c]);
+      if (d >= kMaxDivisionDepth)
+        throw std::runtime_error("cell " + std::to_string(s.cell_id[c]) + " divided " + std::to_string(d) + " times: cell ids are exhausted");
+      semlb_cell_plan_split(s.position.data(), s.cell_first[c], s.cell_count[c], births[c], old_centroid[c].data(), &r, seed,
+                            s.cell_id[c], key_step, &split[c]);
+      ++daughters;
+    }
+    total += grown;
+    changed = changed || births[c] > 0 || divides[c];
+  }
+  if (changed) {  // new cell arrays: the existing cells, then the daughters in their mothers' order
+    State out;
+    out.step = s.step;
+    out.time = s.time;
+    out.position.resize(3 * static_cast<size_t>(total));
+    for (int pass = 0; pass < 2; ++pass)
+      for (long c = 0; c < n; ++c) {
+        if (pass == 1 && !divides[c]) continue;
+        const int grown = s.cell_count[c] + births[c];
+        out.cell_id.push_back(pass == 0 ? s.cell_id[c] : daughter_id(s.cell_id[c], static_cast<int>((*depth)[c])));
+        out.cell_type.push_back(s.cell_type[c]);
+        out.cell_count.push_back(!divides[c] ? grown : (pass == 0 ? grown - split[c].leave : split[c].leave));
+        for (auto& [name, f] : s.cell_fields) out.cell_fields[name].push_back(f[c]);  // daughters inherit
+      }
+    out.reindex();
+    long daughter = n;
+    for (long c = 0; c < n; ++c) {
+      const long dc = divides[c] ? daughter++ : -1;
+      semlb_cell_rewrite(s.position.data(), s.cell_first[c], s.cell_count[c], births[c], old_centroid[c].data(), &r, seed,
+                         key_step, s.cell_id[c], s.cell_type[c], out.cell_first[c], static_cast<int>(c),
+                         divides[c] ? &split[c] : nullptr, dc < 0 ? 0 : out.cell_id[dc], dc < 0 ? 0 : out.cell_first[dc],
+                         static_cast<int>(dc), out.position.data(), nullptr);
+      if (dc >= 0) out.cell_fields.at("division.depth")[c] = out.cell_fields.at("division.depth")[dc] += 1;
+    }
+    s = std::move(out);
+  }
+  if (r.differentiation) {
+    auto& age = s.cell_fields.at("differentiation.age");
+    for (long c = 0; c < s.cells(); ++c) {
+      double centroid[3];
+      semlb_cell_centroid(s.position.data(), s.cell_first[c], s.cell_count[c], centroid);
+      semlb_cell_differentiate(&r, centroid[2], elapsed_h, &s.cell_type[c], &age[c]);
+    }
+  }
+  return changed;
+}
+
+}  // namespace semlb::engine
