@@ -26,4 +26,10 @@ struct RolloutResult {
 // the event, rank and quantity if a non-finite value appears.
 RolloutResult rollout(const Scenario& s, Policy& policy, int events, bool keep_trace = false);
 
+// The offline perfect-foresight path (controllers/foresight.hpp) on the same workload: interval 0 runs with
+// the same initial partition, intervals 1..K-1 with the boundaries foresight_path chooses knowing W_1..W_{K-1}.
+// Metrics as rollout()'s (noise-free times); migration counts the K-1 transitions (no decision after the
+// last interval); us_per_decision is the solve's wall time per event; no trace.
+RolloutResult foresight_rollout(const Scenario& s, double lambda, int events);
+
 }  // namespace semlb::surrogate
