@@ -145,7 +145,7 @@ def frontier_table(rows, eval_rows):
 
 # Families that a simulation can run (rank times, slice work); lazy_oracle needs the next interval's true work.
 DEPLOYABLE = ["reactive", "gromacs_dlb", "hoomd_balance", "all_tensor", "lammps_shift"]
-FRONTIER_FAMILIES = DEPLOYABLE + ["lazy_oracle"]
+FRONTIER_FAMILIES = DEPLOYABLE + ["lazy_oracle", "foresight"]
 
 
 def setting_points(rows):
@@ -189,6 +189,33 @@ def migration_at(front, imbalance):
     for a, b in zip(front, front[1:]):
         if a[2] <= imbalance <= b[2]:
             return a[3] + (b[3] - a[3]) * (imbalance - a[2]) / (b[2] - a[2])
+
+
+def imbalance_at(front, migration):
+    """The imbalance FRONT (from pareto_front) reaches with MIGRATION slices: linear in migration between neighbouring
+    front points, the front's least imbalance past its largest migration, None below its least migration."""
+    if not front or migration < front[-1][3]:
+        return None
+    if migration >= front[0][3]:
+        return front[0][2]
+    for a, b in zip(front, front[1:]):
+        if b[3] <= migration <= a[3]:
+            return a[2] if a[3] == b[3] else a[2] + (b[2] - a[2]) * (a[3] - migration) / (a[3] - b[3])
+
+
+def floor_gap(points):
+    """For one P's points, at the GRU's migration: (gru point, the best deployable front's imbalance (least over
+    the deployable families of imbalance_at; None if none moves that little), foresight's imbalance there (None
+    without foresight rows), the share of the distance from the deployable front to the floor the GRU closes:
+    (front - gru) / (front - floor); None when either is missing or the front is on the floor)."""
+    gru = next((p for p in points if p[0] == "gru"), None)
+    if gru is None:
+        return None, None, None, None
+    fronts = [imbalance_at(pareto_front([p for p in points if p[0] == fam]), gru[3]) for fam in DEPLOYABLE]
+    best = min((f for f in fronts if f is not None), default=None)
+    floor = imbalance_at(pareto_front([p for p in points if p[0] == "foresight"]), gru[3])
+    share = None if best is None or floor is None or best <= floor else (best - gru[2]) / (best - floor)
+    return gru, best, floor, share
 
 
 def gru_verdict(points):
@@ -236,6 +263,21 @@ def balancer_frontier_table(rows):
         out.append(f"| {P} | {100 * gru[2]:.2f} | {gru[3]:.1f} | {dom} | {need_s} | {ratio_s} | "
                    f"{'holds' if not beaten_by else 'fails'} | {'holds' if b else 'fails'} |")
     out += ["", "\"unreached\": no deployable setting reaches the GRU's imbalance at any migration ((b) holds).", "",
+            "The floor: foresight (docs/controllers.md) knows the true work of every interval and minimises summed "
+            "I_global + lambda x slices moved (exact at P = 2; at P > 2 a feasible path found by block coordinate "
+            "descent, so an upper bound on the floor). At the GRU's migration, each front's imbalance (linear in "
+            "migration between its points) and the share of the distance from the best deployable front down to "
+            "foresight that the GRU closes, (front - GRU) / (front - floor); target at P = 2: at least 0.5.", "",
+            "| P | GRU migration | best deployable front's imbalance % there | foresight's imbalance % there | GRU "
+            "imbalance % | share of the gap closed |", "|---:|---:|---:|---:|---:|---:|"]
+    for P, points in by_p.items():
+        gru, best, floor, share = floor_gap(points)
+        if gru is None:
+            continue
+        out.append(f"| {P} | {gru[3]:.1f} | {'unreached' if best is None else f'{100 * best:.2f}'} | "
+                   f"{'' if floor is None else f'{100 * floor:.2f}'} | {100 * gru[2]:.2f} | "
+                   f"{'' if share is None else f'{share:.2f}'} |")
+    out += ["", "\"unreached\": no deployable setting migrates as little as the GRU.", "",
             "Migration each family's front needs at the GRU's imbalance (same interpolation; \"unreached (x)\": the "
             "family's lowest imbalance x % is above the GRU's):", "",
             "| family | " + " | ".join(f"P={P}" for P in by_p) + " |", "|---|" + "---:|" * len(by_p)]

@@ -3,6 +3,8 @@
 #include <string>
 #include <vector>
 
+#include "common/errors.hpp"
+
 namespace semlb {
 
 struct Observation {
@@ -19,7 +21,15 @@ struct Observation {
   int ranks() const { return static_cast<int>(times.size()); }
 };
 
-// Checks every field (finite, non-negative times, valid partition, sizes); throws InputError naming the field.
+// An InputError about one field of an Observation; `field` is the trace key ("times", "boundaries", ...), so
+// that a trace reader can report "FILE:LINE: field 'times': ...".
+struct ObservationError : InputError {
+  ObservationError(std::string f, const std::string& message) : InputError(message), field(std::move(f)) {}
+  std::string field;
+};
+
+// Checks every field (finite, non-negative times, valid partition, sizes); throws ObservationError naming the
+// event and the field.
 void validate(const Observation& obs);
 
 // `v` (a field of obs named `field`, e.g. obs.slice_work) if non-empty; otherwise InputError

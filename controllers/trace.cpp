@@ -1,7 +1,9 @@
 // JSON Lines trace reading/writing with field-level error messages.
 #include "trace.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <type_traits>
 
 #include "common/errors.hpp"
@@ -64,16 +66,40 @@ T field(const json& j, const char* name, const std::string& file, long line, boo
 
 }  // namespace
 
+namespace {
+// The keys of a trace line (docs/controllers.md "Trace format"); any other key is refused, not ignored.
+const char* const kTraceKeys[] = {"event", "slices", "min_width", "boundaries", "times", "slice_work",
+                                  "oracle_work", "growth_phase", "growth_event", "decision"};
+}  // namespace
+
 TraceEvent parse_trace_line(const std::string& text, const std::string& file, long line) {
   json j;
+  std::string duplicate;  // the first key seen twice in the line's object (nlohmann would keep the last)
+  std::vector<std::string> keys;
+  const json::parser_callback_t on_key = [&](int depth, json::parse_event_t event, json& parsed) {
+    if (event == json::parse_event_t::key && depth == 1) {
+      const auto k = parsed.get<std::string>();
+      if (duplicate.empty() && std::find(keys.begin(), keys.end(), k) != keys.end()) duplicate = k;
+      keys.push_back(k);
+    }
+    return true;
+  };
   try {
-    j = json::parse(text);
+    j = json::parse(text, on_key);
   } catch (const json::parse_error& e) {
     throw InputError(where(file, line, "") + "not valid JSON (byte " + std::to_string(e.byte) + ")");
   } catch (const json::out_of_range&) {  // nlohmann refuses 1e400 while parsing
     throw InputError(where(file, line, "") + "a number does not fit a double (numbers must be finite)");
   }
   if (!j.is_object()) throw InputError(where(file, line, "") + "a trace line must be a JSON object");
+  if (!duplicate.empty()) throw InputError(where(file, line, duplicate) + "given twice");
+  for (const auto& [k, v] : j.items())
+    if (std::find(std::begin(kTraceKeys), std::end(kTraceKeys), k) == std::end(kTraceKeys))
+    {
+      std::string known;
+      for (const char* name : kTraceKeys) known += (known.empty() ? "" : ", ") + std::string(name);
+      throw InputError(where(file, line, k) + "unknown key (known: " + known + ")");
+    }
   TraceEvent e;
   Observation& o = e.obs;
   o.event = field<int>(j, "event", file, line, true);
@@ -88,8 +114,8 @@ TraceEvent parse_trace_line(const std::string& text, const std::string& file, lo
   if (j.contains("decision")) e.decision = field<std::vector<int>>(j, "decision", file, line, true);
   try {
     validate(o);
-  } catch (const InputError& err) {
-    throw InputError(where(file, line, "") + err.what());
+  } catch (const ObservationError& err) {
+    throw InputError(where(file, line, err.field) + err.what());
   }
   return e;
 }

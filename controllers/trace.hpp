@@ -26,6 +26,8 @@ class TraceReader {
   explicit TraceReader(const std::string& path);  // throws InputError if it cannot be opened
   // Next event, or nullopt at the end; blank lines are skipped.
   std::optional<TraceEvent> next();
+  // Line number (1-based) of the event next() returned last.
+  long line() const { return line_; }
 
  private:
   std::string path_;

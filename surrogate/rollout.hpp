@@ -26,4 +26,20 @@ struct RolloutResult {
 // the event, rank and quantity if a non-finite value appears.
 RolloutResult rollout(const Scenario& s, Policy& policy, int events, bool keep_trace = false);
 
+// The offline perfect-foresight path (controllers/foresight.hpp) on the same workload: interval 0 runs with
+// the same initial partition, intervals 1..K-1 with the boundaries foresight_path chooses knowing W_1..W_{K-1}.
+// Metrics as rollout()'s (noise-free times); migration counts the K-1 transitions (no decision after the
+// last interval); us_per_decision is the solve's wall time per event; no trace.
+RolloutResult foresight_rollout(const Scenario& s, double lambda, int events);
+
+// `semlb replay --score`: `policy` run on recorded work. events[t].obs.slice_work is the true work of interval
+// t; from events[0]'s boundaries, interval t's times are the sums of that work over the policy's own partition
+// in force, I_global and (T_max - T_mean)/T_mean come from them, and the policy sees those times (with the
+// line's slice_work, growth fields, and slice_work of line t+1 as oracle_work, its own at the last line) and
+// decides the next partition. Migration sums every decision (K, as rollout()). A ForesightPolicy is solved
+// offline on the same work instead. lines[t]: line number of event t in `file`, for errors, which read
+// "FILE:LINE: field 'F': reason" (slice_work missing, slices or min_width changing, a policy's refusal).
+RolloutResult replay_rollout(const std::vector<TraceEvent>& events, const std::vector<long>& lines,
+                             const std::string& file, Policy& policy, const std::string& name);
+
 }  // namespace semlb::surrogate

@@ -54,7 +54,7 @@ TEST(Cli, BadInputExitsTwoWithOneLineAndNoOutput) {
   expect_bad_input("warp", "warp");
   write(dir + "/t.jsonl", "{\"event\":0,\"slices\":8,\"min_width\":2,\"boundaries\":[4],\"times\":[1,1]}\n\n"
                           "{\"event\":1,\"slices\":8,\"min_width\":2,\"boundaries\":[4],\"times\":[1]}\n");
-  expect_bad_input("replay --policy reactive --trace " + dir + "/t.jsonl", "t.jsonl:3: event 1: boundaries has 1");
+  expect_bad_input("replay --policy reactive --trace " + dir + "/t.jsonl", "t.jsonl:3: field 'boundaries': event 1: boundaries has 1");
   expect_bad_input("replay --policy reactive --trace " + dir + "/missing.jsonl", "missing.jsonl: cannot open trace");
 }
 

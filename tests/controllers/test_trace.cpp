@@ -42,7 +42,7 @@ TEST(Trace, ErrorsNameFileLineAndField) {
   EXPECT_EQ(error_of("{" + ok + R"(,"times":[1.0,1.1,0.9,1.0]})"), "");
   EXPECT_EQ(error_of("{" + ok + "}"), "t.jsonl:7: field 'times': missing");
   EXPECT_EQ(error_of("{" + ok + R"(,"times":"fast"})"), "t.jsonl:7: field 'times': has the wrong type (string)");
-  EXPECT_NE(error_of("{" + ok + R"(,"times":[1,1,-1,1]})").find("t.jsonl:7: event 0: times[2]"), std::string::npos);
+  EXPECT_NE(error_of("{" + ok + R"(,"times":[1,1,-1,1]})").find("t.jsonl:7: field 'times': event 0: times[2]"), std::string::npos);
   EXPECT_NE(error_of("{" + ok + R"(,"times":[1,1,1]})").find("boundaries has 3 entries but times has 3"), std::string::npos);
   EXPECT_NE(error_of(R"({"event":0,"slices":10,"min_width":4,"boundaries":[3],"times":[1,1]})").find("width 3"), std::string::npos);
   EXPECT_EQ(error_of("{\"event\":"), "t.jsonl:7: not valid JSON (byte 10)");
