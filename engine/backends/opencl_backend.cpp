@@ -120,6 +120,12 @@ class OpenClBackend final : public Backend {
       return;
     }
     sort_into_bins(grid);
+    if (variant_ == "list") {
+      launch("forces_binned_list", n_, list_group_, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(),
+             real4(grid.lo), real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get(), n,
+             owned(), LocalBytes{list_group_ * list_cap_ * sizeof(cl_int)}, LocalBytes{64 * sizeof(Real)});
+      return;
+    }
     launch("forces_binned", n_, kGroup, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(), real4(grid.lo),
            real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get(), n, owned());
   }
@@ -209,7 +215,12 @@ class OpenClBackend final : public Backend {
     const char* text = source.c_str();
     program_ = cl::Program(clCreateProgramWithSource(ctx_.get(), 1, &text, nullptr, &err));
     cl::check(err, "clCreateProgramWithSource");
-    const std::string options = std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "";
+    std::string options = std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "";
+    if (const char* v = std::getenv("SEMLB_FORCE_KERNEL")) variant_ = v;  // TEMPORARY: variant timing
+    if (const char* v = std::getenv("SEMLB_FORCE_GROUP")) list_group_ = std::strtoul(v, nullptr, 10);
+    if (const char* v = std::getenv("SEMLB_FORCE_CAP")) list_cap_ = std::strtoul(v, nullptr, 10);
+    if (const char* v = std::getenv("SEMLB_FORCE_BUILD")) options += std::string(" ") + v;
+    options += " -DSEMLB_LIST_CAP=" + std::to_string(list_cap_);
     if (clBuildProgram(program_.get(), 1, &dev_.device, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
       size_t n = 0;
       clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
@@ -217,7 +228,7 @@ class OpenClBackend final : public Backend {
       clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, n, log.data(), nullptr);
       throw std::runtime_error("OpenCL: kernels failed to build on " + device_name() + ":\n" + log);
     }
-    for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned",
+    for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned", "forces_binned_list",
                           "forces_allpairs", "membrane", "integrate", "noise", "x_extent", "band_flags", "band_gather"}) {
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
       cl::check(err, k);
@@ -311,6 +322,8 @@ class OpenClBackend final : public Backend {
   }
 
   bool binned_, profile_ = false;
+  std::string variant_ = "list";
+  size_t list_group_ = 64, list_cap_ = 96;
   cl::DeviceInfo dev_{};
   cl::Context ctx_;
   cl::Queue queue_;
