@@ -131,11 +131,79 @@ __kernel void forces_binned(__global const real4* sorted_pos, __global const int
   force[3 * i + 2] += acc[2];
 }
 
-#ifndef SEMLB_LIST_CAP
-#define SEMLB_LIST_CAP 96
+#ifndef SEMLB_CHUNK
+#define SEMLB_CHUNK 64
 #endif
 #ifndef SEMLB_TABLE_LOCAL
-#define SEMLB_TABLE_LOCAL 1
+#define SEMLB_TABLE_LOCAL 0
+#endif
+
+/* accumulate() with the parameter table staged in local memory (lanes may read different sets at once). */
+static inline void accumulate_local(real4 me, int info, int s, int o, __global const real4* sorted_pos,
+                                    __global const int* sorted_index, __global const ulong* keys,
+                                    __constant const SEMLB_REAL* table, __local const SEMLB_REAL* tab, long* acc) {
+  real4 q = sorted_pos[o];
+  SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
+  SEMLB_REAL r = sqrt(dx * dx + dy * dy + dz * dz);
+  if (r < (SEMLB_REAL)SEMLB_R_MIN) {
+    semlb_coincident_force(keys[sorted_index[s]], keys[sorted_index[o]], info, INFO(q.w), table, acc);
+    return;
+  }
+  int set = semlb_pair_set(info, INFO(q.w));
+  semlb_pair_add(dx, dy, dz, r, tab[set], tab[set + 1], tab[set + 2], tab[set + 3], acc);
+}
+
+/* The sums of forces_binned, with the row candidates taken SEMLB_CHUNK (<= 64) at a time: a bit mask of those
+   within the cutoff first (a NaN distance counts as within, as in semlb_pair_force), then the force law on
+   the set bits only, so that a warp's lanes run the costly part together instead of idling through it. */
+__kernel void forces_binned_mask(__global const real4* sorted_pos, __global const int* sorted_index,
+                                 __global const ulong* keys, __global const int* starts, real4 lo, real4 size,
+                                 int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff,
+                                 __global long* force, int n, int owned, __local SEMLB_REAL* tab) {
+  int s = get_global_id(0);
+#if SEMLB_TABLE_LOCAL
+  for (int k = get_local_id(0); k < SEMLB_TABLE_SIZE; k += get_local_size(0)) tab[k] = table[k];
+  barrier(CLK_LOCAL_MEM_FENCE);
+#endif
+  if (s >= n || sorted_index[s] >= owned) return;  /* ghosts exert forces but receive none */
+  real4 me = sorted_pos[s];
+  int info = INFO(me.w);
+  int4 b = bin3(me, lo, size, dims);
+  SEMLB_REAL cutoff2 = cutoff * cutoff;
+  long acc[3] = {0, 0, 0};
+  int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1);
+  for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
+    for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
+      int row = (z * dims.y + y) * dims.x;
+      int last = starts[row + x1 + 1];
+      for (int base = starts[row + x0]; base < last; base += SEMLB_CHUNK) {
+        int m = min(SEMLB_CHUNK, last - base);
+        ulong mask = 0;
+        for (int k = 0; k < m; ++k) {
+          real4 q = sorted_pos[base + k];
+          SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
+          if (!(dx * dx + dy * dy + dz * dz >= cutoff2)) mask |= (ulong)1 << k;
+        }
+        if (s >= base && s < base + m) mask &= ~((ulong)1 << (s - base));
+        while (mask) {
+          int k = 63 - (int)clz(mask & (0 - mask));  /* the lowest set bit */
+          mask &= mask - 1;
+#if SEMLB_TABLE_LOCAL
+          accumulate_local(me, info, s, base + k, sorted_pos, sorted_index, keys, table, tab, acc);
+#else
+          accumulate(me, info, s, base + k, sorted_pos, sorted_index, keys, table, cutoff2, acc);
+#endif
+        }
+      }
+    }
+  int i = sorted_index[s];
+  force[3 * i] += acc[0];
+  force[3 * i + 1] += acc[1];
+  force[3 * i + 2] += acc[2];
+}
+
+#ifndef SEMLB_LIST_CAP
+#define SEMLB_LIST_CAP 96
 #endif
 #ifndef SEMLB_PRUNE
 #define SEMLB_PRUNE 1

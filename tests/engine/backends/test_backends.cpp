@@ -178,7 +178,7 @@ TEST(Backends, UnlistedEffectsLaunchNothing) {
       {"cpu-binned", {{"bin_sort", 10}, {"forces_binned", 10}}},
       {"opencl-allpairs", {{"forces_allpairs", 10}}},
       {"opencl-binned", {{"bin_count", 10}, {"scan_blocks", 10}, {"scan_sums", 10}, {"scan_add", 10}, {"scatter", 10},
-                         {"forces_binned_list", 10}}}};
+                         {"forces_binned_mask", 10}}}};
   for (const auto& backend : available_backends())
     for (const bool extra : {false, true}) {  // mechanics only; then with membrane and noise listed too
       std::vector<std::string> sets = {"backend.name=" + backend};
