@@ -39,12 +39,8 @@ static inline SEMLB_LONG semlb_to_fixed(semlb_real f) {
 
 /* f(r) = -dV/dr = U0/xi1 exp(-r/xi1) - V0/xi2 exp(-r/xi2) for V(r) = U0 exp(-r/xi1) - V0 exp(-r/xi2);
  * positive is repulsive. */
-static inline semlb_real semlb_morse_value(semlb_real r, semlb_real a, semlb_real b, semlb_real c, semlb_real d) {
-  return a * SEMLB_EXP(-r * b) - c * SEMLB_EXP(-r * d);
-}
-/* The same, with the set's constants (a, b, c, d) = set[0..3] read from a parameter table. */
 static inline semlb_real semlb_morse_magnitude(semlb_real r, SEMLB_CONST const semlb_real* set) {
-  return semlb_morse_value(r, set[0], set[1], set[2], set[3]);
+  return set[0] * SEMLB_EXP(-r * set[1]) - set[2] * SEMLB_EXP(-r * set[3]);
 }
 
 /* SplitMix64 finaliser: the counter-based generator shared by noise, growth and the tissue generator. */
@@ -68,32 +64,20 @@ static inline semlb_real semlb_gauss(SEMLB_ULONG seed, SEMLB_ULONG key, SEMLB_UL
   return SEMLB_SQRT((semlb_real)-2.0 * SEMLB_LOG(u1)) * SEMLB_COS((semlb_real)6.283185307179586 * u2);
 }
 
-/* Offset in the parameter table of the Morse set acting between elements of packed infos i and j. */
-static inline int semlb_pair_set(int info_i, int info_j) {
-  return info_i == info_j ? SEMLB_MORSE_INTRA : SEMLB_MORSE_INTER(semlb_info_type(info_i), semlb_info_type(info_j));
-}
-
-/* Adds f(r) d/r in fixed point to acc[0..2] for d = (dx, dy, dz), r = |d| > 0, the set's constants a..d. */
-static inline void semlb_pair_add(semlb_real dx, semlb_real dy, semlb_real dz, semlb_real r, semlb_real a, semlb_real b,
-                                  semlb_real c, semlb_real d, SEMLB_LONG* acc) {
-  semlb_real s = semlb_morse_value(r, a, b, c, d) / r;
-  acc[0] += semlb_to_fixed(s * dx);
-  acc[1] += semlb_to_fixed(s * dy);
-  acc[2] += semlb_to_fixed(s * dz);
-}
-
 /* Force on element i from element j, added to acc[0..2] in fixed point; d = Y_i - Y_j (eq. 1 with the
  * Morse V_ele of docs/engine.md). Returns 0 outside the cutoff, 1 when added, and -1 for coincident
- * elements (r < SEMLB_R_MIN), whose direction is undefined: the caller then calls semlb_coincident_force.
- * A NaN distance counts as inside the cutoff (its clamped force makes integrate report the step). */
+ * elements (r < SEMLB_R_MIN), whose direction is undefined: the caller then calls semlb_coincident_force. */
 static inline int semlb_pair_force(semlb_real dx, semlb_real dy, semlb_real dz, int info_i, int info_j,
                                    SEMLB_CONST const semlb_real* table, semlb_real cutoff2, SEMLB_LONG* acc) {
   semlb_real r2 = dx * dx + dy * dy + dz * dz;
   if (r2 >= cutoff2) return 0;
   semlb_real r = SEMLB_SQRT(r2);
   if (r < (semlb_real)SEMLB_R_MIN) return -1;
-  SEMLB_CONST const semlb_real* set = table + semlb_pair_set(info_i, info_j);
-  semlb_pair_add(dx, dy, dz, r, set[0], set[1], set[2], set[3], acc);
+  int set = info_i == info_j ? SEMLB_MORSE_INTRA : SEMLB_MORSE_INTER(semlb_info_type(info_i), semlb_info_type(info_j));
+  semlb_real s = semlb_morse_magnitude(r, table + set) / r;
+  acc[0] += semlb_to_fixed(s * dx);
+  acc[1] += semlb_to_fixed(s * dy);
+  acc[2] += semlb_to_fixed(s * dz);
   return 1;
 }
 
@@ -101,7 +85,8 @@ static inline int semlb_pair_force(semlb_real dx, semlb_real dy, semlb_real dz, 
  * opposite signs for i and j, so that F_ij = -F_ji exactly and the result is order-independent. */
 static inline void semlb_coincident_force(SEMLB_ULONG key_i, SEMLB_ULONG key_j, int info_i, int info_j,
                                           SEMLB_CONST const semlb_real* table, SEMLB_LONG* acc) {
-  semlb_real f = semlb_morse_magnitude((semlb_real)0.0, table + semlb_pair_set(info_i, info_j));
+  int set = info_i == info_j ? SEMLB_MORSE_INTRA : SEMLB_MORSE_INTER(semlb_info_type(info_i), semlb_info_type(info_j));
+  semlb_real f = semlb_morse_magnitude((semlb_real)0.0, table + set);
   SEMLB_ULONG lo = key_i < key_j ? key_i : key_j, hi = key_i < key_j ? key_j : key_i;
   semlb_real sign = key_i < key_j ? (semlb_real)-1.0 : (semlb_real)1.0;
   semlb_real ux = semlb_gauss(lo, hi, 0, 0), uy = semlb_gauss(lo, hi, 0, 1), uz = semlb_gauss(lo, hi, 0, 2);

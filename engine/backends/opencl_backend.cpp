@@ -120,32 +120,6 @@ class OpenClBackend final : public Backend {
       return;
     }
     sort_into_bins(grid);
-    for (const auto& v : extra_) {  // TEMPORARY: time every variant on this step's bins, into a scratch buffer
-      if (!scratch_ || scratch_n_ < n_) { scratch_ = buffer(3 * n_ * sizeof(cl_long)); scratch_n_ = n_; }
-      if (v.kernel == "forces_binned")
-        launch(v.key.c_str(), n_, v.group, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(), real4(grid.lo),
-               real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), scratch_.get(), n, owned());
-      else if (v.cap == 0)
-        launch(v.key.c_str(), n_, v.group, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(), real4(grid.lo),
-               real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), scratch_.get(), n, owned(),
-               LocalBytes{64 * sizeof(Real)});
-      else
-        launch(v.key.c_str(), n_, v.group, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(),
-               real4(grid.lo), real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), scratch_.get(), n,
-               owned(), LocalBytes{v.group * v.cap * sizeof(cl_int)}, LocalBytes{64 * sizeof(Real)});
-    }
-    if (variant_ == "mask") {
-      launch("forces_binned_mask", n_, kGroup, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(),
-             real4(grid.lo), real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get(), n,
-             owned(), LocalBytes{64 * sizeof(Real)});
-      return;
-    }
-    if (variant_ == "list") {
-      launch("forces_binned_list", n_, list_group_, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(),
-             real4(grid.lo), real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get(), n,
-             owned(), LocalBytes{list_group_ * list_cap_ * sizeof(cl_int)}, LocalBytes{64 * sizeof(Real)});
-      return;
-    }
     launch("forces_binned", n_, kGroup, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(), real4(grid.lo),
            real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get(), n, owned());
   }
@@ -235,12 +209,7 @@ class OpenClBackend final : public Backend {
     const char* text = source.c_str();
     program_ = cl::Program(clCreateProgramWithSource(ctx_.get(), 1, &text, nullptr, &err));
     cl::check(err, "clCreateProgramWithSource");
-    std::string options = std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "";
-    if (const char* v = std::getenv("SEMLB_FORCE_KERNEL")) variant_ = v;  // TEMPORARY: variant timing
-    if (const char* v = std::getenv("SEMLB_FORCE_GROUP")) list_group_ = std::strtoul(v, nullptr, 10);
-    if (const char* v = std::getenv("SEMLB_FORCE_CAP")) list_cap_ = std::strtoul(v, nullptr, 10);
-    if (const char* v = std::getenv("SEMLB_FORCE_BUILD")) options += std::string(" ") + v;
-    options += " -DSEMLB_LIST_CAP=" + std::to_string(list_cap_);
+    const std::string options = std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "";
     if (clBuildProgram(program_.get(), 1, &dev_.device, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
       size_t n = 0;
       clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
@@ -248,27 +217,7 @@ class OpenClBackend final : public Backend {
       clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, n, log.data(), nullptr);
       throw std::runtime_error("OpenCL: kernels failed to build on " + device_name() + ":\n" + log);
     }
-    if (std::getenv("SEMLB_FORCE_VARIANTS")) {  // TEMPORARY: label, group, cap (0: the stencil kernel), options
-      const Extra all[] = {{"stencil", "forces_binned", 128, 0, ""},
-                           {"mask64", "forces_binned_mask", 128, 0, ""},
-                           {"mask32", "forces_binned_mask", 128, 0, "-DSEMLB_CHUNK=32"},
-                           {"mask64-g64", "forces_binned_mask", 64, 0, ""},
-                           {"mask64-g256", "forces_binned_mask", 256, 0, ""},
-                           {"mask64-tab", "forces_binned_mask", 128, 0, "-DSEMLB_TABLE_LOCAL=1"},
-                           {"mask32-tab", "forces_binned_mask", 128, 0, "-DSEMLB_TABLE_LOCAL=1 -DSEMLB_CHUNK=32"},
-                           {"list-g64c96", "forces_binned_list", 64, 96, "-DSEMLB_PRUNE=0"}};
-      for (Extra e : all) {
-        const std::string o = (std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE " : "") + e.options + " -DSEMLB_LIST_CAP=" + std::to_string(e.cap ? e.cap : 96);
-        cl::Program p(clCreateProgramWithSource(ctx_.get(), 1, &text, nullptr, &err));
-        if (clBuildProgram(p.get(), 1, &dev_.device, o.c_str(), nullptr, nullptr) != CL_SUCCESS) throw std::runtime_error("variant " + e.key);
-        e.key = "force:" + e.key;
-        kernels_[e.key] = cl::Kernel(clCreateKernel(p.get(), e.kernel.c_str(), &err));
-        cl::check(err, "variant");
-        extra_programs_.push_back(std::move(p));
-        extra_.push_back(e);
-      }
-    }
-    for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned", "forces_binned_list", "forces_binned_mask",
+    for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned",
                           "forces_allpairs", "membrane", "integrate", "noise", "x_extent", "band_flags", "band_gather"}) {
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
       cl::check(err, k);
@@ -362,17 +311,6 @@ class OpenClBackend final : public Backend {
   }
 
   bool binned_, profile_ = false;
-  std::string variant_ = "mask";
-  struct Extra {
-    std::string key, kernel;
-    size_t group, cap;
-    std::string options;
-  };
-  std::vector<Extra> extra_;
-  std::vector<cl::Program> extra_programs_;
-  cl::Mem scratch_;
-  long scratch_n_ = 0;
-  size_t list_group_ = 64, list_cap_ = 96;
   cl::DeviceInfo dev_{};
   cl::Context ctx_;
   cl::Queue queue_;
