@@ -70,7 +70,7 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
                  long warmup, const std::string& previous, const SceneFlags& flags) {
   std::vector<double> before;
   if (!previous.empty()) {
-    for (const auto& f : split(previous, ',')) before.push_back(parse_real(f, "--previous: ", 0.0));
+    for (const auto& f : split(previous, ',')) before.push_back(parse_real(f, "--previous: ", 1e-9));
     const size_t rows = split(backends, ',').size() * surrogate::parse_int_list(cells, "--cells").size();
     if (before.size() != rows)
       throw InputError("--previous: " + std::to_string(before.size()) + " figures for " + std::to_string(rows) +
