@@ -1,6 +1,7 @@
 // `semlb bench policies|train|engine|cells`: costs printed as tables (a decision, a training step, element
 // steps, the host cell stage).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -61,20 +62,35 @@ void for_each_scene(const std::string& scene_file, const std::string& backends, 
     }
 }
 
-// Element-steps per second of a scene per backend and tissue size, with the tissue's density.
+// Element-steps per second and ms per step of a scene per backend and tissue size, with the tissue's
+// density and (with SEMLB_OPENCL_PROFILE=1) ms per step of each kernel. `previous`: empty, or one ms-per-step
+// figure per printed row (backends x cells, in that order) of an earlier build; each row then prints
+// previous / now (> 1: faster now). Throws InputError when the count or a number is wrong.
 int bench_engine(const std::string& scene_file, const std::string& backends, const std::string& cells, long steps,
-                 long warmup, const SceneFlags& flags) {
+                 long warmup, const std::string& previous, const SceneFlags& flags) {
+  std::vector<double> before;
+  if (!previous.empty()) {
+    for (const auto& f : split(previous, ',')) before.push_back(parse_real(f, "--previous: ", 1e-9));
+    const size_t rows = split(backends, ',').size() * surrogate::parse_int_list(cells, "--cells").size();
+    if (before.size() != rows)
+      throw InputError("--previous: " + std::to_string(before.size()) + " figures for " + std::to_string(rows) +
+                       " rows (backends x cells)");
+  }
   std::printf("# semlb bench engine: %s, %ld timed steps after %ld warm-up steps\n", scene_file.c_str(), steps, warmup);
-  std::printf("%-16s %-9s %9s %10s %10s %14s %9s %9s %9s  %s\n", "backend", "precision", "cells", "elements", "seconds",
-              "elem-steps/s", "per_cube", "candid.", "neighb.", "device");
+  std::printf("%-16s %-9s %9s %10s %10s %14s %10s %8s %9s %9s %9s  %s\n", "backend", "precision", "cells", "elements",
+              "seconds", "elem-steps/s", "ms/step", "ratio", "per_cube", "candid.", "neighb.", "device");
+  size_t row = 0;
   for_each_scene(scene_file, backends, cells, flags, [&](engine::Scene& scene, const std::string& backend) {
     const auto t = engine::time_scene(scene, steps, warmup);
     const auto& stats = t.stats;
-    std::printf("%-16s %-9s %9ld %10ld %10.4f %14.4g %9.2f %9.1f %9.1f  %s\n", backend.c_str(), scene.backend.precision.c_str(),
-                t.cells, t.elements, t.seconds, t.element_steps_per_second(), stats.per_cutoff_cube, stats.candidates,
-                stats.neighbours, t.device.c_str());
+    const double ms = 1e3 * t.seconds / static_cast<double>(steps);
+    const std::string ratio = before.empty() ? "-" : format_real(std::round(100 * before[row] / ms) / 100);
+    ++row;
+    std::printf("%-16s %-9s %9ld %10ld %10.4f %14.4g %10.4f %8s %9.2f %9.1f %9.1f  %s\n", backend.c_str(),
+                scene.backend.precision.c_str(), t.cells, t.elements, t.seconds, t.element_steps_per_second(), ms,
+                ratio.c_str(), stats.per_cutoff_cube, stats.candidates, stats.neighbours, t.device.c_str());
     for (const auto& [kernel, secs] : t.kernel_seconds)  // with SEMLB_OPENCL_PROFILE=1
-      std::printf("    kernel %-16s %10.3f ms/step\n", kernel.c_str(), 1e3 * secs / steps);
+      std::printf("    kernel %-20s %10.4f ms/step\n", kernel.c_str(), 1e3 * secs / steps);
   });
   return 0;
 }
@@ -119,7 +135,7 @@ int bench_train(long steps, long threads) {
 
 Action add_bench(CLI::App& app) {
   struct Opts {
-    std::string what, weights, scene, backends = "cpu-binned", cells = "200";
+    std::string what, weights, scene, backends = "cpu-binned", cells = "200", previous;
     long warmup = 2;
     SceneFlags flags;
     int ranks = 16, events = 200, repeats = 5;
@@ -135,6 +151,8 @@ Action add_bench(CLI::App& app) {
   sub->add_option("--scene", o->scene, "Scene (default: scenes/mechanics.yaml for bench engine, scenes/epidermis.yaml for bench cells)");
   sub->add_option("--backends", o->backends, "Comma-separated backends (bench engine, cells)")->capture_default_str();
   sub->add_option("--cells", o->cells, "Cell counts, e.g. 200,2000 (bench engine, cells)")->capture_default_str();
+  sub->add_option("--previous", o->previous,
+                  "Earlier ms/step, one per row (backends x cells, comma-separated): prints the ratio (bench engine)");
   sub->add_option("--warmup", o->warmup, "Untimed steps first (bench engine)")->capture_default_str()->check(strict_integer(0));
   sub->add_option("--precision", o->flags.precision, "double or float (bench engine, cells; default: the scene's)");
   sub->add_option("--platform", o->flags.platform, "OpenCL platform name substring (bench engine, cells)");
@@ -150,7 +168,7 @@ Action add_bench(CLI::App& app) {
   return [o, sub] {
     if (!*sub) return -1;  // not the chosen subcommand
     const auto scene = [&](const char* fallback) { return o->scene.empty() ? std::string(SEMLB_SOURCE_DIR) + fallback : o->scene; };
-    if (o->what == "engine") return bench_engine(scene("/scenes/mechanics.yaml"), o->backends, o->cells, o->steps, o->warmup, o->flags);
+    if (o->what == "engine") return bench_engine(scene("/scenes/mechanics.yaml"), o->backends, o->cells, o->steps, o->warmup, o->previous, o->flags);
     if (o->what == "cells") return bench_cells(scene("/scenes/epidermis.yaml"), o->backends, o->cells, o->steps, o->flags);
     if (o->what == "train") {
 #ifdef SEMLB_WITH_TORCH

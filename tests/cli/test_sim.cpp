@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <sstream>
 
 #include "../run_command.hpp"
 
@@ -57,6 +58,32 @@ TEST(CliSim, BenchEnginePrintsElementStepsPerSecond) {
   EXPECT_NE(r.out.find("elem-steps/s"), std::string::npos);
   EXPECT_NE(r.out.find("\nserial "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\ncpu-binned "), std::string::npos) << r.out;
+}
+
+TEST(CliSim, BenchEnginePrintsMsPerStepAndTheRatioToAPreviousFigure) {
+  const auto r = run(semlb_bin() + " bench engine --backends serial --cells 20,40 --steps 3 --warmup 1 --previous 1e9,1e9");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  ASSERT_NE(r.out.find("ms/step"), std::string::npos) << r.out;
+  size_t at = 0;
+  for (double cells : {20.0, 40.0}) {  // row: backend precision cells elements seconds e-s/s ms ratio ...
+    at = r.out.find("\nserial ", at);
+    ASSERT_NE(at, std::string::npos) << r.out;
+    std::istringstream row(r.out.substr(++at));
+    std::string backend, precision;
+    double n, elements, seconds, rate, ms, ratio;
+    row >> backend >> precision >> n >> elements >> seconds >> rate >> ms >> ratio;
+    ASSERT_TRUE(row) << r.out;
+    EXPECT_EQ(n, cells) << r.out;
+    EXPECT_NEAR(ms, 1e3 * elements / rate, 1e-3 * ms) << r.out;  // both from one timing (rate to 4 digits)
+    EXPECT_NEAR(seconds, 3 * ms / 1e3, 1e-4) << r.out;                // seconds printed to 4 decimals
+    EXPECT_NEAR(ratio, 1e9 / ms, 0.01 * ratio) << r.out;  // previous / now
+  }
+  const auto wrong = run(semlb_bin() + " bench engine --backends serial --cells 20,40 --steps 1 --previous 3.5");
+  EXPECT_EQ(wrong.rc, 2) << wrong.out;
+  EXPECT_NE(wrong.out.find("--previous: 1 figures for 2 rows"), std::string::npos) << wrong.out;
+  const auto bad = run(semlb_bin() + " bench engine --backends serial --cells 20 --steps 1 --previous 3.5ms");
+  EXPECT_EQ(bad.rc, 2) << bad.out;
+  EXPECT_NE(bad.out.find("--previous: '3.5ms' is not a number"), std::string::npos) << bad.out;
 }
 
 TEST(CliSim, BenchCellsTimesEachPartOfTheCellStage) {

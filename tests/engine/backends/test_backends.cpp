@@ -58,6 +58,56 @@ TEST(Backends, OpenClMatchesTheCppReference) {
   EXPECT_EQ(run("serial", "float", wide, 2, 0, 200).hash(), run("cpu-binned", "float", wide, 2, 0, 200).hash());
 }
 
+// Final positions of `steps` steps on a 200 um box (22^3 bins), or the state frozen
+// at the failing step when the run stops.
+State run_wide(const std::string& backend, const std::string& precision, State s, long steps) {
+  auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.precision=" + precision});
+  scene.box_lo = {0, 0, 0};
+  scene.box_hi = {200, 200, 200};
+  Simulation sim(scene, std::move(s));
+  try {
+    sim.advance(steps);
+  } catch (const SimulationError&) {
+  }
+  return sim.sync();
+}
+
+// The binned force kernel masks a row's candidates 64 at a time and evaluates the set bits; the pairs must stay
+// exactly those of all-pairs: a crowded clump (about 300 neighbours each, rows of several chunks), elements
+// beyond the box (clamped into edge bins), and a non-finite element (which meets every element of its
+// stencil, as in semlb_pair_force).
+TEST(Backends, BinnedMaskKeepsExactlyTheAllPairsPairs) {
+  const auto backends = available_backends();
+  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end()) GTEST_SKIP() << "no OpenCL platform";
+  auto crowded = random_state(1500, 4, 200.0, 21);
+  const auto clump = random_state(30, 10, 6.0, 22);  // 300 elements within 6 um of (97, 97, 97)
+  for (size_t i = 0; i < clump.position.size(); ++i) crowded.position[i] = clump.position[i] + 97.0;
+  auto outside = random_state(1500, 4, 260.0, 23);
+  for (double& x : outside.position) x -= 30.0;  // 30 um beyond the box on every side
+  auto nonfinite = random_state(1500, 4, 200.0, 24);
+  for (int c = 0; c < 3; ++c) nonfinite.position[3 * 101 + c] = nonfinite.position[3 * 100 + c] + 0.5;
+  nonfinite.position[3 * 100] = std::nan("");
+  nonfinite.position[3 * 200 + 1] = INFINITY;
+  for (const char* precision : {"float", "double"})
+    for (const auto& [name, s] : {std::pair{"crowded", crowded}, {"outside", outside}}) {
+      const State all = run_wide("opencl-allpairs", precision, s, 2);
+      EXPECT_EQ(all.hash(), run_wide("opencl-binned", precision, s, 2).hash()) << name << " " << precision;
+      EXPECT_NE(all.hash(), s.hash()) << name;  // the forces moved something
+    }
+  // All-pairs pairs a NaN element with every element, a binned backend with its stencil only: compare the
+  // device's binned kernel with the C++ binned backend (same stencil); the NaN's partners take the clamped
+  // force (a 1e4 um step), the others agree to 1e-9 um.
+  const State host = run_wide("cpu-binned", "double", nonfinite, 2), device = run_wide("opencl-binned", "double", nonfinite, 2);
+  long partners = 0;
+  for (size_t i = 0; i < host.position.size(); ++i) {
+    const double a = host.position[i], b = device.position[i];
+    if (!std::isfinite(a) || !std::isfinite(b)) EXPECT_EQ(std::isnan(a) ? 0.0 : a, std::isnan(b) ? 0.0 : b) << i;
+    else EXPECT_NEAR(a, b, 1e-9) << i;
+    partners += std::abs(a - nonfinite.position[i]) > 100;
+  }
+  EXPECT_GT(partners, 3);
+}
+
 // The ghost exchange's device side: the x range and the bands beyond a plane, in element order, with the
 // type only; 12,000 elements span 47 scan blocks. Positions are exact in double and rounded in float.
 TEST(Backends, GhostBandsAndXRangeMatchTheHostState) {
