@@ -159,6 +159,6 @@ TEST(Cli, ReplayOfADumpedTraceReproducesTheRollout) {
 TEST(Cli, BenchPrintsATableRowPerPolicy) {
   const auto r = run(semlb_bin() + " bench policies --ranks 4 --events 10 --repeats 1");
   ASSERT_EQ(r.rc, 0) << r.out;
-  for (const char* p : {"static", "reactive", "persistence", "holt", "gru", "oracle"})
+  for (const char* p : {"static", "reactive", "persistence", "holt", "gru", "oracle", "foresight"})
     EXPECT_NE(r.out.find(std::string("\n") + p + " "), std::string::npos) << p;
 }
