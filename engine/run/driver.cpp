@@ -47,7 +47,7 @@ std::vector<Snapshot> earlier_snapshots(const std::string& dir, long step) {
     const std::string name = entry.path().filename().string();
     if (name.rfind("step_", 0) != 0 || entry.path().extension() != ".h5") continue;
     if (name.size() != 17 || name.substr(5, 9).find_first_not_of("0123456789") != std::string::npos) continue;  // step_NNNNNNNNN.h5
-    const long s = parse_integer(name.substr(5, 9), entry.path().string() + ": ");
+    const long s = std::stol(name.substr(5, 9));  // nine digits, zero-padded (checked above): not user input
     if (s > step) continue;
     const State st = read_state(entry.path().string());
     out.push_back({s, st.time, st.elements(), snapshot_name(s)});
