@@ -6,6 +6,8 @@
 
 #include "common/errors.hpp"
 #include "common/registry.hpp"
+#include "effects/effect.hpp"
+#include "model/tissue.hpp"
 
 namespace semlb::engine {
 namespace {
@@ -51,6 +53,88 @@ std::unique_ptr<Backend> make_backend(const BackendConfig& config) {
   const BackendFactory* factory = registry().find(config.name);
   if (!factory) throw InputError("backend '" + config.name + "' is unknown (known: " + registry().known() + ")");
   return (*factory)(config);
+}
+
+Traffic Backend::traffic_total() const {
+  Traffic t;
+  for (const auto& [phase, bytes] : traffic_) t.h2d += bytes.h2d, t.d2h += bytes.d2h;
+  return t;
+}
+
+std::vector<double> Backend::slice_work(State& host, const SliceMap& map, double cutoff) {
+  download(host);
+  return slice_workload(host, ghost_positions(), map, cutoff);
+}
+
+void Backend::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers,
+                           std::vector<int>& owner) {
+  download(host);
+  leavers = {};
+  owner.clear();
+  for (const auto& [name, f] : host.cell_fields) leavers.cell_fields[name];
+  State stay;
+  stay.step = host.step;
+  stay.time = host.time;
+  for (const auto& [name, f] : host.cell_fields) stay.cell_fields[name];
+  for (long c = 0; c < host.cells(); ++c) {
+    const int o = owner_of(map.slice_of(centroid(host, c)[0]), boundaries);
+    State& to = o == rank ? stay : leavers;
+    if (o != rank) owner.push_back(o);
+    copy_cell(host, c, to);
+  }
+  if (leavers.cells() == 0) return;  // the backend holds exactly these cells
+  stay.reindex();
+  leavers.reindex();
+  host = std::move(stay);
+  upload(host);
+}
+
+void Backend::append_cells(State& host, const State& arrivals) {
+  download(host);
+  for (long c = 0; c < arrivals.cells(); ++c) copy_cell(arrivals, c, host);
+  host.reindex();
+  upload(host);
+}
+
+int SliceMap::slice_of(double x) const {
+  const double f = std::floor((x - x0) / width);
+  return !(f >= 0) ? 0 : (f >= slices ? slices - 1 : static_cast<int>(f));
+}
+
+int owner_of(int slice, const std::vector<int>& boundaries) {
+  return static_cast<int>(std::upper_bound(boundaries.begin(), boundaries.end(), slice) - boundaries.begin());
+}
+
+std::vector<double> slice_workload(const State& s, const std::vector<double>& ghosts, const SliceMap& d, double cutoff) {
+  const auto [lo, hi] = tissue_box(s, cutoff);
+  const Grid g = Grid::cover(lo, hi, cutoff);
+  auto index = [&](const std::array<int, 3>& b) { return (static_cast<long>(b[2]) * g.dims[1] + b[1]) * g.dims[0] + b[0]; };
+  // Elements per bin: dense while the grid is at most a few times the elements, else sorted bin indices.
+  const long elements = static_cast<long>((s.position.size() + ghosts.size()) / 3);
+  const bool dense = g.bins() <= 4 * elements + (1L << 20);
+  std::vector<long> count(dense ? g.bins() : 0), bins;
+  for (const auto* positions : {&s.position, &ghosts})
+    for (size_t e = 0; e < positions->size(); e += 3) {
+      const long b = index(g.bin_of(&(*positions)[e]));
+      dense ? static_cast<void>(++count[b]) : bins.push_back(b);
+    }
+  std::sort(bins.begin(), bins.end());
+  auto in_bin = [&](long b) {
+    if (dense) return count[b];
+    const auto [first, last] = std::equal_range(bins.begin(), bins.end(), b);
+    return static_cast<long>(last - first);
+  };
+  std::vector<double> w(d.slices, 0.0);
+  for (long c = 0; c < s.cells(); ++c) {
+    const auto ctr = centroid(s, c);
+    const auto b = g.bin_of(ctr.data());
+    long n_near = 0;
+    for (int z = std::max(b[2] - 1, 0); z <= std::min(b[2] + 1, g.dims[2] - 1); ++z)
+      for (int y = std::max(b[1] - 1, 0); y <= std::min(b[1] + 1, g.dims[1] - 1); ++y)
+        for (int x = std::max(b[0] - 1, 0); x <= std::min(b[0] + 1, g.dims[0] - 1); ++x) n_near += in_bin(index({x, y, z}));
+    w[d.slice_of(ctr[0])] += static_cast<double>(s.cell_count[c]) * static_cast<double>(n_near);  // w_i = n_i n_N(i)
+  }
+  return w;
 }
 
 }  // namespace semlb::engine

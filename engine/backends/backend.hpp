@@ -53,6 +53,26 @@ struct Ghosts {
   long elements() const { return static_cast<long>(keys.size()); }
 };
 
+// The slices along x that the decomposition balances (decomposition/decomposition.hpp derives from it): slice s
+// covers [x0 + s width, x0 + (s+1) width) um; x outside is clamped into the first or last slice, NaN into 0.
+struct SliceMap {
+  int slices = 0;
+  double x0 = 0, width = 1;
+  int slice_of(double x) const;
+};
+// The rank that owns slice `slice`: the number of interior boundaries at or below it.
+int owner_of(int slice, const std::vector<int>& boundaries);
+
+// Per-slice workload W_s = sum over cells of n_i * n_N(i) (paper eqs. 2-3), integer counts: n_N(i) counts the
+// elements in the 3x3x3 bins (cubes of the cutoff over the tissue box of `cells`) around the cell's centroid,
+// among the cells' own elements and `ghosts` (3 doubles each); summed into the slice of the centroid.
+std::vector<double> slice_workload(const State& cells, const std::vector<double>& ghosts, const SliceMap& d, double cutoff);
+
+// Bytes copied between host and device, per phase of the run (Backend::traffic).
+struct Traffic {
+  long h2d = 0, d2h = 0;
+};
+
 class Backend {
  public:
   virtual ~Backend() = default;
@@ -66,7 +86,7 @@ class Backend {
   // The owned elements' positions; after a cell stage on the device also the cells (ids, types, counts)
   // and the cell fields the state lists ("growth.clock", "division.depth", "differentiation.age").
   virtual void download(State& state) = 0;
-  // One cell stage (run_cell_stage's rules, `step` keys the newborns). C++ backends run the host reference
+  // One cell stage (run_cell_stage's rules, `step` keys the newborns); the ghosts stay. C++ backends run the host reference
   // on `host` (positions downloaded first) and upload; OpenCL runs it on the device and leaves `host` stale
   // until download. Returns true when elements were added or cells divided (the grid may need refitting).
   virtual bool update_cells(State& host, const CellRules& rules, uint64_t seed, double elapsed_h, long step) = 0;
@@ -79,6 +99,22 @@ class Backend {
   // info holds only the type (the receiver numbers the cells).
   virtual std::array<double, 2> x_extent() = 0;
   virtual void band(double x, bool below, Ghosts& out) = 0;
+  // The positions of the ghosts set last (3 per element), kept through update_cells.
+  virtual std::vector<double> ghost_positions() = 0;
+  // Owned cells and elements now (on the device for OpenCL: no download); `host` is the caller's State.
+  virtual std::pair<long, long> counts(const State& host) const { return {host.cells(), host.elements()}; }
+  // W_s of the owned cells (slice_workload's rule, with the ghosts set last as neighbours, the grid over the
+  // owned elements' box). OpenCL with fp64: a reduction on the device (64-bit integer atomics: exact, order-free),
+  // 8 bytes per slice come back. Others (and OpenCL without fp64): download into `host`, then on the host.
+  virtual std::vector<double> slice_work(State& host, const SliceMap& map, double cutoff);
+  // Cells whose centroid's slice is owned (owner_of) by another rank than `rank` leave: they are removed from
+  // the backend (the rest keep their order) and returned in `leavers` (ids, types, counts, positions, the fields
+  // `host` lists), with `owner[c]` per leaver. Drops the ghosts. OpenCL with fp64: owners and the packing on the
+  // device (the leaver count, then only the leavers, come back). Others: on `host` (downloaded first), uploaded.
+  virtual void take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank,
+                            State& leavers, std::vector<int>& owner);
+  // Appends `arrivals`' cells after the owned ones (their fields by name; missing ones are 0). Drops the ghosts.
+  virtual void append_cells(State& host, const State& arrivals);
   // Forces start at zero each step; pair_forces and membrane_forces add to them (fixed point).
   virtual void zero_forces() = 0;
   virtual void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;
@@ -95,11 +131,40 @@ class Backend {
   const std::map<std::string, long>& launches() const { return launches_; }
   // Device time per kernel when the backend profiles (OpenCL with SEMLB_OPENCL_PROFILE set); else empty.
   const std::map<std::string, double>& kernel_seconds() const { return kernel_seconds_; }
+  // Bytes moved host<->device since construction, per phase (set_phase names it; "other" before the first).
+  // OpenCL: every clEnqueueRead/WriteBuffer it does. The C++ backends hold the state in host memory: they
+  // count nothing (their upload/download are copies between two host arrays).
+  const std::map<std::string, Traffic>& traffic() const { return traffic_; }
+  Traffic traffic_total() const;
+  void set_phase(std::string phase) { phase_ = std::move(phase); }
+  const std::string& phase() const { return phase_; }
 
  protected:
   std::map<std::string, double> kernel_seconds_;
   void count(const std::string& kernel) { ++launches_[kernel]; }
   std::map<std::string, long> launches_;
+  void moved(long h2d, long d2h) {
+    Traffic& t = traffic_[phase_];
+    t.h2d += h2d;
+    t.d2h += d2h;
+  }
+
+ private:
+  std::map<std::string, Traffic> traffic_;
+  std::string phase_ = "other";
+};
+
+// Names the backend's phase (Backend::set_phase) for the lifetime of the guard, then restores the previous one.
+class PhaseScope {
+ public:
+  PhaseScope(Backend& b, const std::string& phase) : b_(b), before_(b.phase()) { b.set_phase(phase); }
+  ~PhaseScope() { b_.set_phase(before_); }
+  PhaseScope(const PhaseScope&) = delete;
+  PhaseScope& operator=(const PhaseScope&) = delete;
+
+ private:
+  Backend& b_;
+  std::string before_;
 };
 
 using BackendFactory = std::function<std::unique_ptr<Backend>(const BackendConfig&)>;

@@ -36,10 +36,16 @@ class CpuBackend : public Backend {
   bool update_cells(State& host, const CellRules& rules, uint64_t seed, double elapsed_h, long step) override {
     count("cell_stage");
     download(host);
+    Ghosts ghosts;  // kept for slice_work (their info is only read again after the next set_ghosts)
+    ghosts.position = ghost_positions();
+    ghosts.info.assign(info_.begin() + owned_, info_.end());
+    ghosts.keys.assign(key_.begin() + owned_, key_.end());
     const bool changed = run_cell_stage(host, rules, seed, elapsed_h, step);
     upload(host);  // types may have changed even when no element was added
+    set_ghosts(ghosts);
     return changed;
   }
+  std::vector<double> ghost_positions() override { return {pos_.begin() + 3 * owned_, pos_.end()}; }
   std::array<std::array<double, 3>, 2> bounds() override {
     std::array<std::array<double, 3>, 2> b{};
     for (int d = 0; d < 3; ++d) {

@@ -394,4 +394,103 @@ __kernel void cells_differentiate(int n, semlb_cell_rules r, double elapsed, __g
   type[c] = t;
   for (int k = 0; k < count[c]; ++k) pos[first[c] + k].w = CELL_INFO(semlb_info_pack(c, t));
 }
+
+/* ---- The decomposition on the device: W_s (a reduction) and migration (owners, packing, compaction). ---- */
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+/* Grid::bin_of and SliceMap::slice_of (backend.cpp) in double: floor, clamped, NaN -> 0. */
+static inline int clamp_floor(double f, int n) { return !(f >= 0) ? 0 : (f >= n ? n - 1 : (int)f); }
+static inline long work_bin(__global const real4* pos, int e, double4 lo, double4 size, int4 dims, int4* b) {
+  (*b).x = clamp_floor(floor((SEMLB_CELL_X(pos, e, 0) - lo.x) / size.x), dims.x);
+  (*b).y = clamp_floor(floor((SEMLB_CELL_X(pos, e, 1) - lo.y) / size.y), dims.y);
+  (*b).z = clamp_floor(floor((SEMLB_CELL_X(pos, e, 2) - lo.z) / size.z), dims.z);
+  return ((long)(*b).z * dims.y + (*b).y) * dims.x + (*b).x;
+}
+
+/* Elements per bin over pos[0..n) (owned and ghosts); counts zeroed before. */
+__kernel void work_bins(__global const real4* pos, int n, double4 lo, double4 size, int4 dims, __global int* counts) {
+  int i = get_global_id(0);
+  int4 b;
+  if (i < n) atomic_inc(&counts[work_bin(pos, i, lo, size, dims, &b)]);
+}
+
+/* Per cell: w_i = n_i * (elements in the 3x3x3 bins around its centroid's bin), added to its slice (exact). */
+__kernel void work_cells(int n, __global const real4* pos, __global const int* first, __global const int* count,
+                         double4 lo, double4 size, int4 dims, __global const int* counts, double x0, double width,
+                         int slices, __global long* work) {
+  int c = get_global_id(0);
+  if (c >= n) return;
+  double ctr[3];
+  semlb_cell_centroid(pos, first[c], count[c], ctr);
+  int4 b;
+  b.x = clamp_floor(floor((ctr[0] - lo.x) / size.x), dims.x);
+  b.y = clamp_floor(floor((ctr[1] - lo.y) / size.y), dims.y);
+  b.z = clamp_floor(floor((ctr[2] - lo.z) / size.z), dims.z);
+  long near = 0;
+  for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
+    for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y)
+      for (int x = max(b.x - 1, 0); x <= min(b.x + 1, dims.x - 1); ++x) near += counts[((long)z * dims.y + y) * dims.x + x];
+  atom_add(&work[clamp_floor(floor((ctr[0] - x0) / width), slices)], (long)count[c] * near);
+}
+
+/* Per cell: its owner (owner_of: interior boundaries at or below its centroid's slice), leave[c] = owner != rank,
+   and its elements counted among the leavers' (elems[c]) or the stayers' (elems[n + c]). */
+__kernel void cells_owner(int n, __global const real4* pos, __global const int* first, __global const int* count,
+                          double x0, double width, int slices, __global const int* bounds, int nb, int rank,
+                          __global int* leave, __global int* owner, __global int* elems) {
+  int c = get_global_id(0);
+  if (c >= n) return;
+  double ctr[3];
+  semlb_cell_centroid(pos, first[c], count[c], ctr);
+  int s = clamp_floor(floor((ctr[0] - x0) / width), slices), o = 0;
+  for (int k = 0; k < nb; ++k) o += bounds[k] <= s;
+  int l = o != rank;
+  owner[c] = o;
+  leave[c] = l;
+  elems[c] = l ? count[c] : 0;
+  elems[n + c] = l ? 0 : count[c];
+}
+
+/* Per cell: a leaver goes to slot lstarts[c] of the l_ arrays (l_first holds its new owner), its elements at
+   estarts[c]; a stayer to slot c - lstarts[c] of the out_ arrays, its elements at estarts[n + c] - estarts[n],
+   their info renumbered to the new cell index. */
+__kernel void cells_split(int n, __global const real4* pos, __global const ulong* keys, __global const ulong* id,
+                          __global const int* type, __global const int* first, __global const int* count,
+                          __global const double* clock, __global const double* depth, __global const double* age,
+                          __global const int* leave, __global const int* owner, __global const int* lstarts,
+                          __global const int* estarts, __global real4* out_pos, __global ulong* out_keys,
+                          __global ulong* out_id, __global int* out_type, __global int* out_first,
+                          __global int* out_count, __global double* out_clock, __global double* out_depth,
+                          __global double* out_age, __global real4* l_pos, __global ulong* l_id, __global int* l_type,
+                          __global int* l_first, __global int* l_count, __global double* l_clock,
+                          __global double* l_depth, __global double* l_age) {
+  int c = get_global_id(0);
+  if (c >= n) return;
+  int f = first[c], m = count[c], t = type[c];
+  if (leave[c]) {
+    int j = lstarts[c], at = estarts[c];
+    l_id[j] = id[c];
+    l_type[j] = t;
+    l_first[j] = owner[c];
+    l_count[j] = m;
+    l_clock[j] = clock[c];
+    l_depth[j] = depth[c];
+    l_age[j] = age[c];
+    for (int k = 0; k < m; ++k) l_pos[at + k] = pos[f + k];
+    return;
+  }
+  int j = c - lstarts[c], at = estarts[n + c] - estarts[n];
+  out_id[j] = id[c];
+  out_type[j] = t;
+  out_first[j] = at;
+  out_count[j] = m;
+  out_clock[j] = clock[c];
+  out_depth[j] = depth[c];
+  out_age[j] = age[c];
+  for (int k = 0; k < m; ++k) {
+    real4 p = pos[f + k];
+    p.w = CELL_INFO(semlb_info_pack(j, t));
+    out_pos[at + k] = p;
+    out_keys[at + k] = keys[f + k];
+  }
+}
 #endif

@@ -8,6 +8,7 @@
 #include "backend.hpp"
 #include "common/errors.hpp"
 #include "cpu_physics.hpp"
+#include "model/tissue.hpp"
 #include "opencl.hpp"
 
 namespace semlb::engine {
@@ -66,16 +67,143 @@ class OpenClBackend final : public Backend {
   }
 
   void set_ghosts(const Ghosts& g) override {
-    if (owned_ + g.elements() > capacity_) {  // grow: keep the owned elements through the host
-      const std::vector<Real4> packed = read_packed(pos_, owned_);
-      std::vector<uint64_t> keys(owned_);
-      read(keys_, keys.data(), owned_ * sizeof(uint64_t));
-      allocate(owned_ + g.elements() + (owned_ + g.elements()) / 4 + 64);
-      write(pos_, packed.data(), owned_ * sizeof(Real4));
-      write(keys_, keys.data(), owned_ * sizeof(uint64_t));
-    }
+    n_ = owned_;
+    reserve_elements(owned_ + g.elements());
     write_elements(owned_, g.position, g.info, g.keys);
     n_ = owned_ + g.elements();
+  }
+
+  std::vector<double> ghost_positions() override {
+    std::vector<double> p;
+    to_positions(read_packed(pos_, n_ - owned_, owned_), p);
+    return p;
+  }
+
+  std::pair<long, long> counts(const State&) const override { return {cells_, owned_}; }
+
+  std::vector<double> slice_work(State& host, const SliceMap& map, double cutoff) override {
+    if (!has_fp64_) return Backend::slice_work(host, map, cutoff);
+    const auto b = bounds();  // the grid of slice_workload: over the owned elements' box
+    const auto [lo, hi] = padded_box(b[0], b[1], cutoff);
+    const Grid g = Grid::cover(lo, hi, cutoff);
+    const long bins = g.bins();
+    if (bins > work_bins_capacity_) {
+      work_bins_capacity_ = bins + bins / 4;
+      work_counts_ = buffer(work_bins_capacity_ * sizeof(cl_int));
+    }
+    if (map.slices > work_capacity_) {
+      work_capacity_ = map.slices;
+      work_ = buffer(work_capacity_ * sizeof(cl_long));
+    }
+    const cl_int zero = 0;
+    const cl_long zero_l = 0;
+    cl::check(clEnqueueFillBuffer(queue_.get(), work_counts_.get(), &zero, sizeof zero, 0, bins * sizeof(cl_int), 0, nullptr, nullptr), "zero work bins");
+    cl::check(clEnqueueFillBuffer(queue_.get(), work_.get(), &zero_l, sizeof zero_l, 0, map.slices * sizeof(cl_long), 0, nullptr, nullptr), "zero work");
+    const std::array<double, 4> dlo{g.lo[0], g.lo[1], g.lo[2], 0}, dsize{g.size[0], g.size[1], g.size[2], 0};
+    launch("work_bins", n_, kGroup, pos_.get(), static_cast<cl_int>(n_), dlo, dsize, int4(g.dims), work_counts_.get());
+    launch("work_cells", cells_, kGroup, static_cast<cl_int>(cells_), pos_.get(), cell_.first.get(), cell_.count.get(), dlo,
+           dsize, int4(g.dims), work_counts_.get(), map.x0, map.width, static_cast<cl_int>(map.slices), work_.get());
+    std::vector<cl_long> w(map.slices);
+    read(work_, w.data(), w.size() * sizeof(cl_long));
+    return {w.begin(), w.end()};
+  }
+
+  void take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers,
+                    std::vector<int>& owner) override {
+    if (!has_fp64_) return Backend::take_leavers(host, map, boundaries, rank, leavers, owner);
+    leavers = {};
+    owner.clear();
+    for (const auto& [name, f] : host.cell_fields) leavers.cell_fields[name];
+    n_ = owned_;  // the ghosts go
+    const long n = cells_;
+    if (n == 0) return;
+    reserve_plan(n);
+    if (static_cast<long>(boundaries.size()) > bounds_capacity_) {
+      bounds_capacity_ = static_cast<long>(boundaries.size());
+      owner_bounds_ = buffer(bounds_capacity_ * sizeof(cl_int));
+      last_boundaries_.clear();
+    }
+    if (boundaries != last_boundaries_ || boundaries.empty()) {
+      write(owner_bounds_, boundaries.data(), boundaries.size() * sizeof(cl_int));
+      last_boundaries_ = boundaries;
+    }
+    const cl_int nc = static_cast<cl_int>(n);
+    launch("cells_owner", n, kGroup, nc, pos_.get(), cell_.first.get(), cell_.count.get(), map.x0, map.width,
+           static_cast<cl_int>(map.slices), owner_bounds_.get(), static_cast<cl_int>(boundaries.size()),
+           static_cast<cl_int>(rank), births_.get(), divides_.get(), counts2_.get());
+    exclusive_scan(births_, dstarts_, dsums_, dstarts_, n);
+    cl_int leaving = 0;
+    read(dstarts_, &leaving, sizeof leaving, n * sizeof(cl_int));
+    if (leaving == 0) return;  // nothing crosses
+    exclusive_scan(counts2_, estarts_, esums_, estarts_, 2 * n);
+    cl_int ends[2] = {0, 0};  // leavers' elements, leavers' + stayers'
+    read(estarts_, &ends[0], sizeof(cl_int), n * sizeof(cl_int));
+    read(estarts_, &ends[1], sizeof(cl_int), 2 * n * sizeof(cl_int));
+    if (n > back_.capacity) back_.allocate(*this, n + n / 4 + 64);
+    if (leaving > leave_.capacity) leave_.allocate(*this, leaving + leaving / 4 + 64);
+    launch("cells_split", n, kGroup, nc, pos_.get(), keys_.get(), cell_.id.get(), cell_.type.get(), cell_.first.get(),
+           cell_.count.get(), cell_.clock.get(), cell_.depth.get(), cell_.age.get(), births_.get(), divides_.get(),
+           dstarts_.get(), estarts_.get(), pos_back_.get(), keys_back_.get(), back_.id.get(), back_.type.get(),
+           back_.first.get(), back_.count.get(), back_.clock.get(), back_.depth.get(), back_.age.get(), band_pos_.get(),
+           leave_.id.get(), leave_.type.get(), leave_.first.get(), leave_.count.get(), leave_.clock.get(),
+           leave_.depth.get(), leave_.age.get());
+    std::swap(pos_, pos_back_);
+    std::swap(keys_, keys_back_);
+    std::swap(cell_, back_);
+    cells_ = n - leaving;
+    n_ = owned_ = ends[1] - ends[0];
+    cells_stale_ = true;
+    const long m = leaving;
+    leavers.cell_id.resize(m);
+    leavers.cell_type.resize(m);
+    leavers.cell_count.resize(m);
+    owner.resize(m);
+    read(leave_.id, leavers.cell_id.data(), m * sizeof(uint64_t));
+    read(leave_.type, leavers.cell_type.data(), m * sizeof(cl_int));
+    read(leave_.first, owner.data(), m * sizeof(cl_int));
+    read(leave_.count, leavers.cell_count.data(), m * sizeof(cl_int));
+    for (const auto& [name, mem] : leave_.fields())
+      if (auto f = leavers.cell_fields.find(name); f != leavers.cell_fields.end()) {
+        f->second.resize(m);
+        read(*mem, f->second.data(), m * sizeof(double));
+      }
+    to_positions(read_packed(band_pos_, ends[0]), leavers.position);
+    leavers.reindex();
+  }
+
+  void append_cells(State& host, const State& arrivals) override {
+    if (!has_fp64_) return Backend::append_cells(host, arrivals);
+    n_ = owned_;
+    const long m = arrivals.cells(), e = arrivals.elements();
+    if (m == 0) return;
+    reserve_elements(owned_ + e);
+    if (cells_ + m > cell_.capacity) {  // grow on the device: copy the owned cells into larger arrays
+      Cells grown;
+      grown.allocate(*this, cells_ + m + (cells_ + m) / 4 + 64);
+      copy(cell_.id, grown.id, cells_ * sizeof(uint64_t));
+      for (auto [from, to] : std::initializer_list<std::pair<cl::Mem*, cl::Mem*>>{{&cell_.type, &grown.type}, {&cell_.first, &grown.first}, {&cell_.count, &grown.count}})
+        copy(*from, *to, cells_ * sizeof(cl_int));
+      for (auto [from, to] : std::initializer_list<std::pair<cl::Mem*, cl::Mem*>>{{&cell_.clock, &grown.clock}, {&cell_.depth, &grown.depth}, {&cell_.age, &grown.age}})
+        copy(*from, *to, cells_ * sizeof(double));
+      cell_ = std::move(grown);
+    }
+    std::vector<int> info = arrivals.element_info();
+    for (int& i : info) i = phys64::semlb_info_pack(phys64::semlb_info_cell(i) + static_cast<int>(cells_), phys64::semlb_info_type(i));
+    write_elements(owned_, arrivals.position, info, arrivals.element_keys());
+    std::vector<cl_int> first(arrivals.cell_first.begin(), arrivals.cell_first.end());
+    for (cl_int& f : first) f += static_cast<cl_int>(owned_);
+    write(cell_.id, arrivals.cell_id.data(), m * sizeof(uint64_t), cells_ * sizeof(uint64_t));
+    write(cell_.type, arrivals.cell_type.data(), m * sizeof(cl_int), cells_ * sizeof(cl_int));
+    write(cell_.first, first.data(), m * sizeof(cl_int), cells_ * sizeof(cl_int));
+    write(cell_.count, arrivals.cell_count.data(), m * sizeof(cl_int), cells_ * sizeof(cl_int));
+    const std::vector<double> zeros(m, 0.0);
+    for (const auto& [name, mem] : cell_.fields()) {
+      const auto f = arrivals.cell_fields.find(name);
+      write(*mem, f == arrivals.cell_fields.end() ? zeros.data() : f->second.data(), m * sizeof(double), cells_ * sizeof(double));
+    }
+    cells_ += m;
+    n_ = owned_ = owned_ + e;
+    cells_stale_ = true;
   }
 
   void download(State& s) override {
@@ -126,19 +254,7 @@ class OpenClBackend final : public Backend {
     require_cells();
     const long n = cells_;
     if (n == 0) return false;
-    if (n > plan_capacity_) {
-      plan_capacity_ = n + n / 4 + 64;
-      const long p = plan_capacity_;
-      births_ = buffer(p * sizeof(cl_int));
-      old_centroid_ = buffer(3 * p * sizeof(double));
-      split_ = buffer(p * sizeof(cellrules::semlb_cell_split));
-      counts2_ = buffer(2 * p * sizeof(cl_int));
-      estarts_ = buffer((2 * p + 1) * sizeof(cl_int));
-      esums_ = buffer(round_up(2 * p, kScanGroup) / kScanGroup * sizeof(cl_int));
-      divides_ = buffer(p * sizeof(cl_int));
-      dstarts_ = buffer((p + 1) * sizeof(cl_int));
-      dsums_ = buffer(round_up(p, kScanGroup) / kScanGroup * sizeof(cl_int));
-    }
+    reserve_plan(n);
     const cl_int none = INT_MAX, nc = static_cast<cl_int>(n);
     write(cell_fail_, &none, sizeof none);
     const cl_ulong seed_ = seed, step_ = static_cast<cl_ulong>(step);
@@ -159,12 +275,12 @@ class OpenClBackend final : public Backend {
       throw std::runtime_error("cell " + std::to_string(id) + " divided " + std::to_string(static_cast<int>(depth)) +
                                " times: cell ids are exhausted");
     }
-    const long m = n + daughters;
+    const long m = n + daughters, ghosts = n_ - owned_;  // the ghosts are copied behind the new owned elements
     if (m > back_.capacity) back_.allocate(*this, m + m / 4 + 64);
     cl::Mem in_pos = std::move(pos_), in_keys = std::move(keys_);
-    const bool grow = total > capacity_;
+    const bool grow = total + ghosts > capacity_;
     if (grow) {  // grow on the device: the rewrite reads the old buffers and writes the new ones
-      allocate(total + total / 4 + 64);
+      allocate(total + ghosts + (total + ghosts) / 4 + 64);
     } else {
       pos_ = std::move(pos_back_);
       keys_ = std::move(keys_back_);
@@ -174,6 +290,8 @@ class OpenClBackend final : public Backend {
            old_centroid_.get(), split_.get(), counts2_.get(), divides_.get(), estarts_.get(), dstarts_.get(), pos_.get(),
            keys_.get(), back_.id.get(), back_.type.get(), back_.first.get(), back_.count.get(), back_.clock.get(),
            back_.depth.get(), back_.age.get());
+    copy(in_pos, pos_, ghosts * sizeof(Real4), owned_ * sizeof(Real4), total * sizeof(Real4));
+    copy(in_keys, keys_, ghosts * sizeof(uint64_t), owned_ * sizeof(uint64_t), total * sizeof(uint64_t));
     if (!grow) {  // the old pair is the spare for the next stage (allocate() made a fresh spare when growing)
       pos_back_ = std::move(in_pos);
       keys_back_ = std::move(in_keys);
@@ -183,7 +301,8 @@ class OpenClBackend final : public Backend {
       launch("cells_differentiate", m, kGroup, static_cast<cl_int>(m), rules, elapsed_h, pos_.get(), cell_.first.get(),
              cell_.count.get(), cell_.type.get(), cell_.age.get());
     const bool changed = total != owned_ || daughters > 0;
-    n_ = owned_ = total;
+    owned_ = total;
+    n_ = total + ghosts;
     cells_ = m;
     cells_stale_ = true;
     return changed;
@@ -254,7 +373,7 @@ class OpenClBackend final : public Backend {
 
   Failure failure() override {
     cl_int f[2];
-    cl::check(clEnqueueReadBuffer(queue_.get(), fail_.get(), CL_TRUE, 0, sizeof f, f, 0, nullptr, nullptr), "read failure flag");
+    read(fail_, f, sizeof f);
     Failure out;
     if (f[1] != INT_MAX) {
       out.step = f[0];
@@ -289,9 +408,9 @@ class OpenClBackend final : public Backend {
     }
     return w;
   }
-  std::vector<Real4> read_packed(const cl::Mem& m, long n) {
+  std::vector<Real4> read_packed(const cl::Mem& m, long n, long at = 0) {
     std::vector<Real4> packed(n);
-    read(m, packed.data(), n * sizeof(Real4));
+    read(m, packed.data(), n * sizeof(Real4), at * sizeof(Real4));
     return packed;
   }
   static void to_positions(const std::vector<Real4>& packed, std::vector<double>& p) {  // keeps p's capacity
@@ -335,7 +454,7 @@ class OpenClBackend final : public Backend {
       cl::check(err, k);
     }
     if (has_fp64_)
-      for (const char* k : {"cells_plan", "cells_rewrite", "cells_differentiate"}) {
+      for (const char* k : {"cells_plan", "cells_rewrite", "cells_differentiate", "work_bins", "work_cells", "cells_owner", "cells_split"}) {
         kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
         cl::check(err, k);
       }
@@ -349,9 +468,15 @@ class OpenClBackend final : public Backend {
   }
   void write(const cl::Mem& m, const void* data, size_t bytes, size_t offset = 0) {
     if (bytes) cl::check(clEnqueueWriteBuffer(queue_.get(), m.get(), CL_TRUE, offset, bytes, data, 0, nullptr, nullptr), "write buffer");
+    moved(static_cast<long>(bytes), 0);
+  }
+  // bytes from `from` at `from_at` to `to` at `to_at`, on the device (nothing crosses to the host).
+  void copy(const cl::Mem& from, const cl::Mem& to, size_t bytes, size_t from_at = 0, size_t to_at = 0) {
+    if (bytes) cl::check(clEnqueueCopyBuffer(queue_.get(), from.get(), to.get(), from_at, to_at, bytes, 0, nullptr, nullptr), "copy buffer");
   }
   void read(const cl::Mem& m, void* data, size_t bytes, size_t offset = 0) {
     if (bytes) cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_TRUE, offset, bytes, data, 0, nullptr, nullptr), "read buffer");
+    moved(0, static_cast<long>(bytes));
   }
   void write_reals(const cl::Mem& m, const std::vector<double>& values) {
     const std::vector<Real> r(values.begin(), values.end());
@@ -359,6 +484,31 @@ class OpenClBackend final : public Backend {
       write(m, r.data(), r.size() * sizeof(Real));
       last_written_[m.get()] = r;
     }
+  }
+
+  // Room for n elements (owned + ghosts); growing keeps elements [0, n_) by device copies.
+  void reserve_elements(long n) {
+    if (n <= capacity_) return;
+    cl::Mem old_pos = std::move(pos_), old_keys = std::move(keys_);
+    allocate(n + n / 4 + 64);
+    copy(old_pos, pos_, n_ * sizeof(Real4));
+    copy(old_keys, keys_, n_ * sizeof(uint64_t));
+  }
+
+  // The per-cell work arrays of the cell stage and the migration for n cells.
+  void reserve_plan(long n) {
+    if (n <= plan_capacity_) return;
+    plan_capacity_ = n + n / 4 + 64;
+    const long p = plan_capacity_;
+    births_ = buffer(p * sizeof(cl_int));
+    old_centroid_ = buffer(3 * p * sizeof(double));
+    split_ = buffer(p * sizeof(cellrules::semlb_cell_split));
+    counts2_ = buffer(2 * p * sizeof(cl_int));
+    estarts_ = buffer((2 * p + 1) * sizeof(cl_int));
+    esums_ = buffer(round_up(2 * p, kScanGroup) / kScanGroup * sizeof(cl_int));
+    divides_ = buffer(p * sizeof(cl_int));
+    dstarts_ = buffer((p + 1) * sizeof(cl_int));
+    dsums_ = buffer(round_up(p, kScanGroup) / kScanGroup * sizeof(cl_int));
   }
 
   void allocate(long capacity) {
@@ -463,8 +613,10 @@ class OpenClBackend final : public Backend {
   }
 
   bool binned_, profile_ = false, has_fp64_ = false, cells_stale_ = false;
-  Cells cell_, back_;
-  long cells_ = 0, plan_capacity_ = 0;
+  Cells cell_, back_, leave_;  // leave_: the migration's leavers (leave_.first holds each one's new owner)
+  long cells_ = 0, plan_capacity_ = 0, work_bins_capacity_ = 0, work_capacity_ = 0, bounds_capacity_ = 0;
+  cl::Mem work_counts_, work_, owner_bounds_;  // W_s: elements per bin, per-slice sums; the interior boundaries
+  std::vector<int> last_boundaries_;
   cl::Mem pos_back_, keys_back_, bounds_, cell_fail_, births_, old_centroid_, split_, counts2_, estarts_, esums_, divides_,
       dstarts_, dsums_;
   cl::DeviceInfo dev_{};

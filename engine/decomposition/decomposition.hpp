@@ -6,15 +6,15 @@
 
 #include "controllers/policy.hpp"
 #include "model/scene.hpp"
+#include "backends/backend.hpp"
 #include "model/state.hpp"
 
 namespace semlb::engine {
 
-struct Decomposition {
+struct Decomposition : SliceMap {
   // min_width in slices: on 3 or more ranks at least the ghost region, cutoff + a cell's reach (one cutoff)
   // on either side, so that only neighbouring ranks share elements within the cutoff (docs/engine.md)
-  int slices = 0, min_width = 1;
-  double x0 = 0, width = 1;       // slice s covers [x0 + s width, x0 + (s+1) width); outside is clamped
+  int min_width = 1;  // slices, x0, width: SliceMap (backends/backend.hpp)
   std::string policy = "reactive", initial = "workload";
   // measured: each rank's computation time from its clock; modelled: its share of the workload W_s (work
   // units), so that decisions are the same in every launch (tests, studies that need reproducible decisions)
@@ -25,7 +25,6 @@ struct Decomposition {
   // InputError names the field: slab widths below the ghost region on >= 3 ranks, more ranks than the
   // slices hold, a policy that needs what the engine cannot observe (e.g. the oracle's true work).
   static Decomposition from_scene(const Scene& scene, int ranks);
-  int slice_of(double x) const;
 };
 
 // Throws InputError (the reason, no location) for a policy a simulation cannot run: an unknown name, or one
@@ -33,10 +32,7 @@ struct Decomposition {
 // Decomposition::from_scene and the sweep's engine runners (before anything runs) both refuse through it.
 void check_engine_policy(const std::string& policy);
 
-// Per-slice workload W_s = sum over cells of n_i * n_N(i) (paper eqs. 2-3): n_N(i) counts the elements in
-// the 3x3x3 bins around the cell's centroid, among the cells' own elements and `ghosts` (3 doubles each).
-std::vector<double> slice_workload(const State& cells, const std::vector<double>& ghosts, const Decomposition& d,
-                                   double cutoff);
-int owner_of(int slice, const std::vector<int>& boundaries);
+// slice_workload (W_s), owner_of: backends/backend.hpp, beside the device versions.
+
 
 }  // namespace semlb::engine

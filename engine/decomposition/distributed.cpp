@@ -93,6 +93,7 @@ void DistributedSimulation::exchange_ghosts() {
     throw std::runtime_error("step " + std::to_string(step()) + ": fault injected by SEMLB_FAULT_INJECT");
   const auto t0 = std::chrono::steady_clock::now();
   Backend& b = sim_->backend();
+  PhaseScope phase(b, "exchange");
   const auto [lo, hi] = b.x_extent();
   const Failure failure = b.failure();
   const auto gathered = mpi_->allgather({lo, hi, static_cast<double>(failure.step)});  // 3 per rank
@@ -118,40 +119,38 @@ void DistributedSimulation::exchange_ghosts() {
   for (const auto& bytes : {mpi_->sendrecv(pack_band(left), r > 0 ? r - 1 : MPI_PROC_NULL, r + 1 < P ? r + 1 : MPI_PROC_NULL),
                             mpi_->sendrecv(pack_band(right), r + 1 < P ? r + 1 : MPI_PROC_NULL, r > 0 ? r - 1 : MPI_PROC_NULL)})
     unpack_band(bytes, g);
-  int cell = static_cast<int>(sim_->host_state().cells()) - 1;  // ghost cells are numbered after the owned ones
+  int cell = static_cast<int>(sim_->counts().first) - 1;  // ghost cells are numbered after the owned ones
   for (long e = 0; e < g.elements(); ++e) {  // a band holds each cell's elements contiguously
     if (e == 0 || cell_id_of_key(g.keys[e]) != cell_id_of_key(g.keys[e - 1])) ++cell;
     g.info[e] = phys64::semlb_info_pack(cell, phys64::semlb_info_type(g.info[e]));
   }
-  b.set_ghosts(g);
-  ghost_positions_ = std::move(g.position);  // for the next W_s
+  b.set_ghosts(g);  // kept on the backend for the next W_s
   b.finish();
   exchange_s_ += seconds_since(t0);
 }
 
+// Owners from the centroids and the packing of the leavers run on the backend (the device for OpenCL): only
+// the cells that change owner cross to the host, and nothing when none does (Backend::take_leavers).
 void DistributedSimulation::migrate_cells() {
   const auto t0 = std::chrono::steady_clock::now();
-  sim_->sync();  // the host cells are stale after a cell stage on the device (a download for now)
-  if (sim_->host_state().step % dec_.rebalance_every == 0) decide(measure());  // new boundaries first
-  State& s = sim_->state();
-  std::vector<int> owner(s.cells());
-  bool changed = false;
-  for (long c = 0; c < s.cells(); ++c) {
-    owner[c] = owner_of_cell(s, c);
-    changed = changed || owner[c] != mpi_->rank();
-  }
+  Backend& b = sim_->backend();
+  PhaseScope phase(b, "migration");
+  if (step() % dec_.rebalance_every == 0) decide(measure());  // new boundaries first
+  State leavers;
+  std::vector<int> owner;
+  b.take_leavers(sim_->state(), dec_, balancer_->boundaries(), mpi_->rank(), leavers, owner);
   std::vector<Writer> out(mpi_->size());
-  if (changed) split_cells(s, [&](long c) { return owner[c]; }, mpi_->rank(), out);
+  for (long c = 0; c < leavers.cells(); ++c) pack_cell(out[owner[c]], leavers, c);
   std::vector<std::vector<char>> parts;
   for (auto& w : out) parts.push_back(std::move(w.bytes));
-  for (const auto& bytes : mpi_->alltoall(parts)) {
-    changed = changed || !bytes.empty();
-    unpack_cells(bytes, s);
-  }
-  if (changed) {  // else the device already holds exactly these elements
-    s.reindex();
-    sim_->reload();
-    sim_->backend().finish();
+  State arrivals;
+  for (const auto& [name, f] : sim_->host_state().cell_fields) arrivals.cell_fields[name];
+  for (const auto& bytes : mpi_->alltoall(parts)) unpack_cells(bytes, arrivals);
+  arrivals.reindex();
+  if (leavers.cells() > 0 || arrivals.cells() > 0) {  // else the backend holds exactly these cells
+    b.append_cells(sim_->state(), arrivals);
+    sim_->refit_grid();
+    b.finish();
   }
   migrate_s_ += seconds_since(t0);
 }
@@ -168,8 +167,7 @@ Measurement DistributedSimulation::measure() {
     iv.exchange.push_back(seconds[3 * r + 1]);
     iv.migrate.push_back(seconds[3 * r + 2]);
   }
-  const State& s = sim_->host_state();
-  auto work = slice_workload(s, ghost_positions_, dec_, scene_->cutoff);  // integer counts: sums are exact
+  auto work = sim_->backend().slice_work(sim_->state(), dec_, scene_->cutoff);  // integer counts: sums are exact
   mpi_->allreduce_sum(work);
   if (dec_.timing == "modelled") m.times = rank_sums(work, balancer_->boundaries());
   double total_work = 0, total_time = 0;
@@ -181,7 +179,7 @@ Measurement DistributedSimulation::measure() {
   const long cells = totals().first;
   m.growth_event = cells != cells_at_event_;
   cells_at_event_ = cells;
-  iv.step = s.step;
+  iv.step = step();
   intervals_.push_back(std::move(iv));
   return m;
 }
@@ -245,8 +243,8 @@ void DistributedSimulation::advance(long target) {
 }
 
 std::pair<long, long> DistributedSimulation::totals() {
-  const State& s = sim_->host_state();
-  std::vector<double> n{static_cast<double>(s.cells()), static_cast<double>(s.elements())};
+  const auto [cells, elements] = sim_->counts();
+  std::vector<double> n{static_cast<double>(cells), static_cast<double>(elements)};
   mpi_->allreduce_sum(n);
   return {static_cast<long>(n[0]), static_cast<long>(n[1])};
 }

@@ -63,7 +63,6 @@ class DistributedSimulation {
   Decomposition dec_;
   std::unique_ptr<Balancer> balancer_;
   std::unique_ptr<Simulation> sim_;
-  std::vector<double> ghost_positions_;
   std::string trace_path_, trace_kept_, restarted_;  // trace_kept_: the lines before a restart's event
   std::ofstream trace_;
   std::vector<Interval> intervals_;

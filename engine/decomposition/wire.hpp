@@ -62,12 +62,7 @@ void split_cells(State& s, Owner owner, int me, std::vector<Writer>& out) {
       pack_cell(out[o], s, c);
       continue;
     }
-    kept.cell_id.push_back(s.cell_id[c]);
-    kept.cell_type.push_back(s.cell_type[c]);
-    kept.cell_count.push_back(s.cell_count[c]);
-    for (auto& [name, f] : s.cell_fields) kept.cell_fields[name].push_back(f[c]);
-    kept.position.insert(kept.position.end(), s.position.begin() + 3 * s.cell_first[c],
-                         s.position.begin() + 3 * (s.cell_first[c] + s.cell_count[c]));
+    copy_cell(s, c, kept);
   }
   kept.reindex();
   s = std::move(kept);

@@ -207,6 +207,12 @@ State read_state(const std::string& path) {
   s.time = H5Aexists(f.id(), "time") > 0 ? f.read_real_attr("time") : 0.0;
   if (s.step < 0) throw InputError(path + ": attribute 'step' is " + std::to_string(s.step) + ", must be >= 0");
   if (s.time < 0) throw InputError(path + ": attribute 'time' is " + format_real(s.time) + " h, must be >= 0");
+  // The cell fields the effects use, and the only ones a backend carries (the OpenCL device holds these three):
+  // another would be dropped silently by the cell stage and the migration, so it is refused here.
+  for (const auto& name : f.list("/cells/fields"))
+    if (name != "growth.clock" && name != "differentiation.age" && name != "division.depth")
+      throw InputError(path + ": dataset /cells/fields/" + name + ": unknown cell field (known: division.depth, "
+                       "differentiation.age, growth.clock)");
   for (const char* name : {"growth.clock", "differentiation.age", "division.depth"})
     if (f.has(std::string("/cells/fields/") + name)) {
       const std::string set = std::string("/cells/fields/") + name;

@@ -84,4 +84,16 @@ uint64_t State::hash() const {
   return h;
 }
 
+void copy_cell(const State& from, long c, State& to) {
+  to.cell_id.push_back(from.cell_id[c]);
+  to.cell_type.push_back(from.cell_type[c]);
+  to.cell_count.push_back(from.cell_count[c]);
+  for (auto& [name, f] : to.cell_fields) {
+    const auto source = from.cell_fields.find(name);
+    f.push_back(source == from.cell_fields.end() ? 0.0 : source->second[c]);
+  }
+  to.position.insert(to.position.end(), from.position.begin() + 3 * from.cell_first[c],
+                     from.position.begin() + 3 * (from.cell_first[c] + from.cell_count[c]));
+}
+
 }  // namespace semlb::engine

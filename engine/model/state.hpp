@@ -55,4 +55,8 @@ struct State {
   State canonical() const;
 };
 
+// Appends cell c of `from` (id, type, count, positions) to `to`, with the fields `to` lists (0 where `from` lacks
+// one); call to.reindex() afterwards.
+void copy_cell(const State& from, long c, State& to);
+
 }  // namespace semlb::engine

@@ -156,29 +156,34 @@ RunSummary run_scene(Scene& scene, const RunConfig& config) {
 
   std::string header = "step,time_h,cells,elements,wall_s";
   for (const auto& p : sim.phases()) header += "," + p + "_s";
+  header += ",bytes_h2d,bytes_d2h";
   RunOutputs out(scene, config, first, header,
                  {{"git_revision", config.git_revision}, {"scene", scene.name}, {"backend", sim.backend().name()}});
   StatusLine status(config.quiet, first, last);
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<double> phase_before = sim.phase_seconds();
   double wall_before = 0;
-  out.save_first(sim.sync());
+  if (out.wants_first_snapshot(first)) out.save_first(sim.sync());
+  Traffic bytes_before = sim.backend().traffic_total();
   try {
     while (sim.host_state().step < last) {
       const long stop = next_stop(scene, sim.host_state().step, last);
       sim.advance(stop);
-      const State& s = sim.sync();
+      const auto [cells, elements] = sim.counts();  // no download: the state crosses only when a file needs it
       if (stop % scene.log_every == 0 || stop == last) {
         std::ostringstream row;
         const double w = seconds_since(t0);
-        row << s.step << "," << format_real(s.time) << "," << s.cells() << "," << s.elements() << "," << format_real(w - wall_before);
+        const Traffic bytes = sim.backend().traffic_total();
+        row << stop << "," << format_real(sim.host_state().time) << "," << cells << "," << elements << "," << format_real(w - wall_before);
         for (size_t p = 0; p < sim.phases().size(); ++p) row << "," << format_real(sim.phase_seconds()[p] - phase_before[p]);
+        row << "," << bytes.h2d - bytes_before.h2d << "," << bytes.d2h - bytes_before.d2h;
         out.log(row.str());
         phase_before = sim.phase_seconds();
         wall_before = w;
+        bytes_before = bytes;
       }
-      out.save(s);
-      status.update(s.step, s.cells(), s.elements(), seconds_since(t0), false);
+      if (out.wants_state(stop)) out.save(sim.sync());
+      status.update(stop, cells, elements, seconds_since(t0), false);
     }
   } catch (const SimulationError&) {
     out.write("failure.h5", failing_state(sim.host_state(), sim.backend().failure().step, scene.dt));
@@ -205,10 +210,15 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
     sim = std::make_unique<DistributedSimulation>(scene, initial, mpi, root ? config.out_dir + "/trace.jsonl" : "", restored);
   });
   const long first = initial.step, last = std::max(scene.steps, first);
+  // The per-phase columns of a one-device run, each the slowest rank's, and the bytes summed over the ranks.
+  std::string header = "step,time_h,cells,elements,wall_s";
+  const auto& phases = sim->local().phases();
+  for (const auto& p : phases) header += "," + p + "_s";
+  header += ",bytes_h2d,bytes_d2h";
   std::unique_ptr<RunOutputs> out;  // rank 0 writes every file
   agree(mpi, [&] {
     if (root)
-      out = std::make_unique<RunOutputs>(scene, config, first, "step,time_h,cells,elements,wall_s",
+      out = std::make_unique<RunOutputs>(scene, config, first, header,
                                          std::map<std::string, std::string>{{"git_revision", config.git_revision},
                                                                             {"scene", scene.name},
                                                                             {"backend", sim->local().backend().name()},
@@ -218,6 +228,8 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
   StatusLine status(config.quiet || !root, first, last);
   const auto t0 = std::chrono::steady_clock::now();
   double wall_before = 0;
+  std::vector<double> phase_before = sim->local().phase_seconds();
+  Traffic bytes_before = sim->local().backend().traffic_total();
   if (mpi.allreduce_max(root && out->wants_first_snapshot(first) ? 1 : 0) > 0) {
     const State all = sim->gather();
     agree(mpi, [&] {
@@ -229,16 +241,31 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
       const long stop = next_stop(scene, sim->step(), last);
       sim->advance(stop);
       const auto [cells, elements] = sim->totals();
+      const bool log = stop % scene.log_every == 0 || stop == last;
+      std::vector<double> slowest(phases.size(), 0.0), bytes(2, 0.0);
+      if (log) {  // collective: every rank takes part
+        std::vector<double> mine = sim->local().phase_seconds();
+        for (size_t p = 0; p < mine.size(); ++p) mine[p] -= phase_before[p];
+        phase_before = sim->local().phase_seconds();
+        const auto all = mpi.allgather(mine);
+        for (size_t i = 0; i < all.size(); ++i) slowest[i % phases.size()] = std::max(slowest[i % phases.size()], all[i]);
+        const Traffic now = sim->local().backend().traffic_total();
+        bytes = {static_cast<double>(now.h2d - bytes_before.h2d), static_cast<double>(now.d2h - bytes_before.d2h)};
+        bytes_before = now;
+        mpi.allreduce_sum(bytes);
+      }
       // the whole tissue travels to rank 0 only when a file needs it
       const bool gather = mpi.allreduce_max(root && out->wants_state(stop) ? 1 : 0) > 0;
       const State all = gather ? sim->gather() : State{};
       agree(mpi, [&] {
         if (!root) return;
-        if (stop % scene.log_every == 0 || stop == last) {
+        if (log) {
           std::ostringstream row;
           const double w = seconds_since(t0);
           row << stop << "," << format_real(static_cast<double>(stop) * scene.dt) << "," << cells << "," << elements << ","
               << format_real(w - wall_before);
+          for (double t : slowest) row << "," << format_real(t);
+          row << "," << static_cast<long>(bytes[0]) << "," << static_cast<long>(bytes[1]);
           out->log(row.str());
           wall_before = w;
         }

@@ -31,6 +31,7 @@ Simulation::Simulation(const Scene& scene, State state)
   }
   cell_parts_ = {{"stage", 0.0}, {"grid", 0.0}};
   seconds_.assign(phases_.size(), 0.0);
+  PhaseScope phase(*backend_, "upload");
   backend_->upload(state_);
 }
 
@@ -44,10 +45,12 @@ void Simulation::timed(size_t phase, F&& f) {
 
 void Simulation::advance(long target) {
   while (state_.step < target) step_once();
+  PhaseScope checking(*backend_, "check");
   failure_check ? failure_check() : check();
 }
 
 void Simulation::reload() {
+  PhaseScope phase(*backend_, "upload");
   backend_->upload(state_);
   refit_grid();
 }
@@ -66,6 +69,7 @@ void Simulation::step_once() {
   const long step = state_.step;
   size_t phase = 0;
   if (before_forces) before_forces();
+  PhaseScope in_step(*backend_, "step");
   backend_->zero_forces();
   for (const auto& e : effects_)
     if (e->adds_forces()) timed(phase++, [&] { e->forces(*backend_, grid_); });
@@ -77,13 +81,17 @@ void Simulation::step_once() {
   if (has_cell_effects_ && state_.step % scene_->cell_update_every == 0) {
     // The failure check and the cell migration are collective in a decomposed run: outside the timers, so
     // that a rank's computation time holds its own work and not its wait for the slowest rank.
-    failure_check ? failure_check() : check();
+    {
+      PhaseScope checking(*backend_, "check");
+      failure_check ? failure_check() : check();
+    }
     timed(phase, [&] { update_cells(); });
     if (after_cells) after_cells();
   }
 }
 
 void Simulation::update_cells() {
+  PhaseScope phase(*backend_, "cells");
   auto t0 = std::chrono::steady_clock::now();
   const auto lap = [&](size_t part) {  // closes a part; under profile after the queued work finished
     if (profile) backend_->finish();
@@ -98,6 +106,7 @@ void Simulation::update_cells() {
 }
 
 const State& Simulation::sync() {
+  PhaseScope phase(*backend_, "output");
   backend_->download(state_);
   return state_;
 }

@@ -33,6 +33,8 @@ class Simulation {
   void advance(long target);
   // The host state with current positions (downloads them from the backend).
   const State& sync();
+  // Owned cells and elements now, without a download (Backend::counts).
+  std::pair<long, long> counts() const { return backend_->counts(state_); }
   // The host state as of the last sync (after a cell stage on the device its cells are stale until then).
   const State& host_state() const { return state_; }
   Backend& backend() { return *backend_; }
@@ -59,10 +61,10 @@ class Simulation {
   std::function<void()> failure_check;  // replaces check() (a collective check across ranks)
   State& state() { return state_; }     // the host state, for the decomposed run to edit, then reload()
   void reload();                        // uploads state() again and refits the grid
+  void refit_grid();                    // after the backend's elements changed (a migration)
 
  private:
   void step_once();
-  void refit_grid();
   template <class F>
   void timed(size_t phase, F&& f);
 

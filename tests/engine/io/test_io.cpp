@@ -55,6 +55,24 @@ TEST(Io, BadStateFilesAreRefusedNamingFileAndDataset) {
 
 // The balancer part of a decomposed run's checkpoint: written and read back exactly; every field checked on
 // reading (a corrupt dataset is bad input naming the file and dataset, never an internal error).
+// The device carries three cell fields; a file with another is refused when read, not dropped later.
+TEST(Io, UnknownCellFieldsAreRefused) {
+  const auto dir = fresh_dir("io_unknown_field");
+  State s = testing::random_state(3, 4, 10.0, 1);
+  s.cell_fields["growth.clock"] = {0.1, 0.2, 0.3};
+  write_state(dir + "/ok.h5", s, {});
+  EXPECT_EQ(read_state(dir + "/ok.h5").cell_fields.count("growth.clock"), 1u);
+  s.cell_fields["polarity.angle"] = {1, 2, 3};
+  write_state(dir + "/bad.h5", s, {});
+  try {
+    read_state(dir + "/bad.h5");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.h5: dataset /cells/fields/polarity.angle: unknown cell field"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Io, DecompositionCheckpointRoundTripsAndIsChecked) {
   const auto dir = fresh_dir("io_decomposition");
   const State s = testing::random_state(6, 4, 20.0, 3);
