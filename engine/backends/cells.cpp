@@ -33,9 +33,9 @@ bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_
   const uint64_t key_step = static_cast<uint64_t>(step);
   for (long c = 0; c < n; ++c) {
     double clk = clock ? (*clock)[c] : 0.0;
-    births[c] = semlb_cell_births(&r, s.cell_type[c], s.cell_count[c], elapsed_h, &clk);
-    if (clock) (*clock)[c] = clk;
     semlb_cell_centroid(s.position.data(), s.cell_first[c], s.cell_count[c], old_centroid[c].data());
+    births[c] = semlb_cell_births(&r, s.cell_type[c], s.cell_count[c], old_centroid[c][0], elapsed_h, &clk);
+    if (clock) (*clock)[c] = clk;
     const int grown = s.cell_count[c] + births[c];
     divides[c] = r.division && ((r.division_types >> s.cell_type[c]) & 1) && grown >= r.at_elements;
     if (divides[c]) {

@@ -26,16 +26,30 @@ typedef struct {
   double offset;         /* um from the centroid to a newborn element */
   double basal_height;   /* um: a basal cell whose centroid rises above it becomes spinous */
   double granular_after; /* h a cell stays spinous before it becomes granular */
+  double front_x0;       /* um: the proliferative front's position at t = 0 (when front) */
+  double front_speed;    /* um/h: its speed along +x */
+  double front_x;        /* um: its position at this stage, front_x0 + front_speed * t (semlb_cell_front_at) */
   int growth, growth_types, max_elements;
+  int front;             /* 1: only cells whose centroid x <= front_x grow (a proliferative wave along x) */
   int division, division_types, at_elements;
   int differentiation;
   int single; /* 1: positions are float (newborns rounded to float before division sees them) */
 } semlb_cell_rules;
 
-/* Advances the growth clock (h) of a cell of `type` with `count` elements by `elapsed` h; returns the
- * elements it adds now (one per whole period, up to max_elements; a full cell's clock runs on). */
-static inline int semlb_cell_births(const semlb_cell_rules* r, int type, int count, double elapsed, double* clock) {
+/* Sets the front's position for a stage at time `time` (h); the caller (the host) does it before each stage,
+ * so that every backend compares centroids against the same double. */
+static inline void semlb_cell_front_at(semlb_cell_rules* r, double time) {
+  r->front_x = r->front ? r->front_x0 + r->front_speed * time : 0.0;
+}
+
+/* Advances the growth clock (h) of a cell of `type` with `count` elements and centroid x `centroid_x` (um) by
+ * `elapsed` h; returns the elements it adds now (one per whole period, up to max_elements; a full cell's clock
+ * runs on). A cell of a type that does not grow, or (with a front) ahead of the front (centroid_x > front_x),
+ * is quiescent: its clock stands. */
+static inline int semlb_cell_births(const semlb_cell_rules* r, int type, int count, double centroid_x, double elapsed,
+                                    double* clock) {
   if (!r->growth || !((r->growth_types >> type) & 1)) return 0;
+  if (r->front && !(centroid_x <= r->front_x)) return 0;
   int births = 0;
   *clock += elapsed;
   for (; *clock >= r->period; *clock -= r->period)

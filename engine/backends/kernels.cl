@@ -317,10 +317,10 @@ __kernel void cells_plan(int n, semlb_cell_rules r, ulong seed, ulong step, doub
   if (c >= n) return;
   double clk = clock[c], ctr[3];
   int t = type[c], cnt = count[c];
-  int b = semlb_cell_births(&r, t, cnt, elapsed, &clk);
+  semlb_cell_centroid(pos, first[c], cnt, ctr);
+  int b = semlb_cell_births(&r, t, cnt, ctr[0], elapsed, &clk);
   clock[c] = clk;
   births[c] = b;
-  semlb_cell_centroid(pos, first[c], cnt, ctr);
   for (int d = 0; d < 3; ++d) old_centroid[3 * c + d] = ctr[d];
   int grown = cnt + b;
   int div = r.division && ((r.division_types >> t) & 1) && grown >= r.at_elements;

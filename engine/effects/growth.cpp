@@ -1,5 +1,6 @@
 // "growth": cells of the listed types add one element every cycle_time / (max_elements - min_elements)
-// hours (10 -> 20 elements per cycle by default), placed near the centroid (the rule: backends/cells.h).
+// hours (10 -> 20 elements per cycle by default), placed near the centroid (the rule: backends/cells.h);
+// with `front: {x0, speed}` only cells behind a proliferative front at x0 + speed * t (um) grow.
 #include <cmath>
 
 #include "backends/cpu_physics.hpp"
@@ -18,6 +19,15 @@ class Growth final : public Effect {
         offset_(s.real("offset", 1.0, 0, 1e6)),
         types_(read_types(s, "types", {"basal"})) {
     if (max_ <= min_) s.fail("max_elements", "must exceed min_elements");
+    if (s.has("front")) {  // the proliferative wave: both keys required, nothing else
+      const Section f = s.child("front");
+      for (const char* k : {"x0", "speed"})
+        if (!f.has(k)) f.fail(k, "missing (front: {x0: um, speed: um/h})");
+      front_ = true;
+      front_x0_ = f.real("x0", 0.0, -1e12, 1e12);
+      front_speed_ = f.real("speed", 0.0, -1e12, 1e12);
+      f.finish();
+    }
   }
   std::string name() const override { return "growth"; }
   bool changes_cells() const override { return true; }
@@ -36,6 +46,9 @@ class Growth final : public Effect {
     r.max_elements = max_;
     r.period = period();
     r.offset = offset_;
+    r.front = front_ ? 1 : 0;
+    r.front_x0 = front_x0_;
+    r.front_speed = front_speed_;
   }
 
  private:
@@ -44,6 +57,8 @@ class Growth final : public Effect {
   double cycle_;
   int min_, max_;
   double offset_;
+  bool front_ = false;
+  double front_x0_ = 0, front_speed_ = 0;  // um, um/h
   std::array<bool, kCellTypes> types_;
 };
 

@@ -99,6 +99,7 @@ void Simulation::update_cells() {
     t0 = std::chrono::steady_clock::now();
   };
   const double elapsed = scene_->dt * static_cast<double>(scene_->cell_update_every);
+  cellrules::semlb_cell_front_at(&rules_, state_.time);
   const bool changed = backend_->update_cells(state_, rules_, scene_->seed, elapsed, state_.step);
   lap(0);
   if (changed) refit_grid();

@@ -52,13 +52,13 @@ TEST(Cells, BirthsFollowTheClockAndStopAtTheMaximum) {
   r.period = 2;
   r.max_elements = 20;
   double clock = 1.5;
-  EXPECT_EQ(semlb_cell_births(&r, 0, 10, 5.0, &clock), 3);  // 6.5 h: three periods, 0.5 h left
+  EXPECT_EQ(semlb_cell_births(&r, 0, 10, 0.0, 5.0, &clock), 3);  // 6.5 h: three periods, 0.5 h left
   EXPECT_EQ(clock, 0.5);
   clock = 1.5;
-  EXPECT_EQ(semlb_cell_births(&r, 0, 19, 5.0, &clock), 1);  // a full cell waits; its clock wraps all the same
+  EXPECT_EQ(semlb_cell_births(&r, 0, 19, 0.0, 5.0, &clock), 1);  // a full cell waits; its clock wraps all the same
   EXPECT_EQ(clock, 0.5);
   clock = 1.5;
-  EXPECT_EQ(semlb_cell_births(&r, 1, 10, 5.0, &clock), 0);  // spinous cells do not grow: the clock stands
+  EXPECT_EQ(semlb_cell_births(&r, 1, 10, 0.0, 5.0, &clock), 0);  // spinous cells do not grow: the clock stands
   EXPECT_EQ(clock, 1.5);
 }
 

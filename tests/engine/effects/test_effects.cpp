@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <set>
 #include <thread>
 
@@ -62,6 +63,66 @@ TEST(Effects, GrowthSkipsTypesItIsNotFor) {
   const auto r = rules_of("  growth: {cycle_time: 20}\n", s);
   EXPECT_FALSE(stage(s, r, 100.0));
   EXPECT_EQ(s.elements(), 10);
+}
+
+// The proliferative front (growth.front): a cell grows only while its centroid x <= x0 + speed * t; ahead of
+// the front its clock stands, so it starts its cycle where it stood when the front reaches it.
+TEST(Effects, GrowthOnlyBehindTheProliferativeFront) {
+  State s = line_cell(10, 0, 5);  // centroid x = 20 um
+  const auto r0 = rules_of("  growth: {cycle_time: 20, front: {x0: 0.0, speed: 2.0}}\n", s);
+  ASSERT_EQ(r0.front, 1);
+  s.cell_fields["growth.clock"] = {0.0};
+  CellRules r = r0;
+  semlb_cell_front_at(&r, 9.0);  // front at 18 um: the cell is ahead of it
+  EXPECT_FALSE(stage(s, r, 2.0));
+  EXPECT_EQ(s.elements(), 10);
+  EXPECT_EQ(s.cell_fields["growth.clock"][0], 0.0);  // quiescent: the clock stands
+  semlb_cell_front_at(&r, 10.0);  // front at 20 um = the centroid: behind (<=) counts
+  EXPECT_EQ(r.front_x, 20.0);
+  EXPECT_TRUE(stage(s, r, 2.0));
+  EXPECT_EQ(s.elements(), 11);
+}
+
+// Without a front the rule is today's (the same clock and births whatever the centroid); a bad front is refused
+// with its field.
+TEST(Effects, GrowthFrontNeedsBothSettings) {
+  State s = line_cell(10, 0, 5);
+  EXPECT_EQ(rules_of("  growth: {cycle_time: 20}\n", s).front, 0);
+  for (const char* bad : {"front: {x0: 1.0}", "front: {speed: 1.0}", "front: {x0: 1, speed: 1, width: 3}", "front: {x0: 1, speed: fast}"}) {
+    try {
+      rules_of(std::string("  growth: {") + bad + "}\n", s);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("effects.growth.front."), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A whole development run with a front on every backend: the same cells bit for bit on the C++ backends and
+// the same cell counts on OpenCL (cells.h is shared); cells far ahead of the front never grew (a cell born
+// full, 20 elements, divides at once whatever the front: left out).
+TEST(Effects, ProliferativeFrontRunsAlikeOnEveryBackend) {
+  const std::vector<std::string> front = {"tissue.cells=40", "effects.growth.front={x0: 10.0, speed: 0.5}"};
+  std::map<std::string, State> out;
+  for (const auto& backend : testing::available_backends()) {
+    auto sets = front;
+    sets.push_back("backend.name=" + backend);
+    auto scene = load_scene(std::string(SEMLB_SOURCE_DIR) + "/scenes/epidermis.yaml", sets);
+    Simulation sim(scene, make_tissue(scene));
+    const State start = sim.host_state();
+    sim.advance(2000);  // 20 h: the front at 20 um
+    out[backend] = sim.sync();
+    const State& s = out[backend];
+    EXPECT_GT(s.elements(), start.elements()) << backend;  // cells behind the front grew
+    for (long c = 0; c < start.cells(); ++c)  // a cell starting 15 um ahead of the final front grew nothing
+      if (centroid(start, c)[0] > 35.0 && start.cell_count[c] < 20) EXPECT_EQ(s.cell_count[c], start.cell_count[c]) << backend << " cell " << c;
+  }
+  EXPECT_EQ(out.at("serial").hash(), out.at("cpu-binned").hash());
+  for (const char* device : {"opencl-allpairs", "opencl-binned"})
+    if (out.count(device)) {
+      EXPECT_EQ(out.at(device).cell_count, out.at("serial").cell_count) << device;
+      EXPECT_EQ(out.at(device).cell_type, out.at("serial").cell_type) << device;
+    }
 }
 
 TEST(Effects, DivisionSplitsAcrossTheLongAxis) {
