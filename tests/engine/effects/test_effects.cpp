@@ -114,8 +114,11 @@ TEST(Effects, ProliferativeFrontRunsAlikeOnEveryBackend) {
     out[backend] = sim.sync();
     const State& s = out[backend];
     EXPECT_GT(s.elements(), start.elements()) << backend;  // cells behind the front grew
-    for (long c = 0; c < start.cells(); ++c)  // a cell starting 15 um ahead of the final front grew nothing
-      if (centroid(start, c)[0] > 35.0 && start.cell_count[c] < 20) EXPECT_EQ(s.cell_count[c], start.cell_count[c]) << backend << " cell " << c;
+    for (long c = 0; c < start.cells(); ++c) {  // a cell starting 15 um ahead of the final front grew nothing
+      if (centroid(start, c)[0] > 35.0 && start.cell_count[c] < 20) {
+        EXPECT_EQ(s.cell_count[c], start.cell_count[c]) << backend << " cell " << c;
+      }
+    }
   }
   EXPECT_EQ(out.at("serial").hash(), out.at("cpu-binned").hash());
   for (const char* device : {"opencl-allpairs", "opencl-binned"})
