@@ -1,0 +1,46 @@
+#!/usr/bin/env python3
+"""results/gpu/peer_yalla.csv from the output of ../shared/bench/peer_yalla/run.sh (issue 14's peer benchmark).
+
+Usage: peer_yalla.py --machine TEXT LOG > peer_yalla.csv
+LOG holds rounds of `semlb bench engine` tables followed by ya||a lines ("yalla grid_solver n=N ...
+ms/force-eval=X"); each ya||a line is paired with the semlb row of the same element count in the same round.
+ratio = yalla_ms_per_eval / semlb_ms_per_step (above 1: semlb faster). Exit 2 naming the line on a malformed log.
+"""
+import argparse
+import csv
+import re
+import sys
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--machine", required=True)
+    ap.add_argument("log")
+    a = ap.parse_args()
+    w = csv.writer(sys.stdout, lineterminator="\n")
+    w.writerow(["elements", "semlb_ms_per_step", "yalla_ms_per_eval", "ratio", "precision", "machine", "round"])
+    header, semlb, rnd, rows = None, {}, 0, 0
+    for n, line in enumerate(open(a.log), 1):
+        f = line.split()
+        if line.startswith("# semlb bench engine"):
+            rnd, semlb, header = rnd + 1, {}, None
+        elif f and f[0] == "backend":
+            header = f
+        elif header and f and f[0].startswith("opencl"):
+            semlb[int(f[header.index("elements")])] = (float(f[header.index("ms/step")]), f[header.index("precision")])
+        elif line.startswith("yalla"):
+            m = re.search(r"n=(\d+) .*ms/force-eval=([0-9.]+)", line)
+            if not m or int(m.group(1)) not in semlb:
+                print(f"peer_yalla.py: {a.log}:{n}: no semlb row for this ya||a line", file=sys.stderr)
+                sys.exit(2)
+            ms, precision = semlb[int(m.group(1))]
+            y = float(m.group(2))
+            w.writerow([m.group(1), ms, y, f"{y / ms:.3g}", precision, a.machine, rnd])
+            rows += 1
+    if not rows:
+        print(f"peer_yalla.py: {a.log}: no ya||a lines", file=sys.stderr)
+        sys.exit(2)
+
+
+if __name__ == "__main__":
+    main()
