@@ -173,10 +173,10 @@ TEST(Manifest, LaunchesInterleaveEveryRowLaunchByLaunch) {
   EXPECT_EQ(jobs[0].find("policy")->value, "reactive");
   EXPECT_EQ(jobs[rows - 1].find("policy")->value, "gru");
   EXPECT_EQ(jobs[rows].find("policy")->value, "reactive");  // launch 2 starts over
-  EXPECT_EQ(jobs[0].find("launch")->line, 20);
+  EXPECT_EQ(jobs[0].find("launch")->line, 19);
   EXPECT_EQ(load_manifest(manifest(text), "", {"launches=5"}).expand().size(), 5 * rows * 2 * 2);
   EXPECT_EQ(load_manifest(manifest(kGroups), "", {}).axis_names().front(), "ranks");  // no launches: no axis
-  EXPECT_NE(error_of(std::string(kGroups) + "launches: 0\n").find("m.yaml:20: field 'launches':"), std::string::npos);
-  EXPECT_NE(error_of(std::string(kGroups) + "launches: 2x\n").find("m.yaml:20: field 'launches':"), std::string::npos);
+  EXPECT_NE(error_of(std::string(kGroups) + "launches: 0\n").find("m.yaml:19: field 'launches':"), std::string::npos);
+  EXPECT_NE(error_of(std::string(kGroups) + "launches: 2x\n").find("m.yaml:19: field 'launches':"), std::string::npos);
   EXPECT_NE(error_of(text, "", {"launch=2"}).find("may not set 'launch' itself"), std::string::npos);
 }

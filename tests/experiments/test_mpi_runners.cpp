@@ -156,12 +156,11 @@ TEST(MpiRunners, EndToEndRowsPerLaunchInterleaved) {
   }
   for (size_t i = 0; i < 3; ++i)  // the same decisions in both launches: cells, imbalance and migration agree
     for (size_t c : {6u, 10u, 11u}) EXPECT_EQ(rows[i][c], rows[i + 3][c]) << i << " column " << c;
-  EXPECT_NE(rows[0][10], rows[2][10]) << "the uniform start is not the workload start";
   // the launches ran in that order: each kept run's files are newer than the previous row's
   std::vector<fs::file_time_type> ran;
   for (size_t i = 0; i < 6; ++i) {
     std::string label;
-    for (const auto& e : fs::directory_iterator(dir + "/out/runs"))
+    for (const auto& e : fs::directory_iterator(dir + "/out/e2e/runs"))
       if (e.path().filename().string().find("launch=" + keys[i][2] + "_") == 0 &&
           e.path().filename().string().find("policy=" + keys[i][0]) != std::string::npos &&
           e.path().filename().string().find("initial=" + keys[i][1]) != std::string::npos)
