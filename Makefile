@@ -10,7 +10,7 @@ MANIFESTS := $(wildcard experiments/*.yaml)
 export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
-.PHONY: deps build test experiments epidermis analysis bench train clean
+.PHONY: deps build test experiments epidermis development analysis bench train clean
 
 deps:
 	bash scripts/install-deps.sh
@@ -26,12 +26,22 @@ experiments: build
 	@set -e; for m in $(MANIFESTS); do \
 	  $(SEMLB) sweep $$m --profile $(PROFILE) --results $(RESULTS); \
 	done
-	$(MAKE) --no-print-directory epidermis analysis
+	$(MAKE) --no-print-directory epidermis development analysis
 
 # The paper's use case: a small epidermis run rendered like the paper's epidermal figure.
 epidermis: build
 	$(SEMLB) sim --scene scenes/epidermis.yaml --out $(RESULTS)/epidermis --steps 3000
 	$(PYTHON) analysis/render.py $(RESULTS)/epidermis/final.h5 $(RESULTS)/figures/epidermis.png
+
+# Day 0-5 of the developing epidermis (issue 18), one process, at the small profile's step (experiments/end_to_end.yaml):
+# six snapshots, Day 0 to Day 5, rendered as panels.
+DEV := $(RESULTS)/development
+development: build
+	$(SEMLB) sim --quiet --scene scenes/epidermis_development.yaml --out $(DEV) --set time.dt=0.1 --set time.steps=1200 \
+	  --set time.cell_update_every=5 --set output.snapshot_every=240 --set output.checkpoint_every=0
+	$(PYTHON) analysis/render.py $(DEV)/snapshots/step_000000000.h5 $(DEV)/snapshots/step_000000240.h5 \
+	  $(DEV)/snapshots/step_000000480.h5 $(DEV)/snapshots/step_000000720.h5 $(DEV)/snapshots/step_000000960.h5 \
+	  $(DEV)/snapshots/step_000001200.h5 $(RESULTS)/figures/development.png --view 35 -80
 
 analysis:
 	$(PYTHON) analysis/report.py --results $(RESULTS)

@@ -525,6 +525,83 @@ def rank_balance_figure(rows):
     return fig
 
 
+# t quantiles t_{0.975, df} for the 95% interval (df 1..30; beyond, the normal 1.96 is within 2%)
+T975 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145, 2.131,
+        2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042]
+
+
+def t_interval(diffs):
+    """Mean and 95% t-interval half-width of paired differences (n >= 2; half-width inf for n = 1)."""
+    m = statistics.fmean(diffs)
+    if len(diffs) < 2:
+        return m, math.inf
+    df = len(diffs) - 1
+    return m, (T975[df - 1] if df <= len(T975) else 1.96) * statistics.stdev(diffs) / math.sqrt(len(diffs))
+
+
+E2E_ORDER = [("static", "workload"), ("reactive", "workload"), ("gru", "workload"), ("gromacs_dlb", "workload"),
+             ("static", "uniform")]
+# The paper's end-to-end numbers (8 GPUs, 100,000 iterations): mean imbalance per policy, GRU's runtime change
+# against static and reactive's migration over GRU's.
+PAPER_E2E = {"static": "11.3%", "gru": "3.5%", "runtime": "-9.0%", "migration": "7.7x"}
+
+
+def e2e_groups(rows):
+    """(policy, initial) -> {launch: row}, in E2E_ORDER, then any other pair first seen first."""
+    out = OrderedDict((k, {}) for k in E2E_ORDER)
+    for r in rows:
+        out.setdefault((r["policy"], r["initial"]), {})[r["launch"]] = r
+    return OrderedDict((k, v) for k, v in out.items() if v)
+
+
+def end_to_end_table(rows):
+    """Mean ± sd over launches per policy, and each policy's difference to static (workload start) paired by
+    launch with its 95% t-interval; loop time, computation time, mean I_global, migrated slices."""
+    groups = e2e_groups(rows)
+    base = groups.get(("static", "workload"), {})
+    first = rows[0]
+    out = ["# End to end: the developing epidermis, Day 0-5 (issue 18)", "",
+           f"{first['ranks']} ranks, {first['gpus']} GPUs, {first['cells_start']} cells at the start, {first['steps']} steps; "
+           f"machine: {first['machine']}. Mean ± sd over launches; Δ loop = the policy's loop time minus static's "
+           "(workload start) in the same launch, mean and 95% t-interval over launches.", "",
+           "| policy | initial | launches | cells end | loop (s) | compute (s) | mean imbalance % | migrated slices | "
+           "Δ loop vs static (s) | Δ loop % |",
+           "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for (pol, init), launches in groups.items():
+        rs = list(launches.values())
+        f = lambda c: mean_sd([float(r[c]) for r in rs])
+        (lm, ls), (cm, cs), (im, isd), (mm, ms) = f("loop_s"), f("compute_s"), f("mean_imbalance"), f("migrated_slices")
+        paired = [float(r["loop_s"]) - float(base[l]["loop_s"]) for l, r in launches.items() if l in base]
+        if (pol, init) == ("static", "workload") or not paired:
+            delta = pct = "-"
+        else:
+            d, h = t_interval(paired)
+            sm = statistics.fmean(float(base[l]["loop_s"]) for l in launches if l in base)
+            delta = f"{d:+.2f} [{d - h:+.2f}, {d + h:+.2f}]"
+            pct = f"{100 * d / sm:+.1f}% [{100 * (d - h) / sm:+.1f}, {100 * (d + h) / sm:+.1f}]"
+        out.append(f"| {pol} | {init} | {len(rs)} | {rs[0]['cells_end']} | {lm:.2f} ± {ls:.2f} | {cm:.2f} ± {cs:.2f} | "
+                   f"{100 * im:.1f} ± {100 * isd:.1f} | {mm:.0f} ± {ms:.0f} | {delta} | {pct} |")
+    return "\n".join(out) + "\n"
+
+
+def end_to_end_figure(rows):
+    """The load-balance figure: loop time, mean imbalance and migrated slices per policy (mean, sd bars)."""
+    plt = _plt()
+    groups = e2e_groups(rows)
+    labels = [p if i == "workload" else f"{p} ({i})" for p, i in groups]
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
+    for ax, (col, scale, title) in zip(axes, [("loop_s", 1, "runtime (s)"), ("mean_imbalance", 100, "mean imbalance (%)"),
+                                              ("migrated_slices", 1, "migrated slices")]):
+        stats = [mean_sd([scale * float(r[col]) for r in g.values()]) for g in groups.values()]
+        ax.bar(range(len(stats)), [m for m, _ in stats], yerr=[s for _, s in stats], capsize=3, color="#2a7ab9")
+        ax.set_xticks(range(len(stats)))
+        ax.set_xticklabels(labels, rotation=30, ha="right", fontsize=8)
+        ax.set_title(title)
+        ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
 REPORTS = {
     # csv (relative to results) -> [(output, builder[, another csv the builder also reads, empty if absent])]
     "controller_eval/controller_eval.csv": [("tables/controller_eval.md", controller_table),
@@ -546,14 +623,61 @@ REPORTS = {
     "strong_scaling/strong_scaling.csv": [("tables/strong_scaling.md", strong_scaling_table)],
     "load_balance/load_balance.csv": [("tables/load_balance.md", load_balance_table)],
     "rank_balance/rank_balance.csv": [("figures/rank_balance.png", rank_balance_figure)],
+    "end_to_end/load_balance.csv": [("tables/end_to_end.md", end_to_end_table),
+                                    ("figures/end_to_end_load_balance.png", end_to_end_figure)],
+    "end_to_end/rank_balance.csv": [("figures/end_to_end_rank_balance.png", rank_balance_figure)],
 }
+
+
+# REPORT.md's order: the paper's (Sec. V: single device, scaling, load balancing, controllers, use case).
+REPORT_ORDER = ["single_device", "accuracy_vs_time", "effects_cost", "strong_scaling", "load_balance", "rank_balance",
+                "end_to_end", "end_to_end_load_balance", "end_to_end_rank_balance", "controller_eval", "controller_long",
+                "holt_tuning", "foresight_frontier", "frontier", "training_curve", "development", "epidermis"]
+
+
+def provenance(results, csv_rel):
+    """'profile P, `command`' from the sweep's copy of its manifest (CSV.manifest.yaml), else ''."""
+    path = os.path.join(results, os.path.splitext(csv_rel)[0] + ".manifest.yaml")
+    if not os.path.exists(path):
+        return ""
+    with open(path) as f:
+        first = f.readline().strip().lstrip("# ")
+    profile = first.split("--profile ")[1].split()[0] if "--profile " in first else "?"
+    return f"profile {profile}: `{first}`"
+
+
+def write_report(results, made):
+    """results/REPORT.md: every table (inline) and figure made, in the paper's order, each under the CSV, profile
+    and command it came from; the end-to-end section quotes the paper's numbers beside ours."""
+    def rank(out):
+        stem = os.path.splitext(os.path.basename(out))[0]
+        return REPORT_ORDER.index(stem) if stem in REPORT_ORDER else len(REPORT_ORDER)
+    lines = ["# semlb results", "", f"Generated by analysis/report.py from {results}/.", ""]
+    for out, csv_rel in sorted(made, key=lambda m: rank(m[0])):
+        lines.append(f"## {out}")
+        src = provenance(results, csv_rel) if csv_rel else ""
+        lines.append(f"From `{csv_rel}`" + (f", {src}" if src else "") + "." if csv_rel else "From the Makefile's run.")
+        lines.append("")
+        if out.endswith(".md"):
+            with open(os.path.join(results, out)) as f:
+                lines.append(f.read().replace("\n# ", "\n### ").removeprefix("# "))
+        else:
+            lines.append(f"![{out}]({out})")
+        if os.path.basename(out).startswith("end_to_end"):
+            lines.append("")
+            lines.append(f"Paper (8 GPUs, 435,661 cells, 100,000 iterations): static {PAPER_E2E['static']} mean imbalance, "
+                         f"GRU {PAPER_E2E['gru']}; GRU runtime {PAPER_E2E['runtime']} against static; reactive migrates "
+                         f"{PAPER_E2E['migration']} the slices of GRU.")
+        lines.append("")
+    atomic_write(os.path.join(results, "REPORT.md"), "\n".join(lines))
+    print(f"report: wrote {os.path.join(results, 'REPORT.md')}")
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--results", default="results", help="results directory (default: results)")
     args = ap.parse_args()
-    made = 0
+    made = []  # (output, csv) in the order made
     for rel, outputs in REPORTS.items():
         path = os.path.join(args.results, rel)
         if not os.path.exists(path):
@@ -566,10 +690,14 @@ def main():
             more = [read_rows(p) if os.path.exists(p) else [] for p in (os.path.join(args.results, a) for a in also)]
             atomic_write(os.path.join(args.results, out), build(rows, *more))
             print(f"report: wrote {os.path.join(args.results, out)}")
-            made += 1
-    if made == 0:
+            made.append((out, rel))
+    for fig in ("figures/development.png", "figures/epidermis.png"):  # rendered by the Makefile
+        if os.path.exists(os.path.join(args.results, fig)):
+            made.append((fig, ""))
+    if not [m for m in made if m[1]]:
         print(f"report: no known CSV under {args.results}/ (run make experiments)", file=sys.stderr)
         return 2
+    write_report(args.results, made)
     return 0
 
 

@@ -77,11 +77,14 @@ void read_block(const YAML::Node& block, Manifest& m, const std::string& where_n
     } else if (key == "set") {
       if (!kv.second.IsMap()) throw InputError(where(m.path, line_of(kv.second), "set") + "must be a mapping");
       for (const auto& s : kv.second) m.fixed[s.first.Scalar()] = {scalar(s.second, m.path, "set." + s.first.Scalar()), line_of(s.second), ""};
+    } else if (key == "launches") {
+      m.launches_at = {scalar(kv.second, m.path, key), line_of(kv.second), ""};
+      m.launches = parse_integer(m.launches_at.value, where(m.path, line_of(kv.second), key), 1, 1000);
     } else if (key == "output" || key == "runner" || key == "name") {
       const std::string v = scalar(kv.second, m.path, key);
       (key == "output" ? m.output : key == "runner" ? m.runner : m.name) = v;
     } else if (key != "profiles" && key != "description") {
-      throw InputError(where(m.path, line_of(kv.first), key) + "unknown manifest key (known: name, description, runner, output, axes, groups, set, profiles)");
+      throw InputError(where(m.path, line_of(kv.first), key) + "unknown manifest key (known: name, description, runner, output, axes, groups, launches, set, profiles)");
     }
   }
 }
@@ -110,6 +113,7 @@ const Setting* Job::find(const std::string& key) const {
 
 std::vector<std::string> Manifest::axis_names() const {
   std::vector<std::string> n;
+  if (launches > 0) n.push_back("launch");
   for (const auto& a : axes) n.push_back(a.first);
   for (const auto& g : groups)
     for (const auto& a : g)
@@ -144,7 +148,16 @@ std::vector<Job> Manifest::expand() const {
   }
   for (auto& j : jobs)
     for (const auto& [k, v] : fixed) j.settings.emplace_back(k, v);
-  return jobs;
+  if (launches == 0) return jobs;
+  std::vector<Job> repeated;  // launch-major: launch 1 of every row, then launch 2, ...
+  for (long l = 1; l <= launches; ++l)
+    for (const auto& j : jobs) {
+      Job k;
+      k.settings.emplace_back("launch", Setting{std::to_string(l), launches_at.line, launches_at.source});
+      k.settings.insert(k.settings.end(), j.settings.begin(), j.settings.end());
+      repeated.push_back(std::move(k));
+    }
+  return repeated;
 }
 
 Manifest load_manifest(const std::string& path, const std::string& profile, const std::vector<std::string>& overrides) {
@@ -164,6 +177,11 @@ Manifest load_manifest(const std::string& path, const std::string& profile, cons
     const size_t eq = o.find('=');
     if (eq == std::string::npos || eq == 0) throw InputError("--set: '" + o + "' is not KEY=VALUE");
     const std::string key = o.substr(0, eq);
+    if (key == "launches") {
+      m.launches_at = {o.substr(eq + 1), 0, "--set launches"};
+      m.launches = parse_integer(m.launches_at.value, "--set launches: ", 1, 1000);
+      continue;
+    }
     bool axis = false;  // a shared axis, or the axis of every group that has it
     std::vector<Axes*> all{&m.axes};
     for (auto& g : m.groups) all.push_back(&g);
@@ -175,6 +193,14 @@ Manifest load_manifest(const std::string& path, const std::string& profile, cons
       axis = true;
     }
     if (!axis) m.fixed[key] = {o.substr(eq + 1), 0, "--set " + key};
+  }
+  if (m.launches > 0) {  // `launch` is the sweep's own axis
+    const bool taken = m.fixed.count("launch") ||
+                       std::any_of(m.axes.begin(), m.axes.end(), [](auto& p) { return p.first == "launch"; }) ||
+                       std::any_of(m.groups.begin(), m.groups.end(), [](const Axes& g) {
+                         return std::any_of(g.begin(), g.end(), [](auto& p) { return p.first == "launch"; });
+                       });
+    if (taken) throw InputError(where_of(m.launches_at, path, "launches") + "a manifest with launches may not set 'launch' itself");
   }
   for (size_t i = 0; i < m.groups.size(); ++i)
     for (const auto& [name, values] : m.groups[i])

@@ -36,12 +36,17 @@ struct Manifest {
   std::vector<Axes> groups;   // `groups:`: each adds the product of its own axes with the shared ones
   std::map<std::string, Setting> fixed;
   std::string profile;
+  // `launches: N` (N >= 1): every row N times, launch-major (launch 1 of every row, then launch 2, ...), each
+  // with a `launch` axis 1..N, so that machine drift over a sweep falls on every row alike. 0: no launch axis.
+  long launches = 0;
+  Setting launches_at;  // where `launches` was given (errors about a row's `launch` name it)
 
   // Without groups: the product of the axes, last axis fastest. With groups: for each group in order, the
   // product of the group's axes (outer) and the shared axes; a row lacks the axes of the other groups.
-  // Fixed settings follow the axes.
+  // Fixed settings follow the axes. With `launches`, the whole list repeats once per launch, `launch` first.
   std::vector<Job> expand() const;
-  std::vector<std::string> axis_names() const;  // shared axes, then each group's new ones, first seen first
+  // `launch` (with launches), the shared axes, then each group's new ones, first seen first
+  std::vector<std::string> axis_names() const;
 };
 
 // Loads FILE, applies the profile ("small" if the manifest has one and none is given), then `key=value`

@@ -1,5 +1,6 @@
 // Runners that launch `mpirun -np RANKS semlb sim` (strong_scaling, load_balance: "mpi_sim", one summary row;
-// rank_balance: "mpi_intervals", one row per rebalancing interval and rank) and read its outputs.
+// rank_balance: "mpi_intervals", one row per rebalancing interval and rank; end_to_end: "mpi_end_to_end", the
+// paper's load-balance row per launch) and read its outputs.
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
@@ -24,6 +26,9 @@ namespace fs = std::filesystem;
 
 // The scene settings (engine::scene_settings()) these runners take by name.
 const std::vector<std::string> kSceneNames = {"cells", "steps", "policy", "initial", "backend", "rebalance_every", "timing"};
+// Settings of the launch, not of the scene: the sweep's launch number, how mpirun places the ranks
+// (--bind-to, --map-by; "none" leaves Open MPI's default), and the GPUs the launch holds (recorded).
+const std::vector<std::string> kLaunchNames = {"launch", "bind_to", "map_by", "gpus"};
 
 std::string get(const Job& job, const std::string& key, const std::string& fallback) {
   const Setting* s = job.find(key);
@@ -54,11 +59,21 @@ std::pair<std::string, std::string> row_policy(const Job& job, const std::string
 void check_job(const Job& job, const std::string& manifest, const RunOptions& o) {
   for (const auto& [k, s] : job.settings)
     if (k != "scene" && k != "ranks" && std::find(kSceneNames.begin(), kSceneNames.end(), k) == kSceneNames.end() &&
-        k.rfind("scene.", 0) != 0 && !is_policy_param(k))
+        std::find(kLaunchNames.begin(), kLaunchNames.end(), k) == kLaunchNames.end() && k.rfind("scene.", 0) != 0 &&
+        !is_policy_param(k))
       throw InputError(where_of(s, manifest, k) + "unknown setting for this runner");
   for (const char* k : {"scene", "ranks"})
     if (!job.find(k)) throw InputError(where(manifest, 0, k) + "missing");
   job.integer("ranks", 1, 1, 4096, manifest);
+  job.integer("launch", 1, 1, 1000, manifest);
+  job.integer("gpus", 0, 0, 4096, manifest);
+  for (const char* k : {"bind_to", "map_by"})
+    if (const Setting* s = job.find(k); s && (s->value.empty() || s->value.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789:-_=") != std::string::npos))
+      throw InputError(where_of(*s, manifest, k) + "must be an mpirun placement word (core, numa, socket, ppr:1:numa, none)");
+  if (!o.mpi_launcher.empty())
+    for (const char* k : {"bind_to", "map_by"})
+      if (const Setting* s = job.find(k); s && s->value != "none")
+        throw InputError(where_of(*s, manifest, k) + "applies to this machine's mpirun only; the launcher '" + o.mpi_launcher + "' places the ranks");
   scene_overrides(job, kSceneNames, manifest);  // typed values
   check_policy_params(job, manifest);  // every policy's parameters, also of policies this row does not run
   const auto [policy, at] = row_policy(job, manifest, o);
@@ -70,17 +85,31 @@ void check_job(const Job& job, const std::string& manifest, const RunOptions& o)
   }
 }
 
+// mpirun's placement flags for the job's bind_to / map_by ("" when both are absent or "none").
+std::string placement(const Job& job) {
+  std::string flags;
+  for (const auto& [k, flag] : {std::pair{"bind_to", "--bind-to"}, {"map_by", "--map-by"}})
+    if (const std::string v = get(job, k, "none"); v != "none") flags += std::string(" ") + flag + " " + v;
+  return flags;
+}
+
+struct Launch {
+  std::string dir;     // the run's files
+  double seconds = 0;  // the launch's wall seconds, start-up included
+  std::string output;  // mpirun's output (the sim's summary line)
+};
+
 // Runs the job under mpirun (or o.mpi_launcher) into a fresh directory; returns it and the launch's wall seconds (start-up
 // included). The row's policy gets its POLICY.KEY settings as decomposition.params.KEY (other policies' are
 // not passed). Throws with mpirun's output on failure.
-std::pair<std::string, double> launch(const Job& job, const RunOptions& o) {
+Launch launch(const Job& job, const RunOptions& o) {
   const std::string scene = scene_path(job, o);
   std::string key;
   for (const auto& [k, s] : job.settings) key += k + "=" + s.value + ";";
   const fs::path dir = (o.scratch_dir.empty() ? fs::temp_directory_path() : fs::path(o.scratch_dir)) / ("semlb_mpi_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(key)));
   fs::remove_all(dir);
   std::ostringstream cmd;
-  const std::string mpi = o.mpi_launcher.empty() ? std::string(SEMLB_MPIEXEC) + " --oversubscribe -np" : o.mpi_launcher;
+  const std::string mpi = o.mpi_launcher.empty() ? std::string(SEMLB_MPIEXEC) + " --oversubscribe" + placement(job) + " -np" : o.mpi_launcher;
   cmd << "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " << mpi << " " << get(job, "ranks", "1") << " " << fs::read_symlink("/proc/self/exe").string() << " sim --quiet --scene " << scene << " --out " << dir.string()
       << " --set backend.threads=1";
   auto overrides = scene_overrides(job, kSceneNames, "");
@@ -95,7 +124,7 @@ std::pair<std::string, double> launch(const Job& job, const RunOptions& o) {
   char buf[4096];
   while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
   if (pclose(p) != 0) throw std::runtime_error("MPI launch failed: " + cmd.str() + "\n" + out);
-  return {dir.string(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()};
+  return {dir.string(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), out};
 }
 
 // Removes the run's directory; with --keep-runs its files stay under TRACE_DIR/<its settings, scene left out>/.
@@ -133,6 +162,40 @@ std::vector<std::map<std::string, std::string>> csv(const std::string& path, con
   return rows;
 }
 
+// What a finished launch's run.csv and rank_times.csv say: the loop's wall seconds (run.csv's log intervals
+// summed), the computation seconds (per rebalancing interval the slowest rank's, summed), the mean I_global over
+// the events, the slices moved, the events, and the last logged cells and elements.
+struct RunTotals {
+  double loop_s = 0, compute_s = 0, mean_imbalance = 0;
+  long moved = 0, events = 0;
+  std::string cells, elements;
+};
+
+RunTotals run_totals(const std::string& dir) {
+  namespace rt = engine::rank_times;
+  const std::string run_csv = dir + "/run.csv", rank_csv = dir + "/" + rt::kFile;  // written by our sim
+  const auto log = csv(run_csv, std::vector<std::string>{"cells", "elements", "wall_s"});
+  RunTotals t;
+  for (const auto& r : log) t.loop_s += parse_real(r.at("wall_s"), run_csv + ": wall_s: ");
+  t.cells = log.back().at("cells");
+  t.elements = log.back().at("elements");
+  std::map<std::string, double> slowest;  // per interval: the slowest rank's computation time
+  double imbalance = 0;
+  std::set<std::string> events;
+  for (const auto& r : csv(rank_csv, rt::kColumns)) {
+    const std::string& step = r.at(rt::kStep);
+    slowest[step] = std::max(slowest[step], parse_real(r.at(rt::kComputeS), rank_csv + ": " + rt::kComputeS + ": "));
+    if (events.insert(step).second) {
+      imbalance += parse_real(r.at(rt::kImbalance), rank_csv + ": " + rt::kImbalance + ": ");
+      t.moved += parse_integer(r.at(rt::kMovedSlices), rank_csv + ": " + rt::kMovedSlices + ": ");
+    }
+  }
+  for (const auto& [step, seconds] : slowest) t.compute_s += seconds;
+  t.events = static_cast<long>(events.size());
+  t.mean_imbalance = events.empty() ? 0.0 : imbalance / static_cast<double>(events.size());
+  return t;
+}
+
 class MpiSimRunner final : public Runner {
  public:
   std::vector<std::string> columns() const override {
@@ -142,31 +205,54 @@ class MpiSimRunner final : public Runner {
   int mpi_ranks(const Job& job) const override { return static_cast<int>(job.integer("ranks", 1, 1, 4096, "")); }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
-    namespace rt = engine::rank_times;
-    const auto [dir, total] = launch(job, o);
-    const std::string run_csv = dir + "/run.csv", rank_csv = dir + "/" + rt::kFile;  // written by our sim
-    const auto log = csv(run_csv, std::vector<std::string>{"elements", "wall_s"});
-    double wall = 0;  // the time-stepping loop: run.csv holds each log interval's wall seconds
-    for (const auto& r : log) wall += parse_real(r.at("wall_s"), run_csv + ": wall_s: ");
-    std::map<std::string, double> slowest;  // per interval: the slowest rank's computation time
-    double imbalance = 0;
-    long moved = 0;
-    std::set<std::string> events;
-    for (const auto& r : csv(rank_csv, rt::kColumns)) {
-      const std::string& step = r.at(rt::kStep);
-      slowest[step] = std::max(slowest[step], parse_real(r.at(rt::kComputeS), rank_csv + ": " + rt::kComputeS + ": "));
-      if (events.insert(step).second) {
-        imbalance += parse_real(r.at(rt::kImbalance), rank_csv + ": " + rt::kImbalance + ": ");
-        moved += parse_integer(r.at(rt::kMovedSlices), rank_csv + ": " + rt::kMovedSlices + ": ");
-      }
-    }
-    double compute = 0;
-    for (const auto& [s, t] : slowest) compute += t;
-    finish_run(job, o, dir);
+    const Launch l = launch(job, o);
+    const RunTotals t = run_totals(l.dir);
+    finish_run(job, o, l.dir);
     auto fmt = [&](double v) { return format_real(o.timing ? v : 0.0); };
-    return {{log.back().at("elements"), fmt(total), fmt(wall), fmt(compute),
-             format_real(events.empty() ? 0.0 : imbalance / static_cast<double>(events.size())), std::to_string(moved),
-             std::to_string(events.size())}};
+    return {{t.elements, fmt(l.seconds), fmt(t.loop_s), fmt(t.compute_s), format_real(t.mean_imbalance),
+             std::to_string(t.moved), std::to_string(t.events)}};
+  }
+};
+
+// The machine a launch ran on, without commas (a CSV cell): host, cores, rank 0's device, mpirun's placement.
+std::string machine(const Job& job, const Launch& l, const RunOptions& o) {
+  char host[256] = {};
+  ::gethostname(host, sizeof host - 1);
+  std::string device = "unknown device";  // from the sim's summary line "... s on DEVICE; wrote ..."
+  const size_t at = l.output.rfind(" s on "), end = l.output.rfind("; wrote ");
+  if (at != std::string::npos && end != std::string::npos && end > at) device = l.output.substr(at + 6, end - at - 6);
+  std::string m = std::string(host) + " " + std::to_string(std::thread::hardware_concurrency()) + " cpus; " + device +
+                  "; " + (o.mpi_launcher.empty() ? "mpirun" + (placement(job).empty() ? std::string(" default placement") : placement(job))
+                                                 : o.mpi_launcher);
+  std::replace(m.begin(), m.end(), ',', ';');
+  std::replace(m.begin(), m.end(), '\n', ' ');
+  return m;
+}
+
+// The paper's end-to-end row (results/end_to_end/load_balance.csv, issue 18): one launch of one policy and initial
+// partition. cells_start is the scene's tissue.cells (the generator makes exactly that many); loop_s the
+// time-stepping loop; compute_s the slowest rank's computation per interval, summed; gpus as the manifest
+// records it; machine as machine() above.
+class MpiEndToEndRunner final : public Runner {
+ public:
+  std::vector<std::string> columns() const override {
+    return {"policy", "initial", "launch", "gpus", "ranks", "cells_start", "cells_end", "steps", "loop_s", "compute_s",
+            "mean_imbalance", "migrated_slices", "machine"};
+  }
+  bool measures_time() const override { return true; }
+  int mpi_ranks(const Job& job) const override { return static_cast<int>(job.integer("ranks", 1, 1, 4096, "")); }
+  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
+  std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
+    const engine::Scene scene = engine::load_scene(scene_path(job, o), scene_overrides(job, kSceneNames, ""));
+    const Launch l = launch(job, o);
+    const RunTotals t = run_totals(l.dir);
+    finish_run(job, o, l.dir);
+    auto fmt = [&](double v) { return format_real(o.timing ? v : 0.0); };
+    return {{row_policy(job, "", o).first, scene.decomposition->text("initial", engine::Decomposition{}.initial),
+             get(job, "launch", "1"), get(job, "gpus", "0"), get(job, "ranks", "1"),
+             std::to_string(scene.tissue->integer("cells", 0, 0, 1L << 62)), t.cells, std::to_string(scene.steps),
+             fmt(t.loop_s), fmt(t.compute_s), format_real(t.mean_imbalance), std::to_string(t.moved),
+             o.timing ? machine(job, l, o) : "-"}};
   }
 };
 
@@ -182,7 +268,7 @@ class MpiIntervalsRunner final : public Runner {
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
     namespace rt = engine::rank_times;
-    const std::string dir = launch(job, o).first;
+    const std::string dir = launch(job, o).dir;
     std::vector<std::vector<std::string>> rows;
     for (const auto& r : csv(dir + "/" + rt::kFile, rt::kColumns)) {
       std::vector<std::string> row;
@@ -196,6 +282,7 @@ class MpiIntervalsRunner final : public Runner {
 
 const RunnerRegistrar sim("mpi_sim", [] { return std::make_unique<MpiSimRunner>(); });
 const RunnerRegistrar intervals("mpi_intervals", [] { return std::make_unique<MpiIntervalsRunner>(); });
+const RunnerRegistrar end_to_end("mpi_end_to_end", [] { return std::make_unique<MpiEndToEndRunner>(); });
 
 }  // namespace
 }  // namespace semlb::experiments

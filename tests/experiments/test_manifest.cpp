@@ -155,3 +155,28 @@ TEST(Manifest, GroupErrorsNameFileLineAndField) {
   EXPECT_NE(error_of(empty).find(":12: field 'groups[1].all_tensor.gamma': axis has no values"), std::string::npos)
       << error_of(empty);
 }
+
+// `launches: N` repeats every row N times launch-major: launch 1 of every policy (all groups), then launch 2.
+TEST(Manifest, LaunchesInterleaveEveryRowLaunchByLaunch) {
+  const std::string text = std::string(kGroups) + "launches: 3\n";
+  const auto m = load_manifest(manifest(text), "", {"ranks=4", "seed=9000"});
+  const auto jobs = m.expand();
+  const size_t rows = 2 + 3 + 1;  // reactive x 2 taus, all_tensor x 3 gammas, gru
+  ASSERT_EQ(jobs.size(), 3 * rows);
+  EXPECT_EQ(m.axis_names().front(), "launch");
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    EXPECT_EQ(jobs[i].settings.front().first, "launch");
+    EXPECT_EQ(jobs[i].find("launch")->value, std::to_string(i / rows + 1)) << i;
+    // the same row order within each launch
+    EXPECT_EQ(jobs[i].find("policy")->value, jobs[i % rows].find("policy")->value) << i;
+  }
+  EXPECT_EQ(jobs[0].find("policy")->value, "reactive");
+  EXPECT_EQ(jobs[rows - 1].find("policy")->value, "gru");
+  EXPECT_EQ(jobs[rows].find("policy")->value, "reactive");  // launch 2 starts over
+  EXPECT_EQ(jobs[0].find("launch")->line, 19);
+  EXPECT_EQ(load_manifest(manifest(text), "", {"launches=5"}).expand().size(), 5 * rows * 2 * 2);
+  EXPECT_EQ(load_manifest(manifest(kGroups), "", {}).axis_names().front(), "ranks");  // no launches: no axis
+  EXPECT_NE(error_of(std::string(kGroups) + "launches: 0\n").find("m.yaml:19: field 'launches':"), std::string::npos);
+  EXPECT_NE(error_of(std::string(kGroups) + "launches: 2x\n").find("m.yaml:19: field 'launches':"), std::string::npos);
+  EXPECT_NE(error_of(text, "", {"launch=2"}).find("may not set 'launch' itself"), std::string::npos);
+}

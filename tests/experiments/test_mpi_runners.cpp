@@ -120,3 +120,58 @@ TEST(MpiRunners, RankTimesColumnsAreTheDeclaredOnes) {
     EXPECT_EQ(g, (std::vector<std::string>{"reactive", f[0], f[1], "0", f[5], f[6]})) << csv[i];
   }
 }
+
+// mpi_end_to_end with `launches: 2`: the paper's load-balance columns, one row per launch, launch-major (launch 1
+// of every policy and initial partition, then launch 2), in the order the launches ran; the modelled timing
+// makes each launch's decisions, and so its imbalance and migration, the same.
+TEST(MpiRunners, EndToEndRowsPerLaunchInterleaved) {
+  const auto dir = fresh_dir("mpi_end_to_end");
+  std::string text = "name: e2e\nrunner: mpi_end_to_end\noutput: e2e/load_balance.csv\nlaunches: 2\ngroups:\n"
+                     "  - {policy: [static, reactive], initial: [workload]}\n  - {policy: [static], initial: [uniform]}\n"
+                     "set:\n  scene: " + source("scenes/epidermis.yaml") +
+                     "\n  ranks: 2\n  cells: 60\n  steps: 20\n  rebalance_every: 10\n  gpus: 0\n  bind_to: none\n"
+                     "  scene.decomposition.timing: modelled\n";
+  write(dir + "/m.yaml", text);
+  const auto r = run(semlb_bin() + " sweep " + dir + "/m.yaml --quiet --keep-runs --results " + dir + "/out");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const auto lines = semlb::split(slurp(dir + "/out/e2e/load_balance.csv"), '\n');
+  ASSERT_EQ(lines.size(), 1u + 6u + 1u) << "header, 3 rows x 2 launches, the empty field after the last newline";
+  EXPECT_EQ(lines[0], "policy,initial,launch,gpus,ranks,cells_start,cells_end,steps,loop_s,compute_s,mean_imbalance,"
+                      "migrated_slices,machine");
+  const std::vector<std::vector<std::string>> keys = {{"static", "workload", "1"}, {"reactive", "workload", "1"},
+                                                      {"static", "uniform", "1"},  {"static", "workload", "2"},
+                                                      {"reactive", "workload", "2"}, {"static", "uniform", "2"}};
+  std::vector<std::vector<std::string>> rows;
+  for (size_t i = 1; i <= 6; ++i) rows.push_back(semlb::split(lines[i], ','));
+  for (size_t i = 0; i < 6; ++i) {
+    ASSERT_EQ(rows[i].size(), 13u) << lines[i + 1];
+    EXPECT_EQ((std::vector<std::string>{rows[i][0], rows[i][1], rows[i][2]}), keys[i]) << lines[i + 1];
+    EXPECT_EQ(rows[i][3], "0");
+    EXPECT_EQ(rows[i][4], "2");
+    EXPECT_EQ(rows[i][5], "60");
+    EXPECT_EQ(rows[i][7], "20");
+    EXPECT_GT(std::stod(rows[i][8]), 0.0) << "loop_s is measured";
+    EXPECT_GT(std::stod(rows[i][9]), 0.0) << "compute_s is measured";
+    EXPECT_NE(rows[i][12].find("default placement"), std::string::npos) << rows[i][12];
+  }
+  for (size_t i = 0; i < 3; ++i)  // the same decisions in both launches: cells, imbalance and migration agree
+    for (size_t c : {6u, 10u, 11u}) EXPECT_EQ(rows[i][c], rows[i + 3][c]) << i << " column " << c;
+  // the launches ran in that order: each kept run's files are newer than the previous row's
+  std::vector<fs::file_time_type> ran;
+  for (size_t i = 0; i < 6; ++i) {
+    std::string label;
+    for (const auto& e : fs::directory_iterator(dir + "/out/e2e/runs"))
+      if (e.path().filename().string().find("launch=" + keys[i][2] + "_") == 0 &&
+          e.path().filename().string().find("policy=" + keys[i][0]) != std::string::npos &&
+          e.path().filename().string().find("initial=" + keys[i][1]) != std::string::npos)
+        label = e.path().string();
+    ASSERT_FALSE(label.empty()) << i;
+    ran.push_back(fs::last_write_time(label + "/run.csv"));
+  }
+  for (size_t i = 1; i < 6; ++i) EXPECT_LT(ran[i - 1], ran[i]) << i;
+  // placement words are checked before anything runs
+  write(dir + "/bad.yaml", text + "  map_by: \"core;rm\"\n");
+  const auto bad = run(semlb_bin() + " sweep " + dir + "/bad.yaml --quiet --results " + dir + "/bad");
+  EXPECT_EQ(bad.rc, 2) << bad.out;
+  EXPECT_NE(bad.out.find("bad.yaml:17: field 'map_by': must be an mpirun placement word"), std::string::npos) << bad.out;
+}
