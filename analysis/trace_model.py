@@ -20,6 +20,7 @@ import csv
 import json
 import math
 import os
+import re
 import sys
 
 COLUMNS = ["trace", "timing", "ranks", "slices", "events", "points", "r2", "mean_rel_error", "max_rel_error"]
@@ -51,6 +52,9 @@ def scene_timing(folder):
                 continue
             if not text[0].isspace():
                 section = text.split(":", 1)[0].strip()
+                flow = re.search(r"[{,]\s*timing:\s*([A-Za-z]+)", text)  # decomposition: {timing: modelled}
+                if section == "decomposition" and flow:
+                    return flow.group(1)
             elif section == "decomposition" and text.strip().startswith("timing:"):
                 return text.split(":", 1)[1].strip().strip("'\"")
     return "measured"
