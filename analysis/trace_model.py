@@ -148,7 +148,7 @@ def main():
         os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
         tmp = a.out + ".tmp"
         with open(tmp, "w", newline="") as f:
-            w = csv.writer(f)
+            w = csv.writer(f, lineterminator="\n")
             w.writerow(COLUMNS)
             for r in rows:
                 w.writerow([fmt(r[k]) for k in COLUMNS])
