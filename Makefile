@@ -22,10 +22,17 @@ build: deps
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j$(JOBS)
 
+# Engine experiments whose runs (trace.jsonl, rank_times.csv, run.csv, scene.yaml) stay under RESULTS/<name>/runs/;
+# replay_score then scores every policy on every trace.jsonl under RESULTS (docs/controllers.md "Replay").
+KEEP_RUNS := load_balance rank_balance
+
 experiments: build
-	@set -e; for m in $(MANIFESTS); do \
-	  $(SEMLB) sweep $$m --profile $(PROFILE) --results $(RESULTS); \
+	@set -e; for m in $(filter-out experiments/replay_score.yaml,$(MANIFESTS)); do \
+	  keep=; case " $(KEEP_RUNS) " in *" $$(basename $$m .yaml) "*) keep=--keep-runs;; esac; \
+	  $(SEMLB) sweep $$m --profile $(PROFILE) --results $(RESULTS) $$keep; \
 	done
+	$(SEMLB) sweep experiments/replay_score.yaml --profile $(PROFILE) --results $(RESULTS) --set traces=$(abspath $(RESULTS))
+	$(PYTHON) analysis/trace_model.py --results $(RESULTS) --out $(RESULTS)/trace_model/trace_model.csv
 	$(MAKE) --no-print-directory epidermis development analysis
 
 # The paper's use case: a small epidermis run rendered like the paper's epidermal figure.

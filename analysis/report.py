@@ -602,6 +602,42 @@ def end_to_end_figure(rows):
     return fig
 
 
+# --- Replay on recorded engine traces (experiments/replay_score.yaml, analysis/trace_model.py) ---
+def replay_score_table(rows):
+    """Per trace (rows) and policy (columns): mean I_global % / migrated slices under `semlb replay --score`."""
+    policies = list(OrderedDict.fromkeys(r["policy"] for r in rows))
+    traces = list(OrderedDict.fromkeys(r["trace"] for r in rows))
+    cell = {(r["trace"], r["policy"]): r for r in rows}
+    out = ["# Policies replayed on recorded engine traces", "",
+           "Each trace's `slice_work` taken as the true work (`semlb replay --score`): mean I_global % / migrated "
+           "slices per policy, from the trace's first partition. foresight: the offline floor (not deployable).", "",
+           "| trace | P | events | " + " | ".join(policies) + " |",
+           "|---|---:|---:|" + "---|" * len(policies)]
+    for t in traces:
+        first = next(cell[(t, p)] for p in policies if (t, p) in cell)
+        vals = [f"{100 * float(cell[(t, p)]['mean_imbalance']):.2f} / {cell[(t, p)]['migration']}" if (t, p) in cell
+                else "—" for p in policies]
+        out.append(f"| {t} | {first['ranks']} | {first['events']} | " + " | ".join(vals) + " |")
+    mean = {p: [float(cell[(t, p)]["mean_imbalance"]) for t in traces if (t, p) in cell] for p in policies}
+    mig = {p: [float(cell[(t, p)]["migration"]) for t in traces if (t, p) in cell] for p in policies}
+    out.append("| **mean over traces** | | | " + " | ".join(
+        f"**{100 * sum(mean[p]) / len(mean[p]):.2f} / {sum(mig[p]) / len(mig[p]):.1f}**" for p in policies) + " |")
+    return "\n".join(out) + "\n"
+
+
+def trace_model_table(rows):
+    """analysis/trace_model.py's CSV: R^2 and relative error of the per-slice work model per trace."""
+    out = ["# Per-slice work model against measured rank times", "",
+           "Predicted rank time = sum of `slice_work` over the rank's slices on the recorded partition; R^2 around "
+           "each event's mean rank time. `modelled` traces have R^2 = 1 by construction and are not pooled.", "",
+           "| trace | timing | P | events | points | R^2 | mean rel. error % | max rel. error % |",
+           "|---|---|---:|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        out.append(f"| {r['trace']} | {r['timing']} | {r['ranks']} | {r['events']} | {r['points']} | "
+                   f"{float(r['r2']):.3f} | {100 * float(r['mean_rel_error']):.1f} | {100 * float(r['max_rel_error']):.1f} |")
+    return "\n".join(out) + "\n"
+
+
 REPORTS = {
     # csv (relative to results) -> [(output, builder[, another csv the builder also reads, empty if absent])]
     "controller_eval/controller_eval.csv": [("tables/controller_eval.md", controller_table),
@@ -626,13 +662,15 @@ REPORTS = {
     "end_to_end/load_balance.csv": [("tables/end_to_end.md", end_to_end_table),
                                     ("figures/end_to_end_load_balance.png", end_to_end_figure)],
     "end_to_end/rank_balance.csv": [("figures/end_to_end_rank_balance.png", rank_balance_figure)],
+    "replay_score/replay_score.csv": [("tables/replay_score.md", replay_score_table)],
+    "trace_model/trace_model.csv": [("tables/trace_model.md", trace_model_table)],
 }
 
 
 # REPORT.md's order: the paper's (Sec. V: single device, scaling, load balancing, controllers, use case).
 REPORT_ORDER = ["single_device", "accuracy_vs_time", "effects_cost", "strong_scaling", "load_balance", "rank_balance",
                 "end_to_end", "end_to_end_load_balance", "end_to_end_rank_balance", "controller_eval", "controller_long",
-                "holt_tuning", "foresight_frontier", "frontier", "training_curve", "development", "epidermis"]
+                "holt_tuning", "foresight_frontier", "frontier", "replay_score", "trace_model", "training_curve", "development", "epidermis"]
 
 
 def provenance(results, csv_rel):
