@@ -2,17 +2,14 @@
 /* No include guard on purpose: C++ includes it once per precision inside a namespace. The includer
  * defines SEMLB_REAL (float|double), SEMLB_LONG / SEMLB_ULONG (64-bit integers), SEMLB_CONST (the
  * address space of parameter tables), SEMLB_EXP and SEMLB_SQRT, SEMLB_LOG, SEMLB_COS. Optional: SEMLB_PAIR_EXP
- * (the exp of the pair force law; default SEMLB_EXP), SEMLB_PAIR_RSQRT (then r and 1/r of a pair come from one
- * reciprocal square root instead of a sqrt and a division) and SEMLB_TRUNC_LONG (real -> 64-bit integer,
- * truncating; default a cast): the OpenCL float build uses them for native math.
+ * (the exp of the pair force law; default SEMLB_EXP) and SEMLB_PAIR_RSQRT (then r and 1/r of a pair come from
+ * one reciprocal square root instead of a sqrt and a division; coincidence is then r^2 < SEMLB_R_MIN^2): the
+ * OpenCL float build uses them for native math.
  * Equations: docs/engine.md; eq. (1) of the paper is dY/dt = -grad sum V_ele - grad V_ext. */
 
 typedef SEMLB_REAL semlb_real;
 #ifndef SEMLB_PAIR_EXP
 #define SEMLB_PAIR_EXP SEMLB_EXP
-#endif
-#ifndef SEMLB_TRUNC_LONG
-#define SEMLB_TRUNC_LONG(x) ((SEMLB_LONG)(x))
 #endif
 
 /* Forces are summed in fixed point (2^-32 force units) so that sums do not depend on their order. */
@@ -43,7 +40,7 @@ static inline semlb_real semlb_clamp_force(semlb_real f) {
 
 /* One force component in fixed point (truncation toward zero, identical in C++ and OpenCL C). */
 static inline SEMLB_LONG semlb_to_fixed(semlb_real f) {
-  return SEMLB_TRUNC_LONG(semlb_clamp_force(f) * (semlb_real)SEMLB_FIXED_SCALE);
+  return (SEMLB_LONG)(semlb_clamp_force(f) * (semlb_real)SEMLB_FIXED_SCALE);
 }
 
 /* f(r) = -dV/dr = U0/xi1 exp(-r/xi1) - V0/xi2 exp(-r/xi2) for V(r) = U0 exp(-r/xi1) - V0 exp(-r/xi2);

@@ -17,30 +17,11 @@ typedef float4 real4;
 #define SEMLB_SQRT sqrt
 #define SEMLB_LOG log
 #define SEMLB_COS cos
-#if defined(SEMLB_NATIVE) && !defined(SEMLB_DOUBLE)
+#ifndef SEMLB_DOUBLE /* native math in the pair force law of float builds (docs/engine.md: error and gain) */
 #define SEMLB_PAIR_EXP native_exp
 #define SEMLB_PAIR_RSQRT native_rsqrt
 #endif
-#ifdef SEMLB_BITFIX
-/* Truncation toward zero of a real of magnitude <= 2^52 to long from its bits (same value as the cast). */
-static inline long semlb_trunc_bits(SEMLB_REAL v) {
-#ifdef SEMLB_DOUBLE
-  long b = as_long(v), m = (b & 0xfffffffffffffL) | 0x10000000000000L;
-  int e = (int)((b >> 52) & 0x7ff) - 1075;
-  long r = e >= 0 ? m << e : (e > -53 ? m >> -e : 0);
-#else
-  int b = as_int(v), e = ((b >> 23) & 0xff) - 150;
-  long m = (long)((b & 0x7fffff) | 0x800000);
-  long r = e >= 0 ? m << e : (e > -24 ? m >> -e : 0);
-#endif
-  return b < 0 ? -r : r;
-}
-#define SEMLB_TRUNC_LONG(x) semlb_trunc_bits(x)
-#endif
 #include "evaluator.h"
-#ifndef SEMLB_REACH
-#define SEMLB_REACH 1
-#endif
 
 #define NO_FAILURE 0x7fffffff
 
@@ -131,54 +112,28 @@ static inline void accumulate(real4 me, int info, int s, int o, __global const r
 /* Candidates taken at a time by forces_binned: the bits of one mask. */
 #define SEMLB_CHUNK 64
 
-/* Distance along one axis from x to bin k, which lies d bins from x's own bin (0 when d = 0; >= 0). */
-static inline SEMLB_REAL bin_gap(SEMLB_REAL x, SEMLB_REAL lo, SEMLB_REAL size, int k, int d) {
-  return d > 0 ? fmax(lo + k * size - x, (SEMLB_REAL)0) : (d < 0 ? fmax(x - (lo + (k + 1) * size), (SEMLB_REAL)0) : 0);
-}
-
-/* Pair forces over the stencil of (2 SEMLB_REACH + 1)^3 bins of edge >= cutoff / SEMLB_REACH: rows of
-   2 SEMLB_REACH + 1 bins contiguous in bin order. With SEMLB_TRIM a row whose (y, z) gap to the element exceeds
-   reach (cutoff plus a rounding slack) is skipped and its x range cut to [x - w, x + w], w^2 = reach^2 - gap^2.
-   One item per sorted element. A row's candidates are taken SEMLB_CHUNK at a time: first a bit mask of those
-   within the cutoff (a NaN distance counts as within, as in semlb_pair_force), then the force law on the set
-   bits only, so that the lanes of a warp run the costly part together rather than idling through it for every
-   candidate that one lane alone keeps (docs/engine.md: 1.13x float, 1.31x double on an H200 at 6.5e6 elements). */
+/* Pair forces over the 27-bin stencil: 9 rows of 3 bins, contiguous in bin order. One item per sorted element.
+   A row's candidates are taken SEMLB_CHUNK at a time: first a bit mask of those within the cutoff (a NaN
+   distance counts as within, as in semlb_pair_force), then the force law on the set bits only, so that the
+   lanes of a warp run the costly part together rather than idling through it for every candidate that one
+   lane alone keeps (docs/engine.md: 1.13x float, 1.31x double on an H200 at 6.5e6 elements). */
 __kernel void forces_binned(__global const real4* sorted_pos, __global const int* sorted_index,
                             __global const ulong* keys, __global const int* starts, real4 lo, real4 size, int4 dims,
-                            __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, SEMLB_REAL reach,
-                            __global long* force, int n, int owned) {
+                            __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n,
+                            int owned) {
   int s = get_global_id(0);
   if (s >= n || sorted_index[s] >= owned) return;  /* ghosts exert forces but receive none */
   real4 me = sorted_pos[s];
   int info = INFO(me.w);
   int4 b = bin3(me, lo, size, dims);
-  SEMLB_REAL cutoff2 = cutoff * cutoff, reach2 = reach * reach;
+  SEMLB_REAL cutoff2 = cutoff * cutoff;
   long acc[3] = {0, 0, 0};
-  int x0 = max(b.x - SEMLB_REACH, 0), x1 = min(b.x + SEMLB_REACH, dims.x - 1);
-#ifdef SEMLB_TRIM
-  SEMLB_REAL inv_x = 1 / size.x;  /* the x cut need not match bin1's rounding: reach has slack */
-#endif
-  for (int oz = -SEMLB_REACH; oz <= SEMLB_REACH; ++oz) {
-    int z = b.z + oz;
-    if (z < 0 || z >= dims.z) continue;
-#ifdef SEMLB_TRIM
-    SEMLB_REAL gz = bin_gap(me.z, lo.z, size.z, z, oz);
-#endif
-    for (int oy = -SEMLB_REACH; oy <= SEMLB_REACH; ++oy) {
-      int y = b.y + oy;
-      if (y < 0 || y >= dims.y) continue;
+  int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1);
+  for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
+    for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
       int row = (z * dims.y + y) * dims.x;
-#ifdef SEMLB_TRIM
-      SEMLB_REAL gy = bin_gap(me.y, lo.y, size.y, y, oy), rest = reach2 - gz * gz - gy * gy;
-      if (rest < 0) continue;  /* a NaN position skips nothing */
-      SEMLB_REAL w = sqrt(rest), fa = floor((me.x - w - lo.x) * inv_x), fb = floor((me.x + w - lo.x) * inv_x);
-      /* fmax/fmin return the non-NaN operand, so a NaN position scans the stencil's full rows */
-      int first = row + (int)fmin(fmax(fa, (SEMLB_REAL)x0), (SEMLB_REAL)x1);
-      int last = starts[row + (int)fmax(fmin(fb, (SEMLB_REAL)x1), (SEMLB_REAL)x0) + 1];
-#else
-      int first = row + x0, last = starts[row + x1 + 1];
-#endif
-      for (int base = starts[first]; base < last; base += SEMLB_CHUNK) {
+      int last = starts[row + x1 + 1];
+      for (int base = starts[row + x0]; base < last; base += SEMLB_CHUNK) {
         int m = min(SEMLB_CHUNK, last - base);
         ulong mask = 0;
         for (int k = 0; k < m; ++k) {
@@ -194,7 +149,6 @@ __kernel void forces_binned(__global const real4* sorted_pos, __global const int
         }
       }
     }
-  }
   int i = sorted_index[s];
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];

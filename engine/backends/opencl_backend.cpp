@@ -2,7 +2,6 @@
 #include <climits>
 #include <cmath>
 #include <cstdlib>
-#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
@@ -27,43 +26,6 @@ struct LocalBytes {  // a __local kernel argument
 };
 
 size_t round_up(size_t n, size_t m) { return (n + m - 1) / m * m; }
-
-// TEMPORARY (issue 14 round 2, removed after the device run): force-kernel variants by label, tokens joined
-// by '+': cut (bins of >= cutoff), fine (>= cutoff/2, 5x5x5, trimmed), notrim, trim, native, bitfix.
-struct ForceVariant {
-  std::string label, options;
-  int reach = 1;
-};
-ForceVariant parse_variant(const std::string& label) {
-  ForceVariant v{label, "", 1};
-  bool trim = false;
-  size_t at = 0;
-  while (at <= label.size()) {
-    const size_t end = std::min(label.find('+', at), label.size());
-    const std::string t = label.substr(at, end - at);
-    if (t == "fine") v.reach = 2, trim = true;
-    else if (t == "notrim") trim = false;
-    else if (t == "trim") trim = true;
-    else if (t == "native") v.options += " -DSEMLB_NATIVE";
-    else if (t == "bitfix") v.options += " -DSEMLB_BITFIX";
-    else if (t != "cut") throw std::runtime_error("force variant token '" + t + "'");
-    at = end + 1;
-  }
-  v.options += " -DSEMLB_REACH=" + std::to_string(v.reach) + (trim ? " -DSEMLB_TRIM" : "");
-  return v;
-}
-std::vector<ForceVariant> variants_from_env() {
-  std::vector<ForceVariant> out;
-  const char* e = std::getenv("SEMLB_FORCE_VARIANTS");
-  std::string list = e ? e : "";
-  size_t at = 0;
-  while (at < list.size()) {
-    const size_t end = std::min(list.find(',', at), list.size());
-    if (end > at) out.push_back(parse_variant(list.substr(at, end - at)));
-    at = end + 1;
-  }
-  return out;
-}
 
 template <class Real>
 class OpenClBackend final : public Backend {
@@ -388,55 +350,9 @@ class OpenClBackend final : public Backend {
              LocalBytes{kGroup * sizeof(Real4)});
       return;
     }
-    const Grid g = reach_grid(grid, main_.reach);
-    sort_into_bins(g);
-    launch("forces_binned", n_, kGroup, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(), real4(g.lo),
-           real4(g.size), int4(g.dims), table_.get(), static_cast<Real>(cutoff), reach_of(g, cutoff), force_.get(), n, owned());
-    if (variants_.empty()) return;
-    if (scratch_capacity_ < capacity_) {
-      scratch_capacity_ = capacity_;
-      scratch_ = buffer(3 * capacity_ * sizeof(cl_long));
-    }
-    std::vector<cl_long> base;
-    if (!variants_checked_) {
-      base.resize(3 * owned_);
-      read(force_, base.data(), base.size() * sizeof(cl_long));
-    }
-    int sorted_reach = main_.reach;
-    for (const auto& v : variants_) {
-      const Grid gv = reach_grid(grid, v.reach);
-      if (v.reach != sorted_reach) {
-        prefix_ = "sort" + std::to_string(v.reach) + ":";
-        sort_into_bins(gv);
-        prefix_.clear();
-        sorted_reach = v.reach;
-      }
-      const cl_long zero = 0;
-      cl::check(clEnqueueFillBuffer(queue_.get(), scratch_.get(), &zero, sizeof zero, 0, 3 * owned_ * sizeof(cl_long), 0, nullptr, nullptr), "zero scratch");
-      launch(("force:" + v.label).c_str(), n_, kGroup, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(),
-             real4(gv.lo), real4(gv.size), int4(gv.dims), table_.get(), static_cast<Real>(cutoff), reach_of(gv, cutoff),
-             scratch_.get(), n, owned());
-      if (!variants_checked_) {  // against the main kernel's forces, once
-        std::vector<cl_long> f(3 * owned_);
-        read(scratch_, f.data(), f.size() * sizeof(cl_long));
-        double dmax = 0, fmax = 0, rel = 0, sq = 0;
-        long differ = 0;
-        for (long i = 0; i < owned_; ++i) {
-          double d2 = 0, f2 = 0;
-          for (int c = 0; c < 3; ++c) {
-            const double d = (static_cast<double>(f[3 * i + c]) - static_cast<double>(base[3 * i + c])) / 4294967296.0;
-            const double a = static_cast<double>(base[3 * i + c]) / 4294967296.0;
-            d2 += d * d, f2 += a * a;
-            differ += f[3 * i + c] != base[3 * i + c];
-          }
-          dmax = std::max(dmax, std::sqrt(d2)), fmax = std::max(fmax, std::sqrt(f2)), sq += d2;
-          if (f2 > 1e-6) rel = std::max(rel, std::sqrt(d2 / f2));
-        }
-        std::fprintf(stderr, "variant %s vs %s: %ld components differ; max |dF| %.3e, rms |dF| %.3e, max |F| %.3e, max |dF|/|F| (|F| > 1e-3) %.3e\n",
-                     v.label.c_str(), main_.label.c_str(), differ, dmax, std::sqrt(sq / std::max<long>(owned_, 1)), fmax, rel);
-      }
-    }
-    variants_checked_ = true;
+    sort_into_bins(grid);
+    launch("forces_binned", n_, kGroup, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(), real4(grid.lo),
+           real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get(), n, owned());
   }
 
   void membrane_forces(const std::vector<double>& m) override {
@@ -471,19 +387,6 @@ class OpenClBackend final : public Backend {
 
  private:
   cl_int owned() const { return static_cast<cl_int>(owned_); }
-
-  // The force grid of a variant: `reach` bins per cutoff grid bin along each axis, same box.
-  static Grid reach_grid(const Grid& g, int reach) {
-    Grid f = g;
-    for (int d = 0; d < 3; ++d) f.size[d] = g.size[d] / reach, f.dims[d] = g.dims[d] * reach;
-    return f;
-  }
-  // The cutoff plus a slack above the rounding of bin edges and positions (the row cut of SEMLB_TRIM).
-  static Real reach_of(const Grid& g, double cutoff) {
-    double extent = 0;
-    for (int d = 0; d < 3; ++d) extent = std::max({extent, std::abs(g.lo[d]), std::abs(g.lo[d] + g.dims[d] * g.size[d])});
-    return static_cast<Real>(cutoff * (1 + 1e-3) + 1e-5 * extent);
-  }
 
   void write_elements(long at, const std::vector<double>& position, const std::vector<int>& info, const std::vector<uint64_t>& keys) {
     const long n = static_cast<long>(keys.size());
@@ -537,21 +440,7 @@ class OpenClBackend final : public Backend {
     const char* text = source.c_str();
     program_ = cl::Program(clCreateProgramWithSource(ctx_.get(), 1, &text, nullptr, &err));
     cl::check(err, "clCreateProgramWithSource");
-    const std::string base = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") + (has_fp64_ ? " -DSEMLB_CELLS" : "");
-    const char* main_label = std::getenv("SEMLB_FORCE_KERNEL");
-    main_ = parse_variant(main_label ? main_label : "cut");
-    variants_ = variants_from_env();
-    const std::string options = base + main_.options;
-    for (const auto& v : variants_) {
-      cl::Program p(clCreateProgramWithSource(ctx_.get(), 1, &text, nullptr, &err));
-      cl::check(err, "clCreateProgramWithSource");
-      const std::string o = base + v.options;
-      if (clBuildProgram(p.get(), 1, &dev_.device, o.c_str(), nullptr, nullptr) != CL_SUCCESS)
-        throw std::runtime_error("OpenCL: variant " + v.label + " failed to build");
-      kernels_["force:" + v.label] = cl::Kernel(clCreateKernel(p.get(), "forces_binned", &err));
-      cl::check(err, v.label.c_str());
-      variant_programs_.push_back(std::move(p));
-    }
+    const std::string options = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") + (has_fp64_ ? " -DSEMLB_CELLS" : "");
     if (clBuildProgram(program_.get(), 1, &dev_.device, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
       size_t n = 0;
       clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
@@ -685,7 +574,7 @@ class OpenClBackend final : public Backend {
       cl_ulong t0 = 0, t1 = 0;
       clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_START, sizeof t0, &t0, nullptr);
       clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_END, sizeof t1, &t1, nullptr);
-      kernel_seconds_[prefix_ + name] += 1e-9 * static_cast<double>(t1 - t0);
+      kernel_seconds_[name] += 1e-9 * static_cast<double>(t1 - t0);
       clReleaseEvent(event);
     }
   }
@@ -724,13 +613,6 @@ class OpenClBackend final : public Backend {
   }
 
   bool binned_, profile_ = false, has_fp64_ = false, cells_stale_ = false;
-  ForceVariant main_;                     // TEMPORARY: the force kernel that moves the state
-  std::vector<ForceVariant> variants_;    // TEMPORARY: timed each step into scratch_
-  std::vector<cl::Program> variant_programs_;
-  cl::Mem scratch_;
-  long scratch_capacity_ = 0;
-  bool variants_checked_ = false;
-  std::string prefix_;
   Cells cell_, back_, leave_;  // leave_: the migration's leavers (leave_.first holds each one's new owner)
   long cells_ = 0, plan_capacity_ = 0, work_bins_capacity_ = 0, work_capacity_ = 0, bounds_capacity_ = 0;
   cl::Mem work_counts_, work_, owner_bounds_;  // W_s: elements per bin, per-slice sums; the interior boundaries
