@@ -1,10 +1,16 @@
 /* The SEM physics written once (C99 subset): included by the C++ backends and by the OpenCL kernels. */
 /* No include guard on purpose: C++ includes it once per precision inside a namespace. The includer
  * defines SEMLB_REAL (float|double), SEMLB_LONG / SEMLB_ULONG (64-bit integers), SEMLB_CONST (the
- * address space of parameter tables), SEMLB_EXP and SEMLB_SQRT, SEMLB_LOG, SEMLB_COS.
+ * address space of parameter tables), SEMLB_EXP and SEMLB_SQRT, SEMLB_LOG, SEMLB_COS. Optional: SEMLB_PAIR_EXP
+ * (the exp of the pair force law; default SEMLB_EXP) and SEMLB_PAIR_RSQRT (then r and 1/r of a pair come from
+ * one reciprocal square root instead of a sqrt and a division; coincidence is then r^2 < SEMLB_R_MIN^2): the
+ * OpenCL float build uses them for native math.
  * Equations: docs/engine.md; eq. (1) of the paper is dY/dt = -grad sum V_ele - grad V_ext. */
 
 typedef SEMLB_REAL semlb_real;
+#ifndef SEMLB_PAIR_EXP
+#define SEMLB_PAIR_EXP SEMLB_EXP
+#endif
 
 /* Forces are summed in fixed point (2^-32 force units) so that sums do not depend on their order. */
 #define SEMLB_FIXED_SCALE 4294967296.0
@@ -40,7 +46,7 @@ static inline SEMLB_LONG semlb_to_fixed(semlb_real f) {
 /* f(r) = -dV/dr = U0/xi1 exp(-r/xi1) - V0/xi2 exp(-r/xi2) for V(r) = U0 exp(-r/xi1) - V0 exp(-r/xi2);
  * positive is repulsive. */
 static inline semlb_real semlb_morse_magnitude(semlb_real r, SEMLB_CONST const semlb_real* set) {
-  return set[0] * SEMLB_EXP(-r * set[1]) - set[2] * SEMLB_EXP(-r * set[3]);
+  return set[0] * SEMLB_PAIR_EXP(-r * set[1]) - set[2] * SEMLB_PAIR_EXP(-r * set[3]);
 }
 
 /* SplitMix64 finaliser: the counter-based generator shared by noise, growth and the tissue generator. */
@@ -73,10 +79,19 @@ static inline int semlb_pair_force(semlb_real dx, semlb_real dy, semlb_real dz, 
                                    SEMLB_CONST const semlb_real* table, semlb_real cutoff2, SEMLB_LONG* acc) {
   semlb_real r2 = dx * dx + dy * dy + dz * dz;
   if (r2 >= cutoff2) return 0;
+#ifdef SEMLB_PAIR_RSQRT
+  if (r2 < (semlb_real)(SEMLB_R_MIN * SEMLB_R_MIN)) return -1;
+  semlb_real inv = SEMLB_PAIR_RSQRT(r2), r = r2 * inv;
+#else
   semlb_real r = SEMLB_SQRT(r2);
   if (r < (semlb_real)SEMLB_R_MIN) return -1;
+#endif
   int set = info_i == info_j ? SEMLB_MORSE_INTRA : SEMLB_MORSE_INTER(semlb_info_type(info_i), semlb_info_type(info_j));
+#ifdef SEMLB_PAIR_RSQRT
+  semlb_real s = semlb_morse_magnitude(r, table + set) * inv;
+#else
   semlb_real s = semlb_morse_magnitude(r, table + set) / r;
+#endif
   acc[0] += semlb_to_fixed(s * dx);
   acc[1] += semlb_to_fixed(s * dy);
   acc[2] += semlb_to_fixed(s * dz);

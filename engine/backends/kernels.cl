@@ -17,6 +17,10 @@ typedef float4 real4;
 #define SEMLB_SQRT sqrt
 #define SEMLB_LOG log
 #define SEMLB_COS cos
+#ifndef SEMLB_DOUBLE /* native math in the pair force law of float builds (docs/engine.md: error and gain) */
+#define SEMLB_PAIR_EXP native_exp
+#define SEMLB_PAIR_RSQRT native_rsqrt
+#endif
 #include "evaluator.h"
 
 #define NO_FAILURE 0x7fffffff
