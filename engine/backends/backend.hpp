@@ -81,7 +81,8 @@ class Backend {
   // Element data (positions, packed info, keys) from the host state; call after every host change.
   // Drops the ghosts.
   virtual void upload(const State& state) = 0;
-  // Replaces the ghost elements (kept after the owned ones); forces on owned elements include them.
+  // Replaces the ghost elements (kept after the owned ones); the non-local forces come from them. The forces
+  // added so far stay: a decomposed step sets the ghosts between the local and the non-local forces.
   virtual void set_ghosts(const Ghosts& ghosts) = 0;
   // The owned elements' positions; after a cell stage on the device also the cells (ids, types, counts)
   // and the cell fields the state lists ("growth.clock", "division.depth", "differentiation.age").

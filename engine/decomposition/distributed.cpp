@@ -92,8 +92,6 @@ double DistributedSimulation::compute_seconds() const {
 void DistributedSimulation::start_exchange() {
   const int r = mpi_->rank(), P = mpi_->size();
   if (P == 1) return;  // no neighbours; the failure is caught at the next check, the state frozen meanwhile
-  if (r == fault_rank_ && step() == fault_step_)
-    throw std::runtime_error("step " + std::to_string(step()) + ": fault injected by SEMLB_FAULT_INJECT");
   const auto t0 = std::chrono::steady_clock::now();
   Backend& b = sim_->backend();
   PhaseScope phase(b, "exchange");
@@ -123,6 +121,8 @@ void DistributedSimulation::start_exchange() {
   const int below = r > 0 ? r - 1 : MPI_PROC_NULL, above = r + 1 < P ? r + 1 : MPI_PROC_NULL;
   mpi_->start_sendrecv(send_left_, below, above, from_above_, 1, pending_);   // tags 1, 2: bands sent down
   mpi_->start_sendrecv(send_right_, above, below, from_below_, 3, pending_);  // tags 3, 4: bands sent up
+  if (r == fault_rank_ && step() == fault_step_)  // with its bands in flight: Requests frees them, MPI_Abort follows
+    throw std::runtime_error("step " + std::to_string(step()) + ": fault injected by SEMLB_FAULT_INJECT");
   exchange_s_ += seconds_since(t0);
 }
 
