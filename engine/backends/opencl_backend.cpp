@@ -532,13 +532,15 @@ class OpenClBackend final : public Backend {
     }
   }
 
-  // Room for n elements (owned + ghosts); growing keeps elements [0, n_) by device copies.
+  // Room for n elements (owned + ghosts); growing keeps elements [0, n_) and the owned elements' forces (the
+  // local part, when the ghosts arrive between the two parts) by device copies.
   void reserve_elements(long n) {
     if (n <= capacity_) return;
-    cl::Mem old_pos = std::move(pos_), old_keys = std::move(keys_);
+    cl::Mem old_pos = std::move(pos_), old_keys = std::move(keys_), old_force = std::move(force_);
     allocate(n + n / 4 + 64);
     copy(old_pos, pos_, n_ * sizeof(Real4));
     copy(old_keys, keys_, n_ * sizeof(uint64_t));
+    copy(old_force, force_, 3 * owned_ * sizeof(cl_long));
   }
 
   // The per-cell work arrays of the cell stage and the migration for n cells.
