@@ -431,19 +431,6 @@ class OpenClBackend final : public Backend {
 
   void finish() override { cl::check(clFinish(queue_.get()), "clFinish"); }
 
-  void finish_while(const std::function<void()>& progress) override {
-    cl_event marker = nullptr;
-    cl::check(clEnqueueMarkerWithWaitList(queue_.get(), 0, nullptr, &marker), "clEnqueueMarkerWithWaitList");
-    const cl::Event done(marker);
-    cl::check(clFlush(queue_.get()), "clFlush");
-    for (cl_int status = CL_QUEUED; status != CL_COMPLETE;) {
-      progress();
-      cl::check(clGetEventInfo(done.get(), CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, nullptr), "clGetEventInfo");
-      if (status < 0) cl::check(status, "queued work");
-    }
-    finish();
-  }
-
  private:
   cl_int owned() const { return static_cast<cl_int>(owned_); }
 
@@ -628,16 +615,15 @@ class OpenClBackend final : public Backend {
     cl_uint i = 0;
     (set_arg(k, i++, args, name), ...);
     const size_t global = round_up(static_cast<size_t>(items), group);
-    cl_event raw = nullptr;
-    cl::check(clEnqueueNDRangeKernel(queue_.get(), k, 1, nullptr, &global, &group, 0, nullptr, profile_ ? &raw : nullptr), name);
-    if (raw) {
-      const cl::Event event(raw);
-      cl_event e = event.get();
-      cl::check(clWaitForEvents(1, &e), "clWaitForEvents");
+    cl_event event = nullptr;
+    cl::check(clEnqueueNDRangeKernel(queue_.get(), k, 1, nullptr, &global, &group, 0, nullptr, profile_ ? &event : nullptr), name);
+    if (event) {
+      cl::check(clWaitForEvents(1, &event), "clWaitForEvents");
       cl_ulong t0 = 0, t1 = 0;
-      clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_START, sizeof t0, &t0, nullptr);
-      clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_END, sizeof t1, &t1, nullptr);
+      clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_START, sizeof t0, &t0, nullptr);
+      clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_END, sizeof t1, &t1, nullptr);
       kernel_seconds_[name] += 1e-9 * static_cast<double>(t1 - t0);
+      clReleaseEvent(event);
     }
   }
 
