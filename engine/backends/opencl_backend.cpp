@@ -567,15 +567,16 @@ class OpenClBackend final : public Backend {
     cl_uint i = 0;
     (set_arg(k, i++, args, name), ...);
     const size_t global = round_up(static_cast<size_t>(items), group);
-    cl_event event = nullptr;
-    cl::check(clEnqueueNDRangeKernel(queue_.get(), k, 1, nullptr, &global, &group, 0, nullptr, profile_ ? &event : nullptr), name);
-    if (event) {
-      cl::check(clWaitForEvents(1, &event), "clWaitForEvents");
+    cl_event raw = nullptr;
+    cl::check(clEnqueueNDRangeKernel(queue_.get(), k, 1, nullptr, &global, &group, 0, nullptr, profile_ ? &raw : nullptr), name);
+    if (raw) {
+      const cl::Event event(raw);
+      cl_event e = event.get();
+      cl::check(clWaitForEvents(1, &e), "clWaitForEvents");
       cl_ulong t0 = 0, t1 = 0;
-      clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_START, sizeof t0, &t0, nullptr);
-      clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_END, sizeof t1, &t1, nullptr);
+      clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_START, sizeof t0, &t0, nullptr);
+      clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_END, sizeof t1, &t1, nullptr);
       kernel_seconds_[name] += 1e-9 * static_cast<double>(t1 - t0);
-      clReleaseEvent(event);
     }
   }
 
