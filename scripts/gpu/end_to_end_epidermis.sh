@@ -24,7 +24,8 @@ for scene in epidermis mechanics; do
   done
   rm -f "$OUT/end_to_end_$scene.csv"
   for g in $GPUS; do
-    $PY "$here/analysis/end_to_end_epidermis.py" --append --machine "$MACHINE" --gpus "$g" \
+    gpus=$g; [ "$PLATFORM" = NVIDIA ] || gpus=0  # PoCL: ranks on the CPU
+    $PY "$here/analysis/end_to_end_epidermis.py" --append --machine "$MACHINE" --gpus "$gpus" \
         --out "$OUT/end_to_end_$scene.csv" "$OUT/runs/${scene}_${g}gpu"
   done
   cat "$OUT/end_to_end_$scene.csv"
