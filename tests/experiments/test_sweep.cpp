@@ -110,7 +110,11 @@ TEST(Sweep, ShippedManifestsParse) {
           {"accuracy_vs_time", " --set cells=10 --set hours=0.04 --set dt=0.02 --set cutoff=8.75 --set precision=double"},
           {"strong_scaling", " --set cells=60 --set ranks=1 --set steps=20 --set rebalance_every=10"},
           {"load_balance", " --set cells=60 --set ranks=1 --set steps=20 --set rebalance_every=10 --set policy=static"},
-          {"rank_balance", " --set cells=60 --set ranks=1 --set steps=20 --set rebalance_every=10 --set policy=static"}};
+          {"rank_balance", " --set cells=60 --set ranks=1 --set steps=20 --set rebalance_every=10 --set policy=static"},
+          {"end_to_end", " --set cells=20 --set ranks=1 --set steps=20 --set rebalance_every=10 --set policy=static "
+                         "--set launches=1"},
+          {"end_to_end_ranks", " --set cells=20 --set ranks=1 --set steps=20 --set rebalance_every=10 --set policy=static"},
+          {"replay_score", " --set traces=" + source("results/cpu") + " --set policy=static,foresight"}};
       const auto it = small.find(entry.path().stem().string());
       const std::string sets = it != small.end() ? it->second : " --set seed=9000 --set ranks=2 --set events=2";
       const auto r = run(semlb_bin() + " sweep " + entry.path().string() + sets + " --quiet --results " + fresh_dir("shipped"));
