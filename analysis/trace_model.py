@@ -66,8 +66,9 @@ def rank_sums(work, boundaries):
     return [math.fsum(work[a:b]) for a, b in zip(cuts, cuts[1:])]
 
 
-def read_events(path):
-    """(line, times, predicted) per event with slice_work; TraceError naming FILE:LINE: field on bad input."""
+def read_trace(path):
+    """(line, event) per event of a trace.jsonl, each with boundaries, times, slice_work and slices consistent;
+    TraceError naming FILE:LINE: field on bad input or an empty trace. Shared with scripts/development_workload.py."""
     out = []
     with open(path) as f:
         for n, text in enumerate(f, 1):
@@ -85,10 +86,15 @@ def read_events(path):
                 raise TraceError(f"{path}:{n}: field 'slice_work': {len(work)} entries but slices is {e['slices']}")
             if len(b) != len(times) - 1 or list(b) != sorted(b) or (b and (b[0] < 0 or b[-1] > len(work))):
                 raise TraceError(f"{path}:{n}: field 'boundaries': not {len(times) - 1} sorted cuts in [0, {len(work)}]")
-            out.append((n, e["slices"], times, rank_sums(work, b)))
+            out.append((n, e))
     if not out:
         raise TraceError(f"{path}: the trace has no events")
     return out
+
+
+def read_events(path):
+    """(line, slices, times, predicted) per event (read_trace's checks)."""
+    return [(n, e["slices"], e["times"], rank_sums(e["slice_work"], e["boundaries"])) for n, e in read_trace(path)]
 
 
 def score(events):

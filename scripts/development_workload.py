@@ -10,8 +10,11 @@ prints the summary the issue asks for; exit 1 if a target fails (>= 100 events, 
 centre moving >= 1 slab), 2 on a malformed trace (naming file and line)."""
 import argparse
 import csv
-import json
+import os
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "analysis"))
+from trace_model import TraceError, read_trace  # noqa: E402  (the one trace reader)
 
 
 def measure(events):
@@ -34,21 +37,12 @@ def main(argv):
     p.add_argument("trace")
     p.add_argument("out")
     a = p.parse_args(argv)
-    events = []
-    with open(a.trace) as f:
-        for n, line in enumerate(f, 1):
-            if not line.strip():
-                continue
-            try:
-                e = json.loads(line)
-                if len(e["times"]) < 2 or len(e["boundaries"]) != len(e["times"]) - 1 or not e["slice_work"]:
-                    raise ValueError("a trace of at least 2 ranks with times, boundaries and slice_work")
-            except (ValueError, KeyError) as err:
-                print(f"{a.trace}:{n}: {err}", file=sys.stderr)
-                return 2
-            events.append((n, e))
-    if not events:
-        print(f"{a.trace}: no events", file=sys.stderr)
+    try:
+        events = read_trace(a.trace)
+        if len(events[0][1]["times"]) < 2:
+            raise TraceError(f"{a.trace}:{events[0][0]}: field 'times': a trace of at least 2 ranks is needed")
+    except (TraceError, OSError) as err:
+        print(f"development_workload.py: {err}", file=sys.stderr)
         return 2
     rows = measure(events)
     with open(a.out, "w", newline="") as f:

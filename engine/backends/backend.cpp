@@ -69,22 +69,10 @@ std::vector<double> Backend::slice_work(State& host, const SliceMap& map, double
 void Backend::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers,
                            std::vector<int>& owner) {
   download(host);
-  leavers = {};
   owner.clear();
-  for (const auto& [name, f] : host.cell_fields) leavers.cell_fields[name];
   State stay;
-  stay.step = host.step;
-  stay.time = host.time;
-  for (const auto& [name, f] : host.cell_fields) stay.cell_fields[name];
-  for (long c = 0; c < host.cells(); ++c) {
-    const int o = owner_of(map.slice_of(centroid(host, c)[0]), boundaries);
-    State& to = o == rank ? stay : leavers;
-    if (o != rank) owner.push_back(o);
-    copy_cell(host, c, to);
-  }
+  split_by_owner(host, map, boundaries, rank, stay, &leavers, &owner);
   if (leavers.cells() == 0) return;  // the backend holds exactly these cells
-  stay.reindex();
-  leavers.reindex();
   host = std::move(stay);
   upload(host);
 }
@@ -103,6 +91,28 @@ int SliceMap::slice_of(double x) const {
 
 int owner_of(int slice, const std::vector<int>& boundaries) {
   return static_cast<int>(std::upper_bound(boundaries.begin(), boundaries.end(), slice) - boundaries.begin());
+}
+
+void split_by_owner(const State& s, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& stay,
+                    State* leave, std::vector<int>* owner) {
+  for (State* to : {&stay, leave}) {
+    if (!to) continue;
+    *to = {};
+    to->step = s.step;
+    to->time = s.time;
+    for (const auto& [name, f] : s.cell_fields) to->cell_fields[name];
+  }
+  for (long c = 0; c < s.cells(); ++c) {
+    const int o = owner_of(map.slice_of(centroid(s, c)[0]), boundaries);
+    if (o == rank) {
+      copy_cell(s, c, stay);
+    } else if (leave) {
+      copy_cell(s, c, *leave);
+      owner->push_back(o);
+    }
+  }
+  stay.reindex();
+  if (leave) leave->reindex();
 }
 
 std::vector<double> slice_workload(const State& s, const std::vector<double>& ghosts, const SliceMap& d, double cutoff) {

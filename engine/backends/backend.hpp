@@ -62,6 +62,11 @@ struct SliceMap {
 };
 // The rank that owns slice `slice`: the number of interior boundaries at or below it.
 int owner_of(int slice, const std::vector<int>& boundaries);
+// The ownership rule of cells (docs/engine.md): the rank owning the slice of the cell's centroid. Copies the
+// cells of `s` that `rank` owns into `stay` and, if `leave` is given, the others into `*leave` with their owners
+// appended to `*owner`; keeps their order, carries the step, time and field names, reindexes both.
+void split_by_owner(const State& s, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& stay,
+                    State* leave = nullptr, std::vector<int>* owner = nullptr);
 
 // Per-slice workload W_s = sum over cells of n_i * n_N(i) (paper eqs. 2-3), integer counts: n_N(i) counts the
 // elements in the 3x3x3 bins (cubes of the cutoff over the tissue box of `cells`) around the cell's centroid,

@@ -52,9 +52,8 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
     }
     cells_at_event_ = restored->cells_at_event;
   }
-  State mine = tissue;
-  std::vector<Writer> unused(mpi.size());
-  split_cells(mine, [&](long c) { return owner_of_cell(mine, c); }, mpi.rank(), unused);
+  State mine;  // every rank holds the whole tissue here: each keeps its own cells, nothing is sent
+  split_by_owner(tissue, dec_, balancer_->boundaries(), mpi.rank(), mine);
   sim_ = std::make_unique<Simulation>(scene, std::move(mine));
   sim_->before_forces = [this] { exchange_ghosts(); };
   sim_->after_cells = [this] { migrate_cells(); };
@@ -69,10 +68,6 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
     fault_rank_ = static_cast<int>(parse_integer(parts[0], "SEMLB_FAULT_INJECT: rank: ", 0, mpi.size() - 1));
     fault_step_ = parse_integer(parts[1], "SEMLB_FAULT_INJECT: step: ", 0);
   }
-}
-
-int DistributedSimulation::owner_of_cell(const State& s, long c) const {
-  return owner_of(dec_.slice_of(centroid(s, c)[0]), balancer_->boundaries());  // the ownership rule (docs/engine.md)
 }
 
 double DistributedSimulation::compute_seconds() const {

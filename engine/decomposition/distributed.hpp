@@ -56,7 +56,6 @@ class DistributedSimulation {
   void write_trace(const TraceEvent& e);
   void collective_check();
   double compute_seconds() const;
-  int owner_of_cell(const State& s, long c) const;
 
   const Scene* scene_;
   Mpi* mpi_;

@@ -49,23 +49,4 @@ void unpack_cells(const std::vector<char>& bytes, State& s);
 std::vector<char> pack_band(const Ghosts& g);
 void unpack_band(const std::vector<char>& bytes, Ghosts& g);  // appends
 
-// Keeps the cells for which keep(c) holds; the others are packed into out[owner(c)].
-template <class Owner>
-void split_cells(State& s, Owner owner, int me, std::vector<Writer>& out) {
-  State kept;
-  kept.step = s.step;
-  kept.time = s.time;
-  for (const auto& [name, f] : s.cell_fields) kept.cell_fields[name];
-  for (long c = 0; c < s.cells(); ++c) {
-    const int o = owner(c);
-    if (o != me) {
-      pack_cell(out[o], s, c);
-      continue;
-    }
-    copy_cell(s, c, kept);
-  }
-  kept.reindex();
-  s = std::move(kept);
-}
-
 }  // namespace semlb::engine
