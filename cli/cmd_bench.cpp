@@ -13,7 +13,6 @@
 #include "common/text_io.hpp"
 #include "engine/run/bench.hpp"
 #include "surrogate/evaluate.hpp"
-#include "controllers/foresight.hpp"
 #include "controllers/gru.hpp"
 #include "surrogate/rollout.hpp"
 #ifdef SEMLB_WITH_TORCH
@@ -39,9 +38,7 @@ int bench_policies(int ranks, int events, int repeats, uint64_t seed, const std:
     std::vector<double> us;
     for (int r = 0; r < repeats; ++r) {
       auto policy = make_policy(name, params);
-      const auto* offline = dynamic_cast<const ForesightPolicy*>(policy.get());  // solved over the whole run
-      us.push_back((offline ? surrogate::foresight_rollout(scenario, offline->lambda(), events)
-                            : surrogate::rollout(scenario, *policy, events)).us_per_decision);
+      us.push_back(surrogate::rollout(scenario, *policy, events).us_per_decision);  // foresight: its offline solve
     }
     std::nth_element(us.begin(), us.begin() + us.size() / 2, us.end());
     const double med = us[us.size() / 2];

@@ -5,7 +5,6 @@
 #include <filesystem>
 
 #include "common/errors.hpp"
-#include "controllers/foresight.hpp"
 #include "common/text_io.hpp"
 #include "rollout.hpp"
 #include "scenario.hpp"
@@ -37,11 +36,8 @@ std::vector<std::string> run_eval_job(const EvalJob& job, const std::map<std::st
   const Scenario s = make_scenario(job.seed, job.ranks);
   const auto it = params.find(job.policy);
   auto policy = make_policy(job.policy, it == params.end() ? PolicyParams{} : it->second);
-  // foresight is offline: it is solved over the whole workload instead of stepped (and writes no trace)
-  const auto* offline = dynamic_cast<const ForesightPolicy*>(policy.get());
-  const RolloutResult r = offline ? foresight_rollout(s, offline->lambda(), job.events)
-                                  : rollout(s, *policy, job.events, !trace_dir.empty());
-  if (!trace_dir.empty() && !offline) write_trace(trace_dir, job, r);
+  const RolloutResult r = rollout(s, *policy, job.events, !trace_dir.empty());
+  if (!trace_dir.empty() && !r.trace.empty()) write_trace(trace_dir, job, r);  // foresight (offline) writes none
   return {job.policy,
           std::to_string(job.ranks),
           std::to_string(job.seed),

@@ -43,6 +43,8 @@ void summarise(RolloutResult& res, double max_over_mean_sum) {
 
 RolloutResult rollout(const Scenario& s, Policy& policy, int events, bool keep_trace) {
   if (events < 1) throw InputError("events must be >= 1, got " + std::to_string(events));
+  if (const auto* offline = dynamic_cast<const ForesightPolicy*>(&policy))  // solved over the whole run, no trace
+    return foresight_rollout(s, offline->lambda(), events);
   Workload workload(s);
   Balancer balancer("", policy, s.slices, s.min_width, optimal_partition(workload.work(), s.ranks, s.min_width));
   RolloutResult res;

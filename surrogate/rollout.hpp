@@ -23,7 +23,8 @@ struct RolloutResult {
 // Event t: the interval runs with the current boundaries under W_t (metrics from noise-free times), the
 // policy sees noisy times and work (and W_{t+1} as oracle_work), and its boundaries govern interval t+1.
 // The initial partition is the workload-aware optimal partition of W_0. Throws std::runtime_error naming
-// the event, rank and quantity if a non-finite value appears.
+// the event, rank and quantity if a non-finite value appears. The offline `foresight` is handed to
+// foresight_rollout (solved over the whole run; no trace).
 RolloutResult rollout(const Scenario& s, Policy& policy, int events, bool keep_trace = false);
 
 // The offline perfect-foresight path (controllers/foresight.hpp) on the same workload: interval 0 runs with
