@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include "common/errors.hpp"
@@ -82,6 +85,72 @@ DeviceInfo choose_device(const std::string& platform, int index, int local_rank)
     throw InputError("backend.device: index " + std::to_string(index) + " but platform '" + chosen + "' has " +
                      std::to_string(devices.size()) + " device(s)");
   return devices[(index + local_rank) % devices.size()];
+}
+
+namespace {
+std::vector<unsigned char> read_buffer(cl_command_queue q, cl_mem m) {
+  size_t bytes = 0;
+  check(clGetMemObjectInfo(m, CL_MEM_SIZE, sizeof bytes, &bytes, nullptr), "capture: buffer size");
+  std::vector<unsigned char> out(bytes);
+  check(clEnqueueReadBuffer(q, m, CL_TRUE, 0, bytes, out.data(), 0, nullptr, nullptr), "capture: read buffer");
+  return out;
+}
+void write_file(const std::filesystem::path& p, const void* data, size_t bytes) {
+  std::ofstream f(p, std::ios::binary);
+  f.write(static_cast<const char*>(data), static_cast<std::streamsize>(bytes));
+  if (!f) throw std::runtime_error("SEMLB_OPENCL_CAPTURE: cannot write " + p.string());
+}
+}  // namespace
+
+KernelCapture KernelCapture::from_env() {
+  KernelCapture c;
+  const char* v = std::getenv("SEMLB_OPENCL_CAPTURE");
+  if (!v || !*v) return c;
+  const std::string s = v;
+  const size_t colon = s.find(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == s.size())
+    throw InputError("SEMLB_OPENCL_CAPTURE: '" + s + "' is not KERNEL:DIR");
+  c.kernel_ = s.substr(0, colon);
+  c.dir_ = s.substr(colon + 1);
+  return c;
+}
+
+void KernelCapture::before(cl_command_queue q, cl_program program, size_t global, size_t group,
+                           const std::vector<Arg>& args) const {
+  const std::filesystem::path dir(dir_);
+  std::filesystem::create_directories(dir);
+  size_t size = 0;
+  check(clGetProgramInfo(program, CL_PROGRAM_BINARY_SIZES, sizeof size, &size, nullptr), "capture: binary size");
+  cl_uint devices = 0;
+  check(clGetProgramInfo(program, CL_PROGRAM_NUM_DEVICES, sizeof devices, &devices, nullptr), "capture: devices");
+  if (devices != 1) throw std::runtime_error("SEMLB_OPENCL_CAPTURE: the program is built for one device only");
+  std::vector<unsigned char> binary(size);
+  unsigned char* ptr = binary.data();
+  check(clGetProgramInfo(program, CL_PROGRAM_BINARIES, sizeof ptr, &ptr, nullptr), "capture: binary");
+  write_file(dir / "program.bin", binary.data(), binary.size());
+  std::ofstream launch(dir / "launch.txt");
+  launch << "kernel " << kernel_ << "\nglobal " << global << "\ngroup " << group << "\n";
+  for (size_t i = 0; i < args.size(); ++i) {
+    const Arg& a = args[i];
+    if (a.kind == Arg::kLocal) {
+      launch << "arg " << i << " local " << a.local << "\n";
+      continue;
+    }
+    const std::vector<unsigned char> bytes = a.kind == Arg::kBuffer ? read_buffer(q, a.mem) : a.bytes;
+    write_file(dir / ("arg" + std::to_string(i) + ".bin"), bytes.data(), bytes.size());
+    launch << "arg " << i << (a.kind == Arg::kBuffer ? " buffer " : " value ") << bytes.size() << "\n";
+  }
+  if (!launch.flush()) throw std::runtime_error("SEMLB_OPENCL_CAPTURE: cannot write " + (dir / "launch.txt").string());
+}
+
+void KernelCapture::after(cl_command_queue q, const std::vector<Arg>& args) {
+  check(clFinish(q), "capture: clFinish");
+  for (size_t i = 0; i < args.size(); ++i)
+    if (args[i].kind == Arg::kBuffer) {
+      const std::vector<unsigned char> bytes = read_buffer(q, args[i].mem);
+      write_file(std::filesystem::path(dir_) / ("arg" + std::to_string(i) + ".after.bin"), bytes.data(), bytes.size());
+    }
+  done_ = true;
 }
 
 }  // namespace semlb::engine::cl

@@ -59,4 +59,32 @@ std::vector<DeviceInfo> list_devices();
 // processes of this host) adds to it, wrapping around, so ranks spread over the devices or share them.
 DeviceInfo choose_device(const std::string& platform, int index, int local_rank = 0);
 
+// One launch of a named kernel written to a folder, so that tools which cannot profile OpenCL (Nsight
+// Compute) can replay it through the CUDA driver (scripts/gpu/ncu_replay.cpp; docs/engine.md "Profiling the
+// force kernel"). Switched on by `SEMLB_OPENCL_CAPTURE=KERNEL:DIR`; the first launch of KERNEL writes
+//   DIR/program.bin   the program binary (PTX text on NVIDIA's platform),
+//   DIR/launch.txt    "kernel NAME", "global N", "group N", then per argument "arg I buffer BYTES", "arg I value
+//                     BYTES" or "arg I local BYTES",
+//   DIR/argI.bin      each buffer before the launch (a value: its bytes), DIR/argI.after.bin each buffer after it.
+// Later launches are not captured. Errors: a malformed variable is an InputError; an unwritable DIR a runtime_error.
+class KernelCapture {
+ public:
+  struct Arg {
+    enum Kind { kBuffer, kValue, kLocal } kind;
+    cl_mem mem = nullptr;              // kBuffer
+    std::vector<unsigned char> bytes;  // kValue
+    size_t local = 0;                  // kLocal: bytes of local memory
+  };
+  static KernelCapture from_env();  // SEMLB_OPENCL_CAPTURE, or a capture that wants nothing
+  bool wants(const std::string& kernel) const { return !done_ && !kernel_.empty() && kernel == kernel_; }
+  // Before the launch is enqueued (reads the buffers: blocking) and after it (waits for the queue).
+  void before(cl_command_queue q, cl_program program, size_t global, size_t group,
+              const std::vector<Arg>& args) const;
+  void after(cl_command_queue q, const std::vector<Arg>& args);
+
+ private:
+  std::string kernel_, dir_;
+  bool done_ = false;
+};
+
 }  // namespace semlb::engine::cl

@@ -43,6 +43,7 @@ class OpenClBackend final : public Backend {
     ctx_ = cl::Context(clCreateContext(nullptr, 1, &dev_.device, nullptr, nullptr, &err));
     cl::check(err, "clCreateContext");
     profile_ = std::getenv("SEMLB_OPENCL_PROFILE") != nullptr;  // per-kernel device times (semlb bench engine)
+    capture_ = cl::KernelCapture::from_env();                      // one launch written for replay (opencl.hpp)
     queue_ = cl::Queue(clCreateCommandQueue(ctx_.get(), dev_.device, profile_ ? CL_QUEUE_PROFILING_ENABLE : 0, &err));
     cl::check(err, "clCreateCommandQueue");
     build();
@@ -559,6 +560,17 @@ class OpenClBackend final : public Backend {
     else cl::check(clSetKernelArg(k, i, sizeof(T), &v), name);
   }
 
+  template <class T>
+  static cl::KernelCapture::Arg captured(const T& v) {
+    using Arg = cl::KernelCapture::Arg;
+    if constexpr (std::is_same_v<T, LocalBytes>) return {Arg::kLocal, nullptr, {}, v.bytes};
+    else if constexpr (std::is_same_v<T, cl_mem>) return {Arg::kBuffer, v, {}, 0};
+    else {
+      const auto* p = reinterpret_cast<const unsigned char*>(&v);
+      return {Arg::kValue, nullptr, std::vector<unsigned char>(p, p + sizeof(T)), 0};
+    }
+  }
+
   template <class... Args>
   void launch(const char* name, long items, size_t group, const Args&... args) {
     if (items <= 0) return;
@@ -567,8 +579,14 @@ class OpenClBackend final : public Backend {
     cl_uint i = 0;
     (set_arg(k, i++, args, name), ...);
     const size_t global = round_up(static_cast<size_t>(items), group);
+    std::vector<cl::KernelCapture::Arg> capture;
+    if (capture_.wants(name)) {
+      (capture.push_back(captured(args)), ...);
+      capture_.before(queue_.get(), program_.get(), global, group, capture);
+    }
     cl_event raw = nullptr;
     cl::check(clEnqueueNDRangeKernel(queue_.get(), k, 1, nullptr, &global, &group, 0, nullptr, profile_ ? &raw : nullptr), name);
+    if (!capture.empty()) capture_.after(queue_.get(), capture);
     if (raw) {
       const cl::Event event(raw);
       cl_event e = event.get();
@@ -624,6 +642,7 @@ class OpenClBackend final : public Backend {
   cl::Context ctx_;
   cl::Queue queue_;
   cl::Program program_;
+  cl::KernelCapture capture_;
   std::map<std::string, cl::Kernel> kernels_;
   std::map<cl_mem, std::vector<Real>> last_written_;
   cl::Mem pos_, keys_, force_, fail_, table_, membrane_, bin_, sorted_pos_, sorted_index_, counts_, starts_, cursor_, sums_;

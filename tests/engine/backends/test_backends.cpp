@@ -4,11 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <map>
 
 #include "engine/backends/cpu_physics.hpp"
 #include "engine/run/simulation.hpp"
 #include "../engine_fixtures.hpp"
+#include "../../run_command.hpp"
 
 namespace semlb::engine {
 namespace {
@@ -236,6 +240,48 @@ TEST(Backends, CellEffectsLaunchTheCellStage) {
     sim.advance(30);
     for (const auto& k : cell_kernels) EXPECT_EQ(sim.backend().launches().count(k), 0u) << backend << " " << k;
   }
+}
+
+// SEMLB_OPENCL_CAPTURE writes the first launch of the named kernel for replay under Nsight Compute
+// (scripts/gpu/ncu_replay.cpp): the program binary, the NDRange, every argument in order with its kind, each
+// buffer before and after the launch; later launches are not captured; a malformed value is refused.
+TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
+  const auto backends = available_backends();
+  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end()) GTEST_SKIP() << "no OpenCL platform";
+  const std::string dir = test::fresh_dir("kernel_capture");
+  const auto s = random_state(40, 9, 40.0, 21);
+  setenv("SEMLB_OPENCL_CAPTURE", ("forces_binned:" + dir).c_str(), 1);
+  const State out = run("opencl-binned", "float", s, 3);
+  unsetenv("SEMLB_OPENCL_CAPTURE");
+  EXPECT_EQ(out.hash(), run("opencl-binned", "float", s, 3).hash());  // capturing changes nothing
+  std::ifstream launch(dir + "/launch.txt");
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(launch, line);) lines.push_back(line);
+  const long n = static_cast<long>(s.position.size() / 3);
+  const std::vector<std::string> want = {"kernel forces_binned", "global " + std::to_string((n + 127) / 128 * 128), "group 128",
+      "arg 0 buffer", "arg 1 buffer", "arg 2 buffer", "arg 3 buffer", "arg 4 value 16", "arg 5 value 16", "arg 6 value 16",
+      "arg 7 buffer", "arg 8 value 4", "arg 9 buffer", "arg 10 value 4", "arg 11 value 4"};
+  ASSERT_EQ(lines.size(), want.size());
+  for (size_t i = 0; i < want.size(); ++i) EXPECT_EQ(lines[i].rfind(want[i], 0), 0u) << lines[i];
+  const auto bytes = [&](const std::string& name) {
+    std::ifstream f(dir + "/" + name, std::ios::binary);
+    return std::vector<char>(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  };
+  EXPECT_FALSE(bytes("program.bin").empty());
+  const std::vector<char> count = bytes("arg10.bin");  // n: the elements of the launch
+  ASSERT_EQ(count.size(), 4u);
+  int32_t items = 0;
+  std::memcpy(&items, count.data(), 4);
+  EXPECT_EQ(items, n);
+  // The force buffer is the one the launch wrote: zero before, the pair forces after; the positions are unchanged.
+  const std::vector<char> before = bytes("arg9.bin"), after = bytes("arg9.after.bin");
+  ASSERT_GE(before.size(), static_cast<size_t>(3 * n * 8));
+  EXPECT_TRUE(std::all_of(before.begin(), before.begin() + 3 * n * 8, [](char c) { return c == 0; }));
+  EXPECT_NE(before, after);
+  EXPECT_EQ(bytes("arg0.bin"), bytes("arg0.after.bin"));
+  setenv("SEMLB_OPENCL_CAPTURE", "forces_binned", 1);
+  EXPECT_THROW(run("opencl-binned", "float", s, 1), InputError);
+  unsetenv("SEMLB_OPENCL_CAPTURE");
 }
 
 TEST(Backends, UnknownBackendIsRefusedWithTheKnownOnes) {

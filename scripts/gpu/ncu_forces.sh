@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Profiles opencl-binned's force kernel under Nsight Compute, which cannot profile OpenCL: captures the first
+# forces_binned launch of `semlb bench engine` (SEMLB_OPENCL_CAPTURE), replays it through the CUDA driver
+# (ncu_replay.cpp: checks the replay reproduces the OpenCL launch bit for bit, times it), and writes ncu's full
+# report, its details page and its per-SASS-instruction source page, for float and double.
+# Usage: scripts/gpu/ncu_forces.sh SEMLB OUT [CELLS] [PRECISIONS]   (an NVIDIA GPU, nvcc and ncu on the PATH)
+set -euo pipefail
+semlb=$1; out=$2; cells=${3:-435661}; precisions=${4:-"float double"}
+here=$(cd "$(dirname "$0")" && pwd)
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+mkdir -p "$out"
+nvcc -O2 -std=c++17 "$here/ncu_replay.cpp" -lcuda -o "$scratch/ncu_replay"
+for p in $precisions; do
+  cap="$scratch/capture_$p"
+  SEMLB_OPENCL_PROFILE=1 SEMLB_OPENCL_CAPTURE="forces_binned:$cap" "$semlb" bench engine --platform NVIDIA \
+    --backends opencl-binned --cells "$cells" --steps 20 --warmup 1 --precision "$p" > "$out/bench_$p.txt" 2>&1
+  "$scratch/ncu_replay" "$cap" 20 > "$out/replay_$p.txt" 2>&1 || { cat "$out/replay_$p.txt"; exit 1; }
+  ncu --clock-control none --set full -k regex:forces_binned -c 1 -f -o "$out/forces_binned_$p" \
+    "$scratch/ncu_replay" "$cap" 1 > "$out/ncu_run_$p.log" 2>&1
+  ncu --import "$out/forces_binned_$p.ncu-rep" --page details --print-details all > "$out/ncu_details_$p.txt" 2>&1 ||
+    ncu --import "$out/forces_binned_$p.ncu-rep" --page details > "$out/ncu_details_$p.txt" 2>&1
+  ncu --import "$out/forces_binned_$p.ncu-rep" --page source --csv --print-source sass > "$out/ncu_source_$p.csv" 2>&1 || true
+  rm -rf "$cap"
+done
