@@ -15,7 +15,10 @@ for p in $precisions; do
   cap="$scratch/capture_$p"
   SEMLB_OPENCL_PROFILE=1 SEMLB_OPENCL_CAPTURE="forces_binned:$cap" "$semlb" bench engine --platform NVIDIA \
     --backends opencl-binned --cells "$cells" --steps 20 --warmup 1 --precision "$p" > "$out/bench_$p.txt" 2>&1
-  "$scratch/ncu_replay" "$cap" 20 > "$out/replay_$p.txt" 2>&1 || { cat "$out/replay_$p.txt"; exit 1; }
+  rc=0; "$scratch/ncu_replay" "$cap" 20 > "$out/replay_$p.txt" 2>&1 || rc=$?
+  cp "$cap/program.bin" "$out/forces_binned_$p.ptx"
+  ptxas -arch=sm_90 -v "$cap/patched.ptx" -o /dev/null > "$out/ptxas_$p.txt" 2>&1 || true
+  [ "$rc" = 0 ] || { cat "$out/replay_$p.txt" "$out/ptxas_$p.txt"; exit 1; }
   ncu --clock-control none --set full -k regex:forces_binned -c 1 -f -o "$out/forces_binned_$p" \
     "$scratch/ncu_replay" "$cap" 1 > "$out/ncu_run_$p.log" 2>&1
   ncu --import "$out/forces_binned_$p.ncu-rep" --page details --print-details all > "$out/ncu_details_$p.txt" 2>&1 ||

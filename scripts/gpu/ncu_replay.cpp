@@ -119,7 +119,8 @@ int main(int argc, char** argv) {
     if (a.kind == "buffer") a.after = slurp(dir + "/arg" + std::to_string(i) + ".after.bin");
   }
   std::vector<unsigned char> ptx = slurp(dir + "/program.bin");
-  const std::string text = patch(std::string(ptx.begin(), ptx.end()));
+  const std::string text = patch(std::string(ptx.begin(), std::find(ptx.begin(), ptx.end(), '\0')));
+  std::ofstream(dir + "/patched.ptx") << text;  // for ptxas -v and for reading
 
   check(cuInit(0), "cuInit");
   CUdevice device;
@@ -128,11 +129,14 @@ int main(int argc, char** argv) {
   check(cuDevicePrimaryCtxRetain(&ctx, device), "cuDevicePrimaryCtxRetain");
   check(cuCtxSetCurrent(ctx), "cuCtxSetCurrent");
   CUmodule module;
-  char log[8192] = {0};
-  CUjit_option opts[] = {CU_JIT_ERROR_LOG_BUFFER, CU_JIT_ERROR_LOG_BUFFER_SIZE_BYTES};
-  void* vals[] = {log, reinterpret_cast<void*>(sizeof log)};
-  if (cuModuleLoadDataEx(&module, text.c_str(), 2, opts, vals) != CUDA_SUCCESS) {
-    std::fprintf(stderr, "ncu_replay: the PTX did not load:\n%s\n", log);
+  char log[8192] = {0}, info[8192] = {0};
+  CUjit_option opts[] = {CU_JIT_ERROR_LOG_BUFFER, CU_JIT_ERROR_LOG_BUFFER_SIZE_BYTES, CU_JIT_INFO_LOG_BUFFER,
+                         CU_JIT_INFO_LOG_BUFFER_SIZE_BYTES};
+  void* vals[] = {log, reinterpret_cast<void*>(sizeof log), info, reinterpret_cast<void*>(sizeof info)};
+  if (const CUresult r = cuModuleLoadDataEx(&module, text.c_str(), 4, opts, vals); r != CUDA_SUCCESS) {
+    const char* name = nullptr;
+    cuGetErrorName(r, &name);
+    std::fprintf(stderr, "ncu_replay: the PTX (%s/patched.ptx) did not load: %s\n%s\n%s\n", dir.c_str(), name ? name : "?", log, info);
     return 1;
   }
   CUfunction fn;
