@@ -6,7 +6,8 @@
 //   REPEATS  timed launches after one checked launch (default 20; 1 under ncu)
 // It loads the PTX with two textual changes that CUDA needs and prints each: loads through __constant
 // pointer arguments become global non-coherent loads (CUDA cannot bind an argument into a constant bank), and
-// the OpenCL global offset (%envreg, set by the OpenCL runtime) becomes 0. Then it checks that one launch
+// the OpenCL global offset (%envreg, set by the OpenCL runtime) becomes 0, and the target loses OpenCL's
+// texmode_independent (the CUDA driver refuses such a module: CUDA_ERROR_INVALID_IMAGE). Then it checks that one launch
 // reproduces every buffer the OpenCL launch wrote, bit for bit (argI.after.bin), and prints the kernel's
 // device time (cuEvent) per launch, each launch starting from the captured inputs.
 // Exit code 0: replay identical; 1: any difference or CUDA error; 2: bad usage or capture folder.
@@ -72,6 +73,7 @@ std::string patch(std::string ptx) {
   ptx = std::regex_replace(ptx, const_load, "ld.global.nc$1$2");
   ptx = std::regex_replace(ptx, cvta_const, "cvta.global.u64");
   ptx = std::regex_replace(ptx, envreg, "0");
+  ptx = std::regex_replace(ptx, std::regex(R"(,\s*texmode_independent)"), "");  // OpenCL's texture mode; CUDA's is unified
   return ptx;
 }
 
@@ -121,6 +123,12 @@ int main(int argc, char** argv) {
   std::vector<unsigned char> ptx = slurp(dir + "/program.bin");
   const std::string text = patch(std::string(ptx.begin(), std::find(ptx.begin(), ptx.end(), '\0')));
   std::ofstream(dir + "/patched.ptx") << text;  // for ptxas -v and for reading
+  // A cubin that ptxas made of patched.ptx, when present, is loaded instead (scripts/gpu/ncu_forces.sh's fallback).
+  std::vector<unsigned char> cubin;
+  if (std::ifstream(dir + "/patched.cubin")) {
+    cubin = slurp(dir + "/patched.cubin");
+    std::printf("loading %s/patched.cubin instead of the PTX\n", dir.c_str());
+  }
 
   check(cuInit(0), "cuInit");
   CUdevice device;
@@ -133,7 +141,7 @@ int main(int argc, char** argv) {
   CUjit_option opts[] = {CU_JIT_ERROR_LOG_BUFFER, CU_JIT_ERROR_LOG_BUFFER_SIZE_BYTES, CU_JIT_INFO_LOG_BUFFER,
                          CU_JIT_INFO_LOG_BUFFER_SIZE_BYTES};
   void* vals[] = {log, reinterpret_cast<void*>(sizeof log), info, reinterpret_cast<void*>(sizeof info)};
-  if (const CUresult r = cuModuleLoadDataEx(&module, text.c_str(), 4, opts, vals); r != CUDA_SUCCESS) {
+  if (const CUresult r = cuModuleLoadDataEx(&module, cubin.empty() ? static_cast<const void*>(text.c_str()) : cubin.data(), 4, opts, vals); r != CUDA_SUCCESS) {
     const char* name = nullptr;
     cuGetErrorName(r, &name);
     std::fprintf(stderr, "ncu_replay: the PTX (%s/patched.ptx) did not load: %s\n%s\n%s\n", dir.c_str(), name ? name : "?", log, info);
