@@ -4,7 +4,8 @@
 // Usage: ncu_replay DIR [REPEATS]
 //   DIR      a capture folder (program.bin = the PTX that NVIDIA's OpenCL compiler produced, launch.txt, argI.bin)
 //   REPEATS  timed launches after one checked launch (default 20; 1 under ncu)
-// It loads the PTX with two textual changes that CUDA needs and prints each: loads through __constant
+// It loads that kernel's entry alone (the program's other kernels take __local arguments, which the CUDA driver
+// refuses) with textual changes that CUDA needs and prints each: loads through __constant
 // pointer arguments become global non-coherent loads (CUDA cannot bind an argument into a constant bank), and
 // the OpenCL global offset (%envreg, set by the OpenCL runtime) becomes 0, and the target loses OpenCL's
 // texmode_independent (the CUDA driver refuses such a module: CUDA_ERROR_INVALID_IMAGE). Then it checks that one launch
@@ -51,6 +52,19 @@ struct Arg {
   std::vector<unsigned char> before, after;
   CUdeviceptr dev = 0;
 };
+
+// The module header (version, target, module-scope .const/.global data) and the one entry `kernel`: the other
+// kernels of the OpenCL program take __local (.ptr .shared) arguments, which the CUDA driver refuses to load.
+std::string only_entry(const std::string& ptx, const std::string& kernel) {
+  const size_t first = ptx.find("\n.entry");
+  const size_t begin = ptx.find("\n.entry " + kernel + "(");
+  if (first == std::string::npos || begin == std::string::npos) usage("program.bin: no PTX entry " + kernel);
+  const size_t end = ptx.find("\n}\n", begin);
+  if (end == std::string::npos) usage("program.bin: the entry " + kernel + " does not end");
+  const std::string body = ptx.substr(begin, end + 3 - begin);
+  if (body.find("call") != std::string::npos) usage("program.bin: the entry " + kernel + " calls functions (not replayed)");
+  return ptx.substr(0, first) + body;
+}
 
 // The PTX changes described above; prints what it changed.
 std::string patch(std::string ptx) {
@@ -121,7 +135,7 @@ int main(int argc, char** argv) {
     if (a.kind == "buffer") a.after = slurp(dir + "/arg" + std::to_string(i) + ".after.bin");
   }
   std::vector<unsigned char> ptx = slurp(dir + "/program.bin");
-  const std::string text = patch(std::string(ptx.begin(), std::find(ptx.begin(), ptx.end(), '\0')));
+  const std::string text = patch(only_entry(std::string(ptx.begin(), std::find(ptx.begin(), ptx.end(), '\0')), kernel));
   std::ofstream(dir + "/patched.ptx") << text;  // for ptxas -v and for reading
   // A cubin that ptxas made of patched.ptx, when present, is loaded instead (scripts/gpu/ncu_forces.sh's fallback).
   std::vector<unsigned char> cubin;
