@@ -441,7 +441,9 @@ class OpenClBackend final : public Backend {
     const char* text = source.c_str();
     program_ = cl::Program(clCreateProgramWithSource(ctx_.get(), 1, &text, nullptr, &err));
     cl::check(err, "clCreateProgramWithSource");
-    const std::string options = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") + (has_fp64_ ? " -DSEMLB_CELLS" : "");
+    std::string options = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") + (has_fp64_ ? " -DSEMLB_CELLS" : "");
+    // Kernel experiments (docs/engine.md): e.g. SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_SLOTS=2 to time a variant.
+    if (const char* extra = std::getenv("SEMLB_OPENCL_BUILD_OPTIONS")) options += std::string(" ") + extra;
     if (clBuildProgram(program_.get(), 1, &dev_.device, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
       size_t n = 0;
       clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
