@@ -111,29 +111,73 @@ static inline void accumulate(real4 me, int info, int s, int o, __global const r
 
 /* Candidates taken at a time by forces_binned: the bits of one mask. */
 #define SEMLB_CHUNK 64
-/* Masks forces_binned holds before it runs the force law on their set bits (build option -DSEMLB_SLOTS=N). */
-#ifndef SEMLB_SLOTS
-#define SEMLB_SLOTS 4
-#endif
-#if SEMLB_SLOTS < 1 || SEMLB_SLOTS > 4
-#error "SEMLB_SLOTS: 1 to 4 (the queue's registers)"
-#endif
 
 /* Pair forces over the 27-bin stencil: 9 rows of 3 bins, contiguous in bin order. One item per sorted element.
-   A row's candidates are taken SEMLB_CHUNK at a time into a bit mask of those within the cutoff (a NaN distance
-   counts as within, as in semlb_pair_force); non-empty masks are queued, and when SEMLB_SLOTS are queued (and at
-   the end) the force law runs on their set bits in one loop. A warp runs that loop as often as its busiest lane
-   needs; over several masks the lanes' counts even out (one mask at a time: 14 of 32 lanes busy in the force law
-   on an H200 at 6.5e6 elements, ncu; docs/engine.md "Profiling the force kernel"). The queue is shifted, never
-   indexed, so that it stays in registers. */
-#define SEMLB_QUEUE_PUSH(m, b)                                                                                   \
-  do {                                                                                                         \
-    if (queued == 0) { q0 = (m); b0 = (b); }                                                                   \
-    else if (queued == 1) { q1 = (m); b1 = (b); }                                                              \
-    else if (queued == 2) { q2 = (m); b2 = (b); }                                                              \
-    else { q3 = (m); b3 = (b); }                                                                               \
-    ++queued;                                                                                                  \
-  } while (0)
+   A row's candidates are taken SEMLB_CHUNK at a time: first a bit mask of those within the cutoff (a NaN
+   distance counts as within, as in semlb_pair_force), then the force law on the set bits only, so that the
+   lanes of a warp run the costly part together rather than idling through it for every candidate that one
+   lane alone keeps (docs/engine.md: 1.13x float, 1.31x double on an H200 at 6.5e6 elements). */
+#ifdef SEMLB_SLOTS
+/* Experiment (SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_SLOTS=N, N in 1..4; docs/engine.md "Profiling the force kernel"):
+   every chunk's mask is queued, empty or not, so that the lanes of a warp flush together, and the force law runs
+   over the set bits of N masks in one loop: the busiest lane over N masks instead of over each mask. The queue is
+   shifted, never indexed, so that it stays in registers. */
+#if SEMLB_SLOTS < 1 || SEMLB_SLOTS > 4
+#error "SEMLB_SLOTS: 1 to 4"
+#endif
+#define SEMLB_FLUSH()                                                                                          \
+  while (queued) {                                                                                             \
+    if (!q0) {                                                                                                 \
+      q0 = q1; q1 = q2; q2 = q3; q3 = 0;                                                                       \
+      b0 = b1; b1 = b2; b2 = b3;                                                                               \
+      --queued;                                                                                                \
+      continue;                                                                                                \
+    }                                                                                                          \
+    int k = 63 - (int)clz(q0 & (0 - q0));                                                                      \
+    q0 &= q0 - 1;                                                                                              \
+    accumulate(me, info, s, b0 + k, sorted_pos, sorted_index, keys, table, cutoff2, acc);                      \
+  }
+__kernel void forces_binned(__global const real4* sorted_pos, __global const int* sorted_index,
+                            __global const ulong* keys, __global const int* starts, real4 lo, real4 size, int4 dims,
+                            __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n,
+                            int owned) {
+  int s = get_global_id(0);
+  if (s >= n || sorted_index[s] >= owned) return;
+  real4 me = sorted_pos[s];
+  int info = INFO(me.w);
+  int4 b = bin3(me, lo, size, dims);
+  SEMLB_REAL cutoff2 = cutoff * cutoff;
+  long acc[3] = {0, 0, 0};
+  ulong q0 = 0, q1 = 0, q2 = 0, q3 = 0;
+  int b0 = 0, b1 = 0, b2 = 0, b3 = 0, queued = 0;
+  int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1);
+  for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
+    for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
+      int row = (z * dims.y + y) * dims.x;
+      int last = starts[row + x1 + 1];
+      for (int base = starts[row + x0]; base < last; base += SEMLB_CHUNK) {
+        int m = min(SEMLB_CHUNK, last - base);
+        ulong mask = 0;
+        for (int k = 0; k < m; ++k) {
+          real4 q = sorted_pos[base + k];
+          SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
+          if (!(dx * dx + dy * dy + dz * dz >= cutoff2)) mask |= (ulong)1 << k;
+        }
+        if (s >= base && s < base + m) mask &= ~((ulong)1 << (s - base));
+        if (queued == 0) { q0 = mask; b0 = base; }
+        else if (queued == 1) { q1 = mask; b1 = base; }
+        else if (queued == 2) { q2 = mask; b2 = base; }
+        else { q3 = mask; b3 = base; }
+        if (++queued == SEMLB_SLOTS) SEMLB_FLUSH()
+      }
+    }
+  SEMLB_FLUSH()
+  int i = sorted_index[s];
+  force[3 * i] += acc[0];
+  force[3 * i + 1] += acc[1];
+  force[3 * i + 2] += acc[2];
+}
+#else
 __kernel void forces_binned(__global const real4* sorted_pos, __global const int* sorted_index,
                             __global const ulong* keys, __global const int* starts, real4 lo, real4 size, int4 dims,
                             __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n,
@@ -145,55 +189,33 @@ __kernel void forces_binned(__global const real4* sorted_pos, __global const int
   int4 b = bin3(me, lo, size, dims);
   SEMLB_REAL cutoff2 = cutoff * cutoff;
   long acc[3] = {0, 0, 0};
-  ulong q0 = 0, q1 = 0, q2 = 0, q3 = 0;
-  int b0 = 0, b1 = 0, b2 = 0, b3 = 0, queued = 0;
   int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1);
-  int z0 = max(b.z - 1, 0), z1 = min(b.z + 1, dims.z - 1), y0 = max(b.y - 1, 0), y1 = min(b.y + 1, dims.y - 1);
-  int z = z0, y = y0;
-  int base = starts[(z * dims.y + y) * dims.x + x0], last = starts[(z * dims.y + y) * dims.x + x1 + 1];
-  for (;;) {
-    bool more = true;  /* a chunk left in the stencil */
-    while (base >= last) {  /* next row */
-      if (++y > y1) {
-        y = y0;
-        if (++z > z1) { more = false; break; }
-      }
+  for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
+    for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
       int row = (z * dims.y + y) * dims.x;
-      base = starts[row + x0];
-      last = starts[row + x1 + 1];
-    }
-    if (more) {
-      int m = min(SEMLB_CHUNK, last - base);
-      ulong mask = 0;
-      for (int k = 0; k < m; ++k) {
-        real4 q = sorted_pos[base + k];
-        SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
-        if (!(dx * dx + dy * dy + dz * dz >= cutoff2)) mask |= (ulong)1 << k;
-      }
-      if (s >= base && s < base + m) mask &= ~((ulong)1 << (s - base));
-      if (mask) SEMLB_QUEUE_PUSH(mask, base);
-      base += m;
-    }
-    if (queued == SEMLB_SLOTS || (!more && queued)) {
-      while (queued) {
-        if (!q0) {
-          q0 = q1; q1 = q2; q2 = q3; q3 = 0;
-          b0 = b1; b1 = b2; b2 = b3;
-          --queued;
-          continue;
+      int last = starts[row + x1 + 1];
+      for (int base = starts[row + x0]; base < last; base += SEMLB_CHUNK) {
+        int m = min(SEMLB_CHUNK, last - base);
+        ulong mask = 0;
+        for (int k = 0; k < m; ++k) {
+          real4 q = sorted_pos[base + k];
+          SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
+          if (!(dx * dx + dy * dy + dz * dz >= cutoff2)) mask |= (ulong)1 << k;
         }
-        int k = 63 - (int)clz(q0 & (0 - q0));  /* the lowest set bit */
-        q0 &= q0 - 1;
-        accumulate(me, info, s, b0 + k, sorted_pos, sorted_index, keys, table, cutoff2, acc);
+        if (s >= base && s < base + m) mask &= ~((ulong)1 << (s - base));
+        while (mask) {
+          int k = 63 - (int)clz(mask & (0 - mask));  /* the lowest set bit */
+          mask &= mask - 1;
+          accumulate(me, info, s, base + k, sorted_pos, sorted_index, keys, table, cutoff2, acc);
+        }
       }
     }
-    if (!more) break;
-  }
   int i = sorted_index[s];
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
 }
+#endif
 
 /* All pairs, tiled through local memory (the GPU all-pairs baseline of the paper). */
 __kernel void forces_allpairs(__global const real4* pos, __global const ulong* keys, __constant const SEMLB_REAL* table,
