@@ -86,7 +86,8 @@ class Backend {
   // Element data (positions, packed info, keys) from the host state; call after every host change.
   // Drops the ghosts.
   virtual void upload(const State& state) = 0;
-  // Replaces the ghost elements (kept after the owned ones); forces on owned elements include them.
+  // Replaces the ghost elements (kept after the owned ones); the non-local forces come from them. The forces
+  // added so far stay: a decomposed step sets the ghosts between the local and the non-local forces.
   virtual void set_ghosts(const Ghosts& ghosts) = 0;
   // The owned elements' positions; after a cell stage on the device also the cells (ids, types, counts)
   // and the cell fields the state lists ("growth.clock", "division.depth", "differentiation.age").
@@ -120,9 +121,20 @@ class Backend {
                             State& leavers, std::vector<int>& owner);
   // Appends `arrivals`' cells after the owned ones (their fields by name; missing ones are 0). Drops the ghosts.
   virtual void append_cells(State& host, const State& arrivals);
-  // Forces start at zero each step; pair_forces and membrane_forces add to them (fixed point).
+  // Forces start at zero each step; the pair forces and membrane_forces add to them (fixed point).
   virtual void zero_forces() = 0;
-  virtual void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;
+  // Pair forces in two parts, as GROMACS splits them: the local part (owned elements on owned elements) needs no
+  // ghost, so a decomposed run computes it while the ghost bands travel; the non-local part (ghosts on owned
+  // elements; nothing without ghosts, no launch) after they arrived. Each pair's force is a fixed-point integer,
+  // so local + non-local equals the full sum bit for bit, in any order. `table`: SEMLB_TABLE_SIZE derived Morse
+  // constants (mechanics.cpp); `cutoff` in um; `grid` bins both parts.
+  virtual void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;
+  virtual void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;
+  // Both parts: every pair within the cutoff (one device, tests and benches).
+  void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) {
+    pair_forces_local(table, cutoff, grid);
+    pair_forces_nonlocal(table, cutoff, grid);
+  }
   virtual void membrane_forces(const std::vector<double>& membrane) = 0;
   // Y += dt/eta * F; records a Failure on a non-finite position or a step above max_step. The failing step
   // completes on every element; from the next step on, integrate and noise move nothing (frozen).

@@ -29,8 +29,7 @@ class CpuBackend : public Backend {
     key_.resize(owned_);
     pos_.insert(pos_.end(), g.position.begin(), g.position.end());
     info_.insert(info_.end(), g.info.begin(), g.info.end());
-    key_.insert(key_.end(), g.keys.begin(), g.keys.end());
-    force_.assign(3 * owned_, 0);
+    key_.insert(key_.end(), g.keys.begin(), g.keys.end());  // the forces added so far stay (the local part)
   }
   void download(State& s) override { s.position.assign(pos_.begin(), pos_.begin() + 3 * owned_); }
   bool update_cells(State& host, const CellRules& rules, uint64_t seed, double elapsed_h, long step) override {

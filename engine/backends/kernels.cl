@@ -155,14 +155,59 @@ __kernel void forces_binned(__global const real4* sorted_pos, __global const int
   force[3 * i + 2] += acc[2];
 }
 
-/* All pairs, tiled through local memory (the GPU all-pairs baseline of the paper). */
+/* Non-local pair forces: the ghosts (pos[owned ..]) on the owned elements, one item per owned element. The
+   host sorts the ghosts by bin: ghost_bin[k] ascending (linear bin index, x fastest), ghost_order[k] the ghost's
+   element index; column[x] != 0 when a ghost lies in x-column x. An element with no ghost in the columns next to
+   it exits at once; the others find each of their 9 stencil rows (3 contiguous bins) by binary search. */
+static inline int lower_bound_int(__global const int* a, int n, int key) {
+  int lo = 0, hi = n;
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    if (a[mid] < key) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo;
+}
+__kernel void forces_ghosts(__global const real4* pos, __global const ulong* keys, __global const int* ghost_bin,
+                            __global const int* ghost_order, int ghosts, __global const int* column, real4 lo,
+                            real4 size, int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff,
+                            __global long* force, int owned) {
+  int i = get_global_id(0);
+  if (i >= owned) return;
+  real4 me = pos[i];
+  int4 b = bin3(me, lo, size, dims);
+  int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1);
+  int near = 0;
+  for (int x = x0; x <= x1; ++x) near |= column[x];
+  if (!near) return;
+  int info = INFO(me.w);
+  SEMLB_REAL cutoff2 = cutoff * cutoff;
+  long acc[3] = {0, 0, 0};
+  for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
+    for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
+      int row = (z * dims.y + y) * dims.x;
+      int last = lower_bound_int(ghost_bin, ghosts, row + x1 + 1);
+      for (int k = lower_bound_int(ghost_bin, ghosts, row + x0); k < last; ++k) {
+        int j = ghost_order[k];
+        real4 q = pos[j];
+        if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
+          semlb_coincident_force(keys[i], keys[j], info, INFO(q.w), table, acc);
+      }
+    }
+  force[3 * i] += acc[0];
+  force[3 * i + 1] += acc[1];
+  force[3 * i + 2] += acc[2];
+}
+
+/* All pairs, tiled through local memory (the GPU all-pairs baseline of the paper): the forces of elements
+   [from, n) on the owned elements [0, owned) (local part: from 0, n = owned; non-local: from = owned). */
 __kernel void forces_allpairs(__global const real4* pos, __global const ulong* keys, __constant const SEMLB_REAL* table,
-                              SEMLB_REAL cutoff2, __global long* force, int n, int owned, __local real4* tile) {
+                              SEMLB_REAL cutoff2, __global long* force, int n, int owned, __local real4* tile, int from) {
   int i = get_global_id(0), l = get_local_id(0), w = get_local_size(0);
   real4 me = i < n ? pos[i] : (real4)(0);
   int info = INFO(me.w);
   long acc[3] = {0, 0, 0};
-  for (int base = 0; base < n; base += w) {
+  for (int base = from; base < n; base += w) {
     tile[l] = base + l < n ? pos[base + l] : (real4)(0);
     barrier(CLK_LOCAL_MEM_FENCE);
     int count = min(w, n - base);

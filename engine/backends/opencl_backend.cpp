@@ -1,4 +1,5 @@
 // "opencl-allpairs" and "opencl-binned": the element kernels of kernels.cl on one OpenCL device.
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstdlib>
@@ -71,6 +72,7 @@ class OpenClBackend final : public Backend {
     reserve_elements(owned_ + g.elements());
     write_elements(owned_, g.position, g.info, g.keys);
     n_ = owned_ + g.elements();
+    ghost_host_ = g.position;  // sorted into bins on the host for the non-local forces
   }
 
   std::vector<double> ghost_positions() override {
@@ -341,18 +343,62 @@ class OpenClBackend final : public Backend {
     if (owned_) cl::check(clEnqueueFillBuffer(queue_.get(), force_.get(), &zero, sizeof zero, 0, 3 * owned_ * sizeof(cl_long), 0, nullptr, nullptr), "zero forces");
   }
 
-  void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) override {
+  void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid& grid) override {
     write_reals(table_, table);
     const Real c2 = static_cast<Real>(cutoff * cutoff);
-    const cl_int n = static_cast<cl_int>(n_);
     if (!binned_) {
-      launch("forces_allpairs", n_, kGroup, pos_.get(), keys_.get(), table_.get(), c2, force_.get(), n, owned(),
-             LocalBytes{kGroup * sizeof(Real4)});
+      launch("forces_allpairs", owned_, kGroup, pos_.get(), keys_.get(), table_.get(), c2, force_.get(), owned(), owned(),
+             LocalBytes{kGroup * sizeof(Real4)}, cl_int{0});
       return;
     }
-    sort_into_bins(grid);
-    launch("forces_binned", n_, kGroup, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(), real4(grid.lo),
-           real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get(), n, owned());
+    sort_into_bins(grid, owned_);
+    launch("forces_binned", owned_, kGroup, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(), real4(grid.lo),
+           real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get(), owned(), owned());
+  }
+
+  // Ghosts sorted by bin on the host (they are few, and their positions came from the host): 8 bytes per ghost
+  // and 4 per x-column of the grid go up; then forces_ghosts (binned) or all pairs from the ghosts (allpairs).
+  void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid& grid) override {
+    const long ghosts = n_ - owned_;
+    if (ghosts == 0) return;
+    write_reals(table_, table);
+    if (!binned_) {
+      launch("forces_allpairs", owned_, kGroup, pos_.get(), keys_.get(), table_.get(), static_cast<Real>(cutoff * cutoff),
+             force_.get(), static_cast<cl_int>(n_), owned(), LocalBytes{kGroup * sizeof(Real4)}, owned());
+      return;
+    }
+    if (static_cast<long>(ghost_host_.size()) != 3 * ghosts) throw std::logic_error("opencl: ghosts changed on the device alone");
+    std::vector<std::pair<cl_int, cl_int>> by_bin(ghosts);  // (bin, element)
+    std::vector<cl_int> column(grid.dims[0], 0);
+    const Real4 glo = real4(grid.lo), gsize = real4(grid.size);
+    const auto bin1 = [&](int d, long g) {  // the kernels' bin1 in Real
+      const Real v = std::floor((static_cast<Real>(ghost_host_[3 * g + d]) - glo[d]) / gsize[d]);
+      return static_cast<int>(std::fmin(std::fmax(v, Real(0)), static_cast<Real>(grid.dims[d] - 1)));
+    };
+    for (long g = 0; g < ghosts; ++g) {
+      const int bx = bin1(0, g);
+      by_bin[g] = {static_cast<cl_int>((static_cast<long>(bin1(2, g)) * grid.dims[1] + bin1(1, g)) * grid.dims[0] + bx),
+                   static_cast<cl_int>(owned_ + g)};
+      column[bx] = 1;
+    }
+    std::sort(by_bin.begin(), by_bin.end());
+    std::vector<cl_int> bins(ghosts), order(ghosts);
+    for (long k = 0; k < ghosts; ++k) bins[k] = by_bin[k].first, order[k] = by_bin[k].second;
+    if (ghosts > ghost_capacity_) {
+      ghost_capacity_ = ghosts + ghosts / 4 + 64;
+      ghost_bin_ = buffer(ghost_capacity_ * sizeof(cl_int));
+      ghost_order_ = buffer(ghost_capacity_ * sizeof(cl_int));
+    }
+    if (grid.dims[0] > column_capacity_) {
+      column_capacity_ = grid.dims[0];
+      ghost_column_ = buffer(column_capacity_ * sizeof(cl_int));
+    }
+    write(ghost_bin_, bins.data(), ghosts * sizeof(cl_int));
+    write(ghost_order_, order.data(), ghosts * sizeof(cl_int));
+    write(ghost_column_, column.data(), column.size() * sizeof(cl_int));
+    launch("forces_ghosts", owned_, kGroup, pos_.get(), keys_.get(), ghost_bin_.get(), ghost_order_.get(),
+           static_cast<cl_int>(ghosts), ghost_column_.get(), glo, gsize, int4(grid.dims), table_.get(),
+           static_cast<Real>(cutoff), force_.get(), owned());
   }
 
   void membrane_forces(const std::vector<double>& m) override {
@@ -449,7 +495,7 @@ class OpenClBackend final : public Backend {
       throw std::runtime_error("OpenCL: kernels failed to build on " + device_name() + ":\n" + log);
     }
     for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned",
-                          "forces_allpairs", "membrane", "integrate", "noise", "x_extent", "band_flags", "band_gather", "bounds"}) {
+                          "forces_ghosts", "forces_allpairs", "membrane", "integrate", "noise", "x_extent", "band_flags", "band_gather", "bounds"}) {
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
       cl::check(err, k);
     }
@@ -486,13 +532,15 @@ class OpenClBackend final : public Backend {
     }
   }
 
-  // Room for n elements (owned + ghosts); growing keeps elements [0, n_) by device copies.
+  // Room for n elements (owned + ghosts); growing keeps elements [0, n_) and the owned elements' forces (the
+  // local part, when the ghosts arrive between the two parts) by device copies.
   void reserve_elements(long n) {
     if (n <= capacity_) return;
-    cl::Mem old_pos = std::move(pos_), old_keys = std::move(keys_);
+    cl::Mem old_pos = std::move(pos_), old_keys = std::move(keys_), old_force = std::move(force_);
     allocate(n + n / 4 + 64);
     copy(old_pos, pos_, n_ * sizeof(Real4));
     copy(old_keys, keys_, n_ * sizeof(uint64_t));
+    copy(old_force, force_, 3 * owned_ * sizeof(cl_long));
   }
 
   // The per-cell work arrays of the cell stage and the migration for n cells.
@@ -537,7 +585,7 @@ class OpenClBackend final : public Backend {
   }
 
   // Counting sort by bin: count (atomics), exclusive scan, scatter.
-  void sort_into_bins(const Grid& g) {
+  void sort_into_bins(const Grid& g, long count) {  // elements [0, count)
     const long bins = g.bins();
     if (bins > bins_capacity_) {
       bins_capacity_ = bins;
@@ -546,11 +594,11 @@ class OpenClBackend final : public Backend {
       cursor_ = buffer(bins * sizeof(cl_int));
       sums_ = buffer(round_up(bins, kScanGroup) / kScanGroup * sizeof(cl_int));
     }
-    const cl_int zero = 0, n = static_cast<cl_int>(n_);
+    const cl_int zero = 0, n = static_cast<cl_int>(count);
     cl::check(clEnqueueFillBuffer(queue_.get(), counts_.get(), &zero, sizeof zero, 0, bins * sizeof(cl_int), 0, nullptr, nullptr), "zero bins");
-    launch("bin_count", n_, kGroup, pos_.get(), n, real4(g.lo), real4(g.size), int4(g.dims), bin_.get(), counts_.get());
+    launch("bin_count", count, kGroup, pos_.get(), n, real4(g.lo), real4(g.size), int4(g.dims), bin_.get(), counts_.get());
     exclusive_scan(counts_, starts_, sums_, cursor_, bins);
-    launch("scatter", n_, kGroup, pos_.get(), bin_.get(), cursor_.get(), sorted_pos_.get(), sorted_index_.get(), n);
+    launch("scatter", count, kGroup, pos_.get(), bin_.get(), cursor_.get(), sorted_pos_.get(), sorted_index_.get(), n);
   }
 
   template <class T>
@@ -628,6 +676,9 @@ class OpenClBackend final : public Backend {
   std::map<cl_mem, std::vector<Real>> last_written_;
   cl::Mem pos_, keys_, force_, fail_, table_, membrane_, bin_, sorted_pos_, sorted_index_, counts_, starts_, cursor_, sums_;
   cl::Mem extent_, flags_, band_starts_, band_sums_, band_pos_, band_keys_;  // ghost bands
+  cl::Mem ghost_bin_, ghost_order_, ghost_column_;  // the ghosts sorted by bin (pair_forces_nonlocal)
+  long ghost_capacity_ = 0, column_capacity_ = 0;
+  std::vector<double> ghost_host_;  // the positions of the ghosts set last
   long n_ = 0, owned_ = 0, capacity_ = 0, bins_capacity_ = 0;  // n_: owned + ghosts
 };
 

@@ -10,15 +10,26 @@ class SerialBackend final : public CpuBackend<Real> {
   SerialBackend() : CpuBackend<Real>(1) {}
   std::string name() const override { return "serial"; }
 
-  void pair_forces(const std::vector<double>& table, double cutoff, const Grid&) override {
+  void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid&) override {
     this->count("forces_allpairs");
+    pairs(table, cutoff, 0, this->owned());
+  }
+  void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid&) override {
+    if (this->total() == this->owned()) return;  // no ghosts
+    this->count("forces_nonlocal");
+    pairs(table, cutoff, this->owned(), this->total());
+  }
+
+ private:
+  // Adds the forces of elements [from, to) on every owned element.
+  void pairs(const std::vector<double>& table, double cutoff, long from, long to) {
     const std::vector<Real> t(table.begin(), table.end());
     const Real c2 = static_cast<Real>(cutoff * cutoff);
-    const long owned = this->owned(), n = this->total();
+    const long owned = this->owned();
     const Real* p = this->pos_.data();
     for (long i = 0; i < owned; ++i) {
       int64_t acc[3] = {0, 0, 0};
-      for (long j = 0; j < n; ++j)
+      for (long j = from; j < to; ++j)
         if (j != i)
           Physics<Real>::pair(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2],
                               this->info_[i], this->info_[j], this->key_[i], this->key_[j], t.data(), c2, acc);

@@ -33,7 +33,7 @@ Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
   p.finish();
   s.finish();
   // On 3 or more ranks the ghost exchange, which reaches the neighbouring ranks only, needs slabs at least as
-  // wide as the cutoff plus a cell's reach (taken as one cutoff) on either side. exchange_ghosts() still
+  // wide as the cutoff plus a cell's reach (taken as one cutoff) on either side. start_exchange() still
   // checks the elements at every step and stops the run if a cell reaches further.
   const int ghost_slices = static_cast<int>(std::ceil(3 * scene.cutoff / d.width));
   if (ranks >= 3 && d.min_width < ghost_slices) {

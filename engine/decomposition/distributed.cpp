@@ -55,7 +55,8 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
   State mine;  // every rank holds the whole tissue here: each keeps its own cells, nothing is sent
   split_by_owner(tissue, dec_, balancer_->boundaries(), mpi.rank(), mine);
   sim_ = std::make_unique<Simulation>(scene, std::move(mine));
-  sim_->before_forces = [this] { exchange_ghosts(); };
+  sim_->before_forces = [this] { start_exchange(); };
+  sim_->before_nonlocal_forces = [this] { finish_exchange(); };
   sim_->after_cells = [this] { migrate_cells(); };
   sim_->failure_check = [this] { collective_check(); };
   trace_path_ = mpi.rank() == 0 ? trace_path : "";  // opened at the first event: nothing is written before
@@ -79,13 +80,13 @@ double DistributedSimulation::compute_seconds() const {
 // Owned elements within the cutoff of a neighbour's elements go to that neighbour; only neighbours
 // exchange, so no two ranks further apart may hold elements within the cutoff of each other (checked here,
 // over all pairs of ranks). The check and the per-step failure flag (set by the previous step's
-// integration, seen before the next step moves anything) are agreed from one allgather, so every rank stops at the same step. The backend selects
-// the bands on its device: only the x range, the flag and the band elements cross to the host.
-void DistributedSimulation::exchange_ghosts() {
+// integration, seen before the next step moves anything) are agreed from one allgather, so every rank stops at
+// the same step. The backend selects the bands on its device: only the x range, the flag and the band elements
+// cross to the host. The bands are then posted (non-blocking) and travel while the local forces are computed;
+// finish_exchange() waits for them before the non-local forces (docs/engine.md, "What overlaps with what").
+void DistributedSimulation::start_exchange() {
   const int r = mpi_->rank(), P = mpi_->size();
   if (P == 1) return;  // no neighbours; the failure is caught at the next check, the state frozen meanwhile
-  if (r == fault_rank_ && step() == fault_step_)
-    throw std::runtime_error("step " + std::to_string(step()) + ": fault injected by SEMLB_FAULT_INJECT");
   const auto t0 = std::chrono::steady_clock::now();
   Backend& b = sim_->backend();
   PhaseScope phase(b, "exchange");
@@ -110,10 +111,26 @@ void DistributedSimulation::exchange_ghosts() {
   Ghosts left, right;
   if (r > 0) b.band(his(r - 1) + reach, true, left);
   if (r + 1 < P) b.band(los(r + 1) - reach, false, right);
+  send_left_ = pack_band(left);
+  send_right_ = pack_band(right);
+  const int below = r > 0 ? r - 1 : MPI_PROC_NULL, above = r + 1 < P ? r + 1 : MPI_PROC_NULL;
+  mpi_->start_sendrecv(send_left_, below, above, from_above_, 1, pending_);   // tags 1, 2: bands sent down
+  mpi_->start_sendrecv(send_right_, above, below, from_below_, 3, pending_);  // tags 3, 4: bands sent up
+  if (r == fault_rank_ && step() == fault_step_)  // with its bands in flight: Requests frees them, MPI_Abort follows
+    throw std::runtime_error("step " + std::to_string(step()) + ": fault injected by SEMLB_FAULT_INJECT");
+  exchange_s_ += seconds_since(t0);
+}
+
+// Waits for the bands posted by start_exchange() (the time a rank waits beyond its local forces is what
+// exchange_s counts) and sets them as the backend's ghosts for the non-local forces.
+void DistributedSimulation::finish_exchange() {
+  if (mpi_->size() == 1) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  Backend& b = sim_->backend();
+  PhaseScope phase(b, "exchange");
+  pending_.wait();
   Ghosts g;
-  for (const auto& bytes : {mpi_->sendrecv(pack_band(left), r > 0 ? r - 1 : MPI_PROC_NULL, r + 1 < P ? r + 1 : MPI_PROC_NULL),
-                            mpi_->sendrecv(pack_band(right), r + 1 < P ? r + 1 : MPI_PROC_NULL, r > 0 ? r - 1 : MPI_PROC_NULL)})
-    unpack_band(bytes, g);
+  for (const auto* bytes : {&from_above_, &from_below_}) unpack_band(*bytes, g);
   int cell = static_cast<int>(sim_->counts().first) - 1;  // ghost cells are numbered after the owned ones
   for (long e = 0; e < g.elements(); ++e) {  // a band holds each cell's elements contiguously
     if (e == 0 || cell_id_of_key(g.keys[e]) != cell_id_of_key(g.keys[e - 1])) ++cell;

@@ -68,11 +68,16 @@ void Simulation::refit_grid() {
 void Simulation::step_once() {
   const long step = state_.step;
   size_t phase = 0;
-  if (before_forces) before_forces();
+  if (before_forces) before_forces();  // starts the ghost exchange: the bands travel during the local forces
   PhaseScope in_step(*backend_, "step");
   backend_->zero_forces();
+  const size_t first_force = phase;
   for (const auto& e : effects_)
     if (e->adds_forces()) timed(phase++, [&] { e->forces(*backend_, grid_); });
+  if (before_nonlocal_forces) before_nonlocal_forces();  // waits for the ghosts
+  size_t force = first_force;
+  for (const auto& e : effects_)
+    if (e->adds_forces()) timed(force++, [&] { e->nonlocal_forces(*backend_, grid_); });
   timed(phase++, [&] { backend_->integrate(scene_->dt / scene_->friction, scene_->max_displacement, step); });
   for (const auto& e : effects_)
     if (e->moves_after_integration()) timed(phase++, [&] { e->after_integration(*backend_, step); });

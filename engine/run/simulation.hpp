@@ -56,7 +56,9 @@ class Simulation {
   void check();
 
   // Hooks of the decomposed run (distributed.cpp); empty by default.
-  std::function<void()> before_forces;  // every step, before the force effects (ghost exchange)
+  // Every step: before_forces before the force effects' local parts (starts the ghost exchange),
+  // before_nonlocal_forces before their non-local parts (waits for it: the ghosts are set after it).
+  std::function<void()> before_forces, before_nonlocal_forces;
   std::function<void()> after_cells;    // after each cell update (cell migration)
   std::function<void()> failure_check;  // replaces check() (a collective check across ranks)
   State& state() { return state_; }     // the host state, for the decomposed run to edit, then reload()

@@ -7,6 +7,8 @@
 #include <map>
 
 #include "engine/backends/cpu_physics.hpp"
+#include "engine/effects/cell_types.hpp"
+#include "engine/effects/effect.hpp"
 #include "engine/run/simulation.hpp"
 #include "../engine_fixtures.hpp"
 
@@ -140,6 +142,70 @@ TEST(Backends, GhostBandsAndXRangeMatchTheHostState) {
           for (int d = 0; d < 3; ++d) EXPECT_NEAR(band.position[3 * k + d], s.position[3 * want[k] + d], tol);
         }
       }
+    }
+}
+
+// The split of the pair forces (local: owned on owned; non-local: ghosts on owned) is exact: on a tissue cut into
+// owned cells (x below the middle) and ghost cells, local + non-local moves every owned element exactly as the
+// whole tissue on one device does, in either order; without the non-local part it differs (the ghosts matter).
+TEST(Backends, LocalPlusNonLocalEqualsTheFullPairForcesBitForBit) {
+  const auto tissue = random_state(400, 8, 60.0, 21);
+  State owned, ghost_cells;
+  for (long c = 0; c < tissue.cells(); ++c) copy_cell(tissue, c, centroid(tissue, c)[0] < 30.0 ? owned : ghost_cells);
+  owned.reindex();
+  ghost_cells.reindex();
+  ASSERT_GT(owned.cells(), 50);
+  ASSERT_GT(ghost_cells.cells(), 50);
+  Ghosts ghosts;  // numbered after the owned cells, as the ghost exchange does
+  ghosts.position = ghost_cells.position;
+  ghosts.keys = ghost_cells.element_keys();
+  for (int info : ghost_cells.element_info())
+    ghosts.info.push_back(phys64::semlb_info_pack(static_cast<int>(owned.cells()) + phys64::semlb_info_cell(info),
+                                                  phys64::semlb_info_type(info)));
+  auto scene = scene_from(testing::kMechanicsYaml, {});
+  const Grid grid = Grid::cover({0, 0, 0}, {60, 60, 60}, scene.cutoff);
+  std::vector<double> table(SEMLB_TABLE_SIZE);  // derived Morse constants (mechanics.cpp): intra apart from inter
+  const auto put = [&](int at, double U0, double V0, double xi1, double xi2) {
+    table[at] = U0 / xi1, table[at + 1] = 1 / xi1, table[at + 2] = V0 / xi2, table[at + 3] = 1 / xi2;
+  };
+  put(SEMLB_MORSE_INTRA, 4.0, 1.0, 0.8, 1.1);
+  for (int ta = 0; ta < kCellTypes; ++ta)
+    for (int tb = 0; tb < kCellTypes; ++tb) put(SEMLB_MORSE_INTER(ta, tb), 4.0, 0.3 + 0.1 * (ta + tb), 0.8, 1.1);
+  ASSERT_FALSE(table.empty());
+  const long n = owned.elements();
+  for (const auto& name : available_backends())
+    for (const char* precision : {"double", "float"}) {
+      BackendConfig c;
+      c.name = name;
+      c.precision = precision;
+      // 0: whole tissue owned; 1: local, ghosts set, non-local (a decomposed step's order); 2: ghosts set,
+      // non-local, local; 3: local only
+      const auto step = [&](int how) {
+        const auto b = make_backend(c);
+        State out = how == 0 ? tissue : owned;
+        b->upload(out);
+        if (how >= 2) b->set_ghosts(ghosts);
+        b->zero_forces();
+        if (how == 0) b->pair_forces(table, scene.cutoff, grid);
+        if (how == 1 || how == 3) b->pair_forces_local(table, scene.cutoff, grid);
+        if (how == 1) b->set_ghosts(ghosts);
+        if (how == 1 || how == 2) b->pair_forces_nonlocal(table, scene.cutoff, grid);
+        if (how == 2) b->pair_forces_local(table, scene.cutoff, grid);
+        b->integrate(0.01, 100.0, 0);
+        b->download(out);
+        std::vector<double> mine;  // the owned cells' elements, in the owned state's order
+        if (how != 0) return out.position;
+        for (long cell = 0; cell < out.cells(); ++cell)
+          if (centroid(tissue, cell)[0] < 30.0)
+            mine.insert(mine.end(), out.position.begin() + 3 * out.cell_first[cell],
+                        out.position.begin() + 3 * (out.cell_first[cell] + out.cell_count[cell]));
+        return mine;
+      };
+      const auto full = step(0);
+      ASSERT_EQ(static_cast<long>(full.size()), 3 * n);
+      EXPECT_EQ(step(1), full) << name << " " << precision;
+      EXPECT_EQ(step(2), full) << name << " " << precision;
+      EXPECT_NE(step(3), full) << name << " " << precision << ": the ghosts exert no force";
     }
 }
 

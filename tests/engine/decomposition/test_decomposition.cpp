@@ -254,7 +254,7 @@ TEST(Decomposition, APolicyTheEngineCannotFeedIsBadInputOnEveryRank) {
   }
 }
 
-// An error on one rank alone, in the middle of a step (SEMLB_FAULT_INJECT=RANK:STEP), ends the whole job
+// An error on one rank alone, in the middle of a step with its ghost bands in flight (SEMLB_FAULT_INJECT=RANK:STEP), ends the whole job
 // within seconds with one line naming the rank and the cause; the last complete checkpoint stays readable.
 TEST(Decomposition, AnErrorOnOneRankAloneEndsTheJobNamingTheRank) {
   for (int rank : {0, 2}) {
