@@ -142,6 +142,12 @@ class Backend {
   virtual void noise(double amplitude, uint64_t seed, long step) = 0;  // Y += amplitude * N(0,1)
   virtual Failure failure() = 0;
   virtual void finish() {}  // waits for queued work (so that wall times are honest)
+  // finish(), calling `progress` repeatedly while the device still works (a decomposed run lets MPI move the
+  // ghost bands meanwhile). The C++ backends' work is done when their calls return: progress runs once.
+  virtual void finish_while(const std::function<void()>& progress) {
+    progress();
+    finish();
+  }
   // Kernel launches by name since construction: an effect that is not listed launches none. OpenCL: every
   // kernel of kernels.cl enqueued, and "zero_forces" (a buffer fill); the C++ backends count their loops under
   // the name of the kernel that does the same work ("bin_sort" for cpu-binned's whole counting sort).

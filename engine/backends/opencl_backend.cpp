@@ -431,6 +431,19 @@ class OpenClBackend final : public Backend {
 
   void finish() override { cl::check(clFinish(queue_.get()), "clFinish"); }
 
+  void finish_while(const std::function<void()>& progress) override {
+    cl_event marker = nullptr;
+    cl::check(clEnqueueMarkerWithWaitList(queue_.get(), 0, nullptr, &marker), "clEnqueueMarkerWithWaitList");
+    const cl::Event done(marker);
+    cl::check(clFlush(queue_.get()), "clFlush");
+    for (cl_int status = CL_QUEUED; status != CL_COMPLETE;) {
+      progress();
+      cl::check(clGetEventInfo(done.get(), CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, nullptr), "clGetEventInfo");
+      if (status < 0) cl::check(status, "queued work");
+    }
+    finish();
+  }
+
  private:
   cl_int owned() const { return static_cast<cl_int>(owned_); }
 

@@ -57,6 +57,7 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
   sim_ = std::make_unique<Simulation>(scene, std::move(mine));
   sim_->before_forces = [this] { start_exchange(); };
   sim_->before_nonlocal_forces = [this] { finish_exchange(); };
+  sim_->progress = [this] { pending_.progress(); };
   sim_->after_cells = [this] { migrate_cells(); };
   sim_->failure_check = [this] { collective_check(); };
   trace_path_ = mpi.rank() == 0 ? trace_path : "";  // opened at the first event: nothing is written before

@@ -123,6 +123,14 @@ void Requests::wait() {
   check(rc, "MPI_Waitall");
 }
 
+void Requests::progress() {
+  if (requests_.empty()) return;
+  int done = 0;
+  const int rc = MPI_Testall(static_cast<int>(requests_.size()), requests_.data(), &done, MPI_STATUSES_IGNORE);
+  if (rc == MPI_SUCCESS && done) requests_.clear();
+  check(rc, "MPI_Testall");
+}
+
 std::vector<std::vector<char>> Mpi::alltoall(const std::vector<std::vector<char>>& parts) const {
   std::vector<int> send_n(size_), recv_n(size_), send_off(size_), recv_off(size_);
   for (int r = 0; r < size_; ++r) send_n[r] = static_cast<int>(parts[r].size());

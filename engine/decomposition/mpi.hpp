@@ -21,6 +21,9 @@ class Requests {
   void send(const std::vector<char>& bytes, int to, int tag);  // MPI_PROC_NULL: nothing
   void receive(std::vector<char>& bytes, int from, int tag);   // exactly bytes.size() bytes
   void wait();                                                 // all of them; throws on an MPI error
+  // Lets MPI move the pending messages on (MPI_Testall), without waiting: called while the device computes,
+  // so that large (rendezvous) messages travel during the local forces rather than in wait().
+  void progress();
   bool pending() const { return !requests_.empty(); }
 
  private:

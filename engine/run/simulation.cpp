@@ -39,7 +39,7 @@ template <class F>
 void Simulation::timed(size_t phase, F&& f) {
   const auto t0 = std::chrono::steady_clock::now();
   f();
-  if (profile) backend_->finish();
+  if (profile) progress ? backend_->finish_while(progress) : backend_->finish();
   seconds_[phase] += seconds_since(t0);
 }
 

@@ -59,6 +59,8 @@ class Simulation {
   // Every step: before_forces before the force effects' local parts (starts the ghost exchange),
   // before_nonlocal_forces before their non-local parts (waits for it: the ghosts are set after it).
   std::function<void()> before_forces, before_nonlocal_forces;
+  // Called while the device computes a phase (when `profile` waits for it): MPI progress of the ghost bands.
+  std::function<void()> progress;
   std::function<void()> after_cells;    // after each cell update (cell migration)
   std::function<void()> failure_check;  // replaces check() (a collective check across ranks)
   State& state() { return state_; }     // the host state, for the decomposed run to edit, then reload()
