@@ -101,10 +101,14 @@ class Backend {
   // The owned elements' bounding box over finite coordinates ({lo, hi}; zeros when there are none).
   virtual std::array<std::array<double, 3>, 2> bounds() = 0;
   // The ghost exchange without a full download: the owned elements' x range ({+inf, -inf} when there are
-  // none), and the owned elements with x below `x` (below) or above it, in owned order, as Ghosts whose
-  // info holds only the type (the receiver numbers the cells).
+  // none), and both bands in one selection: `down` the owned elements with x < below (for the rank below; -inf:
+  // none), `up` those with x > above (for the rank above; +inf: none), each in owned order, as Ghosts whose info
+  // holds only the type (the receiver numbers the cells). OpenCL: flags, one scan and a gather on the device,
+  // then two blocking reads (the counts; the bands into pinned host memory).
+  // The union of the two bands stays on the backend as the non-local forces' items (pair_forces_nonlocal) until
+  // the owned elements move or change (integrate, upload, cell stage, migration).
   virtual std::array<double, 2> x_extent() = 0;
-  virtual void band(double x, bool below, Ghosts& out) = 0;
+  virtual void bands(double below, double above, Ghosts& down, Ghosts& up) = 0;
   // The positions of the ghosts set last (3 per element), kept through update_cells.
   virtual std::vector<double> ghost_positions() = 0;
   // Owned cells and elements now (on the device for OpenCL: no download); `host` is the caller's State.
@@ -127,7 +131,12 @@ class Backend {
   // ghost, so a decomposed run computes it while the ghost bands travel; the non-local part (ghosts on owned
   // elements; nothing without ghosts, no launch) after they arrived. Each pair's force is a fixed-point integer,
   // so local + non-local equals the full sum bit for bit, in any order. `table`: SEMLB_TABLE_SIZE derived Morse
-  // constants (mechanics.cpp); `cutoff` in um; `grid` bins both parts.
+  // constants (mechanics.cpp); `cutoff` in um; `grid` bins both parts (binned backends: the ghosts in bins of
+  // their own). The non-local part visits only the owned elements of the last bands() selection when one is
+  // current (kernel "forces_nonlocal"; OpenCL items = the two bands' sizes, an element in both idling in its
+  // second slot; C++ the union), else every owned element. The selection is exact when every ghost lies at
+  // x <= below - cutoff or x >= above + cutoff (the decomposed run's bands reach beyond the cutoff): an owned
+  // element outside both bands then has no ghost within the cutoff.
   virtual void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;
   virtual void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;
   // Both parts: every pair within the cutoff (one device, tests and benches).
@@ -152,6 +161,9 @@ class Backend {
   // kernel of kernels.cl enqueued, and "zero_forces" (a buffer fill); the C++ backends count their loops under
   // the name of the kernel that does the same work ("bin_sort" for cpu-binned's whole counting sort).
   const std::map<std::string, long>& launches() const { return launches_; }
+  // Work items by kernel name since construction, summed over launches: OpenCL the items asked for (before
+  // rounding up to the work-group size); the C++ backends the elements their pair-force loops visit.
+  const std::map<std::string, long>& launch_items() const { return launch_items_; }
   // Device time per kernel when the backend profiles (OpenCL with SEMLB_OPENCL_PROFILE set); else empty.
   const std::map<std::string, double>& kernel_seconds() const { return kernel_seconds_; }
   // Bytes moved host<->device since construction, per phase (set_phase names it; "other" before the first).
@@ -164,8 +176,11 @@ class Backend {
 
  protected:
   std::map<std::string, double> kernel_seconds_;
-  void count(const std::string& kernel) { ++launches_[kernel]; }
-  std::map<std::string, long> launches_;
+  void count(const std::string& kernel, long items = 0) {
+    ++launches_[kernel];
+    if (items) launch_items_[kernel] += items;
+  }
+  std::map<std::string, long> launches_, launch_items_;
   void moved(long h2d, long d2h) {
     Traffic& t = traffic_[phase_];
     t.h2d += h2d;

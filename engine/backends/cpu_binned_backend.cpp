@@ -14,7 +14,7 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
 
   void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid& grid) override {
     sort_into_bins(grid, 0, this->owned(), owned_bins_);
-    this->count("forces_binned");
+    this->count("forces_binned", this->owned());
     const std::vector<Real> t(table.begin(), table.end());
     const Real c2 = static_cast<Real>(cutoff * cutoff);
     const long n = this->owned();
@@ -25,16 +25,20 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
     }
   }
 
-  // The ghosts in their own bins (they are few); each owned element visits those in its 27-bin stencil.
+  // The ghosts in their own bins (they are few); each owned element of the non-local items (the bands' selection,
+  // else all) visits those in its 27-bin stencil.
   void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid& grid) override {
     const long owned = this->owned(), ghosts = this->total() - owned;
     if (ghosts == 0) return;
     sort_into_bins(grid, owned, ghosts, ghost_bins_);
-    this->count("forces_nonlocal");
+    const std::vector<long> items = this->nonlocal_items();
+    const long n = static_cast<long>(items.size());
+    this->count("forces_nonlocal", n);
     const std::vector<Real> t(table.begin(), table.end());
     const Real c2 = static_cast<Real>(cutoff * cutoff);
 #pragma omp parallel for schedule(dynamic, 256) num_threads(this->threads())
-    for (long i = 0; i < owned; ++i) {
+    for (long k = 0; k < n; ++k) {
+      const long i = items[k];
       const Packed me{this->pos_[3 * i], this->pos_[3 * i + 1], this->pos_[3 * i + 2], this->info_[i], this->key_[i]};
       accumulate(i, me, bin_index(grid, i), ghost_bins_, -1, grid, t.data(), c2);
     }

@@ -28,6 +28,7 @@ Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
   d.rebalance_every = s.integer("rebalance_every", d.rebalance_every, 1, 1L << 40);
   d.timing = s.text("timing", d.timing);
   if (d.timing != "measured" && d.timing != "modelled") s.fail("timing", "must be measured or modelled");
+  d.overlap = s.boolean("overlap", d.overlap);
   const Section p = s.child("params");
   for (const auto& k : p.keys()) d.params.set(k, p.text(k, ""));
   p.finish();

@@ -56,8 +56,11 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
   split_by_owner(tissue, dec_, balancer_->boundaries(), mpi.rank(), mine);
   sim_ = std::make_unique<Simulation>(scene, std::move(mine));
   sim_->before_forces = [this] { start_exchange(); };
-  sim_->before_nonlocal_forces = [this] { finish_exchange(); };
-  sim_->progress = [this] { pending_.progress(); };
+  if (dec_.overlap) {
+    sim_->post_exchange = [this] { post_exchange(); };
+    sim_->before_nonlocal_forces = [this] { finish_exchange(); };
+    sim_->progress = [this] { pending_.progress(); };
+  }
   sim_->after_cells = [this] { migrate_cells(); };
   sim_->failure_check = [this] { collective_check(); };
   trace_path_ = mpi.rank() == 0 ? trace_path : "";  // opened at the first event: nothing is written before
@@ -82,9 +85,11 @@ double DistributedSimulation::compute_seconds() const {
 // exchange, so no two ranks further apart may hold elements within the cutoff of each other (checked here,
 // over all pairs of ranks). The check and the per-step failure flag (set by the previous step's
 // integration, seen before the next step moves anything) are agreed from one allgather, so every rank stops at
-// the same step. The backend selects the bands on its device: only the x range, the flag and the band elements
-// cross to the host. The bands are then posted (non-blocking) and travel while the local forces are computed;
-// finish_exchange() waits for them before the non-local forces (docs/engine.md, "What overlaps with what").
+// the same step. The backend selects both bands on its device in one pass (Backend::bands: only the x range, the
+// flag, two counts and the band elements cross to the host) and keeps their union as the non-local forces'
+// items. With decomposition.overlap (default) the bands are posted once the local forces are enqueued
+// (post_exchange) and waited for before the non-local forces (finish_exchange); without it all three run here,
+// before any force (docs/engine.md, "Overlap of the ghost exchange with force work").
 void DistributedSimulation::start_exchange() {
   const int r = mpi_->rank(), P = mpi_->size();
   if (P == 1) return;  // no neighbours; the failure is caught at the next check, the state frozen meanwhile
@@ -109,11 +114,25 @@ void DistributedSimulation::start_exchange() {
           << " further than one cutoff from its slab (raise decomposition.min_width)";
         throw AgreedError(m.str(), 1);
       }
+  // Every ghost then lies at least `reach` (> cutoff) beyond the band limits: the bands' selection is exact
+  // as the non-local items (Backend::pair_forces_nonlocal).
   Ghosts left, right;
-  if (r > 0) b.band(his(r - 1) + reach, true, left);
-  if (r + 1 < P) b.band(los(r + 1) - reach, false, right);
+  b.bands(r > 0 ? his(r - 1) + reach : -INFINITY, r + 1 < P ? los(r + 1) - reach : INFINITY, left, right);
   send_left_ = pack_band(left);
   send_right_ = pack_band(right);
+  exchange_s_ += seconds_since(t0);
+  if (!dec_.overlap) {
+    post_exchange();
+    finish_exchange();
+  }
+}
+
+// Posts the bands selected by start_exchange(): the sizes are swapped at once (8 bytes, blocking), the bands by
+// MPI_Isend/MPI_Irecv, owned by pending_ (freed if anything throws before the wait).
+void DistributedSimulation::post_exchange() {
+  if (mpi_->size() == 1) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  const int r = mpi_->rank(), P = mpi_->size();
   const int below = r > 0 ? r - 1 : MPI_PROC_NULL, above = r + 1 < P ? r + 1 : MPI_PROC_NULL;
   mpi_->start_sendrecv(send_left_, below, above, from_above_, 1, pending_);   // tags 1, 2: bands sent down
   mpi_->start_sendrecv(send_right_, above, below, from_below_, 3, pending_);  // tags 3, 4: bands sent up
@@ -122,8 +141,10 @@ void DistributedSimulation::start_exchange() {
   exchange_s_ += seconds_since(t0);
 }
 
-// Waits for the bands posted by start_exchange() (the time a rank waits beyond its local forces is what
-// exchange_s counts) and sets them as the backend's ghosts for the non-local forces.
+// Waits for the bands posted by post_exchange() and sets them as the backend's ghosts (their upload is enqueued
+// without a host sync; the device runs it before the non-local forces). exchange_s counts the time a rank
+// spends here and in the two calls before: the wait beyond its local forces, not the time the bands travelled
+// while the device computed.
 void DistributedSimulation::finish_exchange() {
   if (mpi_->size() == 1) return;
   const auto t0 = std::chrono::steady_clock::now();
@@ -138,7 +159,6 @@ void DistributedSimulation::finish_exchange() {
     g.info[e] = phys64::semlb_info_pack(cell, phys64::semlb_info_type(g.info[e]));
   }
   b.set_ghosts(g);  // kept on the backend for the next W_s
-  b.finish();
   exchange_s_ += seconds_since(t0);
 }
 

@@ -46,9 +46,10 @@ class DistributedSimulation {
   Simulation& local() { return *sim_; }
 
  private:
-  // The ghost exchange in two halves around the local forces (Simulation's before_forces and
-  // before_nonlocal_forces hooks).
+  // The ghost exchange in three parts around the local forces (Simulation's before_forces, post_exchange and
+  // before_nonlocal_forces hooks; all three in start_exchange without decomposition.overlap).
   void start_exchange();
+  void post_exchange();
   void finish_exchange();
   void migrate_cells();
   // A rebalancing event (LAMMPS-style probe / decide / move): measure() gathers the interval's times and
