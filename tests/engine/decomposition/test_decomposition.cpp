@@ -100,7 +100,7 @@ TEST(Decomposition, OverlapIsTrueOrFalse) {
   const auto dir = fresh_dir("decomposition_overlap_flag");
   const auto r = run(semlb_bin() + " sim" + kArgs + " --steps 1 --set decomposition.overlap=yes --out " + dir + "/out");
   EXPECT_EQ(r.rc, 2) << r.out;
-  EXPECT_NE(r.out.find("field 'decomposition.overlap': must be true or false, got 'yes'"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--set decomposition.overlap: must be true or false, got 'yes'"), std::string::npos) << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
 }
 
