@@ -86,7 +86,8 @@ class Backend {
   // Element data (positions, packed info, keys) from the host state; call after every host change.
   // Drops the ghosts.
   virtual void upload(const State& state) = 0;
-  // Replaces the ghost elements (kept after the owned ones); forces on owned elements include them.
+  // Replaces the ghost elements (kept after the owned ones); the non-local forces come from them. The forces
+  // added so far stay: a decomposed step sets the ghosts between the local and the non-local forces.
   virtual void set_ghosts(const Ghosts& ghosts) = 0;
   // The owned elements' positions; after a cell stage on the device also the cells (ids, types, counts)
   // and the cell fields the state lists ("growth.clock", "division.depth", "differentiation.age").
@@ -100,10 +101,14 @@ class Backend {
   // The owned elements' bounding box over finite coordinates ({lo, hi}; zeros when there are none).
   virtual std::array<std::array<double, 3>, 2> bounds() = 0;
   // The ghost exchange without a full download: the owned elements' x range ({+inf, -inf} when there are
-  // none), and the owned elements with x below `x` (below) or above it, in owned order, as Ghosts whose
-  // info holds only the type (the receiver numbers the cells).
+  // none), and both bands in one selection: `down` the owned elements with x < below (for the rank below; -inf:
+  // none), `up` those with x > above (for the rank above; +inf: none), each in owned order, as Ghosts whose info
+  // holds only the type (the receiver numbers the cells). OpenCL: flags, one scan and a gather on the device,
+  // then two blocking reads (the counts; the bands into pinned host memory).
+  // The union of the two bands stays on the backend as the non-local forces' items (pair_forces_nonlocal) until
+  // the owned elements move or change (integrate, upload, cell stage, migration).
   virtual std::array<double, 2> x_extent() = 0;
-  virtual void band(double x, bool below, Ghosts& out) = 0;
+  virtual void bands(double below, double above, Ghosts& down, Ghosts& up) = 0;
   // The positions of the ghosts set last (3 per element), kept through update_cells.
   virtual std::vector<double> ghost_positions() = 0;
   // Owned cells and elements now (on the device for OpenCL: no download); `host` is the caller's State.
@@ -120,9 +125,25 @@ class Backend {
                             State& leavers, std::vector<int>& owner);
   // Appends `arrivals`' cells after the owned ones (their fields by name; missing ones are 0). Drops the ghosts.
   virtual void append_cells(State& host, const State& arrivals);
-  // Forces start at zero each step; pair_forces and membrane_forces add to them (fixed point).
+  // Forces start at zero each step; the pair forces and membrane_forces add to them (fixed point).
   virtual void zero_forces() = 0;
-  virtual void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;
+  // Pair forces in two parts, as GROMACS splits them: the local part (owned elements on owned elements) needs no
+  // ghost, so a decomposed run computes it while the ghost bands travel; the non-local part (ghosts on owned
+  // elements; nothing without ghosts, no launch) after they arrived. Each pair's force is a fixed-point integer,
+  // so local + non-local equals the full sum bit for bit, in any order. `table`: SEMLB_TABLE_SIZE derived Morse
+  // constants (mechanics.cpp); `cutoff` in um; `grid` bins both parts (binned backends: the ghosts in bins of
+  // their own). The non-local part visits only the owned elements of the last bands() selection when one is
+  // current (kernel "forces_nonlocal"; OpenCL items = the two bands' sizes, an element in both idling in its
+  // second slot; C++ the union), else every owned element. The selection is exact when every ghost lies at
+  // x <= below - cutoff or x >= above + cutoff (the decomposed run's bands reach beyond the cutoff): an owned
+  // element outside both bands then has no ghost within the cutoff.
+  virtual void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;
+  virtual void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;
+  // Both parts: every pair within the cutoff (one device, tests and benches).
+  void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) {
+    pair_forces_local(table, cutoff, grid);
+    pair_forces_nonlocal(table, cutoff, grid);
+  }
   virtual void membrane_forces(const std::vector<double>& membrane) = 0;
   // Y += dt/eta * F; records a Failure on a non-finite position or a step above max_step. The failing step
   // completes on every element; from the next step on, integrate and noise move nothing (frozen).
@@ -130,10 +151,19 @@ class Backend {
   virtual void noise(double amplitude, uint64_t seed, long step) = 0;  // Y += amplitude * N(0,1)
   virtual Failure failure() = 0;
   virtual void finish() {}  // waits for queued work (so that wall times are honest)
+  // finish(), calling `progress` repeatedly while the device still works (a decomposed run lets MPI move the
+  // ghost bands meanwhile). The C++ backends' work is done when their calls return: progress runs once.
+  virtual void finish_while(const std::function<void()>& progress) {
+    progress();
+    finish();
+  }
   // Kernel launches by name since construction: an effect that is not listed launches none. OpenCL: every
   // kernel of kernels.cl enqueued, and "zero_forces" (a buffer fill); the C++ backends count their loops under
   // the name of the kernel that does the same work ("bin_sort" for cpu-binned's whole counting sort).
   const std::map<std::string, long>& launches() const { return launches_; }
+  // Work items by kernel name since construction, summed over launches: OpenCL the items asked for (before
+  // rounding up to the work-group size); the C++ backends the elements their pair-force loops visit.
+  const std::map<std::string, long>& launch_items() const { return launch_items_; }
   // Device time per kernel when the backend profiles (OpenCL with SEMLB_OPENCL_PROFILE set); else empty.
   const std::map<std::string, double>& kernel_seconds() const { return kernel_seconds_; }
   // Bytes moved host<->device since construction, per phase (set_phase names it; "other" before the first).
@@ -146,8 +176,11 @@ class Backend {
 
  protected:
   std::map<std::string, double> kernel_seconds_;
-  void count(const std::string& kernel) { ++launches_[kernel]; }
-  std::map<std::string, long> launches_;
+  void count(const std::string& kernel, long items = 0) {
+    ++launches_[kernel];
+    if (items) launch_items_[kernel] += items;
+  }
+  std::map<std::string, long> launches_, launch_items_;
   void moved(long h2d, long d2h) {
     Traffic& t = traffic_[phase_];
     t.h2d += h2d;

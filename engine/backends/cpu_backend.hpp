@@ -20,6 +20,7 @@ class CpuBackend : public Backend {
     key_ = s.element_keys();
     owned_ = s.elements();
     force_.assign(pos_.size(), 0);
+    near_valid_ = false;
     fail_step_ = -1;
     fail_code_ = INT_MAX;
   }
@@ -29,8 +30,7 @@ class CpuBackend : public Backend {
     key_.resize(owned_);
     pos_.insert(pos_.end(), g.position.begin(), g.position.end());
     info_.insert(info_.end(), g.info.begin(), g.info.end());
-    key_.insert(key_.end(), g.keys.begin(), g.keys.end());
-    force_.assign(3 * owned_, 0);
+    key_.insert(key_.end(), g.keys.begin(), g.keys.end());  // the forces added so far stay (the local part)
   }
   void download(State& s) override { s.position.assign(pos_.begin(), pos_.begin() + 3 * owned_); }
   bool update_cells(State& host, const CellRules& rules, uint64_t seed, double elapsed_h, long step) override {
@@ -62,14 +62,21 @@ class CpuBackend : public Backend {
     for (long i = 0; i < owned_; ++i) e = {std::fmin(e[0], pos_[3 * i]), std::fmax(e[1], pos_[3 * i])};
     return e;
   }
-  void band(double x, bool below, Ghosts& out) override {
-    out = {};
-    for (long i = 0; i < owned_; ++i)
-      if (below ? pos_[3 * i] < x : pos_[3 * i] > x) {
-        out.position.insert(out.position.end(), pos_.begin() + 3 * i, pos_.begin() + 3 * i + 3);
-        out.info.push_back(phys64::semlb_info_type(info_[i]));
-        out.keys.push_back(key_[i]);
-      }
+  void bands(double below, double above, Ghosts& down, Ghosts& up) override {
+    down = {};
+    up = {};
+    near_.clear();
+    for (long i = 0; i < owned_; ++i) {
+      const bool d = pos_[3 * i] < below, u = pos_[3 * i] > above;
+      for (auto [in, out] : {std::pair{d, &down}, std::pair{u, &up}})
+        if (in) {
+          out->position.insert(out->position.end(), pos_.begin() + 3 * i, pos_.begin() + 3 * i + 3);
+          out->info.push_back(phys64::semlb_info_type(info_[i]));
+          out->keys.push_back(key_[i]);
+        }
+      if (d || u) near_.push_back(i);
+    }
+    near_valid_ = true;
   }
   void zero_forces() override {
     count("zero_forces");
@@ -89,6 +96,7 @@ class CpuBackend : public Backend {
 
   void integrate(double dt_over_eta, double max_step, long step) override {
     count("integrate");
+    near_valid_ = false;  // the bands' selection was for these positions
     if (fail_step_ >= 0) return;  // frozen since the failing step (which completed on every element)
     const Real k = static_cast<Real>(dt_over_eta), limit2 = static_cast<Real>(max_step * max_step);
     const long n = owned_;
@@ -133,12 +141,21 @@ class CpuBackend : public Backend {
 
  protected:
   int threads() const { return threads_; }
+  // The owned elements the non-local forces visit: the last bands() selection while current, else all.
+  std::vector<long> nonlocal_items() const {
+    if (near_valid_) return near_;
+    std::vector<long> all(owned_);
+    for (long i = 0; i < owned_; ++i) all[i] = i;
+    return all;
+  }
   std::vector<Real> pos_;
   std::vector<int> info_;
   std::vector<uint64_t> key_;
   std::vector<int64_t> force_;  // owned elements only
   long owned_ = 0;
   int threads_;
+  std::vector<long> near_;   // the union of the last bands, in owned order
+  bool near_valid_ = false;  // until the owned elements move or change
   long fail_step_ = -1;
   int fail_code_ = INT_MAX;
 };

@@ -12,15 +12,36 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
   explicit CpuBinnedBackend(int threads) : CpuBackend<Real>(threads > 0 ? threads : omp_get_max_threads()) {}
   std::string name() const override { return "cpu-binned"; }
 
-  void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) override {
-    sort_into_bins(grid);
-    this->count("forces_binned");
+  void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid& grid) override {
+    sort_into_bins(grid, 0, this->owned(), owned_bins_);
+    this->count("forces_binned", this->owned());
     const std::vector<Real> t(table.begin(), table.end());
     const Real c2 = static_cast<Real>(cutoff * cutoff);
-    const long n = this->total();
+    const long n = this->owned();
 #pragma omp parallel for schedule(dynamic, 256) num_threads(this->threads())
-    for (long s = 0; s < n; ++s)
-      if (order_[s] < this->owned()) accumulate(s, grid, t.data(), c2);
+    for (long s = 0; s < n; ++s) {
+      const long i = owned_bins_.order[s];
+      accumulate(i, owned_bins_.packed[s], owned_bins_.bin[s], owned_bins_, s, grid, t.data(), c2);
+    }
+  }
+
+  // The ghosts in their own bins (they are few); each owned element of the non-local items (the bands' selection,
+  // else all) visits those in its 27-bin stencil.
+  void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid& grid) override {
+    const long owned = this->owned(), ghosts = this->total() - owned;
+    if (ghosts == 0) return;
+    sort_into_bins(grid, owned, ghosts, ghost_bins_);
+    const std::vector<long> items = this->nonlocal_items();
+    const long n = static_cast<long>(items.size());
+    this->count("forces_nonlocal", n);
+    const std::vector<Real> t(table.begin(), table.end());
+    const Real c2 = static_cast<Real>(cutoff * cutoff);
+#pragma omp parallel for schedule(dynamic, 256) num_threads(this->threads())
+    for (long k = 0; k < n; ++k) {
+      const long i = items[k];
+      const Packed me{this->pos_[3 * i], this->pos_[3 * i + 1], this->pos_[3 * i + 2], this->info_[i], this->key_[i]};
+      accumulate(i, me, bin_index(grid, i), ghost_bins_, -1, grid, t.data(), c2);
+    }
   }
 
  private:
@@ -29,54 +50,58 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
     int info;
     uint64_t key;
   };
+  // Elements [first, first + n) in bin order: bin[s], order[s] (the element index) and packed[s] per sorted
+  // slot s, start[b] the first slot of bin b (bins() + 1 entries).
+  struct Sorted {
+    std::vector<long> bin, start, order;
+    std::vector<Packed> packed;
+  };
 
-  // Counting sort of element indices by bin (x fastest), then positions packed in that order.
-  void sort_into_bins(const Grid& grid) {
+  long bin_index(const Grid& grid, long i) const {
+    const double p[3] = {this->pos_[3 * i], this->pos_[3 * i + 1], this->pos_[3 * i + 2]};
+    const auto b = grid.bin_of(p);
+    return (static_cast<long>(b[2]) * grid.dims[1] + b[1]) * grid.dims[0] + b[0];
+  }
+
+  // Counting sort of elements [first, first + n) by bin (x fastest), then positions packed in that order.
+  void sort_into_bins(const Grid& grid, long first, long n, Sorted& out) {
     this->count("bin_sort");
-    const long n = this->total();
-    bin_.resize(n);
-    start_.assign(grid.bins() + 1, 0);
-    for (long i = 0; i < n; ++i) {
-      const double p[3] = {this->pos_[3 * i], this->pos_[3 * i + 1], this->pos_[3 * i + 2]};
-      const auto b = grid.bin_of(p);
-      bin_[i] = (static_cast<long>(b[2]) * grid.dims[1] + b[1]) * grid.dims[0] + b[0];
-      ++start_[bin_[i] + 1];
-    }
-    for (long b = 0; b < grid.bins(); ++b) start_[b + 1] += start_[b];
-    std::vector<long> cursor(start_.begin(), start_.end() - 1);
-    order_.resize(n);
-    packed_.resize(n);
-    for (long i = 0; i < n; ++i) {
-      const long s = cursor[bin_[i]]++;
-      order_[s] = i;
-      packed_[s] = {this->pos_[3 * i], this->pos_[3 * i + 1], this->pos_[3 * i + 2], this->info_[i], this->key_[i]};
+    std::vector<long> bins(n);
+    out.start.assign(grid.bins() + 1, 0);
+    for (long k = 0; k < n; ++k) ++out.start[(bins[k] = bin_index(grid, first + k)) + 1];
+    for (long b = 0; b < grid.bins(); ++b) out.start[b + 1] += out.start[b];
+    std::vector<long> cursor(out.start.begin(), out.start.end() - 1);
+    out.order.resize(n);
+    out.packed.resize(n);
+    out.bin.resize(n);
+    for (long k = 0; k < n; ++k) {
+      const long s = cursor[bins[k]]++, i = first + k;
+      out.order[s] = i;
+      out.bin[s] = bins[k];
+      out.packed[s] = {this->pos_[3 * i], this->pos_[3 * i + 1], this->pos_[3 * i + 2], this->info_[i], this->key_[i]};
     }
   }
 
-  // Sum over the 27-bin stencil: 9 rows of 3 bins that are contiguous in bin order.
-  void accumulate(long s, const Grid& g, const Real* t, Real c2) {
-    const long i = order_[s];
-    const long b = bin_[i];
+  // Adds to owned element i (at `me`, in bin b) the forces of the elements of `other` in the 27-bin stencil:
+  // 9 rows of 3 bins that are contiguous in bin order; slot `self` of `other` (i itself) is skipped.
+  void accumulate(long i, const Packed& me, long b, const Sorted& other, long self, const Grid& g, const Real* t, Real c2) {
     const int bx = static_cast<int>(b % g.dims[0]), by = static_cast<int>(b / g.dims[0] % g.dims[1]),
               bz = static_cast<int>(b / (static_cast<long>(g.dims[0]) * g.dims[1]));
-    const Packed me = packed_[s];
     int64_t acc[3] = {0, 0, 0};
     for (int z = std::max(bz - 1, 0); z <= std::min(bz + 1, g.dims[2] - 1); ++z)
       for (int y = std::max(by - 1, 0); y <= std::min(by + 1, g.dims[1] - 1); ++y) {
         const long row = (static_cast<long>(z) * g.dims[1] + y) * g.dims[0];
-        const long first = start_[row + std::max(bx - 1, 0)], last = start_[row + std::min(bx + 1, g.dims[0] - 1) + 1];
+        const long first = other.start[row + std::max(bx - 1, 0)], last = other.start[row + std::min(bx + 1, g.dims[0] - 1) + 1];
         for (long o = first; o < last; ++o) {
-          if (o == s) continue;
-          const Packed& other = packed_[o];
-          Physics<Real>::pair(me.x - other.x, me.y - other.y, me.z - other.z, me.info, other.info, me.key, other.key, t,
-                              c2, acc);
+          if (o == self) continue;
+          const Packed& q = other.packed[o];
+          Physics<Real>::pair(me.x - q.x, me.y - q.y, me.z - q.z, me.info, q.info, me.key, q.key, t, c2, acc);
         }
       }
     for (int c = 0; c < 3; ++c) this->force_[3 * i + c] += acc[c];
   }
 
-  std::vector<long> bin_, start_, order_;
-  std::vector<Packed> packed_;
+  Sorted owned_bins_, ghost_bins_;
 };
 
 std::unique_ptr<Backend> make(const BackendConfig& c) {

@@ -33,11 +33,12 @@ static inline int4 bin3(real4 p, real4 lo, real4 size, int4 dims) {
   return (int4)(bin1(p.x, lo.x, size.x, dims.x), bin1(p.y, lo.y, size.y, dims.y), bin1(p.z, lo.z, size.z, dims.z), 0);
 }
 
-__kernel void bin_count(__global const real4* pos, int n, real4 lo, real4 size, int4 dims, __global int* bin,
+/* Elements [first, first + n): bin[k] the bin of element first + k; counts[bin] incremented. */
+__kernel void bin_count(__global const real4* pos, int first, int n, real4 lo, real4 size, int4 dims, __global int* bin,
                         __global int* counts) {
   int i = get_global_id(0);
   if (i >= n) return;
-  int4 b = bin3(pos[i], lo, size, dims);
+  int4 b = bin3(pos[first + i], lo, size, dims);
   int k = (b.z * dims.y + b.y) * dims.x + b.x;
   bin[i] = k;
   atomic_inc(&counts[k]);
@@ -91,32 +92,35 @@ __kernel void scan_add(__global int* starts, __global const int* sums, __global 
   }
 }
 
-/* Elements into bin order (order within a bin is arbitrary: force sums are order-independent). */
-__kernel void scatter(__global const real4* pos, __global const int* bin, __global int* cursor,
+/* Elements [first, first + n) into bin order (order within a bin is arbitrary: force sums are order-independent);
+   sorted_index holds the element index (first + k). */
+__kernel void scatter(__global const real4* pos, int first, __global const int* bin, __global int* cursor,
                       __global real4* sorted_pos, __global int* sorted_index, int n) {
   int i = get_global_id(0);
   if (i >= n) return;
   int s = atomic_inc(&cursor[bin[i]]);
-  sorted_pos[s] = pos[i];
-  sorted_index[s] = i;
+  sorted_pos[s] = pos[first + i];
+  sorted_index[s] = first + i;
 }
 
-static inline void accumulate(real4 me, int info, int s, int o, __global const real4* sorted_pos,
-                              __global const int* sorted_index, __global const ulong* keys,
-                              __constant const SEMLB_REAL* table, SEMLB_REAL cutoff2, long* acc) {
-  real4 q = sorted_pos[o];
-  if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
-    semlb_coincident_force(keys[sorted_index[s]], keys[sorted_index[o]], info, INFO(q.w), table, acc);
-}
-
-/* Candidates taken at a time by forces_binned: the bits of one mask. */
+/* Candidates taken at a time by the binned pair kernels: the bits of one mask. */
 #define SEMLB_CHUNK 64
 
-/* Pair forces over the 27-bin stencil: 9 rows of 3 bins, contiguous in bin order. One item per sorted element.
-   A row's candidates are taken SEMLB_CHUNK at a time: first a bit mask of those within the cutoff (a NaN
-   distance counts as within, as in semlb_pair_force), then the force law on the set bits only, so that the
-   lanes of a warp run the costly part together rather than idling through it for every candidate that one
-   lane alone keeps (docs/engine.md: 1.13x float, 1.31x double on an H200 at 6.5e6 elements). */
+/* The forces on element i (at me, in bin b, key keys[i]) of the sorted elements in the 27-bin stencil: 9 rows of
+   3 bins, contiguous in bin order (starts[bin] the first sorted slot of a bin). Sorted slot `self` (i itself,
+   or -1) is skipped. A row's candidates are taken SEMLB_CHUNK at a time: first a bit mask of those within the
+   cutoff (a NaN distance counts as within, as in semlb_pair_force), then the force law on the set bits only, so
+   that the lanes of a warp run the costly part together rather than idling through it for every candidate that
+   one lane alone keeps (docs/engine.md: 1.13x float, 1.31x double on an H200 at 6.5e6 elements). */
+/* The force law on the lowest set bit of `mask` (candidate base + bit), which it clears. */
+#define SEMLB_PAIR(mask, base)                                                                                  \
+  do {                                                                                                         \
+    int k_ = 63 - (int)clz((mask) & (0 - (mask)));                                                             \
+    (mask) &= (mask) - 1;                                                                                      \
+    real4 q_ = sorted_pos[(base) + k_];                                                                        \
+    if (semlb_pair_force(me.x - q_.x, me.y - q_.y, me.z - q_.z, info, INFO(q_.w), table, cutoff2, acc) < 0)    \
+      semlb_coincident_force(keys[i], keys[sorted_index[(base) + k_]], info, INFO(q_.w), table, acc);          \
+  } while (0)
 #ifdef SEMLB_SLOTS
 /* Experiment (SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_SLOTS=N, N in 1..4; docs/engine.md "Profiling the force kernel"):
    every chunk's mask is queued, empty or not, so that the lanes of a warp flush together, and the force law runs
@@ -131,25 +135,18 @@ static inline void accumulate(real4 me, int info, int s, int o, __global const r
       q0 = q1; q1 = q2; q2 = q3; q3 = 0;                                                                       \
       b0 = b1; b1 = b2; b2 = b3;                                                                               \
       --queued;                                                                                                \
-      continue;                                                                                                \
-    }                                                                                                          \
-    int k = 63 - (int)clz(q0 & (0 - q0));                                                                      \
-    q0 &= q0 - 1;                                                                                              \
-    accumulate(me, info, s, b0 + k, sorted_pos, sorted_index, keys, table, cutoff2, acc);                      \
+    } else SEMLB_PAIR(q0, b0);                                                                                 \
   }
-__kernel void forces_binned(__global const real4* sorted_pos, __global const int* sorted_index,
-                            __global const ulong* keys, __global const int* starts, real4 lo, real4 size, int4 dims,
-                            __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n,
-                            int owned) {
-  int s = get_global_id(0);
-  if (s >= n || sorted_index[s] >= owned) return;
-  real4 me = sorted_pos[s];
+#endif
+static inline void stencil_forces(real4 me, int i, int self, int4 b, int4 dims, __global const real4* sorted_pos,
+                                  __global const int* sorted_index, __global const int* starts,
+                                  __global const ulong* keys, __constant const SEMLB_REAL* table,
+                                  SEMLB_REAL cutoff2, long* acc) {
   int info = INFO(me.w);
-  int4 b = bin3(me, lo, size, dims);
-  SEMLB_REAL cutoff2 = cutoff * cutoff;
-  long acc[3] = {0, 0, 0};
+#ifdef SEMLB_SLOTS
   ulong q0 = 0, q1 = 0, q2 = 0, q3 = 0;
   int b0 = 0, b1 = 0, b2 = 0, b3 = 0, queued = 0;
+#endif
   int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1);
   for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
     for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
@@ -163,21 +160,24 @@ __kernel void forces_binned(__global const real4* sorted_pos, __global const int
           SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
           if (!(dx * dx + dy * dy + dz * dz >= cutoff2)) mask |= (ulong)1 << k;
         }
-        if (s >= base && s < base + m) mask &= ~((ulong)1 << (s - base));
+        if (self >= base && self < base + m) mask &= ~((ulong)1 << (self - base));
+#ifdef SEMLB_SLOTS
         if (queued == 0) { q0 = mask; b0 = base; }
         else if (queued == 1) { q1 = mask; b1 = base; }
         else if (queued == 2) { q2 = mask; b2 = base; }
         else { q3 = mask; b3 = base; }
-        if (++queued == SEMLB_SLOTS) SEMLB_FLUSH()
+        if (++queued == SEMLB_SLOTS) SEMLB_FLUSH();
+#else
+        while (mask) SEMLB_PAIR(mask, base);
+#endif
       }
     }
-  SEMLB_FLUSH()
-  int i = sorted_index[s];
-  force[3 * i] += acc[0];
-  force[3 * i + 1] += acc[1];
-  force[3 * i + 2] += acc[2];
+#ifdef SEMLB_SLOTS
+  SEMLB_FLUSH();
+#endif
 }
-#else
+
+/* Local pair forces (owned on owned): one item per sorted owned element, over the owned elements' bins. */
 __kernel void forces_binned(__global const real4* sorted_pos, __global const int* sorted_index,
                             __global const ulong* keys, __global const int* starts, real4 lo, real4 size, int4 dims,
                             __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n,
@@ -185,60 +185,61 @@ __kernel void forces_binned(__global const real4* sorted_pos, __global const int
   int s = get_global_id(0);
   if (s >= n || sorted_index[s] >= owned) return;  /* ghosts exert forces but receive none */
   real4 me = sorted_pos[s];
-  int info = INFO(me.w);
-  int4 b = bin3(me, lo, size, dims);
-  SEMLB_REAL cutoff2 = cutoff * cutoff;
-  long acc[3] = {0, 0, 0};
-  int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1);
-  for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
-    for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
-      int row = (z * dims.y + y) * dims.x;
-      int last = starts[row + x1 + 1];
-      for (int base = starts[row + x0]; base < last; base += SEMLB_CHUNK) {
-        int m = min(SEMLB_CHUNK, last - base);
-        ulong mask = 0;
-        for (int k = 0; k < m; ++k) {
-          real4 q = sorted_pos[base + k];
-          SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
-          if (!(dx * dx + dy * dy + dz * dz >= cutoff2)) mask |= (ulong)1 << k;
-        }
-        if (s >= base && s < base + m) mask &= ~((ulong)1 << (s - base));
-        while (mask) {
-          int k = 63 - (int)clz(mask & (0 - mask));  /* the lowest set bit */
-          mask &= mask - 1;
-          accumulate(me, info, s, base + k, sorted_pos, sorted_index, keys, table, cutoff2, acc);
-        }
-      }
-    }
   int i = sorted_index[s];
+  long acc[3] = {0, 0, 0};
+  stencil_forces(me, i, s, bin3(me, lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table,
+                 cutoff * cutoff, acc);
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
 }
-#endif
 
-/* All pairs, tiled through local memory (the GPU all-pairs baseline of the paper). */
+/* Non-local pair forces (ghosts on owned): one item per owned element near a slab boundary, near[k] its index
+   (-1: none; the band selection's list), or item k = element k when all != 0; each visits the 27-bin stencil in
+   the ghosts' own bins (ghost_pos, ghost_index, ghost_starts: the bin sort of the ghosts alone). */
+__kernel void forces_nonlocal(__global const real4* pos, __global const ulong* keys, __global const int* near,
+                              int items, int all, __global const real4* ghost_pos, __global const int* ghost_index,
+                              __global const int* ghost_starts, real4 lo, real4 size, int4 dims,
+                              __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force) {
+  int k = get_global_id(0);
+  if (k >= items) return;
+  int i = all ? k : near[k];
+  if (i < 0) return;
+  real4 me = pos[i];
+  long acc[3] = {0, 0, 0};
+  stencil_forces(me, i, -1, bin3(me, lo, size, dims), dims, ghost_pos, ghost_index, ghost_starts, keys, table,
+                 cutoff * cutoff, acc);
+  force[3 * i] += acc[0];
+  force[3 * i + 1] += acc[1];
+  force[3 * i + 2] += acc[2];
+}
+
+/* All pairs, tiled through local memory (the GPU all-pairs baseline of the paper): the forces of elements
+   [from, n) on owned elements. Local part: from 0, n = owned, item k = element k (all != 0). Non-local part:
+   from = owned (the ghosts), item k = element near[k] (-1: none) for k < items, as forces_nonlocal. */
 __kernel void forces_allpairs(__global const real4* pos, __global const ulong* keys, __constant const SEMLB_REAL* table,
-                              SEMLB_REAL cutoff2, __global long* force, int n, int owned, __local real4* tile) {
-  int i = get_global_id(0), l = get_local_id(0), w = get_local_size(0);
-  real4 me = i < n ? pos[i] : (real4)(0);
+                              SEMLB_REAL cutoff2, __global long* force, int n, int from, __local real4* tile,
+                              __global const int* near, int items, int all) {
+  int k = get_global_id(0), l = get_local_id(0), w = get_local_size(0);
+  int i = k < items ? (all ? k : near[k]) : -1;
+  real4 me = i >= 0 ? pos[i] : (real4)(0);
   int info = INFO(me.w);
   long acc[3] = {0, 0, 0};
-  for (int base = 0; base < n; base += w) {
+  for (int base = from; base < n; base += w) {
     tile[l] = base + l < n ? pos[base + l] : (real4)(0);
     barrier(CLK_LOCAL_MEM_FENCE);
     int count = min(w, n - base);
-    if (i < owned)
-      for (int k = 0; k < count; ++k) {
-        int j = base + k;
+    if (i >= 0)
+      for (int t = 0; t < count; ++t) {
+        int j = base + t;
         if (j == i) continue;
-        real4 q = tile[k];
+        real4 q = tile[t];
         if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
           semlb_coincident_force(keys[i], keys[j], info, INFO(q.w), table, acc);
       }
     barrier(CLK_LOCAL_MEM_FENCE);
   }
-  if (i >= owned) return;
+  if (i < 0) return;
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
@@ -310,17 +311,30 @@ __kernel void x_extent(__global const real4* pos, int n, __global SEMLB_REAL* ou
 }
 
 /* Ghost bands: flag the elements beyond x, scan the flags, gather the flagged ones in element order. */
-__kernel void band_flags(__global const real4* pos, int n, SEMLB_REAL x, int below, __global int* flags) {
+/* The two ghost bands in one pass over the owned elements: flags[i] = x < below (the band sent to the rank below),
+   flags[n + i] = x > above (the band sent to the rank above); one exclusive scan over the 2n flags numbers both. */
+__kernel void band_flags(__global const real4* pos, int n, SEMLB_REAL below, SEMLB_REAL above, __global int* flags) {
   int i = get_global_id(0);
-  if (i < n) flags[i] = below ? pos[i].x < x : pos[i].x > x;
+  if (i >= n) return;
+  SEMLB_REAL x = pos[i].x;
+  flags[i] = x < below;
+  flags[n + i] = x > above;
 }
 
+/* The bands compacted in element order, the lower one first (slots starts[i], then starts[n + i]); near[slot] the
+   element index for the non-local forces, -1 in the upper band for an element the lower one already lists. */
 __kernel void band_gather(__global const real4* pos, __global const ulong* keys, __global const int* flags,
-                          __global const int* starts, int n, __global real4* out_pos, __global ulong* out_keys) {
+                          __global const int* starts, int n, __global real4* out_pos, __global ulong* out_keys,
+                          __global int* near) {
   int i = get_global_id(0);
-  if (i >= n || !flags[i]) return;
-  out_pos[starts[i]] = pos[i];
-  out_keys[starts[i]] = keys[i];
+  if (i >= n) return;
+  for (int side = 0; side < 2; ++side)
+    if (flags[side * n + i]) {
+      int s = starts[side * n + i];
+      out_pos[s] = pos[i];
+      out_keys[s] = keys[i];
+      near[s] = side == 1 && flags[i] ? -1 : i;
+    }
 }
 
 /* ---- Cell stage (growth, division, differentiation) on the device; rules from cells.h. ---------------- */

@@ -16,6 +16,45 @@ void check(cl_int status, const char* what) {
   if (status != CL_SUCCESS) throw std::runtime_error(std::string("OpenCL: ") + what + " failed (error " + std::to_string(status) + ")");
 }
 
+Pinned& Pinned::operator=(Pinned&& o) noexcept {
+  if (this != &o) {
+    reset();
+    mem_ = std::move(o.mem_);
+    queue_ = std::exchange(o.queue_, nullptr);
+    ptr_ = std::exchange(o.ptr_, nullptr);
+    bytes_ = std::exchange(o.bytes_, 0);
+  }
+  return *this;
+}
+
+void Pinned::reserve(cl_context ctx, cl_command_queue queue, size_t bytes) {
+  if (bytes <= bytes_ && mem_) return;
+  reset();
+  const size_t want = std::max<size_t>(bytes + bytes / 4, 64);
+  cl_int err = CL_SUCCESS;
+  Mem m(clCreateBuffer(ctx, CL_MEM_READ_WRITE | CL_MEM_ALLOC_HOST_PTR, want, nullptr, &err));
+  check(err, "clCreateBuffer (pinned)");
+  void* p = clEnqueueMapBuffer(queue, m.get(), CL_TRUE, CL_MAP_READ | CL_MAP_WRITE, 0, want, 0, nullptr, nullptr, &err);
+  check(err, "clEnqueueMapBuffer (pinned)");
+  mem_ = std::move(m);
+  queue_ = queue;
+  ptr_ = p;
+  bytes_ = want;
+}
+
+void Pinned::reset() {
+  if (mem_ && ptr_) {  // errors cannot be thrown from here; the buffer is released either way
+    cl_event done = nullptr;
+    if (clEnqueueUnmapMemObject(queue_, mem_.get(), ptr_, 0, nullptr, &done) == CL_SUCCESS && done) {
+      clWaitForEvents(1, &done);
+      clReleaseEvent(done);
+    }
+  }
+  ptr_ = nullptr;
+  bytes_ = 0;
+  mem_ = Mem();
+}
+
 namespace {
 // CL_PLATFORM_NAME / CL_DEVICE_NAME through clGetPlatformInfo / clGetDeviceInfo.
 template <class Id, class Query>

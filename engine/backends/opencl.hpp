@@ -45,6 +45,30 @@ using Kernel = Handle<cl_kernel, clReleaseKernel>;
 using Mem = Handle<cl_mem, clReleaseMemObject>;
 using Event = Handle<cl_event, clReleaseEvent>;
 
+// Pinned host memory (a CL_MEM_ALLOC_HOST_PTR buffer mapped once for its lifetime): reads and writes between a
+// device buffer and data() run at full DMA speed and may be non-blocking. Unmapped (and released) on
+// destruction; `queue` must outlive it. Grows by reallocation (the contents go).
+class Pinned {
+ public:
+  Pinned() = default;
+  Pinned(Pinned&& o) noexcept { *this = std::move(o); }
+  Pinned& operator=(Pinned&& o) noexcept;
+  Pinned(const Pinned&) = delete;
+  Pinned& operator=(const Pinned&) = delete;
+  ~Pinned() { reset(); }
+  // Room for at least `bytes` (allocates 1.25x when it grows); throws on an OpenCL error.
+  void reserve(cl_context ctx, cl_command_queue queue, size_t bytes);
+  char* data() const { return static_cast<char*>(ptr_); }
+  size_t size() const { return bytes_; }
+
+ private:
+  void reset();
+  Mem mem_;
+  cl_command_queue queue_ = nullptr;
+  void* ptr_ = nullptr;
+  size_t bytes_ = 0;
+};
+
 struct DeviceInfo {
   cl_platform_id platform;
   cl_device_id device;

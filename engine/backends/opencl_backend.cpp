@@ -1,9 +1,11 @@
 // "opencl-allpairs" and "opencl-binned": the element kernels of kernels.cl on one OpenCL device.
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
+#include <tuple>
 
 #include "backend.hpp"
 #include "common/errors.hpp"
@@ -53,12 +55,14 @@ class OpenClBackend final : public Backend {
     extent_ = buffer(2 * kExtentGroups * sizeof(Real));
     bounds_ = buffer(6 * kExtentGroups * sizeof(Real));
     cell_fail_ = buffer(sizeof(cl_int));
+    near_ = buffer(sizeof(cl_int));  // a valid argument before the first band selection
   }
 
   std::string name() const override { return binned_ ? "opencl-binned" : "opencl-allpairs"; }
   std::string device_name() const override { return dev_.platform_name + ": " + dev_.device_name; }
 
   void upload(const State& s) override {
+    near_valid_ = false;
     n_ = owned_ = s.elements();
     if (n_ > capacity_) allocate(n_ + n_ / 4 + 64);
     write_elements(0, s.position, s.element_info(), s.element_keys());
@@ -67,11 +71,27 @@ class OpenClBackend final : public Backend {
     upload_cells(s);
   }
 
+  // The ghosts go up from pinned memory without a host sync (two non-blocking writes): the next call waits for
+  // them before it reuses that memory.
   void set_ghosts(const Ghosts& g) override {
     n_ = owned_;
-    reserve_elements(owned_ + g.elements());
-    write_elements(owned_, g.position, g.info, g.keys);
-    n_ = owned_ + g.elements();
+    const long m = g.elements();
+    reserve_elements(owned_ + m);
+    if (m) {
+      if (up_done_) {
+        cl_event e = up_done_.get();
+        cl::check(clWaitForEvents(1, &e), "clWaitForEvents (ghost upload)");
+      }
+      up_.reserve(ctx_.get(), queue_.get(), m * (sizeof(Real4) + sizeof(uint64_t)));
+      Real4* p = reinterpret_cast<Real4*>(up_.data());
+      for (long i = 0; i < m; ++i)
+        p[i] = {static_cast<Real>(g.position[3 * i]), static_cast<Real>(g.position[3 * i + 1]),
+                static_cast<Real>(g.position[3 * i + 2]), pack_info(g.info[i])};
+      std::memcpy(up_.data() + m * sizeof(Real4), g.keys.data(), m * sizeof(uint64_t));
+      write_async(pos_, p, m * sizeof(Real4), owned_ * sizeof(Real4));
+      up_done_ = write_async(keys_, up_.data() + m * sizeof(Real4), m * sizeof(uint64_t), owned_ * sizeof(uint64_t));
+    }
+    n_ = owned_ + m;
   }
 
   std::vector<double> ghost_positions() override {
@@ -114,6 +134,7 @@ class OpenClBackend final : public Backend {
     if (!has_fp64_) return Backend::take_leavers(host, map, boundaries, rank, leavers, owner);
     leavers = {};
     owner.clear();
+    near_valid_ = false;
     for (const auto& [name, f] : host.cell_fields) leavers.cell_fields[name];
     n_ = owned_;  // the ghosts go
     const long n = cells_;
@@ -174,6 +195,7 @@ class OpenClBackend final : public Backend {
 
   void append_cells(State& host, const State& arrivals) override {
     if (!has_fp64_) return Backend::append_cells(host, arrivals);
+    near_valid_ = false;
     n_ = owned_;
     const long m = arrivals.cells(), e = arrivals.elements();
     if (m == 0) return;
@@ -253,6 +275,7 @@ class OpenClBackend final : public Backend {
   // counts and the depth-error flag come back.
   bool update_cells(State&, const CellRules& rules, uint64_t seed, double elapsed_h, long step) override {
     require_cells();
+    near_valid_ = false;
     const long n = cells_;
     if (n == 0) return false;
     reserve_plan(n);
@@ -320,20 +343,47 @@ class OpenClBackend final : public Backend {
     return e;
   }
 
-  void band(double x, bool below, Ghosts& out) override {
-    out = {};
+  // Flags of both bands, one scan over the 2n flags, the gather (bands and the non-local items) on the device; two
+  // blocking reads: the two counts, then the bands (positions, keys) into pinned memory.
+  void bands(double below, double above, Ghosts& down, Ghosts& up) override {
+    down = {};
+    up = {};
+    near_valid_ = true;
+    near_items_ = 0;
     if (!owned_) return;
-    launch("band_flags", owned_, kGroup, pos_.get(), owned(), static_cast<Real>(x), static_cast<cl_int>(below), flags_.get());
-    exclusive_scan(flags_, band_starts_, band_sums_, band_starts_, owned_);
-    cl_int m = 0;
-    read(band_starts_, &m, sizeof m, owned_ * sizeof(cl_int));
-    launch("band_gather", owned_, kGroup, pos_.get(), keys_.get(), flags_.get(), band_starts_.get(), owned(),
-           band_pos_.get(), band_keys_.get());
-    const std::vector<Real4> packed = read_packed(band_pos_, m);
-    out.keys.resize(m);
-    read(band_keys_, out.keys.data(), m * sizeof(uint64_t));
-    to_positions(packed, out.position);
-    for (const Real4& p : packed) out.info.push_back(phys64::semlb_info_type(unpack_info(p[3])));
+    const long n = owned_;
+    launch("band_flags", n, kGroup, pos_.get(), owned(), static_cast<Real>(below), static_cast<Real>(above), flags_.get());
+    exclusive_scan(flags_, band_starts_, band_sums_, band_starts_, 2 * n);
+    down_.reserve(ctx_.get(), queue_.get(), 2 * sizeof(cl_int));
+    cl_int* c = reinterpret_cast<cl_int*>(down_.data());
+    read_async(band_starts_, &c[0], sizeof(cl_int), n * sizeof(cl_int));
+    read(band_starts_, &c[1], sizeof(cl_int), 2 * n * sizeof(cl_int));  // in order: both are there
+    const long lower = c[0], total = c[1];
+    if (total > band_capacity_) {
+      band_capacity_ = total + total / 4 + 64;
+      band_out_pos_ = buffer(band_capacity_ * sizeof(Real4));
+      band_out_keys_ = buffer(band_capacity_ * sizeof(uint64_t));
+      near_ = buffer(band_capacity_ * sizeof(cl_int));
+    }
+    launch("band_gather", n, kGroup, pos_.get(), keys_.get(), flags_.get(), band_starts_.get(), owned(),
+           band_out_pos_.get(), band_out_keys_.get(), near_.get());
+    near_items_ = total;
+    if (total == 0) return;
+    down_.reserve(ctx_.get(), queue_.get(), total * (sizeof(Real4) + sizeof(uint64_t)));
+    const Real4* p = reinterpret_cast<const Real4*>(down_.data());
+    const uint64_t* k = reinterpret_cast<const uint64_t*>(down_.data() + total * sizeof(Real4));
+    read_async(band_out_pos_, down_.data(), total * sizeof(Real4));
+    read(band_out_keys_, down_.data() + total * sizeof(Real4), total * sizeof(uint64_t));
+    for (auto [g, from, to] : {std::tuple{&down, 0L, lower}, std::tuple{&up, lower, total}}) {
+      const long m = to - from;
+      g->position.resize(3 * m);
+      g->info.resize(m);
+      g->keys.assign(k + from, k + to);
+      for (long e = 0; e < m; ++e) {
+        for (int d = 0; d < 3; ++d) g->position[3 * e + d] = p[from + e][d];
+        g->info[e] = phys64::semlb_info_type(unpack_info(p[from + e][3]));
+      }
+    }
   }
 
   void zero_forces() override {
@@ -342,18 +392,38 @@ class OpenClBackend final : public Backend {
     if (owned_) cl::check(clEnqueueFillBuffer(queue_.get(), force_.get(), &zero, sizeof zero, 0, 3 * owned_ * sizeof(cl_long), 0, nullptr, nullptr), "zero forces");
   }
 
-  void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) override {
+  void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid& grid) override {
     write_reals(table_, table);
     const Real c2 = static_cast<Real>(cutoff * cutoff);
-    const cl_int n = static_cast<cl_int>(n_);
     if (!binned_) {
-      launch("forces_allpairs", n_, kGroup, pos_.get(), keys_.get(), table_.get(), c2, force_.get(), n, owned(),
-             LocalBytes{kGroup * sizeof(Real4)});
+      launch("forces_allpairs", owned_, kGroup, pos_.get(), keys_.get(), table_.get(), c2, force_.get(), owned(), cl_int{0},
+             LocalBytes{kGroup * sizeof(Real4)}, near_.get(), owned(), cl_int{1});
       return;
     }
-    sort_into_bins(grid);
-    launch("forces_binned", n_, kGroup, sorted_pos_.get(), sorted_index_.get(), keys_.get(), starts_.get(), real4(grid.lo),
-           real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get(), n, owned());
+    sort_into_bins(grid, 0, owned_, owned_sort_);
+    launch("forces_binned", owned_, kGroup, owned_sort_.sorted_pos.get(), owned_sort_.sorted_index.get(), keys_.get(),
+           owned_sort_.starts.get(), real4(grid.lo), real4(grid.size), int4(grid.dims), table_.get(),
+           static_cast<Real>(cutoff), force_.get(), owned(), owned());
+  }
+
+  // The ghosts sorted into bins of their own on the device (the same counting sort, its own buffers), then one
+  // item per owned element of the bands' selection (or every owned element without one).
+  void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid& grid) override {
+    const long ghosts = n_ - owned_;
+    if (ghosts == 0) return;
+    write_reals(table_, table);
+    const long items = near_valid_ ? near_items_ : owned_;
+    const cl_int all = near_valid_ ? 0 : 1;
+    if (!binned_) {
+      launch("forces_allpairs", items, kGroup, pos_.get(), keys_.get(), table_.get(), static_cast<Real>(cutoff * cutoff),
+             force_.get(), static_cast<cl_int>(n_), owned(), LocalBytes{kGroup * sizeof(Real4)}, near_.get(),
+             static_cast<cl_int>(items), all);
+      return;
+    }
+    sort_into_bins(grid, owned_, ghosts, ghost_sort_);
+    launch("forces_nonlocal", items, kGroup, pos_.get(), keys_.get(), near_.get(), static_cast<cl_int>(items), all,
+           ghost_sort_.sorted_pos.get(), ghost_sort_.sorted_index.get(), ghost_sort_.starts.get(), real4(grid.lo),
+           real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get());
   }
 
   void membrane_forces(const std::vector<double>& m) override {
@@ -363,6 +433,7 @@ class OpenClBackend final : public Backend {
 
   void integrate(double dt_over_eta, double max_step, long step) override {
     if (step > INT_MAX) throw std::runtime_error("opencl backends count steps in 32 bits");
+    near_valid_ = false;  // the bands' selection was for these positions
     launch("integrate", owned_, kGroup, pos_.get(), force_.get(), static_cast<Real>(dt_over_eta),
            static_cast<Real>(max_step * max_step), static_cast<cl_int>(step), fail_.get(), owned());
   }
@@ -385,6 +456,19 @@ class OpenClBackend final : public Backend {
   }
 
   void finish() override { cl::check(clFinish(queue_.get()), "clFinish"); }
+
+  void finish_while(const std::function<void()>& progress) override {
+    cl_event marker = nullptr;
+    cl::check(clEnqueueMarkerWithWaitList(queue_.get(), 0, nullptr, &marker), "clEnqueueMarkerWithWaitList");
+    const cl::Event done(marker);
+    cl::check(clFlush(queue_.get()), "clFlush");
+    for (cl_int status = CL_QUEUED; status != CL_COMPLETE;) {
+      progress();
+      cl::check(clGetEventInfo(done.get(), CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, nullptr), "clGetEventInfo");
+      if (status < 0) cl::check(status, "queued work");
+    }
+    finish();
+  }
 
  private:
   cl_int owned() const { return static_cast<cl_int>(owned_); }
@@ -452,7 +536,7 @@ class OpenClBackend final : public Backend {
       throw std::runtime_error("OpenCL: kernels failed to build on " + device_name() + ":\n" + log);
     }
     for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned",
-                          "forces_allpairs", "membrane", "integrate", "noise", "x_extent", "band_flags", "band_gather", "bounds"}) {
+                          "forces_nonlocal", "forces_allpairs", "membrane", "integrate", "noise", "x_extent", "band_flags", "band_gather", "bounds"}) {
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
       cl::check(err, k);
     }
@@ -481,6 +565,18 @@ class OpenClBackend final : public Backend {
     if (bytes) cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_TRUE, offset, bytes, data, 0, nullptr, nullptr), "read buffer");
     moved(0, static_cast<long>(bytes));
   }
+  // Non-blocking read: `data` is filled once a later blocking call on the (in-order) queue returns.
+  void read_async(const cl::Mem& m, void* data, size_t bytes, size_t offset = 0) {
+    if (bytes) cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_FALSE, offset, bytes, data, 0, nullptr, nullptr), "read buffer");
+    moved(0, static_cast<long>(bytes));
+  }
+  // Non-blocking write; `data` must stay unchanged until the returned event completes.
+  cl::Event write_async(const cl::Mem& m, const void* data, size_t bytes, size_t offset = 0) {
+    cl_event e = nullptr;
+    if (bytes) cl::check(clEnqueueWriteBuffer(queue_.get(), m.get(), CL_FALSE, offset, bytes, data, 0, nullptr, &e), "write buffer");
+    moved(static_cast<long>(bytes), 0);
+    return cl::Event(e);
+  }
   void write_reals(const cl::Mem& m, const std::vector<double>& values) {
     const std::vector<Real> r(values.begin(), values.end());
     if (r != last_written_[m.get()]) {  // parameters rarely change: write them once
@@ -489,13 +585,15 @@ class OpenClBackend final : public Backend {
     }
   }
 
-  // Room for n elements (owned + ghosts); growing keeps elements [0, n_) by device copies.
+  // Room for n elements (owned + ghosts); growing keeps elements [0, n_) and the owned elements' forces (the
+  // local part, when the ghosts arrive between the two parts) by device copies.
   void reserve_elements(long n) {
     if (n <= capacity_) return;
-    cl::Mem old_pos = std::move(pos_), old_keys = std::move(keys_);
+    cl::Mem old_pos = std::move(pos_), old_keys = std::move(keys_), old_force = std::move(force_);
     allocate(n + n / 4 + 64);
     copy(old_pos, pos_, n_ * sizeof(Real4));
     copy(old_keys, keys_, n_ * sizeof(uint64_t));
+    copy(old_force, force_, 3 * owned_ * sizeof(cl_long));
   }
 
   // The per-cell work arrays of the cell stage and the migration for n cells.
@@ -521,14 +619,10 @@ class OpenClBackend final : public Backend {
     pos_back_ = buffer(capacity * sizeof(Real4));  // the cell stage's output (swapped with pos_, keys_)
     keys_back_ = buffer(capacity * sizeof(uint64_t));
     force_ = buffer(3 * capacity * sizeof(cl_long));
-    bin_ = buffer(capacity * sizeof(cl_int));
-    sorted_pos_ = buffer(capacity * sizeof(Real4));
-    sorted_index_ = buffer(capacity * sizeof(cl_int));
-    flags_ = buffer(capacity * sizeof(cl_int));
-    band_starts_ = buffer((capacity + 1) * sizeof(cl_int));
-    band_sums_ = buffer(round_up(capacity, kScanGroup) / kScanGroup * sizeof(cl_int));
-    band_pos_ = buffer(capacity * sizeof(Real4));
-    band_keys_ = buffer(capacity * sizeof(uint64_t));
+    flags_ = buffer(2 * capacity * sizeof(cl_int));  // both bands' flags (bands())
+    band_starts_ = buffer((2 * capacity + 1) * sizeof(cl_int));
+    band_sums_ = buffer(round_up(2 * capacity, kScanGroup) / kScanGroup * sizeof(cl_int));
+    band_pos_ = buffer(capacity * sizeof(Real4));  // the migration's leavers (cells_split)
   }
 
   // starts[i] = counts[0] + ... + counts[i-1] for i <= n (three kernels); cursor[i] = starts[i].
@@ -539,21 +633,34 @@ class OpenClBackend final : public Backend {
     launch("scan_add", n, kScanGroup, starts.get(), sums.get(), counts.get(), nb, cursor.get());
   }
 
-  // Counting sort by bin: count (atomics), exclusive scan, scatter.
-  void sort_into_bins(const Grid& g) {
+  // A counting sort by bin with its own buffers (the owned elements' and the ghosts'): per bin the count, the
+  // first sorted slot (starts, bins + 1) and the scatter cursor; per sorted slot the position and element index.
+  struct BinSort {
+    cl::Mem counts, starts, cursor, sums, bin, sorted_pos, sorted_index;
+    long bins = 0, elements = 0;  // capacities
+  };
+
+  // Counting sort of elements [first, first + count) by bin: count (atomics), exclusive scan, scatter.
+  void sort_into_bins(const Grid& g, long first, long count, BinSort& s) {
     const long bins = g.bins();
-    if (bins > bins_capacity_) {
-      bins_capacity_ = bins;
-      counts_ = buffer(bins * sizeof(cl_int));
-      starts_ = buffer((bins + 1) * sizeof(cl_int));
-      cursor_ = buffer(bins * sizeof(cl_int));
-      sums_ = buffer(round_up(bins, kScanGroup) / kScanGroup * sizeof(cl_int));
+    if (bins > s.bins) {
+      s.bins = bins;
+      s.counts = buffer(bins * sizeof(cl_int));
+      s.starts = buffer((bins + 1) * sizeof(cl_int));
+      s.cursor = buffer(bins * sizeof(cl_int));
+      s.sums = buffer(round_up(bins, kScanGroup) / kScanGroup * sizeof(cl_int));
     }
-    const cl_int zero = 0, n = static_cast<cl_int>(n_);
-    cl::check(clEnqueueFillBuffer(queue_.get(), counts_.get(), &zero, sizeof zero, 0, bins * sizeof(cl_int), 0, nullptr, nullptr), "zero bins");
-    launch("bin_count", n_, kGroup, pos_.get(), n, real4(g.lo), real4(g.size), int4(g.dims), bin_.get(), counts_.get());
-    exclusive_scan(counts_, starts_, sums_, cursor_, bins);
-    launch("scatter", n_, kGroup, pos_.get(), bin_.get(), cursor_.get(), sorted_pos_.get(), sorted_index_.get(), n);
+    if (count > s.elements) {
+      s.elements = count + count / 4 + 64;
+      s.bin = buffer(s.elements * sizeof(cl_int));
+      s.sorted_pos = buffer(s.elements * sizeof(Real4));
+      s.sorted_index = buffer(s.elements * sizeof(cl_int));
+    }
+    const cl_int zero = 0, n = static_cast<cl_int>(count), from = static_cast<cl_int>(first);
+    cl::check(clEnqueueFillBuffer(queue_.get(), s.counts.get(), &zero, sizeof zero, 0, bins * sizeof(cl_int), 0, nullptr, nullptr), "zero bins");
+    launch("bin_count", count, kGroup, pos_.get(), from, n, real4(g.lo), real4(g.size), int4(g.dims), s.bin.get(), s.counts.get());
+    exclusive_scan(s.counts, s.starts, s.sums, s.cursor, bins);
+    launch("scatter", count, kGroup, pos_.get(), from, s.bin.get(), s.cursor.get(), s.sorted_pos.get(), s.sorted_index.get(), n);
   }
 
   template <class T>
@@ -576,7 +683,7 @@ class OpenClBackend final : public Backend {
   template <class... Args>
   void launch(const char* name, long items, size_t group, const Args&... args) {
     if (items <= 0) return;
-    count(name);  // every kernel enqueued, by name (launches())
+    count(name, items);  // every kernel enqueued, by name (launches(), launch_items())
     cl_kernel k = kernels_.at(name).get();
     cl_uint i = 0;
     (set_arg(k, i++, args, name), ...);
@@ -647,9 +754,17 @@ class OpenClBackend final : public Backend {
   cl::KernelCapture capture_;
   std::map<std::string, cl::Kernel> kernels_;
   std::map<cl_mem, std::vector<Real>> last_written_;
-  cl::Mem pos_, keys_, force_, fail_, table_, membrane_, bin_, sorted_pos_, sorted_index_, counts_, starts_, cursor_, sums_;
-  cl::Mem extent_, flags_, band_starts_, band_sums_, band_pos_, band_keys_;  // ghost bands
-  long n_ = 0, owned_ = 0, capacity_ = 0, bins_capacity_ = 0;  // n_: owned + ghosts
+  cl::Mem pos_, keys_, force_, fail_, table_, membrane_;
+  BinSort owned_sort_, ghost_sort_;  // the local forces' bins; the ghosts' own (non-local forces)
+  cl::Mem extent_, flags_, band_starts_, band_sums_, band_pos_;
+  // The last bands() selection: both bands compacted (lower first) and near_[k] the owned element of slot k
+  // (-1: listed in the lower band already), the non-local forces' items while near_valid_.
+  cl::Mem band_out_pos_, band_out_keys_, near_;
+  long band_capacity_ = 0, near_items_ = 0;
+  bool near_valid_ = false;
+  cl::Pinned down_, up_;  // pinned host memory: the bands down, the ghosts up
+  cl::Event up_done_;     // the ghost upload's last write from up_
+  long n_ = 0, owned_ = 0, capacity_ = 0;  // n_: owned + ghosts
 };
 
 template <bool Binned>

@@ -10,15 +10,28 @@ class SerialBackend final : public CpuBackend<Real> {
   SerialBackend() : CpuBackend<Real>(1) {}
   std::string name() const override { return "serial"; }
 
-  void pair_forces(const std::vector<double>& table, double cutoff, const Grid&) override {
-    this->count("forces_allpairs");
+  void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid&) override {
+    std::vector<long> all(this->owned());
+    for (long i = 0; i < this->owned(); ++i) all[i] = i;
+    this->count("forces_allpairs", this->owned());
+    pairs(table, cutoff, all, 0, this->owned());
+  }
+  void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid&) override {
+    if (this->total() == this->owned()) return;  // no ghosts
+    const std::vector<long> items = this->nonlocal_items();
+    this->count("forces_nonlocal", static_cast<long>(items.size()));
+    pairs(table, cutoff, items, this->owned(), this->total());
+  }
+
+ private:
+  // Adds the forces of elements [from, to) on the owned elements `items`.
+  void pairs(const std::vector<double>& table, double cutoff, const std::vector<long>& items, long from, long to) {
     const std::vector<Real> t(table.begin(), table.end());
     const Real c2 = static_cast<Real>(cutoff * cutoff);
-    const long owned = this->owned(), n = this->total();
     const Real* p = this->pos_.data();
-    for (long i = 0; i < owned; ++i) {
+    for (const long i : items) {
       int64_t acc[3] = {0, 0, 0};
-      for (long j = 0; j < n; ++j)
+      for (long j = from; j < to; ++j)
         if (j != i)
           Physics<Real>::pair(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2],
                               this->info_[i], this->info_[j], this->key_[i], this->key_[j], t.data(), c2, acc);

@@ -28,12 +28,13 @@ Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
   d.rebalance_every = s.integer("rebalance_every", d.rebalance_every, 1, 1L << 40);
   d.timing = s.text("timing", d.timing);
   if (d.timing != "measured" && d.timing != "modelled") s.fail("timing", "must be measured or modelled");
+  d.overlap = s.boolean("overlap", d.overlap);
   const Section p = s.child("params");
   for (const auto& k : p.keys()) d.params.set(k, p.text(k, ""));
   p.finish();
   s.finish();
   // On 3 or more ranks the ghost exchange, which reaches the neighbouring ranks only, needs slabs at least as
-  // wide as the cutoff plus a cell's reach (taken as one cutoff) on either side. exchange_ghosts() still
+  // wide as the cutoff plus a cell's reach (taken as one cutoff) on either side. start_exchange() still
   // checks the elements at every step and stops the run if a cell reaches further.
   const int ghost_slices = static_cast<int>(std::ceil(3 * scene.cutoff / d.width));
   if (ranks >= 3 && d.min_width < ghost_slices) {

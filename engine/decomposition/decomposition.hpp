@@ -20,6 +20,10 @@ struct Decomposition : SliceMap {
   // units), so that decisions are the same in every launch (tests, studies that need reproducible decisions)
   std::string timing = "measured";
   long rebalance_every = 100;
+  // true: the ghost bands travel while the device computes the local forces (MPI_Isend/Irecv posted after the
+  // local kernel is enqueued, polled during it); false: the exchange completes before any force (blocking), for
+  // timing the two against each other. The result is the same bit for bit.
+  bool overlap = true;
   PolicyParams params;
 
   // InputError names the field: slab widths below the ghost region on >= 3 ranks, more ranks than the

@@ -55,7 +55,12 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
   State mine;  // every rank holds the whole tissue here: each keeps its own cells, nothing is sent
   split_by_owner(tissue, dec_, balancer_->boundaries(), mpi.rank(), mine);
   sim_ = std::make_unique<Simulation>(scene, std::move(mine));
-  sim_->before_forces = [this] { exchange_ghosts(); };
+  sim_->before_forces = [this] { start_exchange(); };
+  if (dec_.overlap) {
+    sim_->post_exchange = [this] { post_exchange(); };
+    sim_->before_nonlocal_forces = [this] { finish_exchange(); };
+    sim_->progress = [this] { pending_.progress(); };
+  }
   sim_->after_cells = [this] { migrate_cells(); };
   sim_->failure_check = [this] { collective_check(); };
   trace_path_ = mpi.rank() == 0 ? trace_path : "";  // opened at the first event: nothing is written before
@@ -79,13 +84,15 @@ double DistributedSimulation::compute_seconds() const {
 // Owned elements within the cutoff of a neighbour's elements go to that neighbour; only neighbours
 // exchange, so no two ranks further apart may hold elements within the cutoff of each other (checked here,
 // over all pairs of ranks). The check and the per-step failure flag (set by the previous step's
-// integration, seen before the next step moves anything) are agreed from one allgather, so every rank stops at the same step. The backend selects
-// the bands on its device: only the x range, the flag and the band elements cross to the host.
-void DistributedSimulation::exchange_ghosts() {
+// integration, seen before the next step moves anything) are agreed from one allgather, so every rank stops at
+// the same step. The backend selects both bands on its device in one pass (Backend::bands: only the x range, the
+// flag, two counts and the band elements cross to the host) and keeps their union as the non-local forces'
+// items. With decomposition.overlap (default) the bands are posted once the local forces are enqueued
+// (post_exchange) and waited for before the non-local forces (finish_exchange); without it all three run here,
+// before any force (docs/engine.md, "Overlap of the ghost exchange with force work").
+void DistributedSimulation::start_exchange() {
   const int r = mpi_->rank(), P = mpi_->size();
   if (P == 1) return;  // no neighbours; the failure is caught at the next check, the state frozen meanwhile
-  if (r == fault_rank_ && step() == fault_step_)
-    throw std::runtime_error("step " + std::to_string(step()) + ": fault injected by SEMLB_FAULT_INJECT");
   const auto t0 = std::chrono::steady_clock::now();
   Backend& b = sim_->backend();
   PhaseScope phase(b, "exchange");
@@ -107,20 +114,51 @@ void DistributedSimulation::exchange_ghosts() {
           << " further than one cutoff from its slab (raise decomposition.min_width)";
         throw AgreedError(m.str(), 1);
       }
+  // Every ghost then lies at least `reach` (> cutoff) beyond the band limits: the bands' selection is exact
+  // as the non-local items (Backend::pair_forces_nonlocal).
   Ghosts left, right;
-  if (r > 0) b.band(his(r - 1) + reach, true, left);
-  if (r + 1 < P) b.band(los(r + 1) - reach, false, right);
+  b.bands(r > 0 ? his(r - 1) + reach : -INFINITY, r + 1 < P ? los(r + 1) - reach : INFINITY, left, right);
+  send_left_ = pack_band(left);
+  send_right_ = pack_band(right);
+  exchange_s_ += seconds_since(t0);
+  if (!dec_.overlap) {
+    post_exchange();
+    finish_exchange();
+  }
+}
+
+// Posts the bands selected by start_exchange(): the sizes are swapped at once (8 bytes, blocking), the bands by
+// MPI_Isend/MPI_Irecv, owned by pending_ (freed if anything throws before the wait).
+void DistributedSimulation::post_exchange() {
+  if (mpi_->size() == 1) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  const int r = mpi_->rank(), P = mpi_->size();
+  const int below = r > 0 ? r - 1 : MPI_PROC_NULL, above = r + 1 < P ? r + 1 : MPI_PROC_NULL;
+  mpi_->start_sendrecv(send_left_, below, above, from_above_, 1, pending_);   // tags 1, 2: bands sent down
+  mpi_->start_sendrecv(send_right_, above, below, from_below_, 3, pending_);  // tags 3, 4: bands sent up
+  if (r == fault_rank_ && step() == fault_step_)  // with its bands in flight: Requests frees them, MPI_Abort follows
+    throw std::runtime_error("step " + std::to_string(step()) + ": fault injected by SEMLB_FAULT_INJECT");
+  exchange_s_ += seconds_since(t0);
+}
+
+// Waits for the bands posted by post_exchange() and sets them as the backend's ghosts (their upload is enqueued
+// without a host sync; the device runs it before the non-local forces). exchange_s counts the time a rank
+// spends here and in the two calls before: the wait beyond its local forces, not the time the bands travelled
+// while the device computed.
+void DistributedSimulation::finish_exchange() {
+  if (mpi_->size() == 1) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  Backend& b = sim_->backend();
+  PhaseScope phase(b, "exchange");
+  pending_.wait();
   Ghosts g;
-  for (const auto& bytes : {mpi_->sendrecv(pack_band(left), r > 0 ? r - 1 : MPI_PROC_NULL, r + 1 < P ? r + 1 : MPI_PROC_NULL),
-                            mpi_->sendrecv(pack_band(right), r + 1 < P ? r + 1 : MPI_PROC_NULL, r > 0 ? r - 1 : MPI_PROC_NULL)})
-    unpack_band(bytes, g);
+  for (const auto* bytes : {&from_above_, &from_below_}) unpack_band(*bytes, g);
   int cell = static_cast<int>(sim_->counts().first) - 1;  // ghost cells are numbered after the owned ones
   for (long e = 0; e < g.elements(); ++e) {  // a band holds each cell's elements contiguously
     if (e == 0 || cell_id_of_key(g.keys[e]) != cell_id_of_key(g.keys[e - 1])) ++cell;
     g.info[e] = phys64::semlb_info_pack(cell, phys64::semlb_info_type(g.info[e]));
   }
   b.set_ghosts(g);  // kept on the backend for the next W_s
-  b.finish();
   exchange_s_ += seconds_since(t0);
 }
 

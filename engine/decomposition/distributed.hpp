@@ -46,7 +46,11 @@ class DistributedSimulation {
   Simulation& local() { return *sim_; }
 
  private:
-  void exchange_ghosts();
+  // The ghost exchange in three parts around the local forces (Simulation's before_forces, post_exchange and
+  // before_nonlocal_forces hooks; all three in start_exchange without decomposition.overlap).
+  void start_exchange();
+  void post_exchange();
+  void finish_exchange();
   void migrate_cells();
   // A rebalancing event (LAMMPS-style probe / decide / move): measure() gathers the interval's times and
   // the global W_s on every rank, decide() runs the Balancer (the policy on rank 0, broadcast, every rank's
@@ -67,6 +71,10 @@ class DistributedSimulation {
   std::vector<Interval> intervals_;
   double seconds_at_event_ = 0;
   double exchange_s_ = 0, migrate_s_ = 0;  // since the last rebalancing event
+  // The bands in flight between start_exchange() and finish_exchange(); the buffers are declared first so that
+  // they outlive the requests.
+  std::vector<char> send_left_, send_right_, from_above_, from_below_;
+  Requests pending_;
   long cells_at_event_ = 0;
   int fault_rank_ = -1;  // SEMLB_FAULT_INJECT=RANK:STEP: throws on that rank alone at that step (tests)
   long fault_step_ = -1;

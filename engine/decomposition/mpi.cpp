@@ -87,6 +87,50 @@ std::vector<char> Mpi::sendrecv(const std::vector<char>& send, int to, int from)
   return recv;
 }
 
+void Mpi::start_sendrecv(const std::vector<char>& send, int to, int from, std::vector<char>& recv, int tag,
+                         Requests& pending) const {
+  long n_send = static_cast<long>(send.size()), n_recv = 0;
+  check(MPI_Sendrecv(&n_send, 1, MPI_LONG, to, tag, &n_recv, 1, MPI_LONG, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+        "MPI_Sendrecv");
+  recv.resize(from == MPI_PROC_NULL ? 0 : n_recv);
+  pending.receive(recv, from, tag + 1);
+  pending.send(send, to, tag + 1);
+}
+
+Requests::~Requests() {
+  for (MPI_Request& r : requests_) {
+    if (r == MPI_REQUEST_NULL) continue;
+    MPI_Cancel(&r);
+    MPI_Request_free(&r);
+  }
+}
+
+void Requests::send(const std::vector<char>& bytes, int to, int tag) {
+  if (to == MPI_PROC_NULL) return;
+  requests_.emplace_back(MPI_REQUEST_NULL);
+  check(MPI_Isend(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, to, tag, MPI_COMM_WORLD, &requests_.back()), "MPI_Isend");
+}
+
+void Requests::receive(std::vector<char>& bytes, int from, int tag) {
+  if (from == MPI_PROC_NULL) return;
+  requests_.emplace_back(MPI_REQUEST_NULL);
+  check(MPI_Irecv(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, from, tag, MPI_COMM_WORLD, &requests_.back()), "MPI_Irecv");
+}
+
+void Requests::wait() {
+  const int rc = MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
+  if (rc == MPI_SUCCESS) requests_.clear();  // completed requests are MPI_REQUEST_NULL; on error the rest are freed
+  check(rc, "MPI_Waitall");
+}
+
+void Requests::progress() {
+  if (requests_.empty()) return;
+  int done = 0;
+  const int rc = MPI_Testall(static_cast<int>(requests_.size()), requests_.data(), &done, MPI_STATUSES_IGNORE);
+  if (rc == MPI_SUCCESS && done) requests_.clear();
+  check(rc, "MPI_Testall");
+}
+
 std::vector<std::vector<char>> Mpi::alltoall(const std::vector<std::vector<char>>& parts) const {
   std::vector<int> send_n(size_), recv_n(size_), send_off(size_), recv_off(size_);
   for (int r = 0; r < size_; ++r) send_n[r] = static_cast<int>(parts[r].size());

@@ -20,7 +20,9 @@ class Effect {
   virtual std::string name() const = 0;
   virtual void prepare(State&) {}                               // allocate this effect's per-cell fields
   virtual bool adds_forces() const { return false; }            // element stage, before integration
-  virtual void forces(Backend&, const Grid&) {}
+  virtual void forces(Backend&, const Grid&) {}  // the part that needs no ghost (local)
+  // The part of the forces that needs the ghosts (non-local), run after the ghost exchange arrived.
+  virtual void nonlocal_forces(Backend&, const Grid&) {}
   virtual bool moves_after_integration() const { return false; }  // element stage, after integration
   virtual void after_integration(Backend&, long /*step*/) {}
   virtual bool changes_cells() const { return false; }           // cell stage, every cell update

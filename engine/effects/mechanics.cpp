@@ -38,7 +38,8 @@ class Mechanics final : public Effect {
   }
   std::string name() const override { return "mechanics"; }
   bool adds_forces() const override { return true; }
-  void forces(Backend& b, const Grid& g) override { b.pair_forces(table_, cutoff_, g); }
+  void forces(Backend& b, const Grid& g) override { b.pair_forces_local(table_, cutoff_, g); }
+  void nonlocal_forces(Backend& b, const Grid& g) override { b.pair_forces_nonlocal(table_, cutoff_, g); }
 
  private:
   void put(int at, const Morse& m) {  // derived constants: see evaluator.h

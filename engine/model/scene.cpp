@@ -57,6 +57,12 @@ std::string Section::text(const std::string& key, const std::string& fallback) c
   return at(key).as<std::string>();
 }
 
+bool Section::boolean(const std::string& key, bool fallback) const {
+  const std::string v = text(key, fallback ? "true" : "false");
+  if (v != "true" && v != "false") fail(key, "must be true or false, got '" + v + "'");
+  return v == "true";
+}
+
 std::vector<std::string> Section::texts(const std::string& key, const std::vector<std::string>& fallback) const {
   read_.insert(key);
   if (!has(key)) return fallback;

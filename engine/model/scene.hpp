@@ -19,6 +19,7 @@ class Section {
   double real(const std::string& key, double fallback, double min, double max) const;
   long integer(const std::string& key, long fallback, long min, long max) const;
   std::string text(const std::string& key, const std::string& fallback) const;
+  bool boolean(const std::string& key, bool fallback) const;  // exactly true or false
   std::vector<std::string> texts(const std::string& key, const std::vector<std::string>& fallback) const;
   Section child(const std::string& key) const;  // an empty section when absent
   std::vector<std::string> keys() const;

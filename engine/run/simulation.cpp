@@ -39,7 +39,7 @@ template <class F>
 void Simulation::timed(size_t phase, F&& f) {
   const auto t0 = std::chrono::steady_clock::now();
   f();
-  if (profile) backend_->finish();
+  if (profile) progress ? backend_->finish_while(progress) : backend_->finish();
   seconds_[phase] += seconds_since(t0);
 }
 
@@ -65,14 +65,37 @@ void Simulation::refit_grid() {
   }
 }
 
+// A decomposed step (distributed.cpp's hooks; docs/engine.md, "Overlap of the ghost exchange with force work"):
+// before_forces selects and downloads the bands; the first force effect's local part is enqueued, post_exchange
+// posts the bands (its time is the exchange's, not the phase's), and under `profile` MPI progresses (`progress`)
+// while the device computes; before_nonlocal_forces waits for the bands and sets the ghosts; the non-local parts.
 void Simulation::step_once() {
   const long step = state_.step;
   size_t phase = 0;
   if (before_forces) before_forces();
   PhaseScope in_step(*backend_, "step");
   backend_->zero_forces();
+  const size_t first_force = phase;
+  bool posted = !post_exchange;
+  const auto post = [&] {  // seconds spent posting
+    const auto t0 = std::chrono::steady_clock::now();
+    post_exchange();
+    posted = true;
+    return seconds_since(t0);
+  };
   for (const auto& e : effects_)
-    if (e->adds_forces()) timed(phase++, [&] { e->forces(*backend_, grid_); });
+    if (e->adds_forces()) {
+      const auto t0 = std::chrono::steady_clock::now();
+      e->forces(*backend_, grid_);
+      const double posting = posted ? 0.0 : post();
+      if (profile) progress ? backend_->finish_while(progress) : backend_->finish();
+      seconds_[phase++] += seconds_since(t0) - posting;
+    }
+  if (!posted) post();
+  if (before_nonlocal_forces) before_nonlocal_forces();
+  size_t force = first_force;
+  for (const auto& e : effects_)
+    if (e->adds_forces()) timed(force++, [&] { e->nonlocal_forces(*backend_, grid_); });
   timed(phase++, [&] { backend_->integrate(scene_->dt / scene_->friction, scene_->max_displacement, step); });
   for (const auto& e : effects_)
     if (e->moves_after_integration()) timed(phase++, [&] { e->after_integration(*backend_, step); });

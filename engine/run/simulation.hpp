@@ -55,8 +55,13 @@ class Simulation {
   // Throws SimulationError if a kernel recorded a failure.
   void check();
 
-  // Hooks of the decomposed run (distributed.cpp); empty by default.
-  std::function<void()> before_forces;  // every step, before the force effects (ghost exchange)
+  // Hooks of the decomposed run (distributed.cpp); empty by default. Every step: before_forces before the force
+  // effects' local parts (selects the bands), post_exchange once the first local part is enqueued (posts them;
+  // timed apart from the phase), before_nonlocal_forces before the non-local parts (waits for the bands and
+  // sets the ghosts).
+  std::function<void()> before_forces, post_exchange, before_nonlocal_forces;
+  // Called while the device computes a phase (when `profile` waits for it): MPI progress of the ghost bands.
+  std::function<void()> progress;
   std::function<void()> after_cells;    // after each cell update (cell migration)
   std::function<void()> failure_check;  // replaces check() (a collective check across ranks)
   State& state() { return state_; }     // the host state, for the decomposed run to edit, then reload()

@@ -10,6 +10,8 @@
 #include <map>
 
 #include "engine/backends/cpu_physics.hpp"
+#include "engine/effects/cell_types.hpp"
+#include "engine/effects/effect.hpp"
 #include "engine/run/simulation.hpp"
 #include "../engine_fixtures.hpp"
 #include "../../run_command.hpp"
@@ -129,22 +131,192 @@ TEST(Backends, GhostBandsAndXRangeMatchTheHostState) {
       for (long e = 0; e < s.elements(); ++e) want_lo = std::min(want_lo, s.position[3 * e]), want_hi = std::max(want_hi, s.position[3 * e]);
       EXPECT_NEAR(lo, want_lo, tol) << name << " " << precision;
       EXPECT_NEAR(hi, want_hi, tol) << name << " " << precision;
-      for (auto [x, below] : {std::pair{30.0, true}, std::pair{170.0, false}, std::pair{-1.0, true}}) {
-        Ghosts band;
-        b->band(x, below, band);
-        std::vector<long> want;
-        for (long e = 0; e < s.elements(); ++e)
-          if (below ? s.position[3 * e] < x : s.position[3 * e] > x) want.push_back(e);
-        ASSERT_EQ(band.elements(), static_cast<long>(want.size())) << name << " " << precision << " x " << x;
-        const auto keys = s.element_keys();
-        const auto info = s.element_info();
-        for (size_t k = 0; k < want.size(); ++k) {
-          ASSERT_EQ(band.keys[k], keys[want[k]]) << name << " " << precision << " element order";
-          EXPECT_EQ(band.info[k], phys64::semlb_info_type(info[want[k]]));
-          for (int d = 0; d < 3; ++d) EXPECT_NEAR(band.position[3 * k + d], s.position[3 * want[k] + d], tol);
+      // both bands apart, one side only, neither, and overlapping bands (elements in both, listed in each)
+      for (auto [below, above] : {std::pair{30.0, 170.0}, std::pair{-1.0, double{INFINITY}}, std::pair{-double{INFINITY}, 100.0},
+                                  std::pair{120.0, 80.0}}) {
+        Ghosts down, up;
+        b->bands(below, above, down, up);
+        for (auto [band, is_below] : {std::pair{&down, true}, std::pair{&up, false}}) {
+          const double x = is_below ? below : above;
+          std::vector<long> want;
+          for (long e = 0; e < s.elements(); ++e)
+            if (is_below ? s.position[3 * e] < x : s.position[3 * e] > x) want.push_back(e);
+          ASSERT_EQ(band->elements(), static_cast<long>(want.size())) << name << " " << precision << " x " << x;
+          const auto keys = s.element_keys();
+          const auto info = s.element_info();
+          for (size_t k = 0; k < want.size(); ++k) {
+            ASSERT_EQ(band->keys[k], keys[want[k]]) << name << " " << precision << " element order";
+            EXPECT_EQ(band->info[k], phys64::semlb_info_type(info[want[k]]));
+            for (int d = 0; d < 3; ++d) EXPECT_NEAR(band->position[3 * k + d], s.position[3 * want[k] + d], tol);
+          }
         }
       }
     }
+}
+
+// The split of the pair forces (local: owned on owned; non-local: ghosts on owned) is exact: on a tissue cut into
+// owned cells (x below the middle) and ghost cells, local + non-local moves every owned element exactly as the
+// whole tissue on one device does, in either order; without the non-local part it differs (the ghosts matter).
+TEST(Backends, LocalPlusNonLocalEqualsTheFullPairForcesBitForBit) {
+  const auto tissue = random_state(400, 8, 60.0, 21);
+  State owned, ghost_cells;
+  for (long c = 0; c < tissue.cells(); ++c) copy_cell(tissue, c, centroid(tissue, c)[0] < 30.0 ? owned : ghost_cells);
+  owned.reindex();
+  ghost_cells.reindex();
+  ASSERT_GT(owned.cells(), 50);
+  ASSERT_GT(ghost_cells.cells(), 50);
+  Ghosts ghosts;  // numbered after the owned cells, as the ghost exchange does
+  ghosts.position = ghost_cells.position;
+  ghosts.keys = ghost_cells.element_keys();
+  for (int info : ghost_cells.element_info())
+    ghosts.info.push_back(phys64::semlb_info_pack(static_cast<int>(owned.cells()) + phys64::semlb_info_cell(info),
+                                                  phys64::semlb_info_type(info)));
+  auto scene = scene_from(testing::kMechanicsYaml, {});
+  const Grid grid = Grid::cover({0, 0, 0}, {60, 60, 60}, scene.cutoff);
+  std::vector<double> table(SEMLB_TABLE_SIZE);  // derived Morse constants (mechanics.cpp): intra apart from inter
+  const auto put = [&](int at, double U0, double V0, double xi1, double xi2) {
+    table[at] = U0 / xi1, table[at + 1] = 1 / xi1, table[at + 2] = V0 / xi2, table[at + 3] = 1 / xi2;
+  };
+  put(SEMLB_MORSE_INTRA, 4.0, 1.0, 0.8, 1.1);
+  for (int ta = 0; ta < kCellTypes; ++ta)
+    for (int tb = 0; tb < kCellTypes; ++tb) put(SEMLB_MORSE_INTER(ta, tb), 4.0, 0.3 + 0.1 * (ta + tb), 0.8, 1.1);
+  ASSERT_FALSE(table.empty());
+  const long n = owned.elements();
+  for (const auto& name : available_backends())
+    for (const char* precision : {"double", "float"}) {
+      BackendConfig c;
+      c.name = name;
+      c.precision = precision;
+      // 0: whole tissue owned; 1: local, ghosts set, non-local (a decomposed step's order); 2: ghosts set,
+      // non-local, local; 3: local only
+      const auto step = [&](int how) {
+        const auto b = make_backend(c);
+        State out = how == 0 ? tissue : owned;
+        b->upload(out);
+        if (how >= 2) b->set_ghosts(ghosts);
+        b->zero_forces();
+        if (how == 0) b->pair_forces(table, scene.cutoff, grid);
+        if (how == 1 || how == 3) b->pair_forces_local(table, scene.cutoff, grid);
+        if (how == 1) b->set_ghosts(ghosts);
+        if (how == 1 || how == 2) b->pair_forces_nonlocal(table, scene.cutoff, grid);
+        if (how == 2) b->pair_forces_local(table, scene.cutoff, grid);
+        b->integrate(0.01, 100.0, 0);
+        b->download(out);
+        std::vector<double> mine;  // the owned cells' elements, in the owned state's order
+        if (how != 0) return out.position;
+        for (long cell = 0; cell < out.cells(); ++cell)
+          if (centroid(tissue, cell)[0] < 30.0)
+            mine.insert(mine.end(), out.position.begin() + 3 * out.cell_first[cell],
+                        out.position.begin() + 3 * (out.cell_first[cell] + out.cell_count[cell]));
+        return mine;
+      };
+      const auto full = step(0);
+      ASSERT_EQ(static_cast<long>(full.size()), 3 * n);
+      EXPECT_EQ(step(1), full) << name << " " << precision;
+      EXPECT_EQ(step(2), full) << name << " " << precision;
+      EXPECT_NE(step(3), full) << name << " " << precision << ": the ghosts exert no force";
+    }
+}
+
+// Cells of 8 elements with x uniform in [x0, x1) and y, z in [0, 60) um; cell ids start at id0 (distinct sets).
+State slab_cells(long cells, double x0, double x1, uint64_t seed, uint64_t id0) {
+  State s = random_state(cells, 8, 1.0, seed);
+  for (long e = 0; e < s.elements(); ++e) {
+    s.position[3 * e] = x0 + (x1 - x0) * s.position[3 * e];
+    s.position[3 * e + 1] *= 60.0;
+    s.position[3 * e + 2] *= 60.0;
+  }
+  for (auto& id : s.cell_id) id += id0;
+  return s;
+}
+
+// The non-local forces visit only the owned elements of the bands' selection (Backend::bands: those within
+// reach of a neighbour, the set a rank sends) and stay exact: a slab of owned cells with ghost cells beyond one
+// side (the band is a quarter of the slab) and a slab narrower than two reaches with ghosts on both sides
+// (elements in both bands, visited once). Local + non-local equals the whole tissue on one device bit for bit, and
+// the non-local kernel's items are the bands' elements: a regression to every owned element fails here.
+TEST(Backends, NonLocalForcesVisitOnlyTheBandsAndStayExact) {
+  const double cutoff = 8.75, reach = cutoff * 1.01;  // the decomposed run's reach (kGhostSlack)
+  struct Layout {
+    double owned_lo, owned_hi, ghost_below, ghost_above;  // ghosts in [ghost_below, owned_lo), [owned_hi, ghost_above)
+  };
+  std::vector<double> table(SEMLB_TABLE_SIZE);  // derived Morse constants (mechanics.cpp), as in the split test
+  const auto put = [&](int at, double U0, double V0, double xi1, double xi2) {
+    table[at] = U0 / xi1, table[at + 1] = 1 / xi1, table[at + 2] = V0 / xi2, table[at + 3] = 1 / xi2;
+  };
+  put(SEMLB_MORSE_INTRA, 4.0, 1.0, 0.8, 1.1);
+  for (int ta = 0; ta < kCellTypes; ++ta)
+    for (int tb = 0; tb < kCellTypes; ++tb) put(SEMLB_MORSE_INTER(ta, tb), 4.0, 0.3 + 0.1 * (ta + tb), 0.8, 1.1);
+  for (const Layout l : {Layout{0, 40, 0, 60}, Layout{20, 35, 5, 50}}) {
+    const State owned = slab_cells(300, l.owned_lo, l.owned_hi, 31, 0);
+    State ghost_cells, tissue = owned;  // the whole tissue: the owned cells first, as the ghosts are numbered
+    if (l.owned_lo > l.ghost_below) ghost_cells = slab_cells(150, l.ghost_below, l.owned_lo, 32, 7000);
+    const State above = slab_cells(150, l.owned_hi, l.ghost_above, 33, 14000);
+    for (long c = 0; c < above.cells(); ++c) copy_cell(above, c, ghost_cells);
+    ghost_cells.reindex();
+    for (long c = 0; c < ghost_cells.cells(); ++c) copy_cell(ghost_cells, c, tissue);
+    tissue.reindex();
+    Ghosts ghosts;
+    ghosts.position = ghost_cells.position;
+    ghosts.keys = ghost_cells.element_keys();
+    for (int info : ghost_cells.element_info())
+      ghosts.info.push_back(phys64::semlb_info_pack(static_cast<int>(owned.cells()) + phys64::semlb_info_cell(info),
+                                                    phys64::semlb_info_type(info)));
+    const double below = l.owned_lo > l.ghost_below ? l.owned_lo + reach : -INFINITY, above_x = l.owned_hi - reach;
+    long want_items = 0, want_union = 0;  // elements in the lower band plus those in the upper one; in either
+    for (long e = 0; e < owned.elements(); ++e) {
+      const bool d = owned.position[3 * e] < below, u = owned.position[3 * e] > above_x;
+      want_items += d + u;
+      want_union += d || u;
+    }
+    const long n = owned.elements();
+    ASSERT_GT(want_items, 0);
+    if (l.owned_lo == 0) {
+      ASSERT_LT(want_items, n / 2) << "the band is a small part of the slab";
+    } else {
+      ASSERT_GT(want_items, want_union) << "some elements lie in both bands";
+    }
+    const Grid grid = Grid::cover({l.owned_lo - cutoff, 0, 0}, {l.owned_hi + cutoff, 60, 60}, cutoff);
+    for (const auto& name : available_backends())
+      for (const char* precision : {"double", "float"}) {
+        BackendConfig c;
+        c.name = name;
+        c.precision = precision;
+        const std::string kernel = name == "opencl-allpairs" ? "forces_allpairs" : "forces_nonlocal";
+        // 0: the whole tissue; 1: bands selected, local, ghosts set, non-local (a decomposed step); 2: the same
+        // without a selection (every owned element)
+        const auto step = [&](int how, long* items) {
+          const auto b = make_backend(c);
+          State out = how == 0 ? tissue : owned;
+          b->upload(out);
+          Ghosts down, up;
+          if (how == 1) {
+            b->bands(below, above_x, down, up);
+            EXPECT_EQ(down.elements() + up.elements(), want_items) << name << " " << precision;
+          }
+          b->zero_forces();
+          if (how == 0) b->pair_forces(table, cutoff, grid);
+          if (how != 0) {
+            b->pair_forces_local(table, cutoff, grid);
+            b->set_ghosts(ghosts);
+            const auto before = b->launch_items().count(kernel) ? b->launch_items().at(kernel) : 0L;
+            b->pair_forces_nonlocal(table, cutoff, grid);
+            *items = b->launch_items().at(kernel) - before;
+          }
+          b->integrate(0.01, 100.0, 0);
+          b->download(out);
+          out.position.resize(3 * n);  // the owned cells' elements come first in the whole tissue too
+          return out.position;
+        };
+        long items = 0, all_items = 0;
+        const auto full = step(0, &items);
+        EXPECT_EQ(step(1, &items), full) << name << " " << precision << " with the bands' selection";
+        // OpenCL launches one item per band slot (an element in both bands idles in its second); C++ loops the union
+        EXPECT_EQ(items, name.rfind("opencl", 0) == 0 ? want_items : want_union) << name << " " << precision << ": the non-local kernel's items";
+        EXPECT_EQ(step(2, &all_items), full) << name << " " << precision << " over every owned element";
+        EXPECT_EQ(all_items, n) << name << " " << precision;
+      }
+  }
 }
 
 TEST(Backends, ResultsDoNotDependOnThreadCount) {

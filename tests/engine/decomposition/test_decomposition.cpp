@@ -73,6 +73,10 @@ TEST(Decomposition, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
     EXPECT_EQ(read_state(out + "/final.h5").hash(), reference) << ranks << " ranks";
     EXPECT_EQ(split(read_file(out + "/rank_times.csv"), '\n').size(), 2 + 4u * ranks) << "4 events x ranks rows";
   }
+  // the blocking exchange (decomposition.overlap: false) moves the same bits
+  r = run(mpirun(2) + kArgs + " --steps 200 --set decomposition.overlap=false --out " + dir + "/blocking");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_EQ(read_state(dir + "/blocking/final.h5").hash(), reference) << "2 ranks, blocking exchange";
 }
 
 // The device path of the ghost exchange (bands selected by OpenCL kernels), against one device.
@@ -82,9 +86,22 @@ TEST(Decomposition, OpenClRanksMatchOneOpenClDevice) {
   const std::string args = kArgs + " --steps 60 --set backend.name=opencl-binned";
   auto r = run(semlb_bin() + " sim" + args + " --out " + dir + "/single");
   ASSERT_EQ(r.rc, 0) << r.out;
-  r = run(mpirun(2) + args + " --out " + dir + "/np2");
-  ASSERT_EQ(r.rc, 0) << r.out;
-  EXPECT_EQ(read_state(dir + "/np2/final.h5").hash(), read_state(dir + "/single/final.h5").hash());
+  const uint64_t reference = read_state(dir + "/single/final.h5").hash();
+  // 2 ranks overlapped and blocking; 4 ranks: the middle ones select both bands in one pass
+  for (const std::string variant : {"np2", "np2_blocking", "np4"}) {
+    const std::string extra = variant == "np2_blocking" ? " --set decomposition.overlap=false" : "";
+    r = run(mpirun(variant == "np4" ? 4 : 2) + args + extra + " --out " + dir + "/" + variant);
+    ASSERT_EQ(r.rc, 0) << r.out;
+    EXPECT_EQ(read_state(dir + "/" + variant + "/final.h5").hash(), reference) << variant;
+  }
+}
+
+TEST(Decomposition, OverlapIsTrueOrFalse) {
+  const auto dir = fresh_dir("decomposition_overlap_flag");
+  const auto r = run(semlb_bin() + " sim" + kArgs + " --steps 1 --set decomposition.overlap=yes --out " + dir + "/out");
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_NE(r.out.find("--set decomposition.overlap: must be true or false, got 'yes'"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
 }
 
 TEST(Decomposition, CheckpointOnTwoRanksContinuesIdenticallyOnFour) {
@@ -254,7 +271,7 @@ TEST(Decomposition, APolicyTheEngineCannotFeedIsBadInputOnEveryRank) {
   }
 }
 
-// An error on one rank alone, in the middle of a step (SEMLB_FAULT_INJECT=RANK:STEP), ends the whole job
+// An error on one rank alone, in the middle of a step with its ghost bands in flight (SEMLB_FAULT_INJECT=RANK:STEP), ends the whole job
 // within seconds with one line naming the rank and the cause; the last complete checkpoint stays readable.
 TEST(Decomposition, AnErrorOnOneRankAloneEndsTheJobNamingTheRank) {
   for (int rank : {0, 2}) {
