@@ -112,41 +112,11 @@ __kernel void scatter(__global const real4* pos, int first, __global const int* 
    cutoff (a NaN distance counts as within, as in semlb_pair_force), then the force law on the set bits only, so
    that the lanes of a warp run the costly part together rather than idling through it for every candidate that
    one lane alone keeps (docs/engine.md: 1.13x float, 1.31x double on an H200 at 6.5e6 elements). */
-/* The force law on the lowest set bit of `mask` (candidate base + bit), which it clears. */
-#define SEMLB_PAIR(mask, base)                                                                                  \
-  do {                                                                                                         \
-    int k_ = 63 - (int)clz((mask) & (0 - (mask)));                                                             \
-    (mask) &= (mask) - 1;                                                                                      \
-    real4 q_ = sorted_pos[(base) + k_];                                                                        \
-    if (semlb_pair_force(me.x - q_.x, me.y - q_.y, me.z - q_.z, info, INFO(q_.w), table, cutoff2, acc) < 0)    \
-      semlb_coincident_force(keys[i], keys[sorted_index[(base) + k_]], info, INFO(q_.w), table, acc);          \
-  } while (0)
-#ifdef SEMLB_SLOTS
-/* Experiment (SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_SLOTS=N, N in 1..4; docs/engine.md "Profiling the force kernel"):
-   every chunk's mask is queued, empty or not, so that the lanes of a warp flush together, and the force law runs
-   over the set bits of N masks in one loop: the busiest lane over N masks instead of over each mask. The queue is
-   shifted, never indexed, so that it stays in registers. */
-#if SEMLB_SLOTS < 1 || SEMLB_SLOTS > 4
-#error "SEMLB_SLOTS: 1 to 4"
-#endif
-#define SEMLB_FLUSH()                                                                                          \
-  while (queued) {                                                                                             \
-    if (!q0) {                                                                                                 \
-      q0 = q1; q1 = q2; q2 = q3; q3 = 0;                                                                       \
-      b0 = b1; b1 = b2; b2 = b3;                                                                               \
-      --queued;                                                                                                \
-    } else SEMLB_PAIR(q0, b0);                                                                                 \
-  }
-#endif
 static inline void stencil_forces(real4 me, int i, int self, int4 b, int4 dims, __global const real4* sorted_pos,
                                   __global const int* sorted_index, __global const int* starts,
                                   __global const ulong* keys, __constant const SEMLB_REAL* table,
                                   SEMLB_REAL cutoff2, long* acc) {
   int info = INFO(me.w);
-#ifdef SEMLB_SLOTS
-  ulong q0 = 0, q1 = 0, q2 = 0, q3 = 0;
-  int b0 = 0, b1 = 0, b2 = 0, b3 = 0, queued = 0;
-#endif
   int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1);
   for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
     for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
@@ -161,20 +131,15 @@ static inline void stencil_forces(real4 me, int i, int self, int4 b, int4 dims, 
           if (!(dx * dx + dy * dy + dz * dz >= cutoff2)) mask |= (ulong)1 << k;
         }
         if (self >= base && self < base + m) mask &= ~((ulong)1 << (self - base));
-#ifdef SEMLB_SLOTS
-        if (queued == 0) { q0 = mask; b0 = base; }
-        else if (queued == 1) { q1 = mask; b1 = base; }
-        else if (queued == 2) { q2 = mask; b2 = base; }
-        else { q3 = mask; b3 = base; }
-        if (++queued == SEMLB_SLOTS) SEMLB_FLUSH();
-#else
-        while (mask) SEMLB_PAIR(mask, base);
-#endif
+        while (mask) {
+          int k = 63 - (int)clz(mask & (0 - mask));  /* the lowest set bit */
+          mask &= mask - 1;
+          real4 q = sorted_pos[base + k];
+          if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
+            semlb_coincident_force(keys[i], keys[sorted_index[base + k]], info, INFO(q.w), table, acc);
+        }
       }
     }
-#ifdef SEMLB_SLOTS
-  SEMLB_FLUSH();
-#endif
 }
 
 /* Local pair forces (owned on owned): one item per sorted owned element, over the owned elements' bins. */
