@@ -40,17 +40,21 @@ std::string scene_path(const Job& job, const RunOptions& o) {
   return fs::path(scene).is_absolute() ? scene : o.base_dir + "/" + scene;
 }
 
+// The job's scene with its overrides; an InputError about the file is prefixed with where `scene` was set.
+engine::Scene job_scene(const Job& job, const std::string& manifest, const RunOptions& o) {
+  try {
+    return engine::load_scene(scene_path(job, o), scene_overrides(job, kSceneNames, manifest));
+  } catch (const InputError& e) {
+    throw InputError(where_of(*job.find("scene"), manifest, "scene") + e.what());
+  }
+}
+
 // The row's policy (its scene.decomposition.policy, else `policy`, else the scene file's, else the engine's
 // default) and where an error about it points.
 std::pair<std::string, std::string> row_policy(const Job& job, const std::string& manifest, const RunOptions& o) {
   for (const char* k : {"scene.decomposition.policy", "policy"})  // scene.KEY overrides come last, so win
     if (const Setting* s = job.find(k)) return {s->value, where_of(*s, manifest, k)};
-  engine::Scene scene;
-  try {
-    scene = engine::load_scene(scene_path(job, o), scene_overrides(job, kSceneNames, manifest));
-  } catch (const InputError& e) {
-    throw InputError(where_of(*job.find("scene"), manifest, "scene") + e.what());
-  }
+  const engine::Scene scene = job_scene(job, manifest, o);
   return {scene.decomposition->text("policy", engine::Decomposition{}.policy), scene.decomposition->where("policy")};
 }
 
@@ -95,14 +99,22 @@ std::string placement(const Job& job) {
 
 struct Launch {
   std::string dir;     // the run's files
-  double seconds = 0;  // the launch's wall seconds, start-up included
-  std::string output;  // mpirun's output (the sim's summary line)
+  double seconds = 0;  // the launch's wall seconds, start-up included (every segment's, summed)
+  std::string output;  // mpirun's output (the sim's summary line; the last segment's)
 };
+
+// The job's `segments` (mpi_end_to_end): how many consecutive `semlb sim` invocations one launch is split into,
+// each resuming from the previous one's checkpoint; 1 when absent.
+long segments_of(const Job& job, const std::string& manifest) { return job.integer("segments", 1, 1, 1L << 20, manifest); }
 
 // Runs the job under mpirun (or o.mpi_launcher) into a fresh directory; returns it and the launch's wall seconds (start-up
 // included). The row's policy gets its POLICY.KEY settings as decomposition.params.KEY (other policies' are
-// not passed). Throws with mpirun's output on failure.
-Launch launch(const Job& job, const RunOptions& o) {
+// not passed). With `segments` N > 1 the launch is N invocations into the same directory: segment k runs to step
+// k x steps/N (time.steps) with a checkpoint at its end (output.checkpoint_every = steps/N, replacing the scene's),
+// and segment k > 1 resumes from it (--restart DIR/checkpoint.h5), so the balancer continues across the split and
+// run.csv, rank_times.csv and trace.jsonl continue in order (docs/engine.md "Checkpoints"). Throws with mpirun's
+// output on failure, naming the failed segment.
+Launch launch(const Job& job, const RunOptions& o, long total_steps = 0) {
   const std::string scene = scene_path(job, o);
   std::string key;
   for (const auto& [k, s] : job.settings) key += k + "=" + s.value + ";";
@@ -117,18 +129,36 @@ Launch launch(const Job& job, const RunOptions& o) {
   for (const auto& [k, s] : job.settings)
     if (is_policy_param(k) && k.rfind(policy + ".", 0) == 0) overrides.push_back("decomposition.params." + k.substr(policy.size() + 1) + "=" + s.value);
   for (const auto& o : overrides) cmd << " --set " << o;
-  cmd << " 2>&1";
-  const auto t0 = std::chrono::steady_clock::now();
-  FILE* p = popen(cmd.str().c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  if (pclose(p) != 0) throw std::runtime_error("MPI launch failed: " + cmd.str() + "\n" + out);
-  return {dir.string(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), out};
+  const long segments = segments_of(job, "");
+  Launch l{dir.string(), 0.0, ""};
+  for (long k = 1; k <= segments; ++k) {
+    std::string command = cmd.str();
+    if (segments > 1) {  // later --set values win (engine::parse_scene applies them in order)
+      const long length = total_steps / segments;
+      command += " --set time.steps=" + std::to_string(k * length) + " --set output.checkpoint_every=" + std::to_string(length);
+      if (k > 1) command += " --restart " + (dir / "checkpoint.h5").string();
+    }
+    command += " 2>&1";
+    const auto t0 = std::chrono::steady_clock::now();
+    FILE* p = popen(command.c_str(), "r");
+    std::string out;
+    char buf[4096];
+    while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+    if (pclose(p) != 0) {
+      const std::string which = segments > 1 ? " in segment " + std::to_string(k) + " of " + std::to_string(segments) + " (steps " +
+                                                   std::to_string((k - 1) * (total_steps / segments)) + "-" + std::to_string(k * (total_steps / segments)) + ")"
+                                             : "";
+      throw std::runtime_error("MPI launch failed" + which + ": " + command + "\n" + out);
+    }
+    l.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    l.output = out;
+  }
+  return l;
 }
 
-// Removes the run's directory; with --keep-runs its files stay under TRACE_DIR/<its settings, scene left out>/.
-void finish_run(const Job& job, const RunOptions& o, const std::string& dir) {
+// Removes the run's directory; with --keep-runs its files stay under TRACE_DIR/<its settings, scene left out>/
+// (scene.yaml, run.csv, rank_times.csv, trace.jsonl, and final.h5 with `final_state`).
+void finish_run(const Job& job, const RunOptions& o, const std::string& dir, bool final_state = false) {
   if (!o.trace_dir.empty()) {
     std::string label;
     for (const auto& [k, s] : job.settings)
@@ -136,8 +166,9 @@ void finish_run(const Job& job, const RunOptions& o, const std::string& dir) {
     std::replace(label.begin(), label.end(), '/', '-');
     const fs::path to = fs::path(o.trace_dir) / label;
     fs::create_directories(to);
-    for (const char* f : {"scene.yaml", "run.csv", engine::rank_times::kFile, "trace.jsonl"})
-      if (fs::exists(fs::path(dir) / f)) fs::copy_file(fs::path(dir) / f, to / f, fs::copy_options::overwrite_existing);
+    for (const char* f : {"scene.yaml", "run.csv", engine::rank_times::kFile, "trace.jsonl", "final.h5"})
+      if (fs::exists(fs::path(dir) / f) && (final_state || std::string(f) != "final.h5"))
+        fs::copy_file(fs::path(dir) / f, to / f, fs::copy_options::overwrite_existing);
   }
   fs::remove_all(dir);
 }
@@ -232,7 +263,9 @@ std::string machine(const Job& job, const Launch& l, const RunOptions& o) {
 // The paper's end-to-end row (results/end_to_end/load_balance.csv, issue 18): one launch of one policy and initial
 // partition. cells_start is the scene's tissue.cells (the generator makes exactly that many); loop_s the
 // time-stepping loop; compute_s the slowest rank's computation per interval, summed; gpus as the manifest
-// records it; machine as machine() above.
+// records it; machine as machine() above. `segments: N` splits the launch into N checkpoint/restart segments
+// (launch() above); the row sums them (the joined run.csv and rank_times.csv), and N must divide the steps.
+// With --keep-runs the launch's final.h5 is kept too.
 class MpiEndToEndRunner final : public Runner {
  public:
   std::vector<std::string> columns() const override {
@@ -241,12 +274,21 @@ class MpiEndToEndRunner final : public Runner {
   }
   bool measures_time() const override { return true; }
   int mpi_ranks(const Job& job) const override { return static_cast<int>(job.integer("ranks", 1, 1, 4096, "")); }
-  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
+  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
+    Job rest = job;  // `segments` is this runner's alone
+    std::erase_if(rest.settings, [](const auto& s) { return s.first == "segments"; });
+    check_job(rest, manifest, o);
+    const long segments = segments_of(job, manifest);
+    const long steps = job_scene(job, manifest, o).steps;
+    if (steps % segments != 0)
+      throw InputError(where_of(*job.find("segments"), manifest, "segments") + std::to_string(segments) + " segments do not divide the " +
+                       std::to_string(steps) + " steps (each segment runs steps / segments)");
+  }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
-    const engine::Scene scene = engine::load_scene(scene_path(job, o), scene_overrides(job, kSceneNames, ""));
-    const Launch l = launch(job, o);
+    const engine::Scene scene = job_scene(job, "", o);
+    const Launch l = launch(job, o, scene.steps);
     const RunTotals t = run_totals(l.dir);
-    finish_run(job, o, l.dir);
+    finish_run(job, o, l.dir, true);
     auto fmt = [&](double v) { return format_real(o.timing ? v : 0.0); };
     return {{row_policy(job, "", o).first, scene.decomposition->text("initial", engine::Decomposition{}.initial),
              get(job, "launch", "1"), get(job, "gpus", "0"), get(job, "ranks", "1"),
