@@ -218,7 +218,9 @@ TEST(MpiRunners, EndToEndSegmentsContinueTheUnsplitLaunch) {
     for (size_t c : {1u, 2u, 6u, 7u, 8u, 11u, 12u}) EXPECT_EQ(split[c], whole[c]) << whole[1] << " column " << c;
     const std::string policy = whole[1];
     EXPECT_EQ(whole[8], "30") << "the steps of the whole launch";
-    if (policy == "reactive") EXPECT_GT(std::stol(whole[12]), 0) << "reactive moved no slice: the test would show nothing";
+    if (policy == "reactive") {
+      EXPECT_GT(std::stol(whole[12]), 0) << "reactive moved no slice: the test would show nothing";
+    }
     const std::string a = run_dir(policy, 1), b = run_dir(policy, 2);
     ASSERT_FALSE(a.empty() || b.empty()) << policy;
     const auto trace = semlb::split(slurp(a + "/trace.jsonl"), '\n');
