@@ -296,8 +296,8 @@ class ObservablesRunner final : public Runner {
       return std::lround(n);
     };
     scene.cell_update_every = whole("cell_stage_h", stage, scene.dt, "steps (dt)");
-    const long samples = whole("hours", hours, sample, "samples (sample_h)");
-    return {samples, whole("sample_h", sample, scene.dt, "steps (dt)")};
+    const long every = whole("sample_h", sample, scene.dt, "steps (dt)");
+    return {whole("hours", hours, sample, "samples (sample_h)"), every};
   }
   // The observations of the job's run over the reference's slices (Decomposition::from_scene of the reference
   // scene, its box fitted to the initial tissue at the reference cutoff), computed once per process and setting.

@@ -112,7 +112,7 @@ long segments_of(const Job& job, const std::string& manifest) { return job.integ
 // not passed). With `segments` N > 1 the launch is N invocations into the same directory: segment k runs to step
 // k x steps/N (time.steps) with a checkpoint at its end (output.checkpoint_every = steps/N, replacing the scene's),
 // and segment k > 1 resumes from it (--restart DIR/checkpoint.h5), so the balancer continues across the split and
-// run.csv, rank_times.csv and trace.jsonl continue in order (docs/engine.md "Checkpoints"). Throws with mpirun's
+// run.csv, rank_times.csv and trace.jsonl continue in order (docs/engine.md, "The balancer is part of the checkpoint"). Throws with mpirun's
 // output on failure, naming the failed segment.
 Launch launch(const Job& job, const RunOptions& o, long total_steps = 0) {
   const std::string scene = scene_path(job, o);
