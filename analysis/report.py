@@ -468,10 +468,10 @@ def development_accuracy_table(rows):
     out += ["", "Over time (hours of simulated time):", "",
             "| h | precision | dt (h) | cutoff (um) | basal | spinous | granular | thickness (um) | work centre (um) | "
             "work profile error % |", "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
-    for hours in sorted({r["hours"] for r in rows}, key=float):
+    for hours in sorted({r["time_h"] for r in rows}, key=float):
         for (prec, dt, cutoff), rs in runs.items():
             for r in rs:
-                if r["hours"] == hours:
+                if r["time_h"] == hours:
                     out.append(f"| {float(hours):g} | {prec} | {dt} | {cutoff} | {r['basal']} | {r['spinous']} | "
                                f"{r['granular']} | {float(r['thickness_um']):.3g} | {float(r['work_centre_um']):.4g} | "
                                f"{100 * float(r['work_profile_error']):.3g} |")

@@ -245,7 +245,7 @@ std::vector<Observables> observe_run(const engine::Scene& scene, long samples, l
 class ObservablesRunner final : public Runner {
  public:
   std::vector<std::string> columns() const override {
-    return {"precision", "dt", "cutoff", "hours", "steps", "wall_s", "cells", "basal", "spinous", "granular", "thickness_um",
+    return {"precision", "dt", "cutoff", "time_h", "steps", "wall_s", "cells", "basal", "spinous", "granular", "thickness_um",
             "work_centre_um", "cells_error", "thickness_error_um", "work_centre_error_um", "work_profile_error", "reference"};
   }
   bool measures_time() const override { return true; }

@@ -49,7 +49,7 @@ TEST(EngineRunners, ObservablesRowsCompareEachSampleWithTheReference) {
     const auto& row = rows[i];
     const bool reference = i < 3;
     EXPECT_EQ(row.at("dt"), reference ? "0.05" : "0.1");
-    EXPECT_EQ(std::stod(row.at("hours")), static_cast<double>(i % 3));
+    EXPECT_EQ(std::stod(row.at("time_h")), static_cast<double>(i % 3));
     EXPECT_EQ(std::stol(row.at("steps")), std::lround(static_cast<double>(i % 3) / std::stod(row.at("dt"))));
     EXPECT_EQ(std::stol(row.at("basal")) + std::stol(row.at("spinous")) + std::stol(row.at("granular")), std::stol(row.at("cells")));
     EXPECT_EQ(row.at("wall_s"), "0") << "--no-timing";
