@@ -1,6 +1,7 @@
 // Runners that launch `mpirun -np RANKS semlb sim` (strong_scaling, load_balance: "mpi_sim", one summary row;
 // rank_balance: "mpi_intervals", one row per rebalancing interval and rank; end_to_end: "mpi_end_to_end", the
-// paper's load-balance row per launch) and read its outputs.
+// paper's load-balance row per launch) and read its outputs; any of them can split a launch into checkpoint/restart
+// segments (`segments`).
 #include <unistd.h>
 
 #include <algorithm>
@@ -27,8 +28,9 @@ namespace fs = std::filesystem;
 // The scene settings (engine::scene_settings()) these runners take by name.
 const std::vector<std::string> kSceneNames = {"cells", "steps", "policy", "initial", "backend", "rebalance_every", "timing"};
 // Settings of the launch, not of the scene: the sweep's launch number, how mpirun places the ranks
-// (--bind-to, --map-by; "none" leaves Open MPI's default), and the GPUs the launch holds (recorded).
-const std::vector<std::string> kLaunchNames = {"launch", "bind_to", "map_by", "gpus"};
+// (--bind-to, --map-by; "none" leaves Open MPI's default), the GPUs the launch holds (recorded), and the
+// checkpoint/restart segments it runs as (launch()).
+const std::vector<std::string> kLaunchNames = {"launch", "bind_to", "map_by", "gpus", "segments"};
 
 std::string get(const Job& job, const std::string& key, const std::string& fallback) {
   const Setting* s = job.find(key);
@@ -58,8 +60,13 @@ std::pair<std::string, std::string> row_policy(const Job& job, const std::string
   return {scene.decomposition->text("policy", engine::Decomposition{}.policy), scene.decomposition->where("policy")};
 }
 
+// The job's `segments`: how many consecutive `semlb sim` invocations one launch is split into, each resuming from
+// the previous one's checkpoint (launch()); 1 when absent.
+long segments_of(const Job& job, const std::string& manifest) { return job.integer("segments", 1, 1, 1L << 20, manifest); }
+
 // Refuses, before anything runs: an unknown setting, a missing scene or rank count, a value of the wrong type,
-// a bad POLICY.KEY parameter, and a row whose policy the engine cannot run (PolicyNeeds::true_work).
+// `segments` that do not divide the steps, a bad POLICY.KEY parameter, and a row whose policy the engine cannot
+// run (PolicyNeeds::true_work).
 void check_job(const Job& job, const std::string& manifest, const RunOptions& o) {
   for (const auto& [k, s] : job.settings)
     if (k != "scene" && k != "ranks" && std::find(kSceneNames.begin(), kSceneNames.end(), k) == kSceneNames.end() &&
@@ -79,6 +86,10 @@ void check_job(const Job& job, const std::string& manifest, const RunOptions& o)
       if (const Setting* s = job.find(k); s && s->value != "none")
         throw InputError(where_of(*s, manifest, k) + "applies to this machine's mpirun only; the launcher '" + o.mpi_launcher + "' places the ranks");
   scene_overrides(job, kSceneNames, manifest);  // typed values
+  if (const long segments = segments_of(job, manifest); segments > 1)
+    if (const long steps = job_scene(job, manifest, o).steps; steps % segments != 0)
+      throw InputError(where_of(*job.find("segments"), manifest, "segments") + std::to_string(segments) + " segments do not divide the " +
+                       std::to_string(steps) + " steps (each segment runs steps / segments)");
   check_policy_params(job, manifest);  // every policy's parameters, also of policies this row does not run
   const auto [policy, at] = row_policy(job, manifest, o);
   try {
@@ -103,10 +114,6 @@ struct Launch {
   std::string output;  // mpirun's output (the sim's summary line; the last segment's)
 };
 
-// The job's `segments` (mpi_end_to_end): how many consecutive `semlb sim` invocations one launch is split into,
-// each resuming from the previous one's checkpoint; 1 when absent.
-long segments_of(const Job& job, const std::string& manifest) { return job.integer("segments", 1, 1, 1L << 20, manifest); }
-
 // Runs the job under mpirun (or o.mpi_launcher) into a fresh directory; returns it and the launch's wall seconds (start-up
 // included). The row's policy gets its POLICY.KEY settings as decomposition.params.KEY (other policies' are
 // not passed). With `segments` N > 1 the launch is N invocations into the same directory: segment k runs to step
@@ -114,7 +121,7 @@ long segments_of(const Job& job, const std::string& manifest) { return job.integ
 // and segment k > 1 resumes from it (--restart DIR/checkpoint.h5), so the balancer continues across the split and
 // run.csv, rank_times.csv and trace.jsonl continue in order (docs/engine.md, "The balancer is part of the checkpoint"). Throws with mpirun's
 // output on failure, naming the failed segment.
-Launch launch(const Job& job, const RunOptions& o, long total_steps = 0) {
+Launch launch(const Job& job, const RunOptions& o) {
   const std::string scene = scene_path(job, o);
   std::string key;
   for (const auto& [k, s] : job.settings) key += k + "=" + s.value + ";";
@@ -130,6 +137,7 @@ Launch launch(const Job& job, const RunOptions& o, long total_steps = 0) {
     if (is_policy_param(k) && k.rfind(policy + ".", 0) == 0) overrides.push_back("decomposition.params." + k.substr(policy.size() + 1) + "=" + s.value);
   for (const auto& o : overrides) cmd << " --set " << o;
   const long segments = segments_of(job, "");
+  const long total_steps = segments > 1 ? job_scene(job, "", o).steps : 0;
   Launch l{dir.string(), 0.0, ""};
   for (long k = 1; k <= segments; ++k) {
     std::string command = cmd.str();
@@ -263,9 +271,8 @@ std::string machine(const Job& job, const Launch& l, const RunOptions& o) {
 // The paper's end-to-end row (results/end_to_end/load_balance.csv, issue 18): one launch of one policy and initial
 // partition. cells_start is the scene's tissue.cells (the generator makes exactly that many); loop_s the
 // time-stepping loop; compute_s the slowest rank's computation per interval, summed; gpus as the manifest
-// records it; machine as machine() above. `segments: N` splits the launch into N checkpoint/restart segments
-// (launch() above); the row sums them (the joined run.csv and rank_times.csv), and N must divide the steps.
-// With --keep-runs the launch's final.h5 is kept too.
+// records it; machine as machine() above. With `segments: N` (launch() above) the row sums the segments (the
+// joined run.csv and rank_times.csv). With --keep-runs the launch's final.h5 is kept too.
 class MpiEndToEndRunner final : public Runner {
  public:
   std::vector<std::string> columns() const override {
@@ -274,19 +281,10 @@ class MpiEndToEndRunner final : public Runner {
   }
   bool measures_time() const override { return true; }
   int mpi_ranks(const Job& job) const override { return static_cast<int>(job.integer("ranks", 1, 1, 4096, "")); }
-  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
-    Job rest = job;  // `segments` is this runner's alone
-    std::erase_if(rest.settings, [](const auto& s) { return s.first == "segments"; });
-    check_job(rest, manifest, o);
-    const long segments = segments_of(job, manifest);
-    const long steps = job_scene(job, manifest, o).steps;
-    if (steps % segments != 0)
-      throw InputError(where_of(*job.find("segments"), manifest, "segments") + std::to_string(segments) + " segments do not divide the " +
-                       std::to_string(steps) + " steps (each segment runs steps / segments)");
-  }
+  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
     const engine::Scene scene = job_scene(job, "", o);
-    const Launch l = launch(job, o, scene.steps);
+    const Launch l = launch(job, o);
     const RunTotals t = run_totals(l.dir);
     finish_run(job, o, l.dir, true);
     auto fmt = [&](double v) { return format_real(o.timing ? v : 0.0); };

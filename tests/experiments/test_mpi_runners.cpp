@@ -257,18 +257,36 @@ TEST(MpiRunners, EndToEndSegmentsAreCheckedAndAFailedSegmentIsNamed) {
     EXPECT_NE(r.out.find(want), std::string::npos) << r.out;
     EXPECT_FALSE(fs::exists(dir + "/out")) << value;
   }
-  // the other MPI runners have no segments
-  write(dir + "/m.yaml", engine_manifest("  policy: [static]\n", "  segments: 2\n"));
-  auto r = run(within(60) + semlb_bin() + " sweep " + dir + "/m.yaml --quiet --results " + dir + "/out");
-  EXPECT_EQ(r.rc, 2) << r.out;
-  EXPECT_NE(r.out.find("field 'segments': unknown setting for this runner"), std::string::npos) << r.out;
   // a scene that fails at its first step fails segment 1 of 2, and the sweep writes no row
   write(dir + "/m.yaml", head + "  segments: 2\n  scene.time.max_displacement: 1e-9\n");
   fs::remove_all(dir + "/out");
-  r = run(within(120) + semlb_bin() + " sweep " + dir + "/m.yaml --quiet --results " + dir + "/out");
+  const auto r = run(within(120) + semlb_bin() + " sweep " + dir + "/m.yaml --quiet --results " + dir + "/out");
   EXPECT_NE(r.rc, 0) << r.out;
   EXPECT_NE(r.out.find("MPI launch failed in segment 1 of 2 (steps 0-15)"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(dir + "/out/e2e/load_balance.csv"));
   const auto partial = semlb::split(slurp(dir + "/out/e2e/load_balance.csv.partial"), '\n');
   EXPECT_EQ(partial.size(), 2u) << "the header alone";
+}
+
+// The other MPI runners split a launch the same way: mpi_intervals' rows (per interval and rank, modelled times in
+// work units) of a 2-segment launch are the unsplit launch's, the intervals of both segments in order.
+TEST(MpiRunners, IntervalRowsOfASplitLaunchAreTheUnsplitOnes) {
+  const auto dir = fresh_dir("mpi_intervals_segments");
+  std::string text = engine_manifest("  segments: [1, 2]\n", "  policy: reactive\n  reactive.tau: 0.001\n  scene.decomposition.timing: modelled\n");
+  text.replace(text.find("mpi_sim"), 7, "mpi_intervals");
+  text.replace(text.find("steps: 20"), 9, "steps: 30");
+  write(dir + "/m.yaml", text);
+  const auto r = run(within(300) + semlb_bin() + " sweep " + dir + "/m.yaml --quiet --results " + dir + "/out");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const auto lines = semlb::split(slurp(dir + "/out/engine.csv"), '\n');
+  ASSERT_EQ(lines.at(0), "segments,step,rank,compute_s,imbalance,moved_slices");
+  std::vector<std::string> whole, split;
+  for (size_t i = 1; i < lines.size(); ++i)
+    if (!lines[i].empty()) (lines[i].rfind("1,", 0) == 0 ? whole : split).push_back(lines[i].substr(2));
+  ASSERT_EQ(whole.size(), 3u * 2u) << "3 events x 2 ranks";
+  EXPECT_EQ(split, whole);
+  EXPECT_EQ(semlb::split(whole.back(), ',')[0], "30");
+  long moved = 0;
+  for (const auto& l : whole) moved += std::stol(semlb::split(l, ',')[4]);
+  EXPECT_GT(moved, 0) << "reactive moved no slice: the test would show nothing";
 }
