@@ -119,8 +119,9 @@ struct Launch {
 // not passed). With `segments` N > 1 the launch is N invocations into the same directory: segment k runs to step
 // k x steps/N (time.steps) with a checkpoint at its end (output.checkpoint_every = steps/N, replacing the scene's),
 // and segment k > 1 resumes from it (--restart DIR/checkpoint.h5), so the balancer continues across the split and
-// run.csv, rank_times.csv and trace.jsonl continue in order (docs/engine.md, "The balancer is part of the checkpoint"). Throws with mpirun's
-// output on failure, naming the failed segment.
+// run.csv, rank_times.csv and trace.jsonl continue in order (docs/engine.md, "The balancer is part of the
+// checkpoint"). Throws with mpirun's output on failure, naming the failed segment; also when a segment's balancer
+// started afresh instead of continuing (the sim's "restart:" line).
 Launch launch(const Job& job, const RunOptions& o) {
   const std::string scene = scene_path(job, o);
   std::string key;
@@ -152,12 +153,13 @@ Launch launch(const Job& job, const RunOptions& o) {
     std::string out;
     char buf[4096];
     while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-    if (pclose(p) != 0) {
-      const std::string which = segments > 1 ? " in segment " + std::to_string(k) + " of " + std::to_string(segments) + " (steps " +
-                                                   std::to_string((k - 1) * (total_steps / segments)) + "-" + std::to_string(k * (total_steps / segments)) + ")"
-                                             : "";
-      throw std::runtime_error("MPI launch failed" + which + ": " + command + "\n" + out);
-    }
+    const std::string which = segments > 1 ? " in segment " + std::to_string(k) + " of " + std::to_string(segments) + " (steps " +
+                                                 std::to_string((k - 1) * (total_steps / segments)) + "-" + std::to_string(k * (total_steps / segments)) + ")"
+                                           : "";
+    if (pclose(p) != 0) throw std::runtime_error("MPI launch failed" + which + ": " + command + "\n" + out);
+    if (const size_t at = out.find("semlb sim: restart: "); k > 1 && at != std::string::npos)
+      throw std::runtime_error("MPI launch" + which + ": the balancer did not continue from the checkpoint (" +
+                               out.substr(at, out.find('\n', at) - at) + "): " + command);
     l.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     l.output = out;
   }
