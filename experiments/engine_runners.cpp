@@ -251,12 +251,12 @@ class ObservablesRunner final : public Runner {
   bool measures_time() const override { return true; }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
     check_keys(job, manifest, {"scene", "hours", "sample_h", "cell_stage_h", "reference_dt", "reference_cutoff"});
+    for (const char* k : {"reference_dt", "reference_cutoff"}) job.real(k, 1, 1e-9, 1e9, manifest);
     for (const Job& j : {job, reference_job(job)}) {
       auto scene = job_scene(j, manifest, o.base_dir);
       engine::make_effects(scene);
       plan(j, scene, manifest);
     }
-    for (const char* k : {"reference_dt", "reference_cutoff"}) job.real(k, 1, 1e-9, 1e9, manifest);
   }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
     const auto& mine = observations(job, o);
