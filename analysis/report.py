@@ -478,6 +478,35 @@ def development_accuracy_table(rows):
     return "\n".join(out) + "\n"
 
 
+def development_accuracy_figure(rows):
+    """accuracy_vs_time/development.csv: cells per type, thickness and the work-profile error over Day 0-5, one line
+    style per run (the reference solid), wall time in the legend."""
+    plt = _plt()
+    runs = OrderedDict()
+    for r in rows:
+        runs.setdefault((r["precision"], r["dt"], r["cutoff"]), []).append(r)
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4))
+    styles = ["-", "--", ":", "-."]
+    for i, ((prec, dt, cutoff), rs) in enumerate(runs.items()):
+        days = [float(r["time_h"]) / 24 for r in rs]
+        label = f"{prec}, dt {dt} h, cutoff {cutoff} um ({float(rs[-1]['wall_s']):.3g} s)"
+        ls = styles[i % len(styles)]
+        for t, colour in (("basal", "tab:blue"), ("spinous", "tab:orange"), ("granular", "tab:green")):
+            axes[0].plot(days, [int(r[t]) for r in rs], ls, color=colour, label=f"{t}" if i == 0 else None)
+        axes[1].plot(days, [float(r["thickness_um"]) for r in rs], ls, color="k", label=label)
+        axes[2].plot(days, [100 * float(r["work_profile_error"]) for r in rs], ls, color="k", label=label)
+    axes[0].set_ylabel("cells (line style: run)")
+    axes[1].set_ylabel("thickness: z extent (um)")
+    axes[2].set_ylabel("work profile error (% of W_s in other slices)")
+    for ax in axes:
+        ax.set_xlabel("day")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    axes[1].legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
 def effects_table(rows):
     out = ["# What each effect costs", "",
            "Time per step of each effect set (same tissue and backend) and the time of each phase.", "",
@@ -690,7 +719,8 @@ REPORTS = {
                                         ("figures/single_device.png", single_device_figure)],
     "accuracy_vs_time/accuracy_vs_time.csv": [("tables/accuracy_vs_time.md", accuracy_table),
                                               ("figures/accuracy_vs_time.png", accuracy_figure)],
-    "accuracy_vs_time/development.csv": [("tables/accuracy_development.md", development_accuracy_table)],
+    "accuracy_vs_time/development.csv": [("tables/accuracy_development.md", development_accuracy_table),
+                                         ("figures/accuracy_development.png", development_accuracy_figure)],
     "effects_cost/effects_cost.csv": [("tables/effects_cost.md", effects_table),
                                       ("figures/effects_cost.png", effects_figure)],
     "strong_scaling/strong_scaling.csv": [("tables/strong_scaling.md", strong_scaling_table)],
