@@ -442,6 +442,71 @@ def accuracy_figure(rows):
     return fig
 
 
+def development_accuracy_table(rows):
+    """accuracy_vs_time/development.csv (runner engine_observables): per run the wall time and the largest error over
+    the sample times on each observable, then the observables over time."""
+    runs = OrderedDict()
+    for r in rows:
+        runs.setdefault((r["precision"], r["dt"], r["cutoff"]), []).append(r)
+    def worst(rs, col, scale=1.0):
+        return max(abs(float(r[col])) for r in rs) * scale
+    out = ["# What accuracy costs in time, on the developing epidermis", "",
+           f"Day 0-5 of `scenes/epidermis_development.yaml` at {rows[0]['cells']} cells, one process, against the reference "
+           f"run ({rows[0]['reference']}). Errors are the largest over the sample times: cells per type "
+           "(sum over types of |n - n_ref| / cells of the reference, %), thickness (z extent of the tissue, um), the "
+           "centre of the per-slice work W_s (um) and the work profile (share of W_s in other slices than the "
+           "reference's, %).", "",
+           "| precision | dt (h) | cutoff (um) | wall s | cells Day 5 (basal/spinous/granular) | cells error % | "
+           "thickness error (um) | work centre error (um) | work profile error % |",
+           "|---|---:|---:|---:|---|---:|---:|---:|---:|"]
+    for (prec, dt, cutoff), rs in runs.items():
+        last = rs[-1]
+        out.append(f"| {prec} | {dt} | {cutoff} | {float(last['wall_s']):.3g} | {last['cells']} "
+                   f"({last['basal']}/{last['spinous']}/{last['granular']}) | {worst(rs, 'cells_error', 100):.3g} | "
+                   f"{worst(rs, 'thickness_error_um'):.3g} | {worst(rs, 'work_centre_error_um'):.3g} | "
+                   f"{worst(rs, 'work_profile_error', 100):.3g} |")
+    out += ["", "Over time (hours of simulated time):", "",
+            "| h | precision | dt (h) | cutoff (um) | basal | spinous | granular | thickness (um) | work centre (um) | "
+            "work profile error % |", "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for hours in sorted({r["time_h"] for r in rows}, key=float):
+        for (prec, dt, cutoff), rs in runs.items():
+            for r in rs:
+                if r["time_h"] == hours:
+                    out.append(f"| {float(hours):g} | {prec} | {dt} | {cutoff} | {r['basal']} | {r['spinous']} | "
+                               f"{r['granular']} | {float(r['thickness_um']):.3g} | {float(r['work_centre_um']):.4g} | "
+                               f"{100 * float(r['work_profile_error']):.3g} |")
+    return "\n".join(out) + "\n"
+
+
+def development_accuracy_figure(rows):
+    """accuracy_vs_time/development.csv: cells per type, thickness and the work-profile error over Day 0-5, one line
+    style per run (the reference solid), wall time in the legend."""
+    plt = _plt()
+    runs = OrderedDict()
+    for r in rows:
+        runs.setdefault((r["precision"], r["dt"], r["cutoff"]), []).append(r)
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4))
+    styles = ["-", "--", ":", "-."]
+    for i, ((prec, dt, cutoff), rs) in enumerate(runs.items()):
+        days = [float(r["time_h"]) / 24 for r in rs]
+        label = f"{prec}, dt {dt} h, cutoff {cutoff} um ({float(rs[-1]['wall_s']):.3g} s)"
+        ls = styles[i % len(styles)]
+        for t, colour in (("basal", "tab:blue"), ("spinous", "tab:orange"), ("granular", "tab:green")):
+            axes[0].plot(days, [int(r[t]) for r in rs], ls, color=colour, label=f"{t}" if i == 0 else None)
+        axes[1].plot(days, [float(r["thickness_um"]) for r in rs], ls, color="k", label=label)
+        axes[2].plot(days, [100 * float(r["work_profile_error"]) for r in rs], ls, color="k", label=label)
+    axes[0].set_ylabel("cells (line style: run)")
+    axes[1].set_ylabel("thickness: z extent (um)")
+    axes[2].set_ylabel("work profile error (% of W_s in other slices)")
+    for ax in axes:
+        ax.set_xlabel("day")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    axes[1].legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
 def effects_table(rows):
     out = ["# What each effect costs", "",
            "Time per step of each effect set (same tissue and backend) and the time of each phase.", "",
@@ -654,6 +719,8 @@ REPORTS = {
                                         ("figures/single_device.png", single_device_figure)],
     "accuracy_vs_time/accuracy_vs_time.csv": [("tables/accuracy_vs_time.md", accuracy_table),
                                               ("figures/accuracy_vs_time.png", accuracy_figure)],
+    "accuracy_vs_time/development.csv": [("tables/accuracy_development.md", development_accuracy_table),
+                                         ("figures/accuracy_development.png", development_accuracy_figure)],
     "effects_cost/effects_cost.csv": [("tables/effects_cost.md", effects_table),
                                       ("figures/effects_cost.png", effects_figure)],
     "strong_scaling/strong_scaling.csv": [("tables/strong_scaling.md", strong_scaling_table)],
@@ -668,7 +735,7 @@ REPORTS = {
 
 
 # REPORT.md's order: the paper's (Sec. V: single device, scaling, load balancing, controllers, use case).
-REPORT_ORDER = ["single_device", "accuracy_vs_time", "effects_cost", "strong_scaling", "load_balance", "rank_balance",
+REPORT_ORDER = ["single_device", "accuracy_vs_time", "accuracy_development", "effects_cost", "strong_scaling", "load_balance", "rank_balance",
                 "end_to_end", "end_to_end_load_balance", "end_to_end_rank_balance", "controller_eval", "controller_long",
                 "holt_tuning", "foresight_frontier", "frontier", "replay_score", "trace_model", "training_curve", "development", "epidermis"]
 

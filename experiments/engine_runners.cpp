@@ -1,6 +1,8 @@
 // Engine runners: "engine_timing" (single_device, effects_cost: wall time of a scene per backend, size
-// and effect set) and "engine_accuracy" (accuracy_vs_time: error against a reference run vs wall time).
+// and effect set), "engine_accuracy" (accuracy_vs_time: position error against a reference run vs wall time) and
+// "engine_observables" (accuracy_development: cells per type, thickness and work profile against a reference run).
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -12,6 +14,7 @@
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
 #include "engine/run/bench.hpp"
+#include "engine/decomposition/decomposition.hpp"
 #include "engine/run/simulation.hpp"
 #include "engine/model/tissue.hpp"
 #include "runner.hpp"
@@ -104,6 +107,25 @@ class TimingRunner final : public Runner {
   }
 };
 
+// The job's reference run: the same settings with precision double, dt = reference_dt, cutoff = reference_cutoff
+// (each where the job sets it).
+Job reference_job(const Job& job) {
+  Job ref = job;
+  for (auto& [k, s] : ref.settings) {
+    if (k == "precision") s.value = "double";
+    if (k == "dt") s.value = value(job, "reference_dt", s.value);
+    if (k == "cutoff") s.value = value(job, "reference_cutoff", s.value);
+  }
+  return ref;
+}
+
+// "KEY=VALUE;..." of every setting: a cache key.
+std::string job_key(const Job& job) {
+  std::string key;
+  for (const auto& [k, s] : job.settings) key += k + "=" + s.value + ";";
+  return key;
+}
+
 // Final positions of a run of `hours` simulated time; the wall time of the stepping alone.
 engine::State run_for(engine::Scene scene, double hours, double& wall) {
   engine::Simulation sim(scene, engine::make_tissue(scene));
@@ -154,14 +176,8 @@ class AccuracyRunner final : public Runner {
  private:
   // The reference (smallest time step, double precision) is computed once per process and setting.
   const engine::State& reference(const Job& job, const RunOptions& o, double hours, double& wall) const {
-    Job ref = job;
-    for (auto& [k, s] : ref.settings) {
-      if (k == "precision") s.value = "double";
-      if (k == "dt") s.value = value(job, "reference_dt", s.value);
-      if (k == "cutoff") s.value = value(job, "reference_cutoff", s.value);
-    }
-    std::string key;
-    for (const auto& [k, s] : ref.settings) key += k + "=" + s.value + ";";
+    const Job ref = reference_job(job);
+    const std::string key = job_key(ref);
     std::lock_guard lock(mutex_);
     auto it = cache_.find(key);
     if (it == cache_.end()) it = cache_.emplace(key, run_for(job_scene(ref, "", o.base_dir), hours, wall)).first;
@@ -171,8 +187,142 @@ class AccuracyRunner final : public Runner {
   mutable std::map<std::string, engine::State> cache_;
 };
 
+// What a user reads off a development run at one time point (engine_observables): cells per type, the tissue's
+// thickness (z extent of its elements, um), the per-slice work W_s the controllers see (shares of the total over
+// the reference's slices, and their centre along x, um), and the stepping's wall seconds so far.
+struct Observables {
+  long step = 0, cells = 0;
+  std::array<long, engine::kCellTypes> per_type{};
+  double thickness_um = 0, work_centre_um = 0, wall_s = 0;
+  std::vector<double> work_share;
+};
+
+Observables observe(const engine::State& s, const engine::SliceMap& map, double cutoff, double wall) {
+  Observables ob;
+  ob.step = s.step;
+  ob.cells = s.cells();
+  ob.wall_s = wall;
+  for (int t : s.cell_type) ++ob.per_type.at(static_cast<size_t>(t));
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (size_t i = 2; i < s.position.size(); i += 3) lo = std::min(lo, s.position[i]), hi = std::max(hi, s.position[i]);
+  ob.thickness_um = s.position.empty() ? 0.0 : hi - lo;
+  ob.work_share = engine::slice_workload(s, {}, map, cutoff);
+  double total = 0, moment = 0;
+  for (size_t k = 0; k < ob.work_share.size(); ++k) {
+    total += ob.work_share[k];
+    moment += ob.work_share[k] * (map.x0 + (static_cast<double>(k) + 0.5) * map.width);
+  }
+  for (double& w : ob.work_share) w = total > 0 ? w / total : 0.0;
+  ob.work_centre_um = total > 0 ? moment / total : 0.0;
+  return ob;
+}
+
+// Runs `scene` from its tissue for `samples` x `every` steps, observing the state at step 0 and after every `every`
+// steps; wall_s counts the stepping alone (cumulative), not the observing.
+std::vector<Observables> observe_run(const engine::Scene& scene, long samples, long every, const engine::SliceMap& map) {
+  engine::Scene sc = scene;
+  engine::Simulation sim(sc, engine::make_tissue(sc));
+  sim.profile = false;
+  std::vector<Observables> out = {observe(sim.sync(), map, sc.cutoff, 0.0)};
+  double wall = 0;
+  for (long k = 1; k <= samples; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    sim.advance(k * every);
+    sim.backend().finish();
+    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    out.push_back(observe(sim.sync(), map, sc.cutoff, wall));
+  }
+  return out;
+}
+
+// Accuracy on what a biologist reads, for scenes whose cells grow, divide and differentiate (so runs cannot be compared
+// element by element): each row is one run (precision, dt, cutoff) at one sample time (every `sample_h` hours
+// over `hours`), beside the reference run (reference_dt, double, reference_cutoff) at the same time. The cell stage
+// runs every `cell_stage_h` hours (required) whatever dt (time.cell_update_every = cell_stage_h / dt). Each run, the
+// reference included, is computed once per process. Errors: cells_error = sum over types |n - n_ref| / cells_ref;
+// work_profile_error = half the L1 distance of the W_s shares (the share of the work in other slices than the
+// reference's); thickness and work centre as differences (um).
+class ObservablesRunner final : public Runner {
+ public:
+  std::vector<std::string> columns() const override {
+    return {"precision", "dt", "cutoff", "time_h", "steps", "wall_s", "cells", "basal", "spinous", "granular", "thickness_um",
+            "work_centre_um", "cells_error", "thickness_error_um", "work_centre_error_um", "work_profile_error", "reference"};
+  }
+  bool measures_time() const override { return true; }
+  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
+    check_keys(job, manifest, {"scene", "hours", "sample_h", "cell_stage_h", "reference_dt", "reference_cutoff"});
+    for (const char* k : {"reference_dt", "reference_cutoff"}) job.real(k, 1, 1e-9, 1e9, manifest);
+    for (const Job& j : {job, reference_job(job)}) {
+      auto scene = job_scene(j, manifest, o.base_dir);
+      engine::make_effects(scene);
+      plan(j, scene, manifest);
+    }
+  }
+  std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
+    const auto& mine = observations(job, o);
+    const auto& ref = observations(reference_job(job), o);
+    const engine::Scene scene = job_scene(job, "", o.base_dir);
+    std::vector<std::vector<std::string>> rows;
+    for (size_t k = 0; k < mine.size(); ++k) {
+      const Observables &a = mine[k], &b = ref.at(k);
+      double type_diff = 0, profile_diff = 0;
+      for (size_t t = 0; t < a.per_type.size(); ++t) type_diff += std::abs(static_cast<double>(a.per_type[t] - b.per_type[t]));
+      for (size_t s = 0; s < a.work_share.size(); ++s) profile_diff += std::abs(a.work_share[s] - b.work_share.at(s));
+      rows.push_back({scene.backend.precision, value(job, "dt", fmt(scene.dt)), value(job, "cutoff", fmt(scene.cutoff)),
+                      fmt(static_cast<double>(a.step) * scene.dt), std::to_string(a.step), fmt(o.timing ? a.wall_s : 0),
+                      std::to_string(a.cells), std::to_string(a.per_type[engine::kBasal]), std::to_string(a.per_type[engine::kSpinous]),
+                      std::to_string(a.per_type[engine::kGranular]), fmt(a.thickness_um), fmt(a.work_centre_um),
+                      fmt(type_diff / static_cast<double>(std::max(1L, b.cells))), fmt(a.thickness_um - b.thickness_um),
+                      fmt(a.work_centre_um - b.work_centre_um), fmt(profile_diff / 2),
+                      "dt=" + value(job, "reference_dt", "?") + " double cutoff=" + value(job, "reference_cutoff", fmt(scene.cutoff))});
+    }
+    return rows;
+  }
+
+ private:
+  // The job's samples and steps per sample, with its scene's cell stage set to every cell_stage_h hours; InputError
+  // (naming the field) when hours, sample_h or cell_stage_h is not a whole number of the job's steps.
+  static std::pair<long, long> plan(const Job& job, engine::Scene& scene, const std::string& manifest) {
+    const double hours = job.real("hours", 120.0, 1e-9, 1e9, manifest), sample = job.real("sample_h", 24.0, 1e-9, 1e9, manifest);
+    if (!job.find("cell_stage_h")) throw InputError(where(manifest, 0, "cell_stage_h") + "missing (the cell stage's period in hours, the same for every dt)");
+    const double stage = job.real("cell_stage_h", 0.5, 1e-9, 1e9, manifest);
+    auto whole = [&](const char* key, double v, double of, const std::string& unit) {
+      const double n = v / of;
+      if (std::abs(n - std::round(n)) > 1e-9 * n || std::round(n) < 1) {
+        const Setting* s = job.find(key);
+        throw InputError((s ? where_of(*s, manifest, key) : where(manifest, 0, key)) + fmt(v) + " h is not a whole number of " + unit +
+                         " of " + fmt(of) + " h");
+      }
+      return std::lround(n);
+    };
+    scene.cell_update_every = whole("cell_stage_h", stage, scene.dt, "steps (dt)");
+    const long every = whole("sample_h", sample, scene.dt, "steps (dt)");
+    return {whole("hours", hours, sample, "samples (sample_h)"), every};
+  }
+  // The observations of the job's run over the reference's slices (Decomposition::from_scene of the reference
+  // scene, its box fitted to the initial tissue at the reference cutoff), computed once per process and setting.
+  const std::vector<Observables>& observations(const Job& job, const RunOptions& o) const {
+    const std::string key = job_key(job);
+    {
+      std::lock_guard lock(mutex_);
+      if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+    }
+    engine::Scene ref = job_scene(reference_job(job), "", o.base_dir);
+    engine::make_tissue(ref);  // fits the box
+    const engine::SliceMap map = engine::Decomposition::from_scene(ref, 1);
+    engine::Scene scene = job_scene(job, "", o.base_dir);
+    const auto [samples, every] = plan(job, scene, "");
+    auto obs = observe_run(scene, samples, every, map);
+    std::lock_guard lock(mutex_);
+    return cache_.emplace(key, std::move(obs)).first->second;
+  }
+  mutable std::mutex mutex_;
+  mutable std::map<std::string, std::vector<Observables>> cache_;
+};
+
 const RunnerRegistrar timing("engine_timing", [] { return std::make_unique<TimingRunner>(); });
 const RunnerRegistrar accuracy("engine_accuracy", [] { return std::make_unique<AccuracyRunner>(); });
+const RunnerRegistrar observables("engine_observables", [] { return std::make_unique<ObservablesRunner>(); });
 
 }  // namespace
 }  // namespace semlb::experiments

@@ -1,6 +1,7 @@
 // Runners that launch `mpirun -np RANKS semlb sim` (strong_scaling, load_balance: "mpi_sim", one summary row;
 // rank_balance: "mpi_intervals", one row per rebalancing interval and rank; end_to_end: "mpi_end_to_end", the
-// paper's load-balance row per launch) and read its outputs.
+// paper's load-balance row per launch) and read its outputs; any of them can split a launch into checkpoint/restart
+// segments (`segments`).
 #include <unistd.h>
 
 #include <algorithm>
@@ -27,8 +28,9 @@ namespace fs = std::filesystem;
 // The scene settings (engine::scene_settings()) these runners take by name.
 const std::vector<std::string> kSceneNames = {"cells", "steps", "policy", "initial", "backend", "rebalance_every", "timing"};
 // Settings of the launch, not of the scene: the sweep's launch number, how mpirun places the ranks
-// (--bind-to, --map-by; "none" leaves Open MPI's default), and the GPUs the launch holds (recorded).
-const std::vector<std::string> kLaunchNames = {"launch", "bind_to", "map_by", "gpus"};
+// (--bind-to, --map-by; "none" leaves Open MPI's default), the GPUs the launch holds (recorded), and the
+// checkpoint/restart segments it runs as (launch()).
+const std::vector<std::string> kLaunchNames = {"launch", "bind_to", "map_by", "gpus", "segments"};
 
 std::string get(const Job& job, const std::string& key, const std::string& fallback) {
   const Setting* s = job.find(key);
@@ -40,22 +42,31 @@ std::string scene_path(const Job& job, const RunOptions& o) {
   return fs::path(scene).is_absolute() ? scene : o.base_dir + "/" + scene;
 }
 
+// The job's scene with its overrides; an InputError about the file is prefixed with where `scene` was set.
+engine::Scene job_scene(const Job& job, const std::string& manifest, const RunOptions& o) {
+  try {
+    return engine::load_scene(scene_path(job, o), scene_overrides(job, kSceneNames, manifest));
+  } catch (const InputError& e) {
+    throw InputError(where_of(*job.find("scene"), manifest, "scene") + e.what());
+  }
+}
+
 // The row's policy (its scene.decomposition.policy, else `policy`, else the scene file's, else the engine's
 // default) and where an error about it points.
 std::pair<std::string, std::string> row_policy(const Job& job, const std::string& manifest, const RunOptions& o) {
   for (const char* k : {"scene.decomposition.policy", "policy"})  // scene.KEY overrides come last, so win
     if (const Setting* s = job.find(k)) return {s->value, where_of(*s, manifest, k)};
-  engine::Scene scene;
-  try {
-    scene = engine::load_scene(scene_path(job, o), scene_overrides(job, kSceneNames, manifest));
-  } catch (const InputError& e) {
-    throw InputError(where_of(*job.find("scene"), manifest, "scene") + e.what());
-  }
+  const engine::Scene scene = job_scene(job, manifest, o);
   return {scene.decomposition->text("policy", engine::Decomposition{}.policy), scene.decomposition->where("policy")};
 }
 
+// The job's `segments`: how many consecutive `semlb sim` invocations one launch is split into, each resuming from
+// the previous one's checkpoint (launch()); 1 when absent.
+long segments_of(const Job& job, const std::string& manifest) { return job.integer("segments", 1, 1, 1L << 20, manifest); }
+
 // Refuses, before anything runs: an unknown setting, a missing scene or rank count, a value of the wrong type,
-// a bad POLICY.KEY parameter, and a row whose policy the engine cannot run (PolicyNeeds::true_work).
+// `segments` that do not divide the steps, a bad POLICY.KEY parameter, and a row whose policy the engine cannot
+// run (PolicyNeeds::true_work).
 void check_job(const Job& job, const std::string& manifest, const RunOptions& o) {
   for (const auto& [k, s] : job.settings)
     if (k != "scene" && k != "ranks" && std::find(kSceneNames.begin(), kSceneNames.end(), k) == kSceneNames.end() &&
@@ -75,6 +86,10 @@ void check_job(const Job& job, const std::string& manifest, const RunOptions& o)
       if (const Setting* s = job.find(k); s && s->value != "none")
         throw InputError(where_of(*s, manifest, k) + "applies to this machine's mpirun only; the launcher '" + o.mpi_launcher + "' places the ranks");
   scene_overrides(job, kSceneNames, manifest);  // typed values
+  if (const long segments = segments_of(job, manifest); segments > 1)
+    if (const long steps = job_scene(job, manifest, o).steps; steps % segments != 0)
+      throw InputError(where_of(*job.find("segments"), manifest, "segments") + std::to_string(segments) + " segments do not divide the " +
+                       std::to_string(steps) + " steps (each segment runs steps / segments)");
   check_policy_params(job, manifest);  // every policy's parameters, also of policies this row does not run
   const auto [policy, at] = row_policy(job, manifest, o);
   try {
@@ -95,13 +110,18 @@ std::string placement(const Job& job) {
 
 struct Launch {
   std::string dir;     // the run's files
-  double seconds = 0;  // the launch's wall seconds, start-up included
-  std::string output;  // mpirun's output (the sim's summary line)
+  double seconds = 0;  // the launch's wall seconds, start-up included (every segment's, summed)
+  std::string output;  // mpirun's output (the sim's summary line; the last segment's)
 };
 
 // Runs the job under mpirun (or o.mpi_launcher) into a fresh directory; returns it and the launch's wall seconds (start-up
 // included). The row's policy gets its POLICY.KEY settings as decomposition.params.KEY (other policies' are
-// not passed). Throws with mpirun's output on failure.
+// not passed). With `segments` N > 1 the launch is N invocations into the same directory: segment k runs to step
+// k x steps/N (time.steps) with a checkpoint at its end (output.checkpoint_every = steps/N, replacing the scene's),
+// and segment k > 1 resumes from it (--restart DIR/checkpoint.h5), so the balancer continues across the split and
+// run.csv, rank_times.csv and trace.jsonl continue in order (docs/engine.md, "The balancer is part of the
+// checkpoint"). Throws with mpirun's output on failure, naming the failed segment; also when a segment's balancer
+// started afresh instead of continuing (the sim's "restart:" line).
 Launch launch(const Job& job, const RunOptions& o) {
   const std::string scene = scene_path(job, o);
   std::string key;
@@ -117,18 +137,38 @@ Launch launch(const Job& job, const RunOptions& o) {
   for (const auto& [k, s] : job.settings)
     if (is_policy_param(k) && k.rfind(policy + ".", 0) == 0) overrides.push_back("decomposition.params." + k.substr(policy.size() + 1) + "=" + s.value);
   for (const auto& o : overrides) cmd << " --set " << o;
-  cmd << " 2>&1";
-  const auto t0 = std::chrono::steady_clock::now();
-  FILE* p = popen(cmd.str().c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  if (pclose(p) != 0) throw std::runtime_error("MPI launch failed: " + cmd.str() + "\n" + out);
-  return {dir.string(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), out};
+  const long segments = segments_of(job, "");
+  const long total_steps = segments > 1 ? job_scene(job, "", o).steps : 0;
+  Launch l{dir.string(), 0.0, ""};
+  for (long k = 1; k <= segments; ++k) {
+    std::string command = cmd.str();
+    if (segments > 1) {  // later --set values win (engine::parse_scene applies them in order)
+      const long length = total_steps / segments;
+      command += " --set time.steps=" + std::to_string(k * length) + " --set output.checkpoint_every=" + std::to_string(length);
+      if (k > 1) command += " --restart " + (dir / "checkpoint.h5").string();
+    }
+    command += " 2>&1";
+    const auto t0 = std::chrono::steady_clock::now();
+    FILE* p = popen(command.c_str(), "r");
+    std::string out;
+    char buf[4096];
+    while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+    const std::string which = segments > 1 ? " in segment " + std::to_string(k) + " of " + std::to_string(segments) + " (steps " +
+                                                 std::to_string((k - 1) * (total_steps / segments)) + "-" + std::to_string(k * (total_steps / segments)) + ")"
+                                           : "";
+    if (pclose(p) != 0) throw std::runtime_error("MPI launch failed" + which + ": " + command + "\n" + out);
+    if (const size_t at = out.find("semlb sim: restart: "); k > 1 && at != std::string::npos)
+      throw std::runtime_error("MPI launch" + which + ": the balancer did not continue from the checkpoint (" +
+                               out.substr(at, out.find('\n', at) - at) + "): " + command);
+    l.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    l.output = out;
+  }
+  return l;
 }
 
-// Removes the run's directory; with --keep-runs its files stay under TRACE_DIR/<its settings, scene left out>/.
-void finish_run(const Job& job, const RunOptions& o, const std::string& dir) {
+// Removes the run's directory; with --keep-runs its files stay under TRACE_DIR/<its settings, scene left out>/
+// (scene.yaml, run.csv, rank_times.csv, trace.jsonl, and final.h5 with `final_state`).
+void finish_run(const Job& job, const RunOptions& o, const std::string& dir, bool final_state = false) {
   if (!o.trace_dir.empty()) {
     std::string label;
     for (const auto& [k, s] : job.settings)
@@ -136,8 +176,9 @@ void finish_run(const Job& job, const RunOptions& o, const std::string& dir) {
     std::replace(label.begin(), label.end(), '/', '-');
     const fs::path to = fs::path(o.trace_dir) / label;
     fs::create_directories(to);
-    for (const char* f : {"scene.yaml", "run.csv", engine::rank_times::kFile, "trace.jsonl"})
-      if (fs::exists(fs::path(dir) / f)) fs::copy_file(fs::path(dir) / f, to / f, fs::copy_options::overwrite_existing);
+    for (const char* f : {"scene.yaml", "run.csv", engine::rank_times::kFile, "trace.jsonl", "final.h5"})
+      if (fs::exists(fs::path(dir) / f) && (final_state || std::string(f) != "final.h5"))
+        fs::copy_file(fs::path(dir) / f, to / f, fs::copy_options::overwrite_existing);
   }
   fs::remove_all(dir);
 }
@@ -232,7 +273,8 @@ std::string machine(const Job& job, const Launch& l, const RunOptions& o) {
 // The paper's end-to-end row (results/end_to_end/load_balance.csv, issue 18): one launch of one policy and initial
 // partition. cells_start is the scene's tissue.cells (the generator makes exactly that many); loop_s the
 // time-stepping loop; compute_s the slowest rank's computation per interval, summed; gpus as the manifest
-// records it; machine as machine() above.
+// records it; machine as machine() above. With `segments: N` (launch() above) the row sums the segments (the
+// joined run.csv and rank_times.csv). With --keep-runs the launch's final.h5 is kept too.
 class MpiEndToEndRunner final : public Runner {
  public:
   std::vector<std::string> columns() const override {
@@ -243,10 +285,10 @@ class MpiEndToEndRunner final : public Runner {
   int mpi_ranks(const Job& job) const override { return static_cast<int>(job.integer("ranks", 1, 1, 4096, "")); }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
-    const engine::Scene scene = engine::load_scene(scene_path(job, o), scene_overrides(job, kSceneNames, ""));
+    const engine::Scene scene = job_scene(job, "", o);
     const Launch l = launch(job, o);
     const RunTotals t = run_totals(l.dir);
-    finish_run(job, o, l.dir);
+    finish_run(job, o, l.dir, true);
     auto fmt = [&](double v) { return format_real(o.timing ? v : 0.0); };
     return {{row_policy(job, "", o).first, scene.decomposition->text("initial", engine::Decomposition{}.initial),
              get(job, "launch", "1"), get(job, "gpus", "0"), get(job, "ranks", "1"),

@@ -19,5 +19,18 @@ frontier="$work/tables/foresight_frontier.md"
 for p in 2 4; do for tau in 0.05 0.4; do
   grep -q "^| $p | $tau | [0-9.]* | [0-9.]* | [0-9.]* | [0-9.]* |$" "$frontier" || { echo "missing frontier row P=$p tau=$tau"; cat "$frontier"; exit 1; }
 done; done
+# The development scene's accuracy table (engine_observables) from the committed small-profile CSV: one summary row
+# per run with its largest errors over the sample times (float: 2.66% of the work profile, at Day 5), a row per run
+# and sample time, and a section in REPORT.md.
+mkdir -p "$work/accuracy_vs_time"
+cp "$src/results/cpu/accuracy_vs_time/development.csv" "$work/accuracy_vs_time/"
+"${PYTHON:-/usr/bin/python3}" "$src/analysis/report.py" --results "$work" >/dev/null
+dev="$work/tables/accuracy_development.md"
+grep -q "^| double | 0.05 | 8.75 | [0-9.]* | 147 (115/24/8) | 0 | 0 | 0 | 0 |$" "$dev" || { echo "reference row"; cat "$dev"; exit 1; }
+grep -q "^| float | 0.05 | 8.75 | [0-9.]* | 146 (114/24/8) | 0.68 | 0.00445 | 0.0227 | 2.66 |$" "$dev" || { echo "float row"; cat "$dev"; exit 1; }
+test "$(grep -c '^| [0-9]* | \(double\|float\) |' "$dev")" -eq 24 || { echo "not 4 runs x 6 sample times"; cat "$dev"; exit 1; }
+grep -q "^## tables/accuracy_development.md" "$work/REPORT.md"
+head -c 8 "$work/figures/accuracy_development.png" | od -An -c | grep -q "P   N   G"
+grep -q "^!\[figures/accuracy_development.png\]" "$work/REPORT.md"
 if "${PYTHON:-/usr/bin/python3}" "$src/analysis/report.py" --results "$work/empty" 2>/dev/null; then echo "empty results accepted"; exit 1; fi
 echo "1 passed, 0 failed"

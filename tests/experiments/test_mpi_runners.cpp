@@ -1,4 +1,5 @@
-// The mpi_sim / mpi_intervals runners: POLICY.KEY parameters, load-time refusals, typed values, rank_times.csv.
+// The mpi_sim / mpi_intervals / mpi_end_to_end runners: POLICY.KEY parameters, load-time refusals, typed values,
+// rank_times.csv, launches, checkpoint/restart segments.
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
@@ -7,6 +8,7 @@
 
 #include "../run_command.hpp"
 #include "common/text_io.hpp"
+#include "engine/io/io.hpp"
 #include "engine/run/driver.hpp"
 
 using namespace semlb::test;
@@ -174,4 +176,117 @@ TEST(MpiRunners, EndToEndRowsPerLaunchInterleaved) {
   const auto bad = run(semlb_bin() + " sweep " + dir + "/bad.yaml --quiet --results " + dir + "/bad");
   EXPECT_EQ(bad.rc, 2) << bad.out;
   EXPECT_NE(bad.out.find("bad.yaml:17: field 'map_by': must be an mpirun placement word"), std::string::npos) << bad.out;
+}
+
+// mpi_end_to_end with `segments: 2`: each launch runs as two `semlb sim` invocations, the second resuming from the
+// first's checkpoint. With modelled rank times the decisions are reproducible, so the split launch gives the unsplit
+// one's row (cells, imbalance, migrated slices), trace.jsonl line for line, rank_times.csv's modelled columns and the
+// final state bit for bit; reactive (a tiny threshold, so that it moves slices) and gru (a hidden state to carry),
+// split between two events (step 15 of 30, an event every 10 steps).
+TEST(MpiRunners, EndToEndSegmentsContinueTheUnsplitLaunch) {
+  const auto dir = fresh_dir("mpi_end_to_end_segments");
+  const std::string text = "name: e2e\nrunner: mpi_end_to_end\noutput: e2e/load_balance.csv\naxes:\n"
+                           "  policy: [reactive, gru]\n  segments: [1, 2]\nset:\n  scene: " + source("scenes/epidermis.yaml") +
+                           "\n  ranks: 2\n  cells: 60\n  steps: 30\n  rebalance_every: 10\n  reactive.tau: 0.001\n"
+                           "  scene.decomposition.timing: modelled\n";
+  write(dir + "/m.yaml", text);
+  const auto r = run(within(300) + semlb_bin() + " sweep " + dir + "/m.yaml --no-timing --quiet --keep-runs --results " + dir + "/out");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const auto lines = semlb::split(slurp(dir + "/out/e2e/load_balance.csv"), '\n');
+  ASSERT_EQ(lines.size(), 1u + 4u + 1u) << "header, 2 policies x 2 segment counts, the empty field after the last newline";
+  EXPECT_EQ(lines[0], "segments,policy,initial,launch,gpus,ranks,cells_start,cells_end,steps,loop_s,compute_s,"
+                      "mean_imbalance,migrated_slices,machine");
+  auto run_dir = [&](const std::string& policy, int segments) {
+    for (const auto& e : fs::directory_iterator(dir + "/out/e2e/runs"))
+      if (e.path().filename().string().find("policy=" + policy + "_segments=" + std::to_string(segments)) != std::string::npos)
+        return e.path().string();
+    return std::string();
+  };
+  auto modelled_columns = [](const std::string& file) {  // rank_times.csv less the measured exchange/migration seconds
+    std::vector<std::string> out;
+    for (const auto& line : semlb::split(slurp(file), '\n')) {
+      const auto f = semlb::split(line, ',');
+      if (f.size() == 7) out.push_back(f[0] + "," + f[1] + "," + f[2] + "," + f[5] + "," + f[6]);
+    }
+    return out;
+  };
+  for (size_t p = 0; p < 2; ++p) {
+    const auto whole = semlb::split(lines[1 + 2 * p], ','), split = semlb::split(lines[2 + 2 * p], ',');
+    ASSERT_EQ(whole.size(), 14u) << lines[1 + 2 * p];
+    EXPECT_EQ(whole[0], "1");
+    EXPECT_EQ(split[0], "2");
+    for (size_t c : {1u, 2u, 6u, 7u, 8u, 11u, 12u}) EXPECT_EQ(split[c], whole[c]) << whole[1] << " column " << c;
+    const std::string policy = whole[1];
+    EXPECT_EQ(whole[8], "30") << "the steps of the whole launch";
+    if (policy == "reactive") {
+      EXPECT_GT(std::stol(whole[12]), 0) << "reactive moved no slice: the test would show nothing";
+    }
+    const std::string a = run_dir(policy, 1), b = run_dir(policy, 2);
+    ASSERT_FALSE(a.empty() || b.empty()) << policy;
+    const auto trace = semlb::split(slurp(a + "/trace.jsonl"), '\n');
+    ASSERT_EQ(trace.size(), 1u + 3u) << "3 events, then the empty field";
+    EXPECT_EQ(slurp(b + "/trace.jsonl"), slurp(a + "/trace.jsonl")) << policy;
+    EXPECT_EQ(modelled_columns(b + "/" + semlb::engine::rank_times::kFile),
+              modelled_columns(a + "/" + semlb::engine::rank_times::kFile)) << policy;
+    EXPECT_EQ(semlb::engine::read_state(b + "/final.h5").hash(), semlb::engine::read_state(a + "/final.h5").hash()) << policy;
+    // the split launch ran as two: the first segment logged its last step, 15, which the unsplit run does not log
+    const auto steps_logged = [](const std::string& run_csv) {
+      std::vector<std::string> s;
+      for (const auto& line : semlb::split(slurp(run_csv), '\n')) s.push_back(semlb::split(line + ",", ',')[0]);
+      return s;
+    };
+    EXPECT_EQ(steps_logged(b + "/run.csv"), (std::vector<std::string>{"step", "15", "30", ""})) << slurp(b + "/run.csv");
+    EXPECT_EQ(steps_logged(a + "/run.csv"), (std::vector<std::string>{"step", "30", ""})) << slurp(a + "/run.csv");
+  }
+}
+
+// `segments` is refused before anything runs when it is not an integer >= 1 or does not divide the steps; a failed
+// segment fails its row, naming the segment, and no row is written for it.
+TEST(MpiRunners, EndToEndSegmentsAreCheckedAndAFailedSegmentIsNamed) {
+  const auto dir = fresh_dir("mpi_end_to_end_segments_bad");
+  const std::string head = "name: e2e\nrunner: mpi_end_to_end\noutput: e2e/load_balance.csv\nset:\n  scene: " +
+                           source("scenes/epidermis.yaml") + "\n  ranks: 2\n  cells: 60\n  steps: 30\n";
+  for (const auto& [value, want] : std::vector<std::pair<std::string, std::string>>{
+           {"4", "m.yaml:9: field 'segments': 4 segments do not divide the 30 steps"},
+           {"0", "m.yaml:9: field 'segments': '0' is outside"},
+           {"1.5", "m.yaml:9: field 'segments': '1.5' is not an integer"}}) {
+    write(dir + "/m.yaml", head + "  segments: " + value + "\n");
+    fs::remove_all(dir + "/out");
+    const auto r = run(within(60) + semlb_bin() + " sweep " + dir + "/m.yaml --quiet --results " + dir + "/out");
+    EXPECT_EQ(r.rc, 2) << r.out;
+    EXPECT_NE(r.out.find(want), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(dir + "/out")) << value;
+  }
+  // a scene that fails at its first step fails segment 1 of 2, and the sweep writes no row
+  write(dir + "/m.yaml", head + "  segments: 2\n  scene.time.max_displacement: 1e-9\n");
+  fs::remove_all(dir + "/out");
+  const auto r = run(within(120) + semlb_bin() + " sweep " + dir + "/m.yaml --quiet --results " + dir + "/out");
+  EXPECT_NE(r.rc, 0) << r.out;
+  EXPECT_NE(r.out.find("MPI launch failed in segment 1 of 2 (steps 0-15)"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(dir + "/out/e2e/load_balance.csv"));
+  const auto partial = semlb::split(slurp(dir + "/out/e2e/load_balance.csv.partial"), '\n');
+  EXPECT_EQ(partial.size(), 2u) << "the header alone";
+}
+
+// The other MPI runners split a launch the same way: mpi_intervals' rows (per interval and rank, modelled times in
+// work units) of a 2-segment launch are the unsplit launch's, the intervals of both segments in order.
+TEST(MpiRunners, IntervalRowsOfASplitLaunchAreTheUnsplitOnes) {
+  const auto dir = fresh_dir("mpi_intervals_segments");
+  std::string text = engine_manifest("  segments: [1, 2]\n", "  policy: reactive\n  reactive.tau: 0.001\n  scene.decomposition.timing: modelled\n");
+  text.replace(text.find("mpi_sim"), 7, "mpi_intervals");
+  text.replace(text.find("steps: 20"), 9, "steps: 30");
+  write(dir + "/m.yaml", text);
+  const auto r = run(within(300) + semlb_bin() + " sweep " + dir + "/m.yaml --quiet --results " + dir + "/out");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const auto lines = semlb::split(slurp(dir + "/out/engine.csv"), '\n');
+  ASSERT_EQ(lines.at(0), "segments,step,rank,compute_s,imbalance,moved_slices");
+  std::vector<std::string> whole, split;
+  for (size_t i = 1; i < lines.size(); ++i)
+    if (!lines[i].empty()) (lines[i].rfind("1,", 0) == 0 ? whole : split).push_back(lines[i].substr(2));
+  ASSERT_EQ(whole.size(), 3u * 2u) << "3 events x 2 ranks";
+  EXPECT_EQ(split, whole);
+  EXPECT_EQ(semlb::split(whole.back(), ',')[0], "30");
+  long moved = 0;
+  for (const auto& l : whole) moved += std::stol(semlb::split(l, ',')[4]);
+  EXPECT_GT(moved, 0) << "reactive moved no slice: the test would show nothing";
 }
