@@ -203,12 +203,18 @@ def imbalance_at(front, migration):
             return a[2] if a[3] == b[3] else a[2] + (b[2] - a[2]) * (a[3] - migration) / (a[3] - b[3])
 
 
+def shipped_gru(points):
+    """The shipped GRU's point (family gru, no parameter cells: the default weights), else the first gru point."""
+    grus = [p for p in points if p[0] == "gru"]
+    return next((p for p in grus if p[1] == "defaults"), grus[0] if grus else None)
+
+
 def floor_gap(points):
     """For one P's points, at the GRU's migration: (gru point, the best deployable front's imbalance (least over
     the deployable families of imbalance_at; None if none moves that little), foresight's imbalance there (None
     without foresight rows), the share of the distance from the deployable front to the floor the GRU closes:
     (front - gru) / (front - floor); None when either is missing or the front is on the floor)."""
-    gru = next((p for p in points if p[0] == "gru"), None)
+    gru = shipped_gru(points)
     if gru is None:
         return None, None, None, None
     fronts = [imbalance_at(pareto_front([p for p in points if p[0] == fam]), gru[3]) for fam in DEPLOYABLE]
@@ -223,7 +229,7 @@ def gru_verdict(points):
     family's front needs at its imbalance (migration_at; None if none reaches it), GRU migration / that or None).
     Targets: (a) none dominates; (b) ratio <= 1/2. Fronts are per family: a line between two settings of one family
     stands for the knob values between them; nothing lies between two families."""
-    gru = next((p for p in points if p[0] == "gru"), None)
+    gru = shipped_gru(points)
     if gru is None:
         return None, [], None, None
     deployable = [p for p in points if p[0] in DEPLOYABLE]
@@ -313,9 +319,13 @@ def balancer_frontier_figure(rows):
             if front:
                 ax.plot([100 * p[2] for p in front], [p[3] for p in front], "o-" if fam in DEPLOYABLE else "s--",
                         ms=4, color=colors(k), label=fam)
-        for p in points:
-            if p[0] == "gru":
-                ax.plot([100 * p[2]], [p[3]], "*", ms=14, color="black", label="gru (shipped)")
+        shipped = shipped_gru(points)
+        others = sorted((p for p in points if p[0] == "gru" and p is not shipped), key=lambda p: p[2])
+        if others:  # the same recipe trained with other migration penalties
+            ax.plot([100 * p[2] for p in others], [p[3] for p in others], "x:", ms=8, color="black",
+                    label="gru (other penalties)")
+        if shipped:
+            ax.plot([100 * shipped[2]], [shipped[3]], "*", ms=14, color="black", label="gru (shipped)")
         ax.set_yscale("symlog", linthresh=1)
         ax.set_title(f"P = {P}")
         ax.set_xlabel("time-averaged imbalance (%)")

@@ -166,6 +166,13 @@ std::string default_gru_weights_path() {
   return SEMLB_DEFAULT_WEIGHTS;
 }
 
+std::string resolve_gru_weights(const std::string& path) {
+  if (path.empty()) return default_gru_weights_path();
+  if (path.find('/') != std::string::npos || std::filesystem::exists(path)) return path;
+  const auto shipped = std::filesystem::path(SEMLB_DEFAULT_WEIGHTS).parent_path() / path;
+  return std::filesystem::exists(shipped) ? shipped.string() : path;
+}
+
 namespace {
 
 class GruPolicy final : public Policy {
@@ -223,7 +230,7 @@ const Registrar gru_registrar("gru", [](PolicyParams& params) {
   if (path.empty() && !std::filesystem::exists(default_gru_weights_path()))
     throw InputError("policy 'gru': no --weights given and the shipped default " + default_gru_weights_path() +
                      " does not exist (train one with `semlb train`)");
-  return std::make_unique<GruPolicy>(load_gru_weights(path.empty() ? default_gru_weights_path() : path), p);
+  return std::make_unique<GruPolicy>(load_gru_weights(resolve_gru_weights(path)), p);
 });
 
 }  // namespace

@@ -51,5 +51,9 @@ double gru_parity_error(const std::string& path);
 
 // The shipped default weights file (may not exist yet).
 std::string default_gru_weights_path();
+// The file a `weights` parameter names: empty -> default_gru_weights_path(); a bare file name that does not exist
+// here -> that name in the shipped weights folder (controllers/weights/, e.g. "gru_migration_penalty_8.h5") if it
+// is there; anything else as given (load_gru_weights reports a missing file).
+std::string resolve_gru_weights(const std::string& path);
 
 }  // namespace semlb

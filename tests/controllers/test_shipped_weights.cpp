@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "controllers/gru.hpp"
+#include "common/errors.hpp"
 #include "common/h5.hpp"
 #include "controllers/policy.hpp"
 #include "surrogate/rollout.hpp"
@@ -31,4 +32,32 @@ TEST(ShippedWeights, LongRolloutsStayFiniteAndValid) {
     for (double v : r.imbalance) ASSERT_TRUE(std::isfinite(v)) << "P " << ranks;
     EXPECT_GT(r.migration, 0) << "P " << ranks;
   }
+}
+
+// Every shipped weights file (the default and those trained with other migration penalties, experiments/frontier.yaml)
+// loads by its bare name from any folder, reproduces its parity record, and drives the same rollout as its full
+// path; a bare name that is shipped nowhere stays a missing file (InputError).
+TEST(ShippedWeights, EveryShippedFileLoadsByItsBareName) {
+  const auto folder = std::filesystem::path(default_gru_weights_path()).parent_path();
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.path().extension() != ".h5") continue;
+    ++files;
+    const std::string name = entry.path().filename().string();
+    EXPECT_EQ(std::filesystem::path(resolve_gru_weights(name)), entry.path()) << name;
+    EXPECT_LT(gru_parity_error(entry.path().string()), 1e-5) << name;
+    PolicyParams by_name, by_path;
+    by_name.set("weights", name);
+    by_path.set("weights", entry.path().string());
+    auto a = make_policy("gru", by_name), b = make_policy("gru", by_path);
+    const auto ra = surrogate::rollout(surrogate::make_scenario(9011, 4), *a, 100);
+    const auto rb = surrogate::rollout(surrogate::make_scenario(9011, 4), *b, 100);
+    EXPECT_EQ(ra.imbalance, rb.imbalance) << name;
+    EXPECT_EQ(ra.migration, rb.migration) << name;
+  }
+  EXPECT_GE(files, 1);
+  EXPECT_EQ(resolve_gru_weights("no_such_weights.h5"), "no_such_weights.h5");
+  PolicyParams missing;
+  missing.set("weights", "no_such_weights.h5");
+  EXPECT_THROW(make_policy("gru", missing), InputError);
 }
