@@ -25,17 +25,13 @@ class SurrogateRunner final : public Runner {
     for (const auto& [k, s] : job.settings)
       if (k != "policy" && k != "ranks" && k != "seed" && k != "events" && !is_scenario_key(k) && !is_policy_param(k))
         throw InputError(where_of(s, manifest, k) + "unknown setting for the surrogate runner");
-    for (const auto& [k, s] : job.settings)  // each override alone, so that an error names its setting
-      if (is_scenario_key(k)) try {
-          surrogate::make_scenario(j.seed, j.ranks, {{k.substr(9), s.value}});
-        } catch (const InputError& e) {
-          const std::string m = e.what();
-          throw InputError(where_of(s, manifest, k) + (m.rfind(k + ": ", 0) == 0 ? m.substr(k.size() + 2) : m));
-        }
     try {  // the scenario's slice count bounds the rank count: checked here, before any output exists
       surrogate::make_scenario(j.seed, j.ranks, j.scenario);
     } catch (const InputError& e) {
-      throw InputError(where_of(*job.find("ranks"), manifest, "ranks") + e.what() + " (scenario seed " + std::to_string(j.seed) + ")");
+      const std::string m = e.what();
+      for (const auto& [k, s] : job.settings)  // an override's error ("scenario.KEY: ...") names its setting
+        if (is_scenario_key(k) && m.rfind(k + ": ", 0) == 0) throw InputError(where_of(s, manifest, k) + m.substr(k.size() + 2));
+      throw InputError(where_of(*job.find("ranks"), manifest, "ranks") + m + " (scenario seed " + std::to_string(j.seed) + ")");
     }
     check_policy_params(job, manifest);  // every policy's parameters, also of policies this row does not run
     try {
