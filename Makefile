@@ -57,7 +57,7 @@ analysis:
 # "Surrogate fitted to engine traces"); several minutes on 2 cores, so not part of `make experiments`.
 surrogate-fit: build
 	$(PYTHON) analysis/fit_surrogate.py --semlb $(SEMLB) --results results --csv results/surrogate/surrogate_fit.csv \
-	  --params-csv results/surrogate/surrogate_fit_params.csv --table results/tables/surrogate_fit.md
+	  --params-csv results/surrogate/surrogate_fit_params.csv --table results/surrogate/surrogate_fit.md
 
 # Regenerates the shipped GRU weights (about 20 min on 2 cores); resumes after an interruption.
 train: build
