@@ -10,7 +10,7 @@ MANIFESTS := $(wildcard experiments/*.yaml)
 export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
-.PHONY: deps build test experiments epidermis development analysis bench train clean
+.PHONY: deps build test experiments epidermis development analysis bench train clean surrogate-fit
 
 deps:
 	bash scripts/install-deps.sh
@@ -52,6 +52,12 @@ development: build
 
 analysis:
 	$(PYTHON) analysis/report.py --results $(RESULTS)
+
+# The surrogate fitted to every engine trace under results/ and the policies' ranks on both (docs/controllers.md
+# "Surrogate fitted to engine traces"); several minutes on 2 cores, so not part of `make experiments`.
+surrogate-fit: build
+	$(PYTHON) analysis/fit_surrogate.py --semlb $(SEMLB) --results results --csv results/surrogate/surrogate_fit.csv \
+	  --params-csv results/surrogate/surrogate_fit_params.csv --table results/surrogate/surrogate_fit.md
 
 # Regenerates the shipped GRU weights (about 20 min on 2 cores); resumes after an interruption.
 train: build

@@ -12,7 +12,7 @@ Action add_surrogate(CLI::App& app) {
   struct Opts {
     std::string policies, ranks = "2,4,8,16", seeds = "9000-9019", out, weights;
     int events = 100, jobs = 1;
-    std::vector<std::string> params;
+    std::vector<std::string> params, scenario;
     bool dump_traces = false, no_timing = false, quiet = false, resume = false;
   };
   auto o = std::make_shared<Opts>();
@@ -24,6 +24,8 @@ Action add_surrogate(CLI::App& app) {
   sub->add_option("--out", o->out, "Output directory (writes DIR/controller_eval.csv)")->required();
   sub->add_option("--weights", o->weights, "GRU weights file (HDF5); default: the shipped weights");
   sub->add_option("--param", o->params, "Policy parameter POLICY.KEY=VALUE, e.g. reactive.tau=0.05 (repeatable)");
+  sub->add_option("--scenario", o->scenario,
+                  "Scenario override KEY=VALUE replacing the seed's draw, e.g. drift_speed=0.001 (repeatable; keys: docs/surrogate.md)");
   sub->add_option("--jobs", o->jobs, "Worker threads")->capture_default_str()->check(strict_integer(1));
   sub->add_flag("--dump-traces", o->dump_traces, "Also write every rollout as a JSON Lines trace under DIR/traces/");
   sub->add_flag("--no-timing", o->no_timing, "Write us_per_decision as 0 so that reruns are byte-identical");
@@ -46,6 +48,11 @@ Action add_surrogate(CLI::App& app) {
     for (const auto& p : o->params) {
       surrogate::parse_policy_params({p});  // validates the POLICY.KEY=VALUE shape
       m.fixed[p.substr(0, p.find('='))] = {p.substr(p.find('=') + 1), 0, "--param " + p.substr(0, p.find('='))};
+    }
+    for (const auto& a : o->scenario) {
+      const size_t eq = a.find('=');
+      if (eq == std::string::npos || eq == 0) throw InputError("--scenario: '" + a + "' is not KEY=VALUE");
+      m.fixed["scenario." + a.substr(0, eq)] = {a.substr(eq + 1), 0, "--scenario " + a.substr(0, eq)};
     }
     experiments::SweepOptions so;
     so.results_dir = o->out;

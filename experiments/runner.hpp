@@ -40,7 +40,9 @@ class Runner {
 // every `scene.KEY` setting as KEY. Shared by the engine runners.
 std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::string>& names, const std::string& manifest);
 
-// True for a POLICY.KEY setting (holt.alpha): a key with a '.' that is not a scene.KEY override.
+// True for a scenario.KEY setting: an override of the surrogate's scenario draws (surrogate::make_scenario).
+bool is_scenario_key(const std::string& key);
+// True for a POLICY.KEY setting (holt.alpha): a key with a '.' that is not a scene.KEY or scenario.KEY override.
 bool is_policy_param(const std::string& key);
 // The job's POLICY.KEY settings grouped by policy (surrogate::parse_policy_params); a malformed one is an
 // InputError naming its manifest line.

@@ -1,5 +1,5 @@
 // The "surrogate" runner: one controller-evaluation rollout per job (keys: policy, ranks, seed, events,
-// and POLICY.KEY policy parameters such as holt.alpha).
+// POLICY.KEY policy parameters such as holt.alpha, and scenario.KEY overrides of the scenario draws).
 #include <limits>
 
 #include "common/errors.hpp"
@@ -23,12 +23,15 @@ class SurrogateRunner final : public Runner {
   void check(const Job& job, const std::string& manifest, const RunOptions&) const override {
     const auto j = to_eval_job(job, manifest);
     for (const auto& [k, s] : job.settings)
-      if (k != "policy" && k != "ranks" && k != "seed" && k != "events" && !is_policy_param(k))
+      if (k != "policy" && k != "ranks" && k != "seed" && k != "events" && !is_scenario_key(k) && !is_policy_param(k))
         throw InputError(where_of(s, manifest, k) + "unknown setting for the surrogate runner");
     try {  // the scenario's slice count bounds the rank count: checked here, before any output exists
-      surrogate::make_scenario(j.seed, j.ranks);
+      surrogate::make_scenario(j.seed, j.ranks, j.scenario);
     } catch (const InputError& e) {
-      throw InputError(where_of(*job.find("ranks"), manifest, "ranks") + e.what() + " (scenario seed " + std::to_string(j.seed) + ")");
+      const std::string m = e.what();
+      for (const auto& [k, s] : job.settings)  // an override's error ("scenario.KEY: ...") names its setting
+        if (is_scenario_key(k) && m.rfind(k + ": ", 0) == 0) throw InputError(where_of(s, manifest, k) + m.substr(k.size() + 2));
+      throw InputError(where_of(*job.find("ranks"), manifest, "ranks") + m + " (scenario seed " + std::to_string(j.seed) + ")");
     }
     check_policy_params(job, manifest);  // every policy's parameters, also of policies this row does not run
     try {
@@ -52,6 +55,8 @@ class SurrogateRunner final : public Runner {
     j.ranks = static_cast<int>(job.integer("ranks", 0, 1, 1 << 20, manifest));
     j.seed = static_cast<uint64_t>(job.integer("seed", 0, 0, std::numeric_limits<long>::max(), manifest));
     j.events = static_cast<int>(job.integer("events", 100, 1, 1 << 30, manifest));
+    for (const auto& [k, s] : job.settings)
+      if (is_scenario_key(k)) j.scenario[k.substr(9)] = s.value;
     return j;
   }
 };

@@ -33,7 +33,7 @@ const std::vector<std::string>& eval_columns() {
 
 std::vector<std::string> run_eval_job(const EvalJob& job, const std::map<std::string, PolicyParams>& params,
                                       bool timing, const std::string& trace_dir) {
-  const Scenario s = make_scenario(job.seed, job.ranks);
+  const Scenario s = make_scenario(job.seed, job.ranks, job.scenario);
   const auto it = params.find(job.policy);
   auto policy = make_policy(job.policy, it == params.end() ? PolicyParams{} : it->second);
   const RolloutResult r = rollout(s, *policy, job.events, !trace_dir.empty());

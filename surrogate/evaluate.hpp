@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "controllers/policy.hpp"
+#include "scenario.hpp"
 
 namespace semlb::surrogate {
 
@@ -14,6 +15,7 @@ struct EvalJob {
   int ranks = 2;
   uint64_t seed = 9000;
   int events = 100;
+  ScenarioSet scenario;  // overrides of the seed's scenario draws (make_scenario)
 };
 
 // Column names and one row of controller_eval.csv (values already formatted; deterministic except

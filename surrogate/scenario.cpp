@@ -6,40 +6,65 @@
 #include <numbers>
 
 #include "common/errors.hpp"
+#include "common/text_io.hpp"
 #include "rng.hpp"
 
 namespace semlb::surrogate {
 namespace {
 
 enum Stream : uint64_t { kSetup = 1, kHotspot, kDrift, kGrowth, kBurst, kTimeNoise, kWorkNoise, kTexture, kBias };
-constexpr double kMaxSpeed = 0.0005;  // hotspot drift, domain lengths per event
-
 double clipped_normal(uint64_t seed, uint64_t stream, uint64_t counter, uint64_t index) {
   return std::clamp(rng::normal(seed, stream, counter, index), -3.0, 3.0);
 }
 
 }  // namespace
 
-Scenario make_scenario(uint64_t seed, int ranks) {
+const std::vector<std::string>& scenario_keys() {
+  static const std::vector<std::string> k = {"slices", "min_width", "baseline", "growth_rate", "growth_period", "growth_offset",
+                                             "burst_probability", "burst_size", "time_jitter", "work_noise",
+                                             "drift_speed", "drift_walk", "drift_max"};
+  return k;
+}
+
+Scenario make_scenario(uint64_t seed, int ranks, const ScenarioSet& set) {
+  for (const auto& [k, v] : set)
+    if (std::find(scenario_keys().begin(), scenario_keys().end(), k) == scenario_keys().end()) {
+      std::string known;
+      for (const auto& name : scenario_keys()) known += (known.empty() ? "" : ", ") + name;
+      throw InputError("scenario." + k + ": unknown scenario key (one of " + known + ")");
+    }
+  // The override of `key` if given (parsed strictly, in [lo, hi]), else the drawn value.
+  auto real = [&](const char* key, double drawn, double lo, double hi) {
+    const auto it = set.find(key);
+    return it == set.end() ? drawn : parse_real(it->second, std::string("scenario.") + key + ": ", lo, hi);
+  };
+  auto integer = [&](const char* key, int drawn, long lo, long hi) {
+    const auto it = set.find(key);
+    return it == set.end() ? drawn : static_cast<int>(parse_integer(it->second, std::string("scenario.") + key + ": ", lo, hi));
+  };
   Scenario s;
   s.seed = seed;
   s.ranks = ranks;
   auto u = [&](double lo, double hi, uint64_t k) { return rng::uniform(lo, hi, seed, kSetup, 0, k); };
-  s.slices = static_cast<int>(u(256, 1025, 0));
+  s.slices = integer("slices", static_cast<int>(u(256, 1025, 0)), 1, 1 << 20);
   if (ranks < 1 || ranks > s.slices)
     throw InputError("ranks = " + std::to_string(ranks) + " must be in [1, " + std::to_string(s.slices) + "]");
-  s.min_width = std::max(1, std::min(static_cast<int>(u(2, 7, 1)), s.slices / (2 * ranks)));
-  s.baseline = u(0.2, 0.6, 2);
-  s.growth_rate = u(0.0, 0.001, 3);
-  s.growth_period = static_cast<int>(u(8, 31, 4));
-  s.growth_offset = static_cast<int>(u(0, s.growth_period, 5));
-  s.burst_probability = u(0.02, 0.10, 6);
-  s.time_jitter = u(0.005, 0.03, 7);
-  s.work_noise = u(0.05, 0.20, 8);
+  s.min_width = integer("min_width", std::max(1, std::min(static_cast<int>(u(2, 7, 1)), s.slices / (2 * ranks))), 1, s.slices / ranks);
+  s.baseline = real("baseline", u(0.2, 0.6, 2), 0.0, 1e6);
+  s.growth_rate = real("growth_rate", u(0.0, 0.001, 3), -0.5, 1.0);
+  s.growth_period = integer("growth_period", static_cast<int>(u(8, 31, 4)), 1, 1 << 20);
+  s.growth_offset = integer("growth_offset", static_cast<int>(u(0, s.growth_period, 5)), 0, s.growth_period - 1);
+  s.burst_probability = real("burst_probability", u(0.02, 0.10, 6), 0.0, 1.0);
+  s.burst_size = real("burst_size", 1.0, 0.0, 1e6);
+  s.time_jitter = real("time_jitter", u(0.005, 0.03, 7), 0.0, 1.0);
+  s.work_noise = real("work_noise", u(0.05, 0.20, 8), 0.0, 1.0);
+  s.drift_speed = real("drift_speed", s.drift_speed, 0.0, 1.0);
+  s.drift_walk = real("drift_walk", s.drift_walk, 0.0, 1.0);
+  s.drift_max = real("drift_max", s.drift_max, 0.0, 1.0);
   const int n = static_cast<int>(u(2, 7, 9));
   for (int h = 0; h < n; ++h) {
     auto hu = [&](double lo, double hi, uint64_t k) { return rng::uniform(lo, hi, seed, kHotspot, h, k); };
-    s.hotspots.push_back({hu(0.05, 0.95, 0), std::clamp(0.0002 * clipped_normal(seed, kHotspot, h, 7), -kMaxSpeed, kMaxSpeed),
+    s.hotspots.push_back({hu(0.05, 0.95, 0), std::clamp(s.drift_speed * clipped_normal(seed, kHotspot, h, 7), -s.drift_max, s.drift_max),
                           hu(0.5, 2.0, 2), hu(0.05, 0.25, 3)});
   }
   for (int k = 0; k < 3; ++k) {
@@ -65,7 +90,7 @@ void Workload::advance() {
   growth_event_ = (event_ - s_.growth_offset) % s_.growth_period == 0;
   for (size_t h = 0; h < hotspots_.size(); ++h) {
     Hotspot& hs = hotspots_[h];
-    hs.velocity = std::clamp(hs.velocity + 0.00003 * clipped_normal(seed, kDrift, t, h), -kMaxSpeed, kMaxSpeed);
+    hs.velocity = std::clamp(hs.velocity + s_.drift_walk * clipped_normal(seed, kDrift, t, h), -s_.drift_max, s_.drift_max);
     hs.centre += hs.velocity;
     if (hs.centre < 0.02 || hs.centre > 0.98) {  // reflect at the tissue edge
       hs.velocity = -hs.velocity;
@@ -80,7 +105,7 @@ void Workload::advance() {
   std::erase_if(bursts_, [&](const Burst& b) { return std::exp(-(event_ - b.start) / b.decay) < 1e-3; });
   if (rng::uniform(seed, kBurst, t, 0) < s_.burst_probability)
     bursts_.push_back({rng::uniform(0.02, 0.98, seed, kBurst, t, 1), rng::uniform(0.005, 0.03, seed, kBurst, t, 2),
-                       rng::uniform(0.1, 0.6, seed, kBurst, t, 3), event_, rng::uniform(1.0, 5.0, seed, kBurst, t, 4)});
+                       s_.burst_size * rng::uniform(0.1, 0.6, seed, kBurst, t, 3), event_, rng::uniform(1.0, 5.0, seed, kBurst, t, 4)});
   evaluate();
 }
 

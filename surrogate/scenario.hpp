@@ -2,6 +2,7 @@
 // that evolves by drifting hotspots, periodic growth events and transient bursts. Ranges: docs/surrogate.md.
 #pragma once
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,10 @@ struct Scenario {
   double growth_rate = 0.0;          // steady amplitude growth per event
   int growth_period = 16, growth_offset = 0;  // growth events at t = offset (mod period), t > 0
   double burst_probability = 0.05;   // per event
+  double burst_size = 1.0;           // scale of the burst amplitudes (each drawn in 0.1-0.6)
+  double drift_speed = 0.0002;       // std of a hotspot's initial velocity, domain lengths per event
+  double drift_walk = 0.00003;       // std of its per-event velocity change (random walk)
+  double drift_max = 0.0005;         // cap on |velocity|
   double time_jitter = 0.01;         // relative std of measured times
   double work_noise = 0.05;          // relative std of the observed per-slice work
   std::vector<Hotspot> hotspots;     // at event 0
@@ -46,9 +51,18 @@ struct Scenario {
   std::vector<BiasMode> proxy_bias;  // systematic error of the observed per-slice work
 };
 
+// Scenario overrides KEY -> VALUE text (`semlb surrogate --scenario KEY=VALUE`, sweep key scenario.KEY): each
+// replaces the seed's draw of that quantity before anything that depends on it is drawn (slices before the
+// texture, drift_speed before the hotspot velocities, growth_period before growth_offset). Keys: see
+// scenario_keys(); everything not overridden is drawn exactly as without overrides.
+using ScenarioSet = std::map<std::string, std::string>;
+const std::vector<std::string>& scenario_keys();
+
 // Draws a scenario from its seed; only min_width depends on ranks (reduced so that 2*P*min_width <= slices).
-// Throws InputError if ranks < 1 or ranks > slices.
-Scenario make_scenario(uint64_t seed, int ranks);
+// Throws InputError if ranks < 1 or ranks > slices, or on an unknown key or a value that is not a number in
+// its range ("scenario.KEY: 'TEXT' is not a number" / "... outside [a, b]"; min_width must keep P*min_width
+// <= slices; an overridden growth_offset must be < growth_period).
+Scenario make_scenario(uint64_t seed, int ranks, const ScenarioSet& set = {});
 
 // The noise-free per-slice workload of event t, advanced one event at a time (independent of any policy).
 class Workload {

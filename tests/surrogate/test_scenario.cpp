@@ -68,3 +68,52 @@ TEST(Scenario, SeedRangesAreDisjoint) {
   EXPECT_LT(kValidationSeeds.last, kEvaluationSeeds.first);
   EXPECT_TRUE(kEvaluationSeeds.contains(9000) && kEvaluationSeeds.contains(9019));
 }
+
+TEST(Scenario, OverridesReplaceOnlyTheirDrawAndDependentDrawsFollow) {
+  const Scenario a = make_scenario(9004, 4);
+  // An override equal to nothing else changes nothing else: same hotspots, texture, bias, noise levels.
+  const Scenario b = make_scenario(9004, 4, {{"time_jitter", "0.3"}, {"burst_size", "2"}});
+  EXPECT_EQ(b.time_jitter, 0.3);
+  EXPECT_EQ(b.burst_size, 2.0);
+  EXPECT_EQ(b.work_noise, a.work_noise);
+  EXPECT_EQ(b.texture, a.texture);
+  ASSERT_EQ(b.hotspots.size(), a.hotspots.size());
+  for (size_t h = 0; h < a.hotspots.size(); ++h) EXPECT_EQ(b.hotspots[h].velocity, a.hotspots[h].velocity);
+  // slices sizes the texture; drift_speed scales the initial velocities (within the cap); min_width is kept.
+  const Scenario c = make_scenario(9004, 4, {{"slices", "73"}, {"min_width", "13"}, {"drift_speed", "0.0004"}, {"drift_max", "1"}});
+  EXPECT_EQ(c.slices, 73);
+  EXPECT_EQ(c.texture.size(), 73u);
+  EXPECT_EQ(c.min_width, 13);
+  for (size_t h = 0; h < a.hotspots.size(); ++h)
+    if (std::fabs(a.hotspots[h].velocity) < a.drift_max) EXPECT_DOUBLE_EQ(c.hotspots[h].velocity, 2.0 * a.hotspots[h].velocity);
+  EXPECT_EQ(Workload(c).work().size(), 73u);
+  // Faster drift changes the workload more: growth and bursts off, L1 change of the work over 50 events.
+  const ScenarioSet still = {{"burst_probability", "0"}, {"growth_rate", "0"}, {"growth_period", "100000"}};
+  ScenarioSet quick = still;
+  quick.insert({{"drift_speed", "0.002"}, {"drift_walk", "0.0003"}, {"drift_max", "0.005"}});
+  const Scenario slow = make_scenario(9004, 4, still), fast = make_scenario(9004, 4, quick);
+  Workload ws(slow), wf(fast);
+  const auto s0 = ws.work(), f0 = wf.work();
+  for (int t = 0; t < 50; ++t) ws.advance(), wf.advance();
+  double ds = 0, df = 0;
+  for (size_t i = 0; i < s0.size(); ++i) ds += std::fabs(ws.work()[i] - s0[i]), df += std::fabs(wf.work()[i] - f0[i]);
+  EXPECT_GT(df, 3 * ds);
+}
+
+TEST(Scenario, BadOverridesAreInputErrorsNamingTheKey) {
+  auto message = [](const ScenarioSet& set) {
+    try {
+      make_scenario(9000, 4, set);
+    } catch (const semlb::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message({{"drift", "1"}}).rfind("scenario.drift: unknown scenario key (one of slices, ", 0), 0u);
+  EXPECT_NE(message({{"work_noise", "0.1x"}}).find("scenario.work_noise: '0.1x' is not a number"), std::string::npos);
+  EXPECT_NE(message({{"time_jitter", "2"}}).find("scenario.time_jitter: "), std::string::npos);
+  EXPECT_NE(message({{"slices", "2.5"}}).find("scenario.slices: "), std::string::npos);
+  EXPECT_NE(message({{"slices", "8"}, {"min_width", "3"}}).find("scenario.min_width: "), std::string::npos);  // 4 * 3 > 8
+  EXPECT_NE(message({{"growth_period", "10"}, {"growth_offset", "10"}}).find("scenario.growth_offset: "), std::string::npos);
+  EXPECT_EQ(message({{"slices", "8"}, {"min_width", "2"}}), "no error");
+}
