@@ -248,8 +248,9 @@ def balancer_frontier_table(rows):
            f"Each point is one setting's mean over {seeds} seeds ({', '.join(events)}-event rollouts): imbalance = "
            "time-averaged I_global in percent, migration = slices moved over the rollout. Deployable families: "
            + ", ".join(DEPLOYABLE) + "; lazy_oracle knows the next interval's true work (a foresight bound, not "
-           "deployable). The GRU is one point: only the shipped weights exist (no weights trained with other "
-           "migration penalties).", "",
+           "deployable). The targets are the shipped GRU's (default weights, migration penalty 2); the gru family's "
+           "front below adds the same recipe trained with other migration penalties where the manifest lists them "
+           "(gru.weights).", "",
            "Targets: (a) no deployable setting dominates the GRU (no worse in both, better in one); (b) at the GRU's "
            "imbalance the GRU migrates at most half of what the best deployable front needs: the least, over the "
            "deployable families, of the family's Pareto front interpolated linearly in imbalance between its points.", "",
