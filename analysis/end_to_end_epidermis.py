@@ -72,7 +72,7 @@ def main():
     rows = [run_row(d, a.gpus, a.machine) for d in a.runs]  # all checked before anything is written
     exists = a.append and os.path.exists(a.out)
     with open(a.out, "a" if exists else "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=COLUMNS)
+        w = csv.DictWriter(f, fieldnames=COLUMNS, lineterminator="\n")
         if not exists:
             w.writeheader()
         w.writerows(rows)
