@@ -44,15 +44,22 @@ Action add_surrogate(CLI::App& app) {
     for (long s : surrogate::parse_int_list(o->seeds, "--seeds")) seeds.push_back({std::to_string(s), 0, "--seeds"});
     m.axes = {{"policy", policies}, {"ranks", ranks}, {"seed", seeds}};
     m.fixed["events"] = {std::to_string(o->events), 0, "--events"};
-    if (!o->weights.empty()) m.fixed["gru.weights"] = {o->weights, 0, "--weights"};
+    // One value per key: a second --param or --scenario of the same key (or --param gru.weights beside --weights)
+    // is refused rather than silently replacing the first.
+    const auto put = [&](const std::string& key, const std::string& value, const std::string& flag) {
+      if (const auto it = m.fixed.find(key); it != m.fixed.end())
+        throw InputError(flag + ": given twice (also " + it->second.source + ")");
+      m.fixed[key] = {value, 0, flag};
+    };
+    if (!o->weights.empty()) put("gru.weights", o->weights, "--weights");
     for (const auto& p : o->params) {
       surrogate::parse_policy_params({p});  // validates the POLICY.KEY=VALUE shape
-      m.fixed[p.substr(0, p.find('='))] = {p.substr(p.find('=') + 1), 0, "--param " + p.substr(0, p.find('='))};
+      put(p.substr(0, p.find('=')), p.substr(p.find('=') + 1), "--param " + p.substr(0, p.find('=')));
     }
     for (const auto& a : o->scenario) {
       const size_t eq = a.find('=');
       if (eq == std::string::npos || eq == 0) throw InputError("--scenario: '" + a + "' is not KEY=VALUE");
-      m.fixed["scenario." + a.substr(0, eq)] = {a.substr(eq + 1), 0, "--scenario " + a.substr(0, eq)};
+      put("scenario." + a.substr(0, eq), a.substr(eq + 1), "--scenario " + a.substr(0, eq));
     }
     experiments::SweepOptions so;
     so.results_dir = o->out;

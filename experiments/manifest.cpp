@@ -4,6 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <map>
 
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
@@ -54,9 +55,32 @@ Axes read_axes(const YAML::Node& n, const std::string& file, const std::string& 
   return axes;
 }
 
+// Removes axis NAME from AXES (no-op if absent).
+void drop_axis(Axes& axes, const std::string& name) {
+  axes.erase(std::remove_if(axes.begin(), axes.end(), [&](auto& p) { return p.first == name; }), axes.end());
+}
+
+// One block (the manifest's top level, or a profile): its axes replace earlier settings of the same key and its
+// settings replace earlier axes (as --set does), but one block may not give a key both ways.
 void read_block(const YAML::Node& block, Manifest& m, const std::string& where_name) {
   if (!block) return;
   if (!block.IsMap()) throw InputError(where(m.path, line_of(block), where_name) + "must be a mapping");
+  std::map<std::string, int> block_axes;  // key -> line, of this block's axes (shared and groups)
+  std::map<std::string, std::pair<int, std::string>> block_sets;  // key -> (line, field) of this block's settings
+  for (const auto& kv : block) {
+    if (kv.first.Scalar() == "axes" && kv.second.IsMap())
+      for (const auto& a : kv.second) block_axes.emplace(a.first.Scalar(), line_of(a.first));
+    if (kv.first.Scalar() == "groups" && kv.second.IsSequence())
+      for (const auto& g : kv.second)
+        if (g.IsMap())
+          for (const auto& a : g) block_axes.emplace(a.first.Scalar(), line_of(a.first));
+    if (kv.first.Scalar() == "set" && kv.second.IsMap())
+      for (const auto& st : kv.second) block_sets.emplace(st.first.Scalar(), std::make_pair(line_of(st.first), "set." + st.first.Scalar()));
+  }
+  for (const auto& [key, at] : block_sets)
+    if (const auto a = block_axes.find(key); a != block_axes.end())
+      throw InputError(where(m.path, at.first, at.second) + "'" + key + "' is also an axis (line " + std::to_string(a->second) +
+                       "): give it in one place");
   for (const auto& kv : block) {
     const std::string key = kv.first.Scalar();
     if (key == "axes") {
@@ -76,7 +100,12 @@ void read_block(const YAML::Node& block, Manifest& m, const std::string& where_n
       }
     } else if (key == "set") {
       if (!kv.second.IsMap()) throw InputError(where(m.path, line_of(kv.second), "set") + "must be a mapping");
-      for (const auto& s : kv.second) m.fixed[s.first.Scalar()] = {scalar(s.second, m.path, "set." + s.first.Scalar()), line_of(s.second), ""};
+      for (const auto& s : kv.second) {
+        const std::string name = s.first.Scalar();
+        m.fixed[name] = {scalar(s.second, m.path, "set." + name), line_of(s.second), ""};
+        drop_axis(m.axes, name);  // a profile's setting replaces the manifest's axis
+        for (auto& g : m.groups) drop_axis(g, name);
+      }
     } else if (key == "launches") {
       m.launches_at = {scalar(kv.second, m.path, key), line_of(kv.second), ""};
       m.launches = parse_integer(m.launches_at.value, where(m.path, line_of(kv.second), key), 1, 1000);

@@ -166,7 +166,8 @@ Launch launch(const Job& job, const RunOptions& o) {
   return l;
 }
 
-// Removes the run's directory; with --keep-runs its files stay under TRACE_DIR/<its settings, scene left out>/
+// Removes the run's directory; with --keep-runs its files stay under TRACE_DIR/<its settings, scene left out;
+// past 200 characters the first 180 and a hash of all>/
 // (scene.yaml, run.csv, rank_times.csv, trace.jsonl, and final.h5 with `final_state`).
 void finish_run(const Job& job, const RunOptions& o, const std::string& dir, bool final_state = false) {
   if (!o.trace_dir.empty()) {
@@ -174,6 +175,11 @@ void finish_run(const Job& job, const RunOptions& o, const std::string& dir, boo
     for (const auto& [k, s] : job.settings)
       if (k != "scene") label += (label.empty() ? "" : "_") + k + "=" + s.value;
     std::replace(label.begin(), label.end(), '/', '-');
+    if (label.size() > 200) {  // file names stop at 255 bytes: the start, then a hash of the whole
+      char hash[24];
+      std::snprintf(hash, sizeof hash, "_%016zx", std::hash<std::string>{}(label));
+      label = label.substr(0, 180) + hash;
+    }
     const fs::path to = fs::path(o.trace_dir) / label;
     fs::create_directories(to);
     for (const char* f : {"scene.yaml", "run.csv", engine::rank_times::kFile, "trace.jsonl", "final.h5"})

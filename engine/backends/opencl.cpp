@@ -151,6 +151,10 @@ KernelCapture KernelCapture::from_env() {
     throw InputError("SEMLB_OPENCL_CAPTURE: '" + s + "' is not KERNEL:DIR");
   c.kernel_ = s.substr(0, colon);
   c.dir_ = s.substr(colon + 1);
+  std::error_code ec;
+  std::filesystem::create_directories(c.dir_, ec);
+  if (ec || !std::filesystem::is_directory(c.dir_))
+    throw InputError("SEMLB_OPENCL_CAPTURE: cannot create the folder '" + c.dir_ + "'" + (ec ? ": " + ec.message() : ""));
   return c;
 }
 

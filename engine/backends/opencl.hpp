@@ -90,7 +90,8 @@ DeviceInfo choose_device(const std::string& platform, int index, int local_rank 
 //   DIR/launch.txt    "kernel NAME", "global N", "group N", then per argument "arg I buffer BYTES", "arg I value
 //                     BYTES" or "arg I local BYTES",
 //   DIR/argI.bin      each buffer before the launch (a value: its bytes), DIR/argI.after.bin each buffer after it.
-// Later launches are not captured. Errors: a malformed variable is an InputError; an unwritable DIR a runtime_error.
+// Later launches are not captured. Errors (InputError naming the variable): a malformed value, a DIR that cannot be
+// created; the backend refuses a KERNEL it does not have.
 class KernelCapture {
  public:
   struct Arg {
@@ -99,7 +100,10 @@ class KernelCapture {
     std::vector<unsigned char> bytes;  // kValue
     size_t local = 0;                  // kLocal: bytes of local memory
   };
-  static KernelCapture from_env();  // SEMLB_OPENCL_CAPTURE, or a capture that wants nothing
+  // SEMLB_OPENCL_CAPTURE, or a capture that wants nothing; creates DIR (InputError naming the variable if it
+  // cannot).
+  static KernelCapture from_env();
+  const std::string& kernel() const { return kernel_; }  // empty: capturing nothing
   bool wants(const std::string& kernel) const { return !done_ && !kernel_.empty() && kernel == kernel_; }
   // Before the launch is enqueued (reads the buffers: blocking) and after it (waits for the queue).
   void before(cl_command_queue q, cl_program program, size_t global, size_t group,

@@ -49,6 +49,11 @@ class OpenClBackend final : public Backend {
     queue_ = cl::Queue(clCreateCommandQueue(ctx_.get(), dev_.device, profile_ ? CL_QUEUE_PROFILING_ENABLE : 0, &err));
     cl::check(err, "clCreateCommandQueue");
     build();
+    if (!capture_.kernel().empty() && !kernels_.count(capture_.kernel())) {
+      std::string known;
+      for (const auto& k : kernels_) known += (known.empty() ? "" : ", ") + k.first;
+      throw InputError("SEMLB_OPENCL_CAPTURE: no kernel '" + capture_.kernel() + "' (known: " + known + ")");
+    }
     fail_ = buffer(2 * sizeof(cl_int));
     table_ = buffer(64 * sizeof(Real));
     membrane_ = buffer(8 * sizeof(Real));

@@ -48,6 +48,8 @@ TEST(Cli, BadInputExitsTwoWithOneLineAndNoOutput) {
   expect_bad_input("surrogate --policies static --seeds 9005-9000" + out, "--seeds: '9005-9000'", dir + "/o/controller_eval.csv");
   expect_bad_input("surrogate --policies static --ranks 0" + out, "ranks", dir + "/o/controller_eval.csv");
   expect_bad_input("surrogate --policies gru --weights " + dir + "/none.h5" + out, "none.h5: no such file");
+  expect_bad_input("surrogate --policies static --scenario slices=300 --scenario slices=400" + out,
+                   "--scenario slices: given twice (also --scenario slices)", dir + "/o/controller_eval.csv");
   expect_bad_input("surrogate --policies static --param reactive.tua=1" + out, "no parameter 'tua'");
   expect_bad_input("surrogate --policies static --events -3" + out, "--events");
   expect_bad_input("surrogate --policies static --frobnicate" + out, "frobnicate");

@@ -77,6 +77,21 @@ TEST(Manifest, ErrorsNameFileLineAndField) {
   EXPECT_NE(error_of(kBase, "", {"nokey"}).find("--set: 'nokey' is not KEY=VALUE"), std::string::npos);
 }
 
+// A key given as an axis and as a setting in one block is refused at the setting's line (the row would record
+// the axis value but run the setting's); a profile's setting replaces the manifest's axis, as --set does.
+TEST(Manifest, AKeyIsAnAxisOrASettingNotBoth) {
+  std::string both = kBase;
+  both.replace(both.find("  events: 10\n"), 13, "  events: 10\n  ranks: 8\n");
+  EXPECT_NE(error_of(both).find(":10: field 'set.ranks': 'ranks' is also an axis (line 6): give it in one place"),
+            std::string::npos) << error_of(both);
+  std::string profile_set = kBase;
+  profile_set.replace(profile_set.find("    set: {events: 100}"), 22, "    set: {events: 100, ranks: 8}");
+  const auto m = load_manifest(manifest(profile_set), "paper", {});
+  const auto jobs = m.expand();
+  ASSERT_EQ(jobs.size(), 2u * 10u);  // the ranks axis is gone
+  for (const auto& j : jobs) EXPECT_EQ(j.find("ranks")->value, "8");
+}
+
 TEST(Manifest, RunnerChecksSettingsBeforeRunning) {
   std::string text = kBase;
   text.replace(text.find("[static, reactive]"), 18, "[static, reactiv]");

@@ -416,7 +416,8 @@ TEST(Backends, CellEffectsLaunchTheCellStage) {
 
 // SEMLB_OPENCL_CAPTURE writes the first launch of the named kernel for replay under Nsight Compute
 // (scripts/gpu/ncu_replay.cpp): the program binary, the NDRange, every argument in order with its kind, each
-// buffer before and after the launch; later launches are not captured; a malformed value is refused.
+// buffer before and after the launch; later launches are not captured; a malformed value, an unknown kernel and
+// a folder that cannot be made are refused naming the variable.
 TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
   const auto backends = available_backends();
   if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end()) GTEST_SKIP() << "no OpenCL platform";
@@ -451,8 +452,15 @@ TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
   EXPECT_TRUE(std::all_of(before.begin(), before.begin() + 3 * n * 8, [](char c) { return c == 0; }));
   EXPECT_NE(before, after);
   EXPECT_EQ(bytes("arg0.bin"), bytes("arg0.after.bin"));
-  setenv("SEMLB_OPENCL_CAPTURE", "forces_binned", 1);
-  EXPECT_THROW(run("opencl-binned", "float", s, 1), InputError);
+  for (const std::string& bad : std::vector<std::string>{"forces_binned", "no_such_kernel:" + dir + "/x", "forces_binned:/proc/no/such"}) {
+    setenv("SEMLB_OPENCL_CAPTURE", bad.c_str(), 1);
+    try {
+      run("opencl-binned", "float", s, 1);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("SEMLB_OPENCL_CAPTURE"), std::string::npos) << e.what();
+    }
+  }
   unsetenv("SEMLB_OPENCL_CAPTURE");
 }
 
