@@ -46,7 +46,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from trace_model import TraceError, find_traces, read_trace, rank_sums, scene_timing  # noqa: E402
+from trace_model import TraceError, find_traces, read_trace, rank_sums, scene_timing, write_csv  # noqa: E402
 
 JUMP = 0.3
 ROUNDS = 2
@@ -293,20 +293,6 @@ def shape_of(traces):
     period, offset = growth_schedule(e0)
     return {"ranks": len(e0[0]["times"]), "slices": e0[0]["slices"], "min_width": e0[0]["min_width"],
             "events": min(len(ev) for _, ev in traces), "period": period, "offset": offset}
-
-
-def fmt(x):
-    return f"{x:.6g}" if isinstance(x, float) else str(x)
-
-
-def write_csv(path, columns, rows):
-    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    with open(path + ".tmp", "w", newline="") as f:
-        w = csv.writer(f, lineterminator="\n")
-        w.writerow(columns)
-        for r in rows:
-            w.writerow([fmt(r[c]) for c in columns])
-    os.replace(path + ".tmp", path)
 
 
 def main():

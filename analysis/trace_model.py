@@ -115,7 +115,19 @@ def score(events):
 
 
 def fmt(x):
-    return "nan" if isinstance(x, float) and math.isnan(x) else (f"{x:.6g}" if isinstance(x, float) else str(x))
+    """A CSV cell: floats to 6 significant digits (nan as "nan"), anything else as str."""
+    return f"{x:.6g}" if isinstance(x, float) else str(x)
+
+
+def write_csv(path, columns, rows):
+    """Writes rows (dicts) under `columns` to path atomically (path.tmp, then renamed), LF line ends."""
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    with open(path + ".tmp", "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(columns)
+        for r in rows:
+            w.writerow([fmt(r[c]) for c in columns])
+    os.replace(path + ".tmp", path)
 
 
 def main():
@@ -151,14 +163,7 @@ def main():
     for r in rows:
         print(" ".join(f"{k}={fmt(r[k])}" for k in COLUMNS))
     if a.out:
-        os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
-        tmp = a.out + ".tmp"
-        with open(tmp, "w", newline="") as f:
-            w = csv.writer(f, lineterminator="\n")
-            w.writerow(COLUMNS)
-            for r in rows:
-                w.writerow([fmt(r[k]) for k in COLUMNS])
-        os.replace(tmp, a.out)
+        write_csv(a.out, COLUMNS, rows)
     return 0
 
 

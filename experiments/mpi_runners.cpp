@@ -138,12 +138,11 @@ Launch launch(const Job& job, const RunOptions& o) {
     if (is_policy_param(k) && k.rfind(policy + ".", 0) == 0) overrides.push_back("decomposition.params." + k.substr(policy.size() + 1) + "=" + s.value);
   for (const auto& o : overrides) cmd << " --set " << o;
   const long segments = segments_of(job, "");
-  const long total_steps = segments > 1 ? job_scene(job, "", o).steps : 0;
+  const long length = segments > 1 ? job_scene(job, "", o).steps / segments : 0;  // steps per segment
   Launch l{dir.string(), 0.0, ""};
   for (long k = 1; k <= segments; ++k) {
     std::string command = cmd.str();
     if (segments > 1) {  // later --set values win (engine::parse_scene applies them in order)
-      const long length = total_steps / segments;
       command += " --set time.steps=" + std::to_string(k * length) + " --set output.checkpoint_every=" + std::to_string(length);
       if (k > 1) command += " --restart " + (dir / "checkpoint.h5").string();
     }
@@ -154,7 +153,7 @@ Launch launch(const Job& job, const RunOptions& o) {
     char buf[4096];
     while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
     const std::string which = segments > 1 ? " in segment " + std::to_string(k) + " of " + std::to_string(segments) + " (steps " +
-                                                 std::to_string((k - 1) * (total_steps / segments)) + "-" + std::to_string(k * (total_steps / segments)) + ")"
+                                                 std::to_string((k - 1) * length) + "-" + std::to_string(k * length) + ")"
                                            : "";
     if (pclose(p) != 0) throw std::runtime_error("MPI launch failed" + which + ": " + command + "\n" + out);
     if (const size_t at = out.find("semlb sim: restart: "); k > 1 && at != std::string::npos)

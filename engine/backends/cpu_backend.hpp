@@ -2,6 +2,7 @@
 #pragma once
 #include <climits>
 #include <cmath>
+#include <numeric>
 
 #include "backend.hpp"
 #include "cpu_physics.hpp"
@@ -142,10 +143,10 @@ class CpuBackend : public Backend {
  protected:
   int threads() const { return threads_; }
   // The owned elements the non-local forces visit: the last bands() selection while current, else all.
-  std::vector<long> nonlocal_items() const {
-    if (near_valid_) return near_;
+  std::vector<long> nonlocal_items() const { return near_valid_ ? near_ : owned_indices(); }
+  std::vector<long> owned_indices() const {  // 0, 1, ..., owned - 1
     std::vector<long> all(owned_);
-    for (long i = 0; i < owned_; ++i) all[i] = i;
+    std::iota(all.begin(), all.end(), 0L);
     return all;
   }
   std::vector<Real> pos_;

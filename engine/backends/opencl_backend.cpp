@@ -89,9 +89,7 @@ class OpenClBackend final : public Backend {
       }
       up_.reserve(ctx_.get(), queue_.get(), m * (sizeof(Real4) + sizeof(uint64_t)));
       Real4* p = reinterpret_cast<Real4*>(up_.data());
-      for (long i = 0; i < m; ++i)
-        p[i] = {static_cast<Real>(g.position[3 * i]), static_cast<Real>(g.position[3 * i + 1]),
-                static_cast<Real>(g.position[3 * i + 2]), pack_info(g.info[i])};
+      pack_elements(g.position, g.info, m, p);
       std::memcpy(up_.data() + m * sizeof(Real4), g.keys.data(), m * sizeof(uint64_t));
       write_async(pos_, p, m * sizeof(Real4), owned_ * sizeof(Real4));
       up_done_ = write_async(keys_, up_.data() + m * sizeof(Real4), m * sizeof(uint64_t), owned_ * sizeof(uint64_t));
@@ -381,13 +379,10 @@ class OpenClBackend final : public Backend {
     read(band_out_keys_, down_.data() + total * sizeof(Real4), total * sizeof(uint64_t));
     for (auto [g, from, to] : {std::tuple{&down, 0L, lower}, std::tuple{&up, lower, total}}) {
       const long m = to - from;
-      g->position.resize(3 * m);
+      to_positions(p + from, m, g->position);
       g->info.resize(m);
       g->keys.assign(k + from, k + to);
-      for (long e = 0; e < m; ++e) {
-        for (int d = 0; d < 3; ++d) g->position[3 * e + d] = p[from + e][d];
-        g->info[e] = phys64::semlb_info_type(unpack_info(p[from + e][3]));
-      }
+      for (long e = 0; e < m; ++e) g->info[e] = phys64::semlb_info_type(unpack_info(p[from + e][3]));
     }
   }
 
@@ -481,13 +476,17 @@ class OpenClBackend final : public Backend {
   void write_elements(long at, const std::vector<double>& position, const std::vector<int>& info, const std::vector<uint64_t>& keys) {
     const long n = static_cast<long>(keys.size());
     std::vector<Real4> packed(n);
-    for (long i = 0; i < n; ++i)
-      packed[i] = {static_cast<Real>(position[3 * i]), static_cast<Real>(position[3 * i + 1]),
-                   static_cast<Real>(position[3 * i + 2]), pack_info(info[i])};
+    pack_elements(position, info, n, packed.data());
     write(pos_, packed.data(), n * sizeof(Real4), at * sizeof(Real4));
     write(keys_, keys.data(), n * sizeof(uint64_t), at * sizeof(uint64_t));
   }
 
+  // Elements [0, n) of host arrays (3 reals, info) as the device's Real4 (x, y, z, packed info).
+  static void pack_elements(const std::vector<double>& position, const std::vector<int>& info, long n, Real4* out) {
+    for (long i = 0; i < n; ++i)
+      out[i] = {static_cast<Real>(position[3 * i]), static_cast<Real>(position[3 * i + 1]),
+                static_cast<Real>(position[3 * i + 2]), pack_info(info[i])};
+  }
   static Real pack_info(int info) {
     Real w{};
     if constexpr (std::is_same_v<Real, float>) {
@@ -503,10 +502,13 @@ class OpenClBackend final : public Backend {
     read(m, packed.data(), n * sizeof(Real4), at * sizeof(Real4));
     return packed;
   }
-  static void to_positions(const std::vector<Real4>& packed, std::vector<double>& p) {  // keeps p's capacity
-    p.resize(3 * packed.size());
-    for (size_t i = 0; i < packed.size(); ++i)
+  static void to_positions(const Real4* packed, long n, std::vector<double>& p) {  // keeps p's capacity
+    p.resize(3 * n);
+    for (long i = 0; i < n; ++i)
       for (int c = 0; c < 3; ++c) p[3 * i + c] = packed[i][c];
+  }
+  static void to_positions(const std::vector<Real4>& packed, std::vector<double>& p) {
+    to_positions(packed.data(), static_cast<long>(packed.size()), p);
   }
   static int unpack_info(Real w) {
     if constexpr (std::is_same_v<Real, float>) {

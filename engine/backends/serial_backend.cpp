@@ -11,10 +11,8 @@ class SerialBackend final : public CpuBackend<Real> {
   std::string name() const override { return "serial"; }
 
   void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid&) override {
-    std::vector<long> all(this->owned());
-    for (long i = 0; i < this->owned(); ++i) all[i] = i;
     this->count("forces_allpairs", this->owned());
-    pairs(table, cutoff, all, 0, this->owned());
+    pairs(table, cutoff, this->owned_indices(), 0, this->owned());
   }
   void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid&) override {
     if (this->total() == this->owned()) return;  // no ghosts
