@@ -9,19 +9,34 @@
 #include "controllers/trace.hpp"
 #include "surrogate/evaluate.hpp"
 #include "surrogate/rollout.hpp"
+#include "surrogate/workload_replay.hpp"
+#include "controllers/workload.hpp"
 
 namespace semlb::cli {
 
 Action add_replay(CLI::App& app) {
   struct Opts {
-    std::string policy, weights, trace;
-    std::vector<std::string> params;
+    std::string policy, weights, trace, workload;
+    std::vector<std::string> params, model;
     bool score = false;
+    int ranks = 0, first_event = 0, events = 0, coarsen = 1;
+    long seed = 0;
   };
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("replay", "Apply a policy to a JSON Lines trace; prints one JSON line per event");
   sub->add_option("--policy", o->policy, "Policy name")->required();
-  sub->add_option("--trace", o->trace, "Trace file (JSON Lines, one event per line)")->required();
+  auto* trace = sub->add_option("--trace", o->trace, "Trace file (JSON Lines, one event per line)");
+  auto* workload = sub->add_option("--workload", o->workload,
+                                   "Engine workload file (HDF5, output.workload): replay at --ranks P through the time model; "
+                                   "prints one JSON line {ranks, events, mean_imbalance, migration, loop_s, ...}");
+  trace->excludes(workload);
+  sub->add_option("--ranks", o->ranks, "With --workload: the rank count P")->check(strict_integer(1, 1 << 20));
+  sub->add_option("--seed", o->seed, "With --workload: seed of the time model's speed factors and jitter")->check(strict_integer(0, 1L << 53));
+  sub->add_option("--first-event", o->first_event, "With --workload: the first event replayed")->check(strict_integer(0, 1 << 30));
+  sub->add_option("--events", o->events, "With --workload: events replayed (0: to the end)")->check(strict_integer(0, 1 << 30));
+  sub->add_option("--coarsen", o->coarsen, "With --workload: adjacent slices merged into one")->check(strict_integer(1, 1 << 20));
+  sub->add_option("--time-model", o->model, "With --workload: KEY=VALUE of the time model (ghost_weight, speed_spread, "
+                                            "jitter, migrate_s_per_slice, seconds_per_work; repeatable)");
   sub->add_option("--weights", o->weights, "GRU weights file (HDF5)");
   sub->add_option("--param", o->params, "Policy parameter POLICY.KEY=VALUE (repeatable)");
   sub->add_flag("--score", o->score,
@@ -32,6 +47,30 @@ Action add_replay(CLI::App& app) {
     auto params = surrogate::parse_policy_params(o->params);
     if (!o->weights.empty()) params[o->policy].set("weights", o->weights);
     auto policy = make_policy(o->policy, params[o->policy]);
+    if (o->trace.empty() == o->workload.empty()) throw InputError("replay: give --trace or --workload");
+    if (!o->workload.empty()) {
+      if (o->ranks < 1) throw InputError("replay: --workload needs --ranks P");
+      surrogate::WorkloadReplay r;
+      r.ranks = o->ranks;
+      r.seed = static_cast<uint64_t>(o->seed);
+      r.first_event = o->first_event;
+      r.events = o->events;
+      r.coarsen = o->coarsen;
+      for (const auto& kv : o->model) {
+        const auto eq = kv.find('=');
+        if (eq == std::string::npos) throw InputError("--time-model: expected KEY=VALUE, got '" + kv + "'");
+        surrogate::set_time_model(r.model, kv.substr(0, eq), kv.substr(eq + 1), "--time-model ");
+      }
+      const auto w = read_workload(o->workload);
+      const auto res = surrogate::replay_workload(w, r, *policy, o->policy, o->workload);
+      const nlohmann::json out = {{"ranks", r.ranks}, {"events", res.events}, {"mean_imbalance", res.mean_imbalance},
+                                  {"migration", res.migration}, {"loop_s", res.loop_s}, {"compute_s", res.compute_s},
+                                  {"migrate_s", res.migrate_s}, {"ideal_s", res.ideal_s},
+                                  {"first_quarter_imbalance", res.first_quarter_imbalance},
+                                  {"last_quarter_imbalance", res.last_quarter_imbalance}};
+      std::cout << out.dump() << '\n';
+      return 0;
+    }
     std::vector<TraceEvent> events;  // read and validate the whole trace before printing anything
     std::vector<long> lines;
     TraceReader reader(o->trace);

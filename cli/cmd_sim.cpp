@@ -71,6 +71,8 @@ Action add_sim(CLI::App& app) {
     if (o->scene.empty() || o->out.empty()) throw InputError("sim: --scene and --out are required");
     std::unique_ptr<engine::Mpi> mpi;  // under mpirun: decomposed across the ranks
     if (engine::Mpi::launched()) mpi = std::make_unique<engine::Mpi>();
+    // output.workload records rebalancing events: one device then runs as a decomposition of one rank
+    if (!mpi && engine::load_scene(o->scene, scene_overrides(o->flags)).record_workload) mpi = std::make_unique<engine::Mpi>();
     if (!mpi) {
       auto scene = engine::load_scene(o->scene, scene_overrides(o->flags));
       engine::RunConfig rc{o->out, o->restart, o->quiet, SEMLB_GIT_REVISION, command_line()};

@@ -115,7 +115,16 @@ void File::write_raw(const std::string& name, const std::vector<hsize_t>& dims, 
   Id lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose, "H5Pcreate");
   check(H5Pset_create_intermediate_group(lcpl.get(), 1), "intermediate groups");
   Id space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose, "dataspace " + name);
-  Id set(H5Dcreate2(id(), name.c_str(), file_type, space.get(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
+  Id dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "H5Pcreate");
+  if (deflate_ > 0 && !dims.empty() && count_of(dims) > 0) {  // chunks of whole rows, up to 2^20 values each
+    std::vector<hsize_t> chunk = dims;
+    const hsize_t row = count_of(dims) / dims[0];
+    chunk[0] = std::max<hsize_t>(1, std::min<hsize_t>(dims[0], (hsize_t{1} << 20) / std::max<hsize_t>(row, 1)));
+    check(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), "chunk " + name);
+    check(H5Pset_shuffle(dcpl.get()), "shuffle " + name);
+    check(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(deflate_)), "deflate " + name);
+  }
+  Id set(H5Dcreate2(id(), name.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
          H5Dclose, path_ + ": cannot create dataset " + name);
   if (count_of(dims) > 0) check(H5Dwrite(set.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + name);
 }

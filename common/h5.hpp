@@ -45,6 +45,9 @@ class File {
   std::string read_text_attr(const std::string& name) const;  // attribute on the root group
   long read_int_attr(const std::string& name) const;
   double read_real_attr(const std::string& name) const;
+  // Datasets written from now on are chunked, shuffled and deflate-compressed at `level` (1-9; 0: contiguous,
+  // the default). Readers need nothing: HDF5 decompresses transparently.
+  void set_deflate(int level) { deflate_ = level; }
   void write_attr(const std::string& name, const std::string& value);
   void write_attr(const std::string& name, long value);
   void write_attr(const std::string& name, double value);
@@ -56,6 +59,7 @@ class File {
   Id attr(const std::string& name) const;
   Id id_;
   std::string path_;
+  int deflate_ = 0;
 };
 
 }  // namespace semlb::h5

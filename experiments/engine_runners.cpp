@@ -206,7 +206,7 @@ Observables observe(const engine::State& s, const engine::SliceMap& map, double 
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (size_t i = 2; i < s.position.size(); i += 3) lo = std::min(lo, s.position[i]), hi = std::max(hi, s.position[i]);
   ob.thickness_um = s.position.empty() ? 0.0 : hi - lo;
-  ob.work_share = engine::slice_workload(s, {}, map, cutoff);
+  ob.work_share = engine::slice_workload(s, map, cutoff);
   double total = 0, moment = 0;
   for (size_t k = 0; k < ob.work_share.size(); ++k) {
     total += ob.work_share[k];

@@ -30,7 +30,6 @@ double mean_of(const std::vector<double>& v, size_t begin, size_t end) {
 
 }  // namespace
 
-namespace {
 void summarise(RolloutResult& res, double max_over_mean_sum) {
   const int events = res.events;
   res.mean_imbalance = mean_of(res.imbalance, 0, events);
@@ -39,7 +38,6 @@ void summarise(RolloutResult& res, double max_over_mean_sum) {
   res.first_quarter_imbalance = mean_of(res.imbalance, 0, q);
   res.last_quarter_imbalance = mean_of(res.imbalance, events - q, events);
 }
-}  // namespace
 
 RolloutResult rollout(const Scenario& s, Policy& policy, int events, bool keep_trace) {
   if (events < 1) throw InputError("events must be >= 1, got " + std::to_string(events));

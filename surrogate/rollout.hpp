@@ -20,6 +20,9 @@ struct RolloutResult {
   std::vector<TraceEvent> trace;  // filled when asked for
 };
 
+// Fills mean_imbalance, the quarter means and mean_max_over_mean (= max_over_mean_sum / events) from res.imbalance.
+void summarise(RolloutResult& res, double max_over_mean_sum);
+
 // Event t: the interval runs with the current boundaries under W_t (metrics from noise-free times), the
 // policy sees noisy times and work (and W_{t+1} as oracle_work), and its boundaries govern interval t+1.
 // The initial partition is the workload-aware optimal partition of W_0. Throws std::runtime_error naming

@@ -127,14 +127,12 @@ void Workload::evaluate() {
   }
 }
 
-namespace {
 std::vector<double> noisy(const std::vector<double>& v, double sigma, uint64_t seed, uint64_t stream, int event) {
   std::vector<double> out(v.size());
   for (size_t i = 0; i < v.size(); ++i)
     out[i] = std::max(0.0, v[i] * (1.0 + sigma * clipped_normal(seed, stream, event, i)));
   return out;
 }
-}  // namespace
 
 std::vector<double> measured_times(const Scenario& s, int event, const std::vector<double>& t) {
   return noisy(t, s.time_jitter, s.seed, kTimeNoise, event);

@@ -84,6 +84,9 @@ class Workload {
   std::vector<double> work_;
 };
 
+// v[i] (1 + sigma z_i), z_i standard normal clipped at 3 sigma, drawn from (seed, stream, event, i); never negative.
+std::vector<double> noisy(const std::vector<double>& v, double sigma, uint64_t seed, uint64_t stream, int event);
+
 // Measurement noise of event t: multiplicative, clipped at 3 sigma, never negative. Observed work also
 // carries the scenario's smooth proxy bias (the engine's W_s is a proxy of cost, not a measurement).
 std::vector<double> measured_times(const Scenario& s, int event, const std::vector<double>& true_times);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "common/errors.hpp"
 #include "common/registry.hpp"
@@ -61,9 +62,11 @@ Traffic Backend::traffic_total() const {
   return t;
 }
 
-std::vector<double> Backend::slice_work(State& host, const SliceMap& map, double cutoff) {
+std::vector<double> Backend::slice_work(State& host, const SliceMap& map, const Grid& g, const CountReduce& reduce) {
   download(host);
-  return slice_workload(host, ghost_positions(), map, cutoff);
+  auto counts = bin_counts(host, g);
+  if (reduce) reduce(counts);
+  return cell_work(host, g, counts, map);
 }
 
 void Backend::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers,
@@ -115,25 +118,30 @@ void split_by_owner(const State& s, const SliceMap& map, const std::vector<int>&
   if (leave) leave->reindex();
 }
 
-std::vector<double> slice_workload(const State& s, const std::vector<double>& ghosts, const SliceMap& d, double cutoff) {
-  const auto [lo, hi] = tissue_box(s, cutoff);
-  const Grid g = Grid::cover(lo, hi, cutoff);
-  auto index = [&](const std::array<int, 3>& b) { return (static_cast<long>(b[2]) * g.dims[1] + b[1]) * g.dims[0] + b[0]; };
-  // Elements per bin: dense while the grid is at most a few times the elements, else sorted bin indices.
-  const long elements = static_cast<long>((s.position.size() + ghosts.size()) / 3);
-  const bool dense = g.bins() <= 4 * elements + (1L << 20);
-  std::vector<long> count(dense ? g.bins() : 0), bins;
-  for (const auto* positions : {&s.position, &ghosts})
-    for (size_t e = 0; e < positions->size(); e += 3) {
-      const long b = index(g.bin_of(&(*positions)[e]));
-      dense ? static_cast<void>(++count[b]) : bins.push_back(b);
-    }
-  std::sort(bins.begin(), bins.end());
-  auto in_bin = [&](long b) {
-    if (dense) return count[b];
-    const auto [first, last] = std::equal_range(bins.begin(), bins.end(), b);
-    return static_cast<long>(last - first);
-  };
+Grid work_grid(const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cutoff) {
+  const auto [plo, phi] = padded_box(lo, hi, cutoff);
+  const Grid g = Grid::cover(plo, phi, cutoff);
+  if (g.bins() > kMaxWorkBins) {
+    std::ostringstream m;
+    m << "workload score: the tissue spans [" << lo[0] << ", " << hi[0] << "] x [" << lo[1] << ", " << hi[1] << "] x ["
+      << lo[2] << ", " << hi[2] << "] um, " << g.bins() << " bins of the cutoff (more than " << kMaxWorkBins
+      << "); a tissue this sparse needs a larger cutoff";
+    throw InputError(m.str());
+  }
+  return g;
+}
+
+namespace {
+long bin_index(const Grid& g, const std::array<int, 3>& b) { return (static_cast<long>(b[2]) * g.dims[1] + b[1]) * g.dims[0] + b[0]; }
+}  // namespace
+
+std::vector<int> bin_counts(const State& s, const Grid& g) {
+  std::vector<int> count(g.bins(), 0);
+  for (long e = 0; e < s.elements(); ++e) ++count[bin_index(g, g.bin_of(&s.position[3 * e]))];
+  return count;
+}
+
+std::vector<double> cell_work(const State& s, const Grid& g, const std::vector<int>& counts, const SliceMap& d) {
   std::vector<double> w(d.slices, 0.0);
   for (long c = 0; c < s.cells(); ++c) {
     const auto ctr = centroid(s, c);
@@ -141,10 +149,16 @@ std::vector<double> slice_workload(const State& s, const std::vector<double>& gh
     long n_near = 0;
     for (int z = std::max(b[2] - 1, 0); z <= std::min(b[2] + 1, g.dims[2] - 1); ++z)
       for (int y = std::max(b[1] - 1, 0); y <= std::min(b[1] + 1, g.dims[1] - 1); ++y)
-        for (int x = std::max(b[0] - 1, 0); x <= std::min(b[0] + 1, g.dims[0] - 1); ++x) n_near += in_bin(index({x, y, z}));
+        for (int x = std::max(b[0] - 1, 0); x <= std::min(b[0] + 1, g.dims[0] - 1); ++x) n_near += counts[bin_index(g, {x, y, z})];
     w[d.slice_of(ctr[0])] += static_cast<double>(s.cell_count[c]) * static_cast<double>(n_near);  // w_i = n_i n_N(i)
   }
   return w;
+}
+
+std::vector<double> slice_workload(const State& s, const SliceMap& d, double cutoff) {
+  const auto [lo, hi] = element_bounds(s);
+  const Grid g = work_grid(lo, hi, cutoff);
+  return cell_work(s, g, bin_counts(s, g), d);
 }
 
 }  // namespace semlb::engine

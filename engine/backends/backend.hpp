@@ -68,10 +68,24 @@ int owner_of(int slice, const std::vector<int>& boundaries);
 void split_by_owner(const State& s, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& stay,
                     State* leave = nullptr, std::vector<int>* owner = nullptr);
 
-// Per-slice workload W_s = sum over cells of n_i * n_N(i) (paper eqs. 2-3), integer counts: n_N(i) counts the
-// elements in the 3x3x3 bins (cubes of the cutoff over the tissue box of `cells`) around the cell's centroid,
-// among the cells' own elements and `ghosts` (3 doubles each); summed into the slice of the centroid.
-std::vector<double> slice_workload(const State& cells, const std::vector<double>& ghosts, const SliceMap& d, double cutoff);
+// Per-slice workload W_s = sum over cells of w_i = n_i * n_N(i) (paper eqs. 2-3), one rule for one device and any
+// number of ranks (docs/engine.md "Workload score"): the bins are cubes of at least the cutoff over the padded box of
+// the WHOLE tissue (work_grid of every rank's elements' bounding box), n_N(i) counts every element of the tissue in
+// the 3x3x3 bins around the bin of cell i's centroid (on P ranks: each rank counts its owned elements, the counts are
+// summed over ranks), and w_i is added into the slice of the centroid. Integer counts: the same tissue gives the same
+// W_s bit for bit whatever the partition and the rank count.
+inline constexpr long kMaxWorkBins = 1L << 27;  // dense int32 counts: 512 MiB
+// The W_s grid over the elements' bounding box [lo, hi] (um): padded_box, then Grid::cover. InputError when it would
+// have more than kMaxWorkBins bins (a tissue spread over a box far larger than its cells), naming the box.
+Grid work_grid(const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cutoff);
+// Elements of `s` per bin of `g` (g.bins() entries, bin index (z * ny + y) * nx + x).
+std::vector<int> bin_counts(const State& s, const Grid& g);
+// W_s of the cells of `s` (d.slices entries) given `counts`, the elements per bin of the whole tissue.
+std::vector<double> cell_work(const State& s, const Grid& g, const std::vector<int>& counts, const SliceMap& d);
+// W_s of a whole tissue on one device: work_grid over its elements, bin_counts, cell_work.
+std::vector<double> slice_workload(const State& cells, const SliceMap& d, double cutoff);
+// Sums a bin-count array over the ranks in place (Mpi::allreduce_sum); empty: one device, nothing to sum.
+using CountReduce = std::function<void(std::vector<int>&)>;
 
 // Bytes copied between host and device, per phase of the run (Backend::traffic).
 struct Traffic {
@@ -113,10 +127,12 @@ class Backend {
   virtual std::vector<double> ghost_positions() = 0;
   // Owned cells and elements now (on the device for OpenCL: no download); `host` is the caller's State.
   virtual std::pair<long, long> counts(const State& host) const { return {host.cells(), host.elements()}; }
-  // W_s of the owned cells (slice_workload's rule, with the ghosts set last as neighbours, the grid over the
-  // owned elements' box). OpenCL with fp64: a reduction on the device (64-bit integer atomics: exact, order-free),
-  // 8 bytes per slice come back. Others (and OpenCL without fp64): download into `host`, then on the host.
-  virtual std::vector<double> slice_work(State& host, const SliceMap& map, double cutoff);
+  // W_s of the owned cells on the tissue-wide grid `g` (work_grid): the owned elements counted per bin, `reduce`
+  // (when given) sums the counts over the ranks, then the owned cells' w_i go into their slices. OpenCL with fp64: the
+  // counts and the sums on the device (64-bit integer atomics: exact, order-free); 4 bytes per bin cross to the host and
+  // back only when `reduce` is given, then 8 bytes per slice come back. Others (and OpenCL without fp64): download into
+  // `host`, then bin_counts and cell_work on the host.
+  virtual std::vector<double> slice_work(State& host, const SliceMap& map, const Grid& g, const CountReduce& reduce);
   // Cells whose centroid's slice is owned (owner_of) by another rank than `rank` leave: they are removed from
   // the backend (the rest keep their order) and returned in `leavers` (ids, types, counts, positions, the fields
   // `host` lists), with `owner[c]` per leaver. Drops the ghosts. OpenCL with fp64: owners and the packing on the

@@ -451,7 +451,7 @@ static inline long work_bin(__global const real4* pos, int e, double4 lo, double
   return ((long)(*b).z * dims.y + (*b).y) * dims.x + (*b).x;
 }
 
-/* Elements per bin over pos[0..n) (owned and ghosts); counts zeroed before. */
+/* Elements per bin over pos[0..n) (the owned elements; other ranks' are summed in by the host); counts zeroed before. */
 __kernel void work_bins(__global const real4* pos, int n, double4 lo, double4 size, int4 dims, __global int* counts) {
   int i = get_global_id(0);
   int4 b;

@@ -105,11 +105,8 @@ class OpenClBackend final : public Backend {
 
   std::pair<long, long> counts(const State&) const override { return {cells_, owned_}; }
 
-  std::vector<double> slice_work(State& host, const SliceMap& map, double cutoff) override {
-    if (!has_fp64_) return Backend::slice_work(host, map, cutoff);
-    const auto b = bounds();  // the grid of slice_workload: over the owned elements' box
-    const auto [lo, hi] = padded_box(b[0], b[1], cutoff);
-    const Grid g = Grid::cover(lo, hi, cutoff);
+  std::vector<double> slice_work(State& host, const SliceMap& map, const Grid& g, const CountReduce& reduce) override {
+    if (!has_fp64_) return Backend::slice_work(host, map, g, reduce);
     const long bins = g.bins();
     if (bins > work_bins_capacity_) {
       work_bins_capacity_ = bins + bins / 4;
@@ -124,7 +121,13 @@ class OpenClBackend final : public Backend {
     cl::check(clEnqueueFillBuffer(queue_.get(), work_counts_.get(), &zero, sizeof zero, 0, bins * sizeof(cl_int), 0, nullptr, nullptr), "zero work bins");
     cl::check(clEnqueueFillBuffer(queue_.get(), work_.get(), &zero_l, sizeof zero_l, 0, map.slices * sizeof(cl_long), 0, nullptr, nullptr), "zero work");
     const std::array<double, 4> dlo{g.lo[0], g.lo[1], g.lo[2], 0}, dsize{g.size[0], g.size[1], g.size[2], 0};
-    launch("work_bins", n_, kGroup, pos_.get(), static_cast<cl_int>(n_), dlo, dsize, int4(g.dims), work_counts_.get());
+    launch("work_bins", owned_, kGroup, pos_.get(), static_cast<cl_int>(owned_), dlo, dsize, int4(g.dims), work_counts_.get());
+    if (reduce) {  // the owned elements' counts summed over the ranks: every element of the tissue counted once
+      std::vector<int> counts(bins);
+      read(work_counts_, counts.data(), bins * sizeof(cl_int));
+      reduce(counts);
+      write(work_counts_, counts.data(), bins * sizeof(cl_int));
+    }
     launch("work_cells", cells_, kGroup, static_cast<cl_int>(cells_), pos_.get(), cell_.first.get(), cell_.count.get(), dlo,
            dsize, int4(g.dims), work_counts_.get(), map.x0, map.width, static_cast<cl_int>(map.slices), work_.get());
     std::vector<cl_long> w(map.slices);

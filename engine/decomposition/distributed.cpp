@@ -33,7 +33,7 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
                                              const std::optional<DecompositionCheckpoint>& restored)
     : scene_(&scene), mpi_(&mpi), dec_(Decomposition::from_scene(scene, mpi.size())) {
   const auto initial = dec_.initial == "workload"
-                           ? optimal_partition(slice_workload(tissue, {}, dec_, scene.cutoff), mpi.size(), dec_.min_width)
+                           ? optimal_partition(slice_workload(tissue, dec_, scene.cutoff), mpi.size(), dec_.min_width)
                            : uniform_partition(mpi.size(), dec_.slices);
   balancer_ = std::make_unique<Balancer>(dec_.policy, make_policy(dec_.policy, dec_.params), dec_.slices, dec_.min_width, initial);
   cells_at_event_ = static_cast<long>(tissue.cells());
@@ -67,6 +67,12 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
   if (!trace_path_.empty() && balancer_->event() > 0 && std::filesystem::exists(trace_path_))
     for (const auto& line : split(read_file(trace_path_), '\n'))  // a restart keeps the events before its own
       if (!line.empty() && parse_trace_line(line, trace_path_, 0).obs.event < balancer_->event()) trace_kept_ += line + "\n";
+  if (scene.record_workload && mpi.rank() == 0 && !trace_path.empty() && balancer_->event() > 0) {  // a restart keeps the events before its own
+    const auto path = std::filesystem::path(trace_path).parent_path() / "workload.h5";
+    if (std::filesystem::exists(path))
+      for (auto& e : read_workload(path.string()).events)
+        if (e.step <= tissue.step) workload_.push_back(std::move(e));
+  }
   if (const char* f = std::getenv("SEMLB_FAULT_INJECT")) {  // "RANK:STEP": a test of one rank's error (docs/engine.md)
     const auto parts = split(f, ':');
     if (parts.size() != 2) throw InputError("SEMLB_FAULT_INJECT: expected RANK:STEP, got '" + std::string(f) + "'");
@@ -188,6 +194,33 @@ void DistributedSimulation::migrate_cells() {
   migrate_s_ += seconds_since(t0);
 }
 
+Grid DistributedSimulation::work_grid_all_ranks() {
+  const auto [cells, elements] = sim_->counts();
+  const auto b = elements > 0 ? sim_->backend().bounds() : std::array<std::array<double, 3>, 2>{};
+  const auto all = mpi_->allgather({elements > 0 ? 1.0 : 0.0, b[0][0], b[0][1], b[0][2], b[1][0], b[1][1], b[1][2]});
+  std::array<double, 3> lo{}, hi{};
+  bool any = false;
+  for (int q = 0; q < mpi_->size(); ++q) {  // min and max are exact: the box of the whole tissue, as on one device
+    const double* v = &all[7 * q];
+    if (v[0] == 0) continue;
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = any ? std::fmin(lo[d], v[1 + d]) : v[1 + d];
+      hi[d] = any ? std::fmax(hi[d], v[4 + d]) : v[4 + d];
+    }
+    any = true;
+  }
+  return work_grid(lo, hi, scene_->cutoff);
+}
+
+std::vector<double> DistributedSimulation::global_slice_work() {
+  const Grid g = work_grid_all_ranks();
+  CountReduce reduce;
+  if (mpi_->size() > 1) reduce = [this](std::vector<int>& counts) { mpi_->allreduce_sum(counts); };
+  auto work = sim_->backend().slice_work(sim_->state(), dec_, g, reduce);
+  mpi_->allreduce_sum(work);  // integers below 2^53: exact in any order
+  return work;
+}
+
 Measurement DistributedSimulation::measure() {
   const double now = compute_seconds();
   const auto seconds = mpi_->allgather({now - seconds_at_event_, exchange_s_, migrate_s_});  // 3 per rank
@@ -200,8 +233,17 @@ Measurement DistributedSimulation::measure() {
     iv.exchange.push_back(seconds[3 * r + 1]);
     iv.migrate.push_back(seconds[3 * r + 2]);
   }
-  auto work = sim_->backend().slice_work(sim_->state(), dec_, scene_->cutoff);  // integer counts: sums are exact
-  mpi_->allreduce_sum(work);
+  auto work = global_slice_work();
+  if (scene_->record_workload) {
+    WorkloadEvent e;
+    e.step = step();
+    e.time_h = sim_->host_state().time;
+    e.growth_phase = sim_->growth_phase();
+    e.slice_work = work;
+    for (double t : m.times) e.interval_s += t;  // measured, before decomposition.timing: modelled replaces them
+    count_elements(e);
+    if (mpi_->rank() == 0) workload_.push_back(std::move(e));
+  }
   if (dec_.timing == "modelled") m.times = rank_sums(work, balancer_->boundaries());
   double total_work = 0, total_time = 0;
   for (double w : work) total_work += w;
@@ -212,9 +254,51 @@ Measurement DistributedSimulation::measure() {
   const long cells = totals().first;
   m.growth_event = cells != cells_at_event_;
   cells_at_event_ = cells;
+  if (scene_->record_workload && mpi_->rank() == 0) {
+    workload_.back().cells = cells;
+    workload_.back().growth_event = m.growth_event;
+  }
   iv.step = step();
   intervals_.push_back(std::move(iv));
   return m;
+}
+
+void DistributedSimulation::count_elements(WorkloadEvent& e) {
+  const State& s = sim_->sync();
+  const int S = dec_.slices;
+  std::vector<double> x(s.elements()), n(S + 2 * (S - 1), 0.0);  // slice elements, then the bands below, then above
+  for (long i = 0; i < s.elements(); ++i) {
+    x[i] = s.position[3 * i];
+    ++n[dec_.slice_of(x[i])];
+  }
+  std::vector<double> below(S - 1, 0.0), above(S - 1, 0.0);
+  add_edge_bands(x, dec_.x0, dec_.width, S, scene_->cutoff * (1 + kGhostSlack), below, above);
+  std::copy(below.begin(), below.end(), n.begin() + S);
+  std::copy(above.begin(), above.end(), n.begin() + S + (S - 1));
+  mpi_->allreduce_sum(n);  // integer counts below 2^53: exact
+  e.slice_elements.assign(n.begin(), n.begin() + S);
+  e.band_below.assign(n.begin() + S, n.begin() + S + (S - 1));
+  e.band_above.assign(n.begin() + S + (S - 1), n.end());
+  e.elements = 0;
+  for (double v : e.slice_elements) e.elements += static_cast<long>(v);
+}
+
+void DistributedSimulation::write_workload(const std::string& path, const std::string& command, const std::string& git_revision) {
+  EngineWorkload w;
+  w.slices = dec_.slices;
+  w.min_width = dec_.min_width;
+  w.x0_um = dec_.x0;
+  w.slice_width_um = dec_.width;
+  w.cutoff_um = scene_->cutoff;
+  w.ghost_reach_um = scene_->cutoff * (1 + kGhostSlack);
+  w.rebalance_every = dec_.rebalance_every;
+  w.ranks = mpi_->size();
+  w.scene = scene_->name;
+  w.command = command;
+  w.git_revision = git_revision;
+  w.device = sim_->backend().device_name();
+  w.events = workload_;
+  ::semlb::write_workload(path, w);
 }
 
 void DistributedSimulation::decide(const Measurement& m) {

@@ -10,6 +10,7 @@
 
 #include "collective.hpp"
 #include "controllers/balancer.hpp"
+#include "controllers/workload.hpp"
 #include "decomposition.hpp"
 #include "io/io.hpp"
 #include "mpi.hpp"
@@ -44,6 +45,9 @@ class DistributedSimulation {
   };
   const std::vector<Interval>& intervals() const { return intervals_; }
   Simulation& local() { return *sim_; }
+  // With output.workload: the events recorded so far (rank 0; a restart's earlier events from `path` first), written
+  // to `path` atomically (controllers/workload.hpp). `command`, `git_revision`: the run's, kept in the file.
+  void write_workload(const std::string& path, const std::string& command, const std::string& git_revision);
 
  private:
   // The ghost exchange in three parts around the local forces (Simulation's before_forces, post_exchange and
@@ -56,6 +60,10 @@ class DistributedSimulation {
   // the global W_s on every rank, decide() runs the Balancer (the policy on rank 0, broadcast, every rank's
   // balancer committed to the same boundaries), and migrate_cells() moves the cells.
   Measurement measure();
+  // W_s of the whole tissue (backends/backend.hpp, slice_workload's rule) on every rank: the grid over every rank's
+  // elements, the owned elements' bin counts summed over the ranks, each rank's cells' w_i summed per slice.
+  std::vector<double> global_slice_work();
+  Grid work_grid_all_ranks();
   void decide(const Measurement& m);
   void write_trace(const TraceEvent& e);
   void collective_check();
@@ -76,6 +84,9 @@ class DistributedSimulation {
   std::vector<char> send_left_, send_right_, from_above_, from_below_;
   Requests pending_;
   long cells_at_event_ = 0;
+  std::vector<WorkloadEvent> workload_;  // output.workload: rank 0's record of every event
+  // Elements per slice and the edge ghost bands of the whole tissue (collective), into the event `e`.
+  void count_elements(WorkloadEvent& e);
   int fault_rank_ = -1;  // SEMLB_FAULT_INJECT=RANK:STEP: throws on that rank alone at that step (tests)
   long fault_step_ = -1;
 };

@@ -59,6 +59,10 @@ void Mpi::allreduce_sum(std::vector<double>& v) const {
   check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce");
 }
 
+void Mpi::allreduce_sum(std::vector<int>& v) const {
+  check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_INT, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce");
+}
+
 long Mpi::allreduce_max(long value) const {
   check(MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
   return value;

@@ -45,6 +45,7 @@ class Mpi {
   // Every rank gives k values; returns them by rank: [v_0[0..k), v_1[0..k), ...].
   std::vector<double> allgather(const std::vector<double>& mine) const;
   void allreduce_sum(std::vector<double>& values) const;
+  void allreduce_sum(std::vector<int>& values) const;
   long allreduce_max(long value) const;
   void broadcast(std::vector<int>& values, int root) const;
   void broadcast(std::string& text, int root) const;

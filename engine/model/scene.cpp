@@ -166,6 +166,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   s.snapshot_every = output.integer("snapshot_every", 0, 0, 1L << 40);
   s.log_every = output.integer("log_every", 100, 1, 1L << 40);
   s.checkpoint_every = output.integer("checkpoint_every", 0, 0, 1L << 40);
+  s.record_workload = output.boolean("workload", false);
   output.finish();
   read_backend(top.child("backend"), s.backend);
   s.tissue = std::make_shared<Section>(top.child("tissue"));

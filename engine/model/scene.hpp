@@ -57,6 +57,7 @@ struct Scene {
   double max_displacement = 1.0;  // um per step; larger stops the run
   long cell_update_every = 10;
   long snapshot_every = 0, log_every = 100, checkpoint_every = 0;  // 0 = never (log: every 100)
+  bool record_workload = false;  // output.workload: DIR/workload.h5, the per-event workload (controllers/workload.hpp)
   BackendConfig backend;
   std::shared_ptr<Section> tissue;
   std::shared_ptr<Section> decomposition;  // read by Decomposition::from_scene (decomposed runs only)

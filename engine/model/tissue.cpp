@@ -54,15 +54,20 @@ State epidermal_sheet(const Section& t, uint64_t seed) {
 
 }  // namespace
 
+std::pair<std::array<double, 3>, std::array<double, 3>> element_bounds(const State& s) {
+  std::array<double, 3> lo{}, hi{};
+  for (int d = 0; d < 3; ++d) {
+    double l = INFINITY, h = -INFINITY;
+    for (long e = 0; e < s.elements(); ++e)
+      if (const double x = s.position[3 * e + d]; std::isfinite(x)) l = std::fmin(l, x), h = std::fmax(h, x);
+    lo[d] = l <= h ? l : 0.0;
+    hi[d] = l <= h ? h : 0.0;
+  }
+  return {lo, hi};
+}
+
 std::pair<std::array<double, 3>, std::array<double, 3>> tissue_box(const State& s, double cutoff) {
-  std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
-  for (long e = 0; e < s.elements(); ++e)
-    for (int d = 0; d < 3; ++d) {
-      const double x = s.position[3 * e + d];
-      if (!std::isfinite(x)) continue;
-      lo[d] = e == 0 ? x : std::min(lo[d], x);
-      hi[d] = e == 0 ? x : std::max(hi[d], x);
-    }
+  const auto [lo, hi] = element_bounds(s);
   return padded_box(lo, hi, cutoff);
 }
 

@@ -7,6 +7,8 @@ namespace semlb::engine {
 
 // Builds the tissue and, for `domain: auto`, sets the scene's box around it. Throws InputError.
 State make_tissue(Scene& scene);
+// The elements' bounding box over finite coordinates ({lo, hi} in um; zeros when there are none), as Backend::bounds().
+std::pair<std::array<double, 3>, std::array<double, 3>> element_bounds(const State& state);
 // The box `domain: auto` gives a tissue: its extent plus one cutoff, from z = -cutoff, with headroom above.
 std::pair<std::array<double, 3>, std::array<double, 3>> tissue_box(const State& state, double cutoff);
 // The same box from an extent (lo, hi per axis, um) measured elsewhere (Backend::bounds()).

@@ -272,6 +272,8 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
         if (gather) {
           const auto balancer = sim->checkpoint();
           out->save(all, &balancer);
+          if (scene.record_workload && scene.checkpoint_every > 0 && stop % scene.checkpoint_every == 0)  // a restart continues it
+            sim->write_workload(config.out_dir + "/workload.h5", config.command_line, config.git_revision);
         }
       });
       status.update(stop, cells, elements, seconds_since(t0), false);
@@ -288,6 +290,7 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
   agree(mpi, [&] {
     if (!root) return;
     out->write("final.h5", all);
+    if (scene.record_workload) sim->write_workload(config.out_dir + "/workload.h5", config.command_line, config.git_revision);
     namespace rt = rank_times;
     std::string rows;
     for (const char* c : rt::kColumns) (rows += rows.empty() ? "" : ",") += c;

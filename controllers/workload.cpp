@@ -1,0 +1,226 @@
+// Engine workload files: the HDF5 layout (docs/controllers.md "Workload files"), strict reading, edge band counts.
+#include "workload.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "common/errors.hpp"
+#include "common/h5.hpp"
+
+namespace semlb {
+namespace {
+
+constexpr const char* kFormat = "semlb-workload";
+
+[[noreturn]] void fail(const std::string& file, const std::string& field, const std::string& why) {
+  throw InputError(file + ": field '" + field + "': " + why);
+}
+
+void check_counts(const std::vector<double>& v, size_t n, const std::string& file, const std::string& field, long event) {
+  if (v.size() != n) fail(file, field, "event " + std::to_string(event) + " has " + std::to_string(v.size()) + " entries, expected " + std::to_string(n));
+  for (double x : v)
+    if (!(x >= 0) || x != std::floor(x) || x > 9.0e15)
+      fail(file, field, "event " + std::to_string(event) + ": " + std::to_string(x) + " is not a non-negative integer");
+}
+
+}  // namespace
+
+void validate_workload(const EngineWorkload& w, const std::string& file) {
+  if (w.slices < 1) fail(file, "slices", "must be >= 1, got " + std::to_string(w.slices));
+  if (w.min_width < 1 || w.min_width > w.slices) fail(file, "min_width", "must be in [1, slices], got " + std::to_string(w.min_width));
+  for (const auto& [name, v] : {std::pair<const char*, double>{"x0_um", w.x0_um}, {"slice_width_um", w.slice_width_um},
+                                {"cutoff_um", w.cutoff_um}, {"ghost_reach_um", w.ghost_reach_um}})
+    if (!std::isfinite(v) || (std::string(name) != "x0_um" && !(v > 0))) fail(file, name, "must be finite" + std::string(name == std::string("x0_um") ? "" : " and > 0"));
+  if (w.rebalance_every < 1) fail(file, "rebalance_every", "must be >= 1");
+  if (w.ranks < 1) fail(file, "ranks", "must be >= 1");
+  if (w.events.empty()) fail(file, "events", "the workload has no events");
+  const size_t S = static_cast<size_t>(w.slices);
+  for (size_t t = 0; t < w.events.size(); ++t) {
+    const WorkloadEvent& e = w.events[t];
+    const long i = static_cast<long>(t);
+    if (t > 0 && e.step <= w.events[t - 1].step) fail(file, "step", "event " + std::to_string(i) + ": steps must increase");
+    if (e.step < 0) fail(file, "step", "event " + std::to_string(i) + ": negative");
+    if (e.cells < 0 || e.elements < 0) fail(file, "cells", "event " + std::to_string(i) + ": negative count");
+    if (!(e.growth_phase >= 0 && e.growth_phase < 1)) fail(file, "growth_phase", "event " + std::to_string(i) + ": outside [0, 1)");
+    if (!std::isfinite(e.time_h)) fail(file, "time_h", "event " + std::to_string(i) + ": not finite");
+    if (!(e.interval_s >= 0) || !std::isfinite(e.interval_s)) fail(file, "interval_s", "event " + std::to_string(i) + ": not a finite non-negative number");
+    check_counts(e.slice_work, S, file, "slice_work", i);
+    check_counts(e.slice_elements, S, file, "slice_elements", i);
+    check_counts(e.band_below, S - 1, file, "band_below", i);
+    check_counts(e.band_above, S - 1, file, "band_above", i);
+    double n = 0;
+    for (double x : e.slice_elements) n += x;
+    if (n != static_cast<double>(e.elements))
+      fail(file, "slice_elements", "event " + std::to_string(i) + ": sums to " + std::to_string(static_cast<long>(n)) +
+                                       ", but elements is " + std::to_string(e.elements));
+  }
+}
+
+void write_workload(const std::string& path, const EngineWorkload& w) {
+  validate_workload(w, path);
+  const std::string tmp = path + ".tmp";
+  try {
+    {
+      auto f = h5::File::create(tmp);
+      f.set_deflate(6);
+      f.write_attr("format", std::string(kFormat));
+      f.write_attr("version", EngineWorkload::kVersion);
+      f.write_attr("slices", static_cast<long>(w.slices));
+      f.write_attr("min_width", static_cast<long>(w.min_width));
+      f.write_attr("x0_um", w.x0_um);
+      f.write_attr("slice_width_um", w.slice_width_um);
+      f.write_attr("cutoff_um", w.cutoff_um);
+      f.write_attr("ghost_reach_um", w.ghost_reach_um);
+      f.write_attr("rebalance_every", w.rebalance_every);
+      f.write_attr("ranks", static_cast<long>(w.ranks));
+      f.write_attr("scene", w.scene);
+      f.write_attr("command", w.command);
+      f.write_attr("git_revision", w.git_revision);
+      f.write_attr("device", w.device);
+      const hsize_t E = w.events.size(), S = static_cast<hsize_t>(w.slices);
+      std::vector<int64_t> step, cells, elements, event;
+      std::vector<double> time, phase, interval;
+      std::vector<int64_t> work, slice_elements, below, above;
+      for (const auto& e : w.events) {
+        step.push_back(e.step);
+        cells.push_back(e.cells);
+        elements.push_back(e.elements);
+        event.push_back(e.growth_event ? 1 : 0);
+        time.push_back(e.time_h);
+        phase.push_back(e.growth_phase);
+        interval.push_back(e.interval_s);
+        for (double x : e.slice_work) work.push_back(static_cast<int64_t>(x));
+        for (double x : e.slice_elements) slice_elements.push_back(static_cast<int64_t>(x));
+        for (double x : e.band_below) below.push_back(static_cast<int64_t>(x));
+        for (double x : e.band_above) above.push_back(static_cast<int64_t>(x));
+      }
+      f.write("events/step", {E}, step);
+      f.write("events/time_h", {E}, time);
+      f.write("events/cells", {E}, cells);
+      f.write("events/elements", {E}, elements);
+      f.write("events/growth_phase", {E}, phase);
+      f.write("events/growth_event", {E}, event);
+      f.write("events/interval_s", {E}, interval);
+      f.write("events/slice_work", {E, S}, work);
+      f.write("events/slice_elements", {E, S}, slice_elements);
+      f.write("events/band_below", {E, S - 1}, below);
+      f.write("events/band_above", {E, S - 1}, above);
+    }
+    std::filesystem::rename(tmp, path);
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw;
+  }
+}
+
+EngineWorkload read_workload(const std::string& path) {
+  const auto f = h5::File::open_read(path);
+  std::string format;
+  try {
+    format = f.read_text_attr("format");
+  } catch (const InputError&) {
+    fail(path, "format", "missing (expected '" + std::string(kFormat) + "')");
+  }
+  if (format != kFormat) fail(path, "format", "is '" + format + "', expected '" + kFormat + "'");
+  const long version = f.read_int_attr("version");
+  if (version != EngineWorkload::kVersion)
+    fail(path, "version", std::to_string(version) + " (this semlb reads version " + std::to_string(EngineWorkload::kVersion) + ")");
+  EngineWorkload w;
+  auto integer_attr = [&](const char* name, long lo, long hi) {
+    const long v = f.read_int_attr(name);
+    if (v < lo || v > hi) fail(path, name, std::to_string(v) + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return v;
+  };
+  w.slices = static_cast<int>(integer_attr("slices", 1, 1L << 24));
+  w.min_width = static_cast<int>(integer_attr("min_width", 1, w.slices));
+  w.rebalance_every = integer_attr("rebalance_every", 1, 1L << 40);
+  w.ranks = static_cast<int>(integer_attr("ranks", 1, 1L << 20));
+  w.x0_um = f.read_real_attr("x0_um");
+  w.slice_width_um = f.read_real_attr("slice_width_um");
+  w.cutoff_um = f.read_real_attr("cutoff_um");
+  w.ghost_reach_um = f.read_real_attr("ghost_reach_um");
+  w.scene = f.read_text_attr("scene");
+  w.command = f.read_text_attr("command");
+  w.git_revision = f.read_text_attr("git_revision");
+  w.device = f.read_text_attr("device");
+  std::vector<hsize_t> dims;
+  auto series = [&](const std::string& name, bool integer) {
+    const std::string key = "events/" + name;
+    if (!f.has(key)) fail(path, name, "missing (dataset /" + key + ")");
+    std::vector<double> v;
+    if (integer) {
+      const auto ints = f.read_ints(key, dims);
+      v.assign(ints.begin(), ints.end());
+    } else {
+      v = f.read(key, dims);
+    }
+    return v;
+  };
+  const auto step = series("step", true);
+  if (dims.size() != 1) fail(path, "step", "must be one-dimensional");
+  const size_t E = dims[0], S = static_cast<size_t>(w.slices);
+  auto column = [&](const std::string& name, bool integer) {
+    auto v = series(name, integer);
+    if (dims.size() != 1 || dims[0] != E) fail(path, name, "must hold one value per event (" + std::to_string(E) + ")");
+    return v;
+  };
+  auto matrix = [&](const std::string& name, size_t cols) {
+    auto v = series(name, true);
+    if (dims.size() != 2 || dims[0] != E || dims[1] != cols)
+      fail(path, name, "must be events x " + std::to_string(cols) + " (" + std::to_string(E) + " x " + std::to_string(cols) + ")");
+    return v;
+  };
+  const auto time = column("time_h", false), cells = column("cells", true), elements = column("elements", true);
+  const auto phase = column("growth_phase", false), event = column("growth_event", true), interval = column("interval_s", false);
+  const auto work = matrix("slice_work", S), slice_elements = matrix("slice_elements", S);
+  const auto below = matrix("band_below", S - 1), above = matrix("band_above", S - 1);
+  for (size_t t = 0; t < E; ++t) {
+    WorkloadEvent e;
+    e.step = static_cast<long>(step[t]);
+    e.time_h = time[t];
+    e.cells = static_cast<long>(cells[t]);
+    e.elements = static_cast<long>(elements[t]);
+    e.growth_phase = phase[t];
+    if (event[t] != 0 && event[t] != 1) fail(path, "growth_event", "event " + std::to_string(t) + ": must be 0 or 1");
+    e.growth_event = event[t] == 1;
+    e.interval_s = interval[t];
+    e.slice_work.assign(work.begin() + t * S, work.begin() + (t + 1) * S);
+    e.slice_elements.assign(slice_elements.begin() + t * S, slice_elements.begin() + (t + 1) * S);
+    e.band_below.assign(below.begin() + t * (S - 1), below.begin() + (t + 1) * (S - 1));
+    e.band_above.assign(above.begin() + t * (S - 1), above.begin() + (t + 1) * (S - 1));
+    w.events.push_back(std::move(e));
+  }
+  validate_workload(w, path);
+  return w;
+}
+
+void add_edge_bands(const std::vector<double>& x, double x0, double width, int slices, double reach, std::vector<double>& below,
+                    std::vector<double>& above) {
+  // Element at x lies below edge k when x_k - reach <= x < x_k, i.e. k in (u, u + reach/width] with u = (x - x0) / width,
+  // and above it when x_k <= x < x_k + reach, i.e. k in (u - reach/width, u]. Ranges of k are added as differences.
+  std::vector<long> dlo(slices + 1, 0), dhi(slices + 1, 0);
+  auto add = [&](std::vector<long>& d, double first_real, double last_real) {  // k in [floor(first)+1, floor(last)]
+    const double a = std::max(1.0, std::floor(first_real) + 1), b = std::min(static_cast<double>(slices - 1), std::floor(last_real));
+    if (!(a <= b)) return;
+    ++d[static_cast<long>(a)];
+    --d[static_cast<long>(b) + 1];
+  };
+  const double r = reach / width;
+  for (double xe : x) {
+    if (!std::isfinite(xe)) continue;
+    const double u = (xe - x0) / width;
+    add(dlo, u, u + r);
+    add(dhi, u - r, u);
+  }
+  long run_lo = 0, run_hi = 0;
+  for (int k = 1; k < slices; ++k) {
+    run_lo += dlo[k];
+    run_hi += dhi[k];
+    below[k - 1] += static_cast<double>(run_lo);
+    above[k - 1] += static_cast<double>(run_hi);
+  }
+}
+
+}  // namespace semlb

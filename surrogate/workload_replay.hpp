@@ -1,0 +1,82 @@
+// Replay of a recorded engine workload at any rank count, with rank times as GPUs give them (docs/controllers.md
+// "Replay of engine workloads").
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "controllers/policy.hpp"
+#include "controllers/workload.hpp"
+#include "rollout.hpp"
+
+namespace semlb::surrogate {
+
+// The per-rank time model. With W_r the W_s of rank r's slices, G_r the ghost elements it receives (band_above of the
+// edge at its upper boundary, band_below of the edge at its lower one) and rho = sum W_s / elements of the event (work
+// per element), the computation seconds of rank r in an interval are
+//   T_r = s_r * c_w * (W_r + ghost_weight * rho * G_r),
+// s_r = 1 + speed_spread * z_r (a fixed speed factor per rank, z_r standard normal clipped at 3 sigma, drawn once per
+// replay seed), c_w = seconds per unit of W_s (from the workload's one-device interval_s, or seconds_per_work). A
+// policy sees T_r (1 + jitter z) (fresh z per event and rank); the score uses the true T_r. The interval's loop time is
+// max_r T_r plus migrate_s_per_slice per slice moved at its end. Constants fitted to measured multi-GPU runs: docs.
+// Defaults: docs/controllers.md "Time model" (fit_time_model.py on results/gpu/engine_traces: the ghost weight is not
+// identified by those runs and is set from the force loop's cost; jitter from the static run's residual; migration from
+// the slope of migrate_s against slices moved at 435,661 cells).
+struct TimeModel {
+  double ghost_weight = 0.5;        // a received ghost element's cost relative to an owned element's
+  double speed_spread = 0.01;       // sigma of the per-rank speed factors
+  double jitter = 0.03;             // sigma of the measurement noise (relative)
+  double migrate_s_per_slice = 1.24e-4;  // seconds per slice moved
+  double seconds_per_work = 0;      // c_w; 0: sum(interval_s) / sum(W_s) over the workload's events
+};
+
+// The TimeModel keys ("ghost_weight", ...), and one "KEY=VALUE" set into `m` (strict numbers, each in its range:
+// ghost_weight [0, 100], speed_spread and jitter [0, 0.3], migrate_s_per_slice and seconds_per_work [0, 1e6]).
+// InputError prefixed by `where` naming the key.
+const std::vector<std::string>& time_model_keys();
+void set_time_model(TimeModel& m, const std::string& key, const std::string& value, const std::string& where);
+
+// Replay settings: rank count, seed of the time model's draws, the events window [first_event, first_event + events)
+// (events = 0: to the end), and `coarsen` adjacent slices merged into one (slices divisible by it is not required:
+// the last slice takes the remainder).
+struct WorkloadReplay {
+  int ranks = 2;
+  uint64_t seed = 0;
+  int first_event = 0, events = 0;
+  int coarsen = 1;
+  TimeModel model;
+};
+
+struct WorkloadReplayResult : RolloutResult {
+  double loop_s = 0;      // sum over intervals of max_r T_r + migration seconds (the projected loop time)
+  double compute_s = 0;   // sum of max_r T_r
+  double migrate_s = 0;   // migration seconds
+  double ideal_s = 0;     // sum of mean_r T_r: a perfectly balanced loop
+};
+
+// The workload seen at `r.ranks` ranks after the window and coarsening: per event the slice work, and the per-edge
+// ghost counts at the coarse edges. InputError (naming `file`, the field and the rank count) when the window is empty
+// or P * min_width exceeds the slices.
+struct ReplayTrack {
+  int slices = 0, min_width = 1;
+  std::vector<std::vector<double>> work, below, above;  // [events][slices], [events][slices - 1]
+  std::vector<double> per_element;                      // rho per event (W_s per element)
+  std::vector<double> phase;
+  std::vector<bool> growth;
+  double seconds_per_work = 0;
+};
+ReplayTrack replay_track(const EngineWorkload& w, const WorkloadReplay& r, const std::string& file);
+// The true per-rank seconds of one event of `t` under `boundaries` (the time model above, without jitter).
+std::vector<double> model_times(const ReplayTrack& t, int event, const std::vector<int>& boundaries,
+                                const std::vector<double>& speed, const TimeModel& m);
+// The speed factors s_r of a replay seed.
+std::vector<double> speed_factors(int ranks, uint64_t seed, double spread);
+
+// Event t: the interval runs under the boundaries in force (true times from the model, metrics from them), the policy
+// sees the jittered times, W_s of the event scaled to their sum, and (oracle_work) the next event's modelled per-slice
+// seconds; its decision governs interval t+1. Starts from the workload-aware optimal partition of event 0's W_s.
+// A ForesightPolicy is solved offline on the modelled per-slice seconds of every event.
+WorkloadReplayResult replay_workload(const EngineWorkload& w, const WorkloadReplay& r, Policy& policy,
+                                     const std::string& name, const std::string& file);
+
+}  // namespace semlb::surrogate

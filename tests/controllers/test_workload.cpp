@@ -1,0 +1,169 @@
+// Workload files: the round trip, every refusal naming the file and field, and the edge ghost-band counts.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "common/errors.hpp"
+#include "common/h5.hpp"
+#include "controllers/workload.hpp"
+
+namespace semlb {
+namespace {
+
+std::string tmp_path(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / "semlb_test_workload";
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
+
+// Three slices, two events, hand-written.
+EngineWorkload small() {
+  EngineWorkload w;
+  w.slices = 3;
+  w.min_width = 1;
+  w.x0_um = -5;
+  w.slice_width_um = 10;
+  w.cutoff_um = 8.75;
+  w.ghost_reach_um = 8.8375;
+  w.rebalance_every = 20;
+  w.ranks = 2;
+  w.scene = "hand";
+  w.command = "semlb sim ...";
+  w.git_revision = "abc";
+  w.device = "cpu";
+  WorkloadEvent a;
+  a.step = 20;
+  a.time_h = 1;
+  a.cells = 2;
+  a.elements = 7;
+  a.growth_phase = 0.25;
+  a.growth_event = true;
+  a.interval_s = 0.5;
+  a.slice_work = {12, 0, 30};
+  a.slice_elements = {3, 0, 4};
+  a.band_below = {3, 0};
+  a.band_above = {0, 4};
+  WorkloadEvent b = a;
+  b.step = 40;
+  b.growth_event = false;
+  b.slice_work = {10, 5, 30};
+  w.events = {a, b};
+  return w;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Workload, RoundTripKeepsEveryField) {
+  const auto path = tmp_path("round.h5");
+  write_workload(path, small());
+  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  const auto w = read_workload(path);
+  const auto want = small();
+  EXPECT_EQ(w.slices, 3);
+  EXPECT_EQ(w.x0_um, -5);
+  EXPECT_EQ(w.ghost_reach_um, 8.8375);
+  EXPECT_EQ(w.scene, "hand");
+  EXPECT_EQ(w.ranks, 2);
+  ASSERT_EQ(w.events.size(), 2u);
+  for (size_t t = 0; t < 2; ++t) {
+    EXPECT_EQ(w.events[t].step, want.events[t].step);
+    EXPECT_EQ(w.events[t].growth_event, want.events[t].growth_event);
+    EXPECT_EQ(w.events[t].slice_work, want.events[t].slice_work);
+    EXPECT_EQ(w.events[t].slice_elements, want.events[t].slice_elements);
+    EXPECT_EQ(w.events[t].band_below, want.events[t].band_below);
+    EXPECT_EQ(w.events[t].band_above, want.events[t].band_above);
+    EXPECT_EQ(w.events[t].interval_s, want.events[t].interval_s);
+  }
+}
+
+TEST(Workload, InvalidContentIsRefusedNamingTheField) {
+  struct Case {
+    std::function<void(EngineWorkload&)> spoil;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {[](EngineWorkload& w) { w.events[1].step = 20; }, "field 'step': event 1: steps must increase"},
+      {[](EngineWorkload& w) { w.events[0].slice_work[1] = 0.5; }, "field 'slice_work': event 0: 0.500000 is not a non-negative integer"},
+      {[](EngineWorkload& w) { w.events[0].slice_work[1] = -1; }, "field 'slice_work': event 0"},
+      {[](EngineWorkload& w) { w.events[1].band_below.pop_back(); }, "field 'band_below': event 1 has 1 entries, expected 2"},
+      {[](EngineWorkload& w) { w.events[0].elements = 8; }, "field 'slice_elements': event 0: sums to 7, but elements is 8"},
+      {[](EngineWorkload& w) { w.events[0].growth_phase = 1; }, "field 'growth_phase': event 0: outside [0, 1)"},
+      {[](EngineWorkload& w) { w.min_width = 4; }, "field 'min_width'"},
+      {[](EngineWorkload& w) { w.events.clear(); }, "field 'events': the workload has no events"},
+  };
+  for (const auto& c : cases) {
+    auto w = small();
+    c.spoil(w);
+    const auto path = tmp_path("spoiled.h5");
+    std::filesystem::remove(path);
+    const auto e = error_of([&] { write_workload(path, w); });
+    EXPECT_NE(e.find(path + ": " + c.message), std::string::npos) << e;
+    EXPECT_FALSE(std::filesystem::exists(path)) << "nothing written for " << c.message;
+  }
+}
+
+TEST(Workload, FilesOfAnotherFormatVersionOrShapeAreRefused) {
+  const auto path = tmp_path("edit.h5");
+  auto rewrite = [&](const std::function<void(h5::File&)>& edit) {
+    write_workload(path, small());
+    auto f = h5::File::open_write(path);
+    edit(f);
+  };
+  rewrite([](h5::File& f) { f.write_attr("version", 2L); });
+  EXPECT_NE(error_of([&] { read_workload(path); }).find(path + ": field 'version': 2 (this semlb reads version 1)"), std::string::npos);
+  rewrite([](h5::File& f) { f.write_attr("format", std::string("semlb-state")); });
+  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'format': is 'semlb-state', expected 'semlb-workload'"), std::string::npos);
+  {  // a state file or any other HDF5 file: no format attribute
+    const auto other = tmp_path("other.h5");
+    auto f = h5::File::create(other);
+    f.write("x", {1}, std::vector<double>{1.0});
+  }
+  EXPECT_NE(error_of([&] { read_workload(tmp_path("other.h5")); }).find("field 'format': missing"), std::string::npos);
+  rewrite([](h5::File& f) {
+    H5Ldelete(f.id(), "events/band_above", H5P_DEFAULT);
+    f.write("events/band_above", {2, 3}, std::vector<int64_t>(6, 0));
+  });
+  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'band_above': must be events x 2 (2 x 2)"), std::string::npos);
+  rewrite([](h5::File& f) {
+    H5Ldelete(f.id(), "events/slice_work", H5P_DEFAULT);
+    f.write("events/slice_work", {2, 3}, std::vector<double>(6, 1.5));
+  });
+  EXPECT_NE(error_of([&] { read_workload(path); }).find("slice_work"), std::string::npos);
+  rewrite([](h5::File& f) { H5Ldelete(f.id(), "events/cells", H5P_DEFAULT); });
+  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'cells': missing (dataset /events/cells)"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_workload(tmp_path("absent.h5")); }).find("absent.h5"), std::string::npos);
+}
+
+// Slices of 10 um from x0 = 0, reach 4 um: edges at 10, 20, 30.
+TEST(Workload, EdgeBandsCountTheElementsWithinReachOfEachEdge) {
+  const std::vector<double> x = {5.9, 6.0, 9.99, 10.0, 13.99, 14.0, 25.0, 29.0, 31.0, -3.0, 100.0};
+  std::vector<double> below(3, 0.0), above(3, 0.0);
+  add_edge_bands(x, 0.0, 10.0, 4, 4.0, below, above);
+  // below edge 10: [6, 10) -> 6.0, 9.99; edge 20: [16, 20) -> none; edge 30: [26, 30) -> 29.0
+  EXPECT_EQ(below, (std::vector<double>{2, 0, 1}));
+  // above edge 10: [10, 14) -> 10.0, 13.99; edge 20: [20, 24) -> none; edge 30: [30, 34) -> 31.0
+  EXPECT_EQ(above, (std::vector<double>{2, 0, 1}));
+  // brute force on random positions and a reach of several slices
+  std::vector<double> many;
+  for (int i = 0; i < 500; ++i) many.push_back(-20 + 0.173 * i);
+  std::vector<double> b2(7, 0.0), a2(7, 0.0), wb(7, 0.0), wa(7, 0.0);
+  add_edge_bands(many, -10.0, 7.0, 8, 15.0, b2, a2);
+  for (int k = 1; k < 8; ++k)
+    for (double v : many) {
+      const double edge = -10.0 + 7.0 * k;
+      wb[k - 1] += v >= edge - 15.0 && v < edge;
+      wa[k - 1] += v >= edge && v < edge + 15.0;
+    }
+  EXPECT_EQ(b2, wb);
+  EXPECT_EQ(a2, wa);
+}
+
+}  // namespace
+}  // namespace semlb

@@ -1,0 +1,131 @@
+// Replay of engine workloads at any rank count: the time model on a hand-computed case, other rank counts,
+// coarsening, noise that policies see but the score does not, and the refusals.
+#include <gtest/gtest.h>
+
+#include "common/errors.hpp"
+#include "controllers/policy.hpp"
+#include "surrogate/workload_replay.hpp"
+
+namespace semlb::surrogate {
+namespace {
+
+// 4 slices, 2 events of 8 elements (2 units of W_s per element): even, then heavy on the left.
+EngineWorkload hand() {
+  EngineWorkload w;
+  w.slices = 4;
+  w.min_width = 1;
+  w.cutoff_um = 8.75;
+  w.ghost_reach_um = 8.8;
+  w.rebalance_every = 10;
+  WorkloadEvent a;
+  a.step = 10;
+  a.elements = 8;
+  a.cells = 1;
+  a.interval_s = 1;
+  a.slice_work = {4, 4, 4, 4};
+  a.slice_elements = {2, 2, 2, 2};
+  a.band_below = {1, 1, 1};
+  a.band_above = {1, 1, 1};
+  WorkloadEvent b = a;
+  b.step = 20;
+  b.slice_work = {8, 4, 2, 2};
+  w.events = {a, b};
+  return w;
+}
+
+WorkloadReplay exact(int ranks) {
+  WorkloadReplay r;
+  r.ranks = ranks;
+  r.model = {.ghost_weight = 0.5, .speed_spread = 0, .jitter = 0, .migrate_s_per_slice = 0.25, .seconds_per_work = 0.5};
+  return r;
+}
+
+TEST(WorkloadReplay, TimeModelMatchesAHandComputedCase) {
+  // P=2 from the optimal partition [2]: T_r = 0.5 (W_r + 0.5 * 2 * G_r), one ghost element each way.
+  // Event 0: W = 8, 8 -> 4.5, 4.5 (I = 0); event 1: W = 12, 4 -> 6.5, 2.5 (I = 4 / 4.5).
+  auto policy = make_policy("static");
+  const auto r = replay_workload(hand(), exact(2), *policy, "static", "hand.h5");
+  ASSERT_EQ(r.events, 2);
+  EXPECT_DOUBLE_EQ(r.imbalance[0], 0.0);
+  EXPECT_DOUBLE_EQ(r.imbalance[1], 4.0 / 4.5);
+  EXPECT_DOUBLE_EQ(r.mean_imbalance, 2.0 / 4.5);
+  EXPECT_DOUBLE_EQ(r.compute_s, 4.5 + 6.5);
+  EXPECT_DOUBLE_EQ(r.ideal_s, 9.0);
+  EXPECT_EQ(r.migration, 0);
+  EXPECT_DOUBLE_EQ(r.loop_s, 11.0);
+  // persistence repartitions to event 1's W_s at its end ([1]: 8 | 8): one slice, 0.25 s, after the last interval
+  auto persistence = make_policy("persistence");
+  const auto p = replay_workload(hand(), exact(2), *persistence, "persistence", "hand.h5");
+  EXPECT_EQ(p.migration, 1);
+  EXPECT_DOUBLE_EQ(p.mean_imbalance, 2.0 / 4.5);
+  EXPECT_DOUBLE_EQ(p.loop_s, 11.25);
+}
+
+TEST(WorkloadReplay, AnotherRankCountAndCoarseningFollowTheModel) {
+  // P=4, one slice each: ghosts 1, 2, 2, 1. Event 0: T = 0.5 (4 + G) = 2.5, 3, 3, 2.5 (I = 0.5 / 2.75);
+  // event 1: 0.5 (8 + 1), 0.5 (4 + 2), 0.5 (2 + 2), 0.5 (2 + 1) = 4.5, 3, 2, 1.5 (I = 3 / 2.75).
+  auto policy = make_policy("static");
+  const auto r = replay_workload(hand(), exact(4), *policy, "static", "hand.h5");
+  EXPECT_DOUBLE_EQ(r.imbalance[0], 0.5 / 2.75);
+  EXPECT_DOUBLE_EQ(r.imbalance[1], 3.0 / 2.75);
+  // two slices of two: the coarse edge is the fine edge 2; P=2 sees what it saw on the fine slices
+  auto c = exact(2);
+  c.coarsen = 2;
+  const auto coarse = replay_workload(hand(), c, *policy, "static", "hand.h5");
+  EXPECT_DOUBLE_EQ(coarse.imbalance[1], 4.0 / 4.5);
+  // a window of the second event alone starts from ITS optimal partition ([1]: 8 | 8)
+  auto win = exact(2);
+  win.first_event = 1;
+  const auto one = replay_workload(hand(), win, *policy, "static", "hand.h5");
+  ASSERT_EQ(one.events, 1);
+  EXPECT_DOUBLE_EQ(one.imbalance[0], 0.0);  // 0.5 (8 + 1) on both ranks (one ghost element each)
+  EXPECT_DOUBLE_EQ(one.compute_s, 4.5);
+}
+
+TEST(WorkloadReplay, PoliciesSeeJitterAndSpeedFactorsTheScoreSeesOnlySpeed) {
+  auto policy = make_policy("static");
+  auto noisy_run = exact(2);
+  noisy_run.model.jitter = 0.2;
+  noisy_run.seed = 7;
+  const auto a = replay_workload(hand(), noisy_run, *policy, "static", "hand.h5");
+  EXPECT_DOUBLE_EQ(a.mean_imbalance, 2.0 / 4.5);  // the score uses the true times
+  auto slow = exact(2);
+  slow.model.speed_spread = 0.1;
+  slow.seed = 7;
+  const auto s = speed_factors(2, 7, 0.1);
+  const auto b = replay_workload(hand(), slow, *policy, "static", "hand.h5");
+  const double t0 = 4.5 * s[0], t1 = 4.5 * s[1];
+  EXPECT_NE(s[0], s[1]);
+  EXPECT_DOUBLE_EQ(b.imbalance[0], std::abs(t0 - t1) / ((t0 + t1) / 2));
+  EXPECT_EQ(speed_factors(2, 7, 0.1), s) << "a pure function of the seed";
+  // reactive under jitter sees different times for different seeds (its decisions may differ), the same for the same
+  auto reactive = make_policy("reactive");
+  const auto x = replay_workload(hand(), noisy_run, *reactive, "reactive", "hand.h5");
+  auto reactive2 = make_policy("reactive");
+  const auto y = replay_workload(hand(), noisy_run, *reactive2, "reactive", "hand.h5");
+  EXPECT_EQ(x.imbalance, y.imbalance);
+  EXPECT_EQ(x.migration, y.migration);
+}
+
+TEST(WorkloadReplay, RefusesRankCountsAndWindowsThatDoNotFit) {
+  auto policy = make_policy("static");
+  auto too_many = exact(5);
+  try {
+    replay_workload(hand(), too_many, *policy, "static", "hand.h5");
+    FAIL() << "5 ranks on 4 slices";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("hand.h5: --ranks 5: 5 ranks of at least 1 slices do not fit in 4 slices"), std::string::npos) << e.what();
+  }
+  auto late = exact(2);
+  late.first_event = 2;
+  EXPECT_THROW(replay_workload(hand(), late, *policy, "static", "hand.h5"), InputError);
+  TimeModel m;
+  EXPECT_THROW(set_time_model(m, "ghost_weight", "0.5x", "--time-model "), InputError);
+  EXPECT_THROW(set_time_model(m, "jitter", "0.5", "--time-model "), InputError);  // outside [0, 0.3]
+  EXPECT_THROW(set_time_model(m, "speed", "0.1", "--time-model "), InputError);
+  set_time_model(m, "migrate_s_per_slice", "0.003", "--time-model ");
+  EXPECT_EQ(m.migrate_s_per_slice, 0.003);
+}
+
+}  // namespace
+}  // namespace semlb::surrogate
