@@ -16,18 +16,28 @@ namespace {
 double clamp(double v, double lo, double hi) { return std::clamp(v, lo, hi); }
 }  // namespace
 
-FeatureVector boundary_features(const BoundaryState& s) {
+const char* feature_set_name(FeatureSet set) { return set == FeatureSet::v1 ? kFeatureSet : kFeatureSetV2; }
+
+FeatureSet parse_feature_set(const std::string& name, const std::string& where) {
+  if (name == kFeatureSet) return FeatureSet::v1;
+  if (name == kFeatureSetV2) return FeatureSet::v2;
+  throw InputError(where + "'" + name + "' is not a feature set (" + kFeatureSet + ", " + kFeatureSetV2 + ")");
+}
+
+FeatureVector boundary_features(const BoundaryState& s, FeatureSet set) {
   const double mw = std::max(s.mean_width, 1.0);
   const double angle = 2.0 * std::numbers::pi * s.growth_phase;
+  const bool v2 = set == FeatureSet::v2;
+  auto signed_unit = [&](double x) { return v2 ? x / (1.0 + std::fabs(x)) : clamp(x, -1.0, 1.0); };  // v1 clamps, v2 squashes
   return {
-      clamp(s.local_imbalance, -1.0, 1.0),
-      clamp(s.local_imbalance - s.prev_local_imbalance, -1.0, 1.0),
-      clamp(s.global_imbalance, 0.0, 2.0),
+      signed_unit(s.local_imbalance),
+      signed_unit(s.local_imbalance - s.prev_local_imbalance),
+      v2 ? s.global_imbalance / (1.0 + s.global_imbalance) : clamp(s.global_imbalance, 0.0, 2.0),
       clamp(s.width_left / mw, 0.0, 4.0),
       clamp(s.width_right / mw, 0.0, 4.0),
       clamp((s.width_left - s.min_width) / mw, 0.0, 4.0),
       clamp((s.width_right - s.min_width) / mw, 0.0, 4.0),
-      clamp(s.last_move / (0.25 * mw), -1.0, 1.0),
+      signed_unit(s.last_move / (0.25 * mw)),
       std::sin(angle),
       std::cos(angle),
       s.growth_event ? 1.0 : 0.0,
@@ -63,7 +73,7 @@ std::vector<BoundaryInputs> FeatureTracker::observe(const Observation& obs, cons
     s.growth_event = obs.growth_event;
     s.ds_max = ds_max_frac_ * pr.n_slow;
     s.proposal = pr.direction * pr.magnitude;
-    out[i] = {boundary_features(s), pr.direction, pr.magnitude, s.ds_max};
+    out[i] = {boundary_features(s, set_), pr.direction, pr.magnitude, s.ds_max};
     prev_imbalance_[i] = pr.local_imbalance;
   }
   prev_boundaries_ = obs.boundaries;

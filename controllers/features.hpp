@@ -9,7 +9,15 @@
 namespace semlb {
 
 inline constexpr int kFeatureCount = 12;
-inline constexpr const char* kFeatureSet = "boundary-v1";
+// Two sets of the same 12 inputs (docs/controllers.md "GRU features"): boundary-v1 clamps the imbalance, its change and
+// the last move to [-1, 1] (the global imbalance to [0, 2]), which saturates on engine workloads (|I_t| ~ 1); boundary-v2
+// maps them through x / (1 + |x|) instead (equal to x to first order, never flat). Weights files name their set.
+enum class FeatureSet { v1, v2 };
+inline constexpr const char* kFeatureSet = "boundary-v1";    // the name of FeatureSet::v1
+inline constexpr const char* kFeatureSetV2 = "boundary-v2";  // the name of FeatureSet::v2
+const char* feature_set_name(FeatureSet set);
+// InputError "WHERE'NAME' is not a feature set (boundary-v1, boundary-v2)".
+FeatureSet parse_feature_set(const std::string& name, const std::string& where);
 
 // Everything one boundary's features are computed from. Real-valued so that a soft (relaxed) rollout
 // can use the same code.
@@ -27,7 +35,7 @@ struct BoundaryState {
 };
 
 using FeatureVector = std::array<double, kFeatureCount>;
-FeatureVector boundary_features(const BoundaryState& s);
+FeatureVector boundary_features(const BoundaryState& s, FeatureSet set = FeatureSet::v1);
 
 struct Observation;
 struct ReactiveParams;
@@ -44,7 +52,7 @@ struct BoundaryInputs {
 // boundaries). Used by the gru policy and by the trainer, so both compute identical inputs.
 class FeatureTracker {
  public:
-  explicit FeatureTracker(double ds_max_frac) : ds_max_frac_(ds_max_frac) {}
+  explicit FeatureTracker(double ds_max_frac, FeatureSet set = FeatureSet::v1) : ds_max_frac_(ds_max_frac), set_(set) {}
   // Throws InputError if the number of boundaries differs from the first observation's.
   std::vector<BoundaryInputs> observe(const Observation& obs, const ReactiveParams& p);
   // History under "tracker.*" keys (checkpoints); load_state throws InputError for a malformed state.
@@ -53,6 +61,7 @@ class FeatureTracker {
 
  private:
   double ds_max_frac_;
+  FeatureSet set_;
   bool started_ = false;
   std::vector<double> prev_imbalance_;
   std::vector<int> prev_boundaries_;

@@ -95,9 +95,9 @@ GruWeights load_gru_weights(const std::string& path) {
   if (const long v = f.read_int_attr("version"); v != kGruFormatVersion)
     throw InputError(path + ": attribute 'version' is " + std::to_string(v) + ", this build reads version " +
                      std::to_string(kGruFormatVersion));
-  expect_text(f, "feature_set", kFeatureSet);
-  expect_text(f, "features", feature_list());
   GruWeights w;
+  w.features = parse_feature_set(f.read_text_attr("feature_set"), path + ": attribute 'feature_set': ");
+  expect_text(f, "features", feature_list());
   w.hidden = static_cast<int>(f.read_int_attr("hidden"));
   w.inputs = kFeatureCount;
   w.ds_max_frac = f.read_real_attr("ds_max_frac");
@@ -119,7 +119,7 @@ void save_gru_weights(const std::string& path, const GruWeights& w, const std::f
     auto f = h5::File::create(tmp);
     f.write_attr("format", std::string("semlb-gru"));
     f.write_attr("version", kGruFormatVersion);
-    f.write_attr("feature_set", std::string(kFeatureSet));
+    f.write_attr("feature_set", std::string(feature_set_name(w.features)));
     f.write_attr("features", feature_list());
     f.write_attr("hidden", static_cast<long>(w.hidden));
     f.write_attr("ds_max_frac", w.ds_max_frac);
@@ -177,7 +177,7 @@ namespace {
 
 class GruPolicy final : public Policy {
  public:
-  GruPolicy(GruWeights w, ReactiveParams p) : w_(std::move(w)), p_(p), tracker_(w_.ds_max_frac) {}
+  GruPolicy(GruWeights w, ReactiveParams p) : w_(std::move(w)), p_(p), tracker_(w_.ds_max_frac, w_.features) {}
 
   std::vector<int> decide(const Observation& obs) override {
     const auto inputs = tracker_.observe(obs, p_);

@@ -6,6 +6,8 @@
 #include <memory>
 #include <string>
 
+#include "features.hpp"
+
 namespace semlb {
 
 inline constexpr long kGruFormatVersion = 1;
@@ -14,6 +16,7 @@ inline constexpr long kGruFormatVersion = 1;
 struct GruWeights {
   int hidden = 24;
   int inputs = 12;
+  FeatureSet features = FeatureSet::v1;  // the input transforms it was trained with (attribute feature_set)
   double ds_max_frac = 0.5;  // Δs_max = ds_max_frac * N_slow at each boundary
   Eigen::MatrixXd w_ih;      // 3H x F
   Eigen::MatrixXd w_hh;      // 3H x H

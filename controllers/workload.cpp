@@ -198,21 +198,33 @@ EngineWorkload read_workload(const std::string& path) {
 
 void add_edge_bands(const std::vector<double>& x, double x0, double width, int slices, double reach, std::vector<double>& below,
                     std::vector<double>& above) {
-  // Element at x lies below edge k when x_k - reach <= x < x_k, i.e. k in (u, u + reach/width] with u = (x - x0) / width,
-  // and above it when x_k <= x < x_k + reach, i.e. k in (u - reach/width, u]. Ranges of k are added as differences.
+  // Edge k (1..slices-1) lies at e_k = x0 + k width. An element at x is below edge k when e_k - reach <= x < e_k and above
+  // it when e_k <= x < e_k + reach: two ranges of k, found from floor() and then corrected against e_k itself (ties
+  // decide as the comparisons do), added as differences. O(elements + slices).
   std::vector<long> dlo(slices + 1, 0), dhi(slices + 1, 0);
-  auto add = [&](std::vector<long>& d, double first_real, double last_real) {  // k in [floor(first)+1, floor(last)]
-    const double a = std::max(1.0, std::floor(first_real) + 1), b = std::min(static_cast<double>(slices - 1), std::floor(last_real));
-    if (!(a <= b)) return;
-    ++d[static_cast<long>(a)];
-    --d[static_cast<long>(b) + 1];
+  auto edge = [&](long k) { return x0 + static_cast<double>(k) * width; };
+  auto index = [&](double v) { return static_cast<long>(std::clamp(std::floor((v - x0) / width), -2.0, slices + 2.0)); };
+  auto add = [&](std::vector<long>& d, long a, long b) {
+    a = std::max(a, 1L);
+    b = std::min(b, static_cast<long>(slices) - 1);
+    if (a > b) return;
+    ++d[a];
+    --d[b + 1];
   };
-  const double r = reach / width;
   for (double xe : x) {
     if (!std::isfinite(xe)) continue;
-    const double u = (xe - x0) / width;
-    add(dlo, u, u + r);
-    add(dhi, u - r, u);
+    long first = index(xe) + 1, last = index(xe + reach);  // below: the edges in (x, x + reach]
+    while (edge(first) <= xe) ++first;
+    while (first > 1 && edge(first - 1) > xe) --first;
+    while (edge(last + 1) - reach <= xe) ++last;
+    while (last > 0 && edge(last) - reach > xe) --last;
+    add(dlo, first, last);
+    first = index(xe - reach) + 1, last = index(xe);  // above: the edges in (x - reach, x]
+    while (edge(first) + reach <= xe) ++first;
+    while (first > 1 && edge(first - 1) + reach > xe) --first;
+    while (edge(last + 1) <= xe) ++last;
+    while (last > 0 && edge(last) > xe) --last;
+    add(dhi, first, last);
   }
   long run_lo = 0, run_hi = 0;
   for (int k = 1; k < slices; ++k) {

@@ -28,7 +28,8 @@ std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::
 bool is_scenario_key(const std::string& key) { return key.rfind("scenario.", 0) == 0; }
 
 bool is_policy_param(const std::string& key) {
-  return key.find('.') != std::string::npos && key.rfind("scene.", 0) != 0 && !is_scenario_key(key);
+  return key.find('.') != std::string::npos && key.rfind("scene.", 0) != 0 && key.rfind("time_model.", 0) != 0 &&
+         !is_scenario_key(key);
 }
 
 std::map<std::string, PolicyParams> policy_params(const Job& job, const std::string& manifest) {

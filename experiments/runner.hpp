@@ -42,7 +42,7 @@ std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::
 
 // True for a scenario.KEY setting: an override of the surrogate's scenario draws (surrogate::make_scenario).
 bool is_scenario_key(const std::string& key);
-// True for a POLICY.KEY setting (holt.alpha): a key with a '.' that is not a scene.KEY or scenario.KEY override.
+// True for a POLICY.KEY setting (holt.alpha): a key with a '.' that is not a scene.KEY, scenario.KEY or time_model.KEY.
 bool is_policy_param(const std::string& key);
 // The job's POLICY.KEY settings grouped by policy (surrogate::parse_policy_params); a malformed one is an
 // InputError naming its manifest line.

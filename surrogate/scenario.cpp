@@ -22,7 +22,8 @@ double clipped_normal(uint64_t seed, uint64_t stream, uint64_t counter, uint64_t
 const std::vector<std::string>& scenario_keys() {
   static const std::vector<std::string> k = {"slices", "min_width", "baseline", "growth_rate", "growth_period", "growth_offset",
                                              "burst_probability", "burst_size", "time_jitter", "work_noise",
-                                             "drift_speed", "drift_walk", "drift_max"};
+                                             "drift_speed", "drift_walk", "drift_max", "front_amplitude", "front_speed",
+                                             "front_start"};
   return k;
 }
 
@@ -61,6 +62,9 @@ Scenario make_scenario(uint64_t seed, int ranks, const ScenarioSet& set) {
   s.drift_speed = real("drift_speed", s.drift_speed, 0.0, 1.0);
   s.drift_walk = real("drift_walk", s.drift_walk, 0.0, 1.0);
   s.drift_max = real("drift_max", s.drift_max, 0.0, 1.0);
+  s.front_amplitude = real("front_amplitude", s.front_amplitude, 0.0, 1e6);
+  s.front_speed = real("front_speed", s.front_speed, -1.0, 1.0);
+  s.front_start = real("front_start", s.front_start, -1.0, 2.0);
   const int n = static_cast<int>(u(2, 7, 9));
   for (int h = 0; h < n; ++h) {
     auto hu = [&](double lo, double hi, uint64_t k) { return rng::uniform(lo, hi, seed, kHotspot, h, k); };
@@ -123,6 +127,10 @@ void Workload::evaluate() {
     double d = s_.baseline;
     for (const auto& h : hotspots_) d += gaussian(x, h.centre, h.width, h.amplitude);
     for (const auto& b : bursts_) d += gaussian(x, b.centre, b.width, b.amplitude * std::exp(-(event_ - b.start) / b.decay));
+    if (s_.front_amplitude > 0) {  // the ramp behind the front: 0 at the front, front_amplitude 0.2 behind it
+      const double behind = s_.front_start + s_.front_speed * event_ - x;
+      d += s_.front_amplitude * std::clamp(behind / 0.2, 0.0, 1.0);
+    }
     work_[i] = d * s_.texture[i] / s_.slices;
   }
 }

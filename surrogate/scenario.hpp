@@ -44,6 +44,10 @@ struct Scenario {
   double drift_speed = 0.0002;       // std of a hotspot's initial velocity, domain lengths per event
   double drift_walk = 0.00003;       // std of its per-event velocity change (random walk)
   double drift_max = 0.0005;         // cap on |velocity|
+  // A proliferative front (off unless front_amplitude > 0; never drawn, only set by overrides): behind the front at
+  // front_start + front_speed * t (domain lengths per event) the density rises linearly over 0.2 domain lengths to
+  // front_amplitude, as the stratifying epidermis behind a growth front does (docs/surrogate.md).
+  double front_amplitude = 0.0, front_speed = 0.005, front_start = 0.0;
   double time_jitter = 0.01;         // relative std of measured times
   double work_noise = 0.05;          // relative std of the observed per-slice work
   std::vector<Hotspot> hotspots;     // at event 0

@@ -37,7 +37,7 @@ class CpuBackend : public Backend {
   bool update_cells(State& host, const CellRules& rules, uint64_t seed, double elapsed_h, long step) override {
     count("cell_stage");
     download(host);
-    Ghosts ghosts;  // kept for slice_work (their info is only read again after the next set_ghosts)
+    Ghosts ghosts;  // kept through the stage, as the OpenCL backend keeps them (the next set_ghosts replaces them)
     ghosts.position = ghost_positions();
     ghosts.info.assign(info_.begin() + owned_, info_.end());
     ghosts.keys.assign(key_.begin() + owned_, key_.end());

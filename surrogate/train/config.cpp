@@ -11,6 +11,7 @@
 #include "common/yaml.hpp"
 #include "surrogate/evaluate.hpp"
 #include "surrogate/scenario.hpp"
+#include "controllers/features.hpp"
 
 namespace semlb::train {
 namespace {
@@ -24,6 +25,8 @@ void visit(C& c, F&& f) {
   f("threads", c.threads), f("validate_every", c.validate_every), f("validation_seeds", c.validation_seeds);
   f("validation_ranks", c.validation_ranks), f("validation_events", c.validation_events);
   f("checkpoint_every", c.checkpoint_every), f("imbalance_norm", c.imbalance_norm), f("migration_norm", c.migration_norm);
+  f("features", c.features), f("workloads", c.workloads), f("trace_fraction", c.trace_fraction);
+  f("front_fraction", c.front_fraction), f("trace_coarsen_max", c.trace_coarsen_max);
 }
 
 void parse(const std::string& text, long& out, const std::string& at) { out = parse_integer(text, at); }
@@ -60,6 +63,11 @@ void check(const TrainConfig& c) {
   for (long s : surrogate::parse_int_list(c.validation_seeds, "validation_seeds"))
     need(surrogate::kValidationSeeds.contains(s), "validation_seeds", "must lie in the validation range 8000-8999");
   surrogate::parse_int_list(c.validation_ranks, "validation_ranks");
+  parse_feature_set(c.features, "training setting 'features': ");
+  need(c.trace_fraction >= 0 && c.trace_fraction <= 1, "trace_fraction", "must be in [0, 1]");
+  need(c.front_fraction >= 0 && c.front_fraction <= 1, "front_fraction", "must be in [0, 1]");
+  need(c.trace_coarsen_max >= 1, "trace_coarsen_max", "must be >= 1");
+  need(c.trace_fraction == 0 || !c.workloads.empty(), "trace_fraction", "needs workloads (comma-separated workload files)");
 }
 
 }  // namespace

@@ -35,6 +35,18 @@ struct TrainConfig {
   std::string validation_ranks = "2,4,8,16";
   long validation_events = 100;
   long checkpoint_every = 100;       // steps between checkpoints
+  // The GRU's input transforms (controllers/features.hpp): boundary-v1 (clamped, the shipped weights before issue 25)
+  // or boundary-v2 (squashed: keeps its meaning at imbalances of 100% and more).
+  std::string features = "boundary-v1";
+  // Trace-driven episodes (docs/train.md "Engine workloads"): a fraction `trace_fraction` of the episodes replays a
+  // window of `events + 1` events of one of the comma-separated workload files (training split only; paths relative to
+  // the working directory), at a random rank count in [ranks_min, ranks_max] that fits, with 1..trace_coarsen_max
+  // adjacent slices merged and the time jitter of a synthetic scenario. Of the synthetic episodes a fraction
+  // `front_fraction` carries a moving proliferative front (scenario front_amplitude / front_speed / front_start).
+  std::string workloads;
+  double trace_fraction = 0.0;
+  double front_fraction = 0.0;
+  long trace_coarsen_max = 4;
 };
 
 // Loads FILE (may be empty: defaults) then KEY=VALUE overrides; errors name the file, line and field.

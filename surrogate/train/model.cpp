@@ -32,8 +32,9 @@ Eigen::MatrixXd to_eigen(const torch::Tensor& t) {
 }
 }  // namespace
 
-GruWeights export_weights(Controller& model, double ds_max_frac) {
+GruWeights export_weights(Controller& model, double ds_max_frac, FeatureSet features) {
   GruWeights w;
+  w.features = features;
   w.hidden = static_cast<int>(model->hidden);
   w.inputs = kFeatureCount;
   w.ds_max_frac = ds_max_frac;

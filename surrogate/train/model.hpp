@@ -18,7 +18,7 @@ struct ControllerImpl : torch::nn::Module {
 TORCH_MODULE(Controller);
 
 // Copies the weights into the controllers' format (float -> double, exact).
-GruWeights export_weights(Controller& model, double ds_max_frac);
+GruWeights export_weights(Controller& model, double ds_max_frac, FeatureSet features = FeatureSet::v1);
 
 // Parity record: residuals of `model` (as trained, float32) for a fixed input sequence [T, B, F].
 struct Parity {

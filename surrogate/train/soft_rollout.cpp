@@ -103,7 +103,7 @@ torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& e
   std::vector<Balancer> hard;  // the deployed integer state: no policy, the GRU step below decides
   for (const auto& ep : eps)
     hard.emplace_back("gru", nullptr, ep.scenario.slices, ep.scenario.min_width, ep.initial_boundaries);
-  std::vector<FeatureTracker> trackers(E, FeatureTracker(c.ds_max_frac));
+  std::vector<FeatureTracker> trackers(E, FeatureTracker(c.ds_max_frac, parse_feature_set(c.features, "")));
   torch::Tensor h = torch::zeros({N, model->hidden});
   torch::Tensor imbalance_terms = torch::zeros({E}), moved = torch::zeros({E});
   double raw_imbalance = 0;

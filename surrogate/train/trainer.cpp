@@ -110,7 +110,7 @@ void start_log(const std::string& path, long keep_through) {
 
 void write_weights(const std::string& out, Controller& model, const TrainConfig& c, long steps,
                    const std::string& git_revision) {
-  const auto w = export_weights(model, c.ds_max_frac);
+  const auto w = export_weights(model, c.ds_max_frac, parse_feature_set(c.features, ""));
   const Parity p = record_parity(model, 16, 3, static_cast<uint64_t>(c.seed));
   save_gru_weights(out, w, [&](h5::File& f) {
     f.write_attr("trainer", std::string("semlb train (libtorch " TORCH_VERSION ")"));
@@ -137,11 +137,12 @@ StepTiming time_training_steps(const TrainConfig& c, long steps) {
   Controller model(kFeatureCount, c.hidden);
   torch::optim::Adam opt(model->parameters(), torch::optim::AdamOptions(c.lr));
   StepTiming t;
+  const auto workloads = load_training_workloads(c);
   auto clock = [] { return std::chrono::steady_clock::now(); };
   auto since = [](auto a) { return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count(); };
   for (long step = 0; step < steps; ++step) {
     auto a = clock();
-    const auto batch = make_batch(c, step);
+    const auto batch = make_batch(c, step, workloads);
     t.episodes += since(a);
     a = clock();
     auto loss = soft_rollout_loss(model, batch, c, temperature(c, step));
@@ -167,6 +168,7 @@ TrainSummary run_training(const TrainConfig& c, const TrainOptions& o) {
   torch::set_num_threads(1);  // tiny tensors: threading costs more than it gains; the other cores make episodes
   Controller model(kFeatureCount, c.hidden);
   torch::optim::Adam opt(model->parameters(), torch::optim::AdamOptions(c.lr));
+  const auto workloads = load_training_workloads(c);  // read once, shared by every batch
   long step = 0;
   if (fs::exists(ckpt)) {
     step = load_checkpoint(ckpt, model, opt, config);
@@ -181,7 +183,7 @@ TrainSummary run_training(const TrainConfig& c, const TrainOptions& o) {
   double last_loss = NAN;
 
   auto log_validation = [&](long at) {
-    const GruWeights current = export_weights(model, c.ds_max_frac);
+    const GruWeights current = export_weights(model, c.ds_max_frac, parse_feature_set(c.features, ""));
     const Validation v = validate(c, &current);
     std::ofstream(log, std::ios::app) << at << "," << format_real(seconds()) << "," << format_real(last_loss) << ","
                                       << format_real(learning_rate(c, at)) << "," << format_real(temperature(c, at)) << ","
@@ -194,7 +196,7 @@ TrainSummary run_training(const TrainConfig& c, const TrainOptions& o) {
   };
 
   // The next batch is generated while this one trains (episodes depend only on (seed, step, index)).
-  auto prefetch = [&](long s) { return std::async(std::launch::async, [&c, s] { return make_batch(c, s); }); };
+  auto prefetch = [&](long s) { return std::async(std::launch::async, [&c, &workloads, s] { return make_batch(c, s, workloads); }); };
   auto next_batch = prefetch(step);
   for (; step < c.steps; ++step) {
     for (auto& group : opt.param_groups()) static_cast<torch::optim::AdamOptions&>(group.options()).lr(learning_rate(c, step));

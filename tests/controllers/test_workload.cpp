@@ -116,9 +116,15 @@ TEST(Workload, FilesOfAnotherFormatVersionOrShapeAreRefused) {
     auto f = h5::File::open_write(path);
     edit(f);
   };
-  rewrite([](h5::File& f) { f.write_attr("version", 2L); });
+  rewrite([](h5::File& f) {
+    H5Adelete(f.id(), "version");
+    f.write_attr("version", 2L);
+  });
   EXPECT_NE(error_of([&] { read_workload(path); }).find(path + ": field 'version': 2 (this semlb reads version 1)"), std::string::npos);
-  rewrite([](h5::File& f) { f.write_attr("format", std::string("semlb-state")); });
+  rewrite([](h5::File& f) {
+    H5Adelete(f.id(), "format");
+    f.write_attr("format", std::string("semlb-state"));
+  });
   EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'format': is 'semlb-state', expected 'semlb-workload'"), std::string::npos);
   {  // a state file or any other HDF5 file: no format attribute
     const auto other = tmp_path("other.h5");
@@ -148,7 +154,8 @@ TEST(Workload, EdgeBandsCountTheElementsWithinReachOfEachEdge) {
   add_edge_bands(x, 0.0, 10.0, 4, 4.0, below, above);
   // below edge 10: [6, 10) -> 6.0, 9.99; edge 20: [16, 20) -> none; edge 30: [26, 30) -> 29.0
   EXPECT_EQ(below, (std::vector<double>{2, 0, 1}));
-  // above edge 10: [10, 14) -> 10.0, 13.99; edge 20: [20, 24) -> none; edge 30: [30, 34) -> 31.0
+  // above edge 10: [10, 14) -> 10.0, 13.99 (14.0 is not, though (14 - 4) / 10 rounds below 1); edge 20: [20, 24) ->
+  // none; edge 30: [30, 34) -> 31.0
   EXPECT_EQ(above, (std::vector<double>{2, 0, 1}));
   // brute force on random positions and a reach of several slices
   std::vector<double> many;
@@ -157,7 +164,7 @@ TEST(Workload, EdgeBandsCountTheElementsWithinReachOfEachEdge) {
   add_edge_bands(many, -10.0, 7.0, 8, 15.0, b2, a2);
   for (int k = 1; k < 8; ++k)
     for (double v : many) {
-      const double edge = -10.0 + 7.0 * k;
+      const double edge = -10.0 + static_cast<double>(k) * 7.0;
       wb[k - 1] += v >= edge - 15.0 && v < edge;
       wa[k - 1] += v >= edge && v < edge + 15.0;
     }

@@ -11,6 +11,7 @@
 #include "engine/decomposition/distributed.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/io/io.hpp"
+#include "controllers/workload.hpp"
 #include "engine/backends/opencl.hpp"
 
 namespace semlb::engine {
@@ -77,20 +78,61 @@ TEST(Decomposition, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
   EXPECT_EQ(read_state(dir + "/blocking/final.h5").hash(), reference) << "2 ranks, blocking exchange";
 }
 
+// Everything a workload file holds per event, for comparisons across runs.
+std::string workload_of(const std::string& path) {
+  const auto w = read_workload(path);
+  std::string out;
+  for (const auto& e : w.events) {
+    out += std::to_string(e.step) + " " + std::to_string(e.cells) + " " + std::to_string(e.elements) + " " +
+           std::to_string(e.growth_event) + " " + format_real(e.growth_phase) + ":";
+    for (const auto* v : {&e.slice_work, &e.slice_elements, &e.band_below, &e.band_above})
+      for (double x : *v) out += " " + format_real(x);
+    out += "\n";
+  }
+  return out;
+}
+
+// W_s counted on one grid over the whole tissue: the workload file of one device equals that of 1, 2 and 4 ranks
+// under different partitions (static and reactive, workload-aware and uniform starts), and its last event is the host
+// reference slice_workload of the final state.
+TEST(Decomposition, WorkloadIsTheSameOnOneDeviceAndOnOneTwoAndFourRanks) {
+  const auto dir = fresh_dir("decomposition_workload");
+  const std::string args = kArgs + " --steps 150 --set output.workload=true";
+  auto r = run(semlb_bin() + " sim" + args + " --out " + dir + "/single");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const std::string reference = workload_of(dir + "/single/workload.h5");
+  EXPECT_EQ(split(reference, '\n').size(), 4u) << "3 events and the final newline";
+  for (const std::string variant : {"np1", "np2", "np4", "np2_reactive_uniform"}) {
+    const std::string extra = variant == "np2_reactive_uniform" ? " --set decomposition.policy=reactive --set decomposition.initial=uniform" : "";
+    r = run(mpirun(variant == "np4" ? 4 : variant == "np1" ? 1 : 2) + args + extra + " --out " + dir + "/" + variant);
+    ASSERT_EQ(r.rc, 0) << r.out;
+    EXPECT_EQ(workload_of(dir + "/" + variant + "/workload.h5"), reference) << variant;
+  }
+  const auto w = read_workload(dir + "/np4/workload.h5");
+  EXPECT_EQ(w.ranks, 4);
+  SliceMap map;
+  map.slices = w.slices;
+  map.x0 = w.x0_um;
+  map.width = w.slice_width_um;
+  EXPECT_EQ(slice_workload(read_state(dir + "/np4/final.h5"), map, w.cutoff_um), w.events.back().slice_work);
+}
+
 // The device path of the ghost exchange (bands selected by OpenCL kernels), against one device.
 TEST(Decomposition, OpenClRanksMatchOneOpenClDevice) {
   if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL platform";
   const auto dir = fresh_dir("decomposition_opencl");
-  const std::string args = kArgs + " --steps 60 --set backend.name=opencl-binned";
+  const std::string args = kArgs + " --steps 60 --set backend.name=opencl-binned --set output.workload=true";
   auto r = run(semlb_bin() + " sim" + args + " --out " + dir + "/single");
   ASSERT_EQ(r.rc, 0) << r.out;
   const uint64_t reference = read_state(dir + "/single/final.h5").hash();
+  const std::string workload = workload_of(dir + "/single/workload.h5");
   // 2 ranks overlapped and blocking; 4 ranks: the middle ones select both bands in one pass
   for (const std::string variant : {"np2", "np2_blocking", "np4"}) {
     const std::string extra = variant == "np2_blocking" ? " --set decomposition.overlap=false" : "";
     r = run(mpirun(variant == "np4" ? 4 : 2) + args + extra + " --out " + dir + "/" + variant);
     ASSERT_EQ(r.rc, 0) << r.out;
     EXPECT_EQ(read_state(dir + "/" + variant + "/final.h5").hash(), reference) << variant;
+    EXPECT_EQ(workload_of(dir + "/" + variant + "/workload.h5"), workload) << variant << ": W_s on the device, counts summed over ranks";
   }
 }
 
