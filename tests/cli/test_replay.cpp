@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../run_command.hpp"
+#include "controllers/workload.hpp"
 
 using namespace semlb::test;
 
@@ -72,4 +73,41 @@ TEST(Replay, ErrorsNameFileLineAndField) {
   expect_bad_input("replay --policy persistence --trace " + dir + "/nowork1.jsonl",
                    "nowork1.jsonl:1: policy 'persistence': event 0: policy 'persistence' needs slice_work");
   expect_bad_input("replay --policy foresight --trace " + dir + "/nowork1.jsonl", "nowork1.jsonl:1: policy 'foresight'");
+}
+
+// `semlb replay --workload F --ranks P`: the time model on the hand case of tests/surrogate/test_workload_replay.cpp
+// through the CLI, and its refusals (exit 2, one line).
+TEST(Replay, WorkloadAtARankCountThroughTheTimeModel) {
+  const auto dir = fresh_dir("replay_workload");
+  semlb::EngineWorkload w;
+  w.slices = 4;
+  w.cutoff_um = 8.75;
+  w.ghost_reach_um = 8.8;
+  w.rebalance_every = 10;
+  semlb::WorkloadEvent a;
+  a.step = 10;
+  a.elements = 8;
+  a.slice_work = {4, 4, 4, 4};
+  a.slice_elements = {2, 2, 2, 2};
+  a.band_below = a.band_above = {1, 1, 1};
+  semlb::WorkloadEvent b = a;
+  b.step = 20;
+  b.slice_work = {8, 4, 2, 2};
+  w.events = {a, b};
+  semlb::write_workload(dir + "/w.h5", w);
+  const std::string exact = " --time-model ghost_weight=0.5 --time-model speed_spread=0 --time-model jitter=0"
+                            " --time-model seconds_per_work=0.5 --time-model migrate_s_per_slice=0";
+  const auto r = run(semlb_bin() + " replay --policy static --workload " + dir + "/w.h5 --ranks 2" + exact);
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_DOUBLE_EQ(j["mean_imbalance"].get<double>(), 2.0 / 4.5);
+  EXPECT_DOUBLE_EQ(j["loop_s"].get<double>(), 11.0);
+  EXPECT_EQ(j["ranks"], 2);
+  EXPECT_EQ(j["events"], 2);
+  expect_bad_input("replay --policy static --workload " + dir + "/w.h5", "--workload needs --ranks P");
+  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 5", "5 ranks of at least 1 slices do not fit in 4 slices");
+  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model jitter=lots", "--time-model jitter: 'lots' is not a number");
+  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model speed=1", "unknown time model key 'speed'");
+  expect_bad_input("replay --policy static --workload " + dir + "/t.jsonl --ranks 2", "t.jsonl");
+  expect_bad_input("replay --policy static", "give --trace or --workload");
 }

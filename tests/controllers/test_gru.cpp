@@ -220,3 +220,49 @@ TEST(Features, AreClampedAndDimensionless) {
   const FeatureVector expected{1, 1, 2, 4, 0.3, 4, 0, -1, 1, std::cos(M_PI / 2), 1, 1};
   for (int i = 0; i < kFeatureCount; ++i) EXPECT_NEAR(f[i], expected[i], 1e-12) << feature_names()[i];
 }
+
+// boundary-v2 squashes where v1 clamps: equal to first order at small values, distinct (never flat) at engine values.
+TEST(Features, SetV2SquashesTheImbalancesAndTheLastMoveInsteadOfClamping) {
+  BoundaryState s;
+  s.local_imbalance = 3.0;        // engine workloads: |I_t| up to ~1 and beyond
+  s.prev_local_imbalance = 1.0;
+  s.global_imbalance = 4.0;
+  s.mean_width = 10;
+  s.width_left = s.width_right = 10;
+  s.last_move = 10;               // 4 quarter-widths
+  s.ds_max = 1;
+  const auto v1 = boundary_features(s, FeatureSet::v1), v2 = boundary_features(s, FeatureSet::v2);
+  EXPECT_EQ(v1[0], 1.0);
+  EXPECT_DOUBLE_EQ(v2[0], 0.75);        // 3 / (1 + 3)
+  EXPECT_DOUBLE_EQ(v2[1], 2.0 / 3.0);   // change 2
+  EXPECT_EQ(v1[2], 2.0);
+  EXPECT_DOUBLE_EQ(v2[2], 0.8);         // 4 / (1 + 4)
+  EXPECT_DOUBLE_EQ(v2[7], 0.8);         // last move 4 quarter-widths
+  for (int i : {3, 4, 5, 6, 8, 9, 10, 11}) EXPECT_EQ(v1[i], v2[i]) << feature_names()[i];
+  s.local_imbalance = 2.5;  // v1 cannot tell 2.5 from 3; v2 can
+  EXPECT_EQ(boundary_features(s, FeatureSet::v1)[0], v1[0]);
+  EXPECT_LT(boundary_features(s, FeatureSet::v2)[0], v2[0]);
+  s.local_imbalance = 1e-3;
+  EXPECT_NEAR(boundary_features(s, FeatureSet::v2)[0], 1e-3, 1e-6);
+  EXPECT_THROW(parse_feature_set("boundary-v3", "x: "), InputError);
+}
+
+// A weights file names its feature set; a v2 file loads as v2, and with a zero head it is still reactive.
+TEST(GruWeightsFile, CarriesItsFeatureSet) {
+  GruWeights w = GruWeights::random_zero_head(24, kFeatureCount, 3);
+  w.features = FeatureSet::v2;
+  const auto path = write_weights(w, "v2.h5");
+  EXPECT_EQ(load_gru_weights(path).features, FeatureSet::v2);
+  EXPECT_EQ(h5::File::open_read(path).read_text_attr("feature_set"), "boundary-v2");
+  auto gru = gru_policy(path);
+  auto reactive = make_policy("reactive");
+  Stream stream;
+  std::vector<int> b = {20, 40, 60};
+  for (int t = 0; t < 100; ++t) {
+    const Observation o = stream.next(b, 80, 3, t);
+    const auto expected = reactive->decide(o);
+    ASSERT_EQ(gru->decide(o), expected) << "event " << t;
+    b = expected;
+  }
+  fs::remove(path);
+}

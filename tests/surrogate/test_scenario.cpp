@@ -117,3 +117,22 @@ TEST(Scenario, BadOverridesAreInputErrorsNamingTheKey) {
   EXPECT_NE(message({{"growth_period", "10"}, {"growth_offset", "10"}}).find("scenario.growth_offset: "), std::string::npos);
   EXPECT_EQ(message({{"slices", "8"}, {"min_width", "2"}}), "no error");
 }
+
+// The moving front (never drawn, only by override): the work behind it grows as it advances, ahead of it nothing changes,
+// and without it the scenario is what the seed draws.
+TEST(Scenario, AProliferativeFrontRaisesTheWorkBehindItAsItMoves) {
+  const ScenarioSet still = {{"burst_probability", "0"}, {"growth_rate", "0"}, {"growth_period", "100000"}, {"drift_speed", "0"},
+                             {"drift_walk", "0"}};
+  ScenarioSet front = still;
+  front.insert({{"front_amplitude", "2"}, {"front_speed", "0.01"}, {"front_start", "0.1"}});
+  const Scenario base = make_scenario(9010, 4, still), f = make_scenario(9010, 4, front);
+  EXPECT_EQ(f.texture, base.texture);
+  Workload wb(base), wf(f);
+  for (int t = 0; t < 40; ++t) wb.advance(), wf.advance();  // the front is at 0.1 + 0.4 = 0.5
+  const int n = f.slices;
+  auto at = [&](const Workload& w, double x) { return w.work()[static_cast<int>(x * n)]; };
+  EXPECT_NEAR(at(wf, 0.2) - at(wb, 0.2), 2.0 * f.texture[static_cast<int>(0.2 * n)] / n, 1e-12);  // 0.3 behind: the full ramp
+  EXPECT_NEAR(at(wf, 0.4) - at(wb, 0.4), 1.0 * f.texture[static_cast<int>(0.4 * n)] / n, 0.02 * 2.0 / n);  // 0.1 behind: half
+  EXPECT_EQ(at(wf, 0.7), at(wb, 0.7));  // ahead of the front
+  EXPECT_THROW(make_scenario(9010, 4, {{"front_amplitude", "-1"}}), semlb::InputError);
+}

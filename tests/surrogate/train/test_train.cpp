@@ -193,3 +193,62 @@ TEST(SoftRollout, TruncatedBpttKeepsTheForwardPassAndShortensGradients) {
   EXPECT_FALSE(torch::allclose(full_grad, cut_grad));
   EXPECT_THROW(load_train_config("", {"bptt=-1"}), InputError);
 }
+
+// Trace-driven episodes: windows of a recorded workload at a rank count that fits, from a file the config names, and
+// the mixed family's three sources in the proportions asked for.
+TEST(Episodes, TraceDrivenEpisodesReplayWindowsOfAWorkloadFile) {
+  EngineWorkload w;
+  w.slices = 64;
+  w.min_width = 2;
+  w.cutoff_um = 8.75;
+  w.ghost_reach_um = 8.8;
+  w.rebalance_every = 10;
+  for (int t = 0; t < 30; ++t) {
+    WorkloadEvent e;
+    e.step = 10 * (t + 1);
+    e.elements = 64;
+    e.cells = 8;
+    e.interval_s = 1;
+    e.growth_event = t % 5 == 0;
+    for (int s = 0; s < 64; ++s) {
+      e.slice_work.push_back(s < 2 * t + 2 ? 50 : 1);  // a front moving right by 2 slices per event
+      e.slice_elements.push_back(1);
+    }
+    e.band_below.assign(63, 1);
+    e.band_above.assign(63, 1);
+    w.events.push_back(e);
+  }
+  const auto dir = test::fresh_dir("train_trace_episodes");
+  write_workload(dir + "/w.h5", w);
+  auto c = load_train_config("", {"batch=4", "events=6", "validation_seeds=8000-8001", "trace_fraction=0.5",
+                                  "front_fraction=0.5", "workloads=" + dir + "/w.h5", "trace_coarsen_max=2"});
+  const auto loaded = load_training_workloads(c);
+  ASSERT_EQ(loaded.size(), 1u);
+  int traces = 0, fronts = 0, plain = 0;
+  for (long step = 0; step < 100; ++step) {
+    const auto e = make_episode(c, step, 0, loaded);
+    if (e.source == "workload:0") {
+      ++traces;
+      ASSERT_EQ(e.work.size(), 7u);
+      ASSERT_TRUE(e.scenario.slices == 64 || e.scenario.slices == 32) << e.scenario.slices;
+      ASSERT_GE(e.scenario.ranks, 2);
+      ASSERT_LE(static_cast<long>(e.scenario.ranks) * e.scenario.min_width, e.scenario.slices);
+      double first = 0, total = 0;  // the front: the work of the window's first event is a step of 50s then 1s
+      for (double x : e.work[0]) first += x > 1.5 * e.work[0].back(), total += 1;
+      ASSERT_GT(first, 0);
+      ASSERT_LT(first, total);
+    } else {
+      (e.source == "front" ? fronts : plain) += 1;
+      ASSERT_TRUE(surrogate::kTrainSeeds.contains(e.scenario.seed));
+    }
+  }
+  EXPECT_GT(traces, 35);
+  EXPECT_LT(traces, 65);
+  EXPECT_GT(fronts, 10);
+  EXPECT_GT(plain, 10);
+  EXPECT_EQ(make_episode(c, 3, 1, loaded).work, make_episode(c, 3, 1, loaded).work);
+  EXPECT_THROW(load_train_config("", {"trace_fraction=0.5"}), InputError);  // no workloads named
+  EXPECT_THROW(load_train_config("", {"features=boundary-v9"}), InputError);
+  c.workloads = dir + "/absent.h5";
+  EXPECT_THROW(load_training_workloads(c), InputError);
+}
