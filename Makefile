@@ -10,7 +10,7 @@ MANIFESTS := $(wildcard experiments/*.yaml)
 export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
-.PHONY: deps build test experiments epidermis development analysis bench train clean surrogate-fit
+.PHONY: deps build test experiments epidermis development analysis bench train train-synthetic train-v1 clean surrogate-fit
 
 deps:
 	bash scripts/install-deps.sh
@@ -59,9 +59,19 @@ surrogate-fit: build
 	$(PYTHON) analysis/fit_surrogate.py --semlb $(SEMLB) --results results --csv results/surrogate/surrogate_fit.csv \
 	  --params-csv results/surrogate/surrogate_fit_params.csv --table results/surrogate/surrogate_fit.md
 
-# Regenerates the shipped GRU weights (about 20 min on 2 cores); resumes after an interruption.
+# Regenerates the shipped GRU weights from the mixed family of issue 25 (engine workloads + synthetic, features
+# boundary-v2; docs/train.md "Engine workloads"), and its synthetic-only ablation; each resumes after an interruption.
 train: build
-	$(SEMLB) train --config surrogate/train/default.yaml --out controllers/weights/gru_default.h5
+	$(SEMLB) train --config surrogate/train/engine_mixed.yaml --out controllers/weights/gru_default.h5
+train-synthetic: build
+	$(SEMLB) train --config surrogate/train/engine_synthetic.yaml --out controllers/weights/gru_synthetic.h5
+# The recipe of the weights shipped before issue 25 (synthetic scenarios, boundary-v1), kept as gru_v1_migration_penalty_2.h5.
+train-v1: build
+	$(SEMLB) train --config surrogate/train/default.yaml --out controllers/weights/gru_v1_migration_penalty_2.h5
+
+# The engine workload library (results/gpu/workloads/README.md) needs an OpenCL GPU: bash scripts/gpu/workload_library.sh.
+# The controller evaluation on it: experiments/controller_eval_engine.yaml (part of `make experiments`), tables by
+# analysis/engine_eval.py.
 
 bench: build
 	$(SEMLB) bench policies --ranks 16
