@@ -2,6 +2,9 @@
 // model (surrogate/workload_replay.hpp): `semlb replay --workload`'s rollout as sweep rows.
 #include <filesystem>
 #include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
 
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
@@ -33,14 +36,14 @@ class WorkloadEvalRunner final : public Runner {
     const auto r = replay_of(job, manifest);
     const Setting* w = job.find("workload");
     if (!w) throw InputError(where(manifest, 0, "workload") + "missing (an engine workload file, output.workload)");
-    EngineWorkload workload;
+    std::shared_ptr<const EngineWorkload> workload;
     try {
-      workload = read_workload(path_of(*w, o).string());
+      workload = load(path_of(*w, o).string());
     } catch (const InputError& e) {
       throw InputError(where_of(*w, manifest, "workload") + e.what());
     }
     try {
-      surrogate::replay_track(workload, r, path_of(*w, o).string());
+      surrogate::replay_track(*workload, r, path_of(*w, o).string());
     } catch (const InputError& e) {
       throw InputError(where_of(*job.find("ranks"), manifest, "ranks") + e.what());
     }
@@ -59,9 +62,9 @@ class WorkloadEvalRunner final : public Runner {
     const Setting& w = *job.find("workload");
     const std::string name = job.find("policy")->value;
     auto policy = make_policy(name, policy_params(job, "")[name]);
-    const auto workload = read_workload(path_of(w, o).string());
-    const auto res = surrogate::replay_workload(workload, r, *policy, name, path_of(w, o).string());
-    const auto track = surrogate::replay_track(workload, r, w.value);
+    const auto workload = load(path_of(w, o).string());
+    const auto res = surrogate::replay_workload(*workload, r, *policy, name, path_of(w, o).string());
+    const auto track = surrogate::replay_track(*workload, r, w.value);
     return {{w.value, name, std::to_string(r.ranks), std::to_string(r.seed), std::to_string(res.events),
              std::to_string(track.slices), format_real(res.mean_imbalance), std::to_string(res.migration),
              format_real(res.loop_s), format_real(res.ideal_s), format_real(res.migrate_s),
@@ -70,6 +73,16 @@ class WorkloadEvalRunner final : public Runner {
   }
 
  private:
+  // Each workload file is read once per sweep (jobs share it; the sweep may run jobs on several threads).
+  std::shared_ptr<const EngineWorkload> load(const std::string& path) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto& slot = cache_[path];
+    if (!slot) slot = std::make_shared<const EngineWorkload>(read_workload(path));
+    return slot;
+  }
+  mutable std::mutex mutex_;
+  mutable std::map<std::string, std::shared_ptr<const EngineWorkload>> cache_;
+
   static fs::path path_of(const Setting& s, const RunOptions& o) {
     const fs::path p(s.value);
     return p.is_absolute() ? p : fs::path(o.base_dir) / p;
