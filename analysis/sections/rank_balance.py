@@ -42,14 +42,15 @@ def figure(rows, where):
     """One panel per policy, one line per rank: computation time per interval against iterations (10^3)."""
     p = plt()
     policies = order_policies(r["policy"] for r in rows)
+    scale = 1000 if max(int(r["step"]) for r in rows) >= 5000 else 1
     fig, axes = p.subplots(1, len(policies), figsize=(4 * len(policies), 3.7), sharey=True, squeeze=False)
     for ax, pol in zip(axes[0], policies):
         for rank in sorted({r["rank"] for r in rows}, key=int):
             pts = sorted((int(r["step"]), float(r["compute_s"])) for r in rows if r["policy"] == pol and r["rank"] == rank)
-            ax.plot([q[0] / 1000 for q in pts], [q[1] for q in pts], "o-", ms=3, lw=1, label=f"rank {rank}")
+            ax.plot([q[0] / scale for q in pts], [q[1] for q in pts], "o-", ms=3, lw=1, label=f"rank {rank}")
         s, n = spread(rows, pol)
         ax.set_title(f"{pol}: mean I_global {100 * s:.0f}%", fontsize=10)
-        ax.set_xlabel("iteration (10$^3$)")
+        ax.set_xlabel("iteration (10$^3$)" if scale == 1000 else "iteration")
         ax.grid(alpha=0.3)
     axes[0][0].set_ylabel("computation time per interval (s)")
     axes[0][0].legend(fontsize=7, ncol=2)
