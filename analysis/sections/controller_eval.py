@@ -155,6 +155,11 @@ def build(ctx):
                                  f"{ev} events per rollout"),
                      ctx.source(LONG) + "\n\n" + ctx.table("controller_long", controller_table(
                          long_rows, f"Controller evaluation, {ev}-event rollouts (surrogate)"))))
+    registered = ctx.names("policies")
+    missing = [p for p in registered if p not in {r["policy"] for r in rows}]
+    if missing:
+        runs[0] = runs[0][:2] + (runs[0][2] + f"\nPolicies the binary registers that this CSV does not evaluate "
+                                 f"(`semlb list policies`): {', '.join(missing)}.\n",)
     cs = checks(rows)
     held = sum(ok for _, ok, _ in cs)
     reading = (f"{held} of {len(cs)} claims hold on the means: " +
