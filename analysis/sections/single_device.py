@@ -130,7 +130,8 @@ def build(ctx):
                             f"not known")
             reading += ". The small profile (PoCL on 2 CPU cores) shows the same O(n) / O(n^2) split at 60-6000 cells."
             supported = True
-            summary = (f"in shape (near-linear binned); H200 binned {b1[0]:.3g} s / {b2[0]:.3g} s at {b1[1]:.3g} / {b2[1]:.3g} elements vs L40S 7.2 s / "
+            summary = (f"in shape (near-linear binned); H200 binned {b1[0]:.3g} s / {b2[0]:.3g} s at "
+                       f"{b1[1]:.3g} / {b2[1]:.3g} elements vs L40S 7.2 s / "
                        f"255 s; growth {ratio:.0f}x for {growth:.0f}x elements (paper 35x for 40x)")
             return Part(runs, PAPER_LINE, reading, supported, summary)
     return Part(runs, PAPER_LINE, reading, supported)

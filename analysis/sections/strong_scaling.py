@@ -135,7 +135,8 @@ def build(ctx):
                    "scales closer to ideal. No 16-GPU run (paper E_16 31%): the largest machine had 8 GPUs.")
         supported = True
         return Part(runs, PAPER_LINE, reading, supported,
-                    f"in shape (sublinear, larger case scales better); E_8 {100 * e8:.0f}% (435K, paper 45%)" + (f", {100 * e60:.0f}% (60K, paper 36%)" if e60 else "")
+                    f"in shape (sublinear, larger case scales better); E_8 {100 * e8:.0f}% (435K, paper 45%)"
+                    + (f", {100 * e60:.0f}% (60K, paper 36%)" if e60 else "")
                     + "; no E_16 (paper 31%)")
     return Part(runs, PAPER_LINE, reading, supported)
 
