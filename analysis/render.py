@@ -87,7 +87,8 @@ def draw(ax, centre, shape, types, basis):
         angle = math.degrees(math.atan2(v[1, 1], v[0, 1]))
         near = (depth[k] - dmin) / (dmax - dmin) if dmax > dmin else 1.0
         base = np.array(to_rgb(COLOURS[types[k] % len(COLOURS)]))
-        colour = base * (0.55 + 0.45 * near) + (1 - (0.55 + 0.45 * near)) * 0.15
+        light = 0.4 + 0.6 * near  # far cells darker, so the front row does not hide where the layers lie
+        colour = base * light
         ax.add_patch(Ellipse((proj[k, 0], proj[k, 1]), 2 * math.sqrt(max(w[1], 1e-9)), 2 * math.sqrt(max(w[0], 1e-9)),
                              angle=angle, facecolor=colour, edgecolor="k", linewidth=0.25))
     return {t: int((types == t).sum()) for t in sorted(set(types.tolist()))}
