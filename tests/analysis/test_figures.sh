@@ -47,20 +47,21 @@ first_extra=$(grep -n "^\*Beyond the paper" "$rep" | head -1 | cut -d: -f1)
 last_paper=$(grep -n '^\*Paper: Fig' "$rep" | tail -1 | cut -d: -f1)
 [ "$last_paper" -lt "$first_extra" ] || { echo "a section beyond the paper comes before a paper figure"; exit 1; }
 # Every section names its profile and machine, and every paper section the paper's numbers and a reading.
-awk '/^## [0-9]+\. /{if (s) print s; s=$0; next} {s=s "\n" $0} END{print s}' RS='\n' "$rep" > /dev/null
-n=0
-while IFS= read -r -d $'\x1e' sec; do
-  [ -z "${sec// /}" ] && continue
-  n=$((n + 1))
-  title=$(printf '%s' "$sec" | head -1)
-  printf '%s' "$sec" | grep -q "profile \*\*" || { echo "no profile in: $title"; exit 1; }
-  printf '%s' "$sec" | grep -q "machine: " || { echo "no machine in: $title"; exit 1; }
-  if printf '%s' "$sec" | grep -q '^\*Paper: Fig'; then
-    printf '%s' "$sec" | grep -q '^\*\*Paper\.\*\* ' || { echo "no paper numbers in: $title"; exit 1; }
-    printf '%s' "$sec" | grep -q '^\*\*Reading' || { echo "no reading in: $title"; exit 1; }
-  fi
-done < <(awk '/^## [0-9]+\. /{printf "\x1e"} {print}' "$rep" | tail -c +2; printf '\x1e')
-[ "$n" -ge 9 ] || { echo "only $n sections"; exit 1; }
+"$py" - "$rep" <<'PY' || exit 1
+import re, sys
+text = open(sys.argv[1]).read()
+sections = re.split(r"(?m)^(?=## \d+\. )", text)[1:]
+assert len(sections) >= 9, f"only {len(sections)} sections"
+for sec in sections:
+    title = sec.splitlines()[0]
+    assert "profile **" in sec, f"no profile in: {title}"
+    assert "machine: " in sec, f"no machine in: {title}"
+    if sec.count("*Paper: Fig.") == 1:
+        assert re.search(r"(?m)^\*\*Paper\.\*\* ", sec), f"no paper numbers in: {title}"
+        assert re.search(r"(?m)^\*\*Reading", sec), f"no reading in: {title}"
+        for word in ("ranks: ", "cores: ", "launches: ", "intervals: "):
+            assert word in sec, f"no '{word}' in: {title}"
+PY
 # Numbers that must come from the data: H200 E_8 at 435,661 cells (6.319 / 0.933 / 8 = 85%), the paper's beside.
 grep -qF "E_8 85% (435K, paper 45%)" "$rep" || { echo "strong-scaling comparison"; grep -n "E_8" "$rep"; exit 1; }
 grep -qF "4xH200: static 11.6%, reactive 8.9% / 347 slices, gru 8.4% / 82 slices" "$rep" || { echo "load balance"; exit 1; }
