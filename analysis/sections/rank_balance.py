@@ -98,7 +98,7 @@ def build(ctx):
                         f"Committed paper profile (GPU, {machine})",
                         f"profile **paper** (435,661 cells, epidermis scene) · machine: {machine} · ranks: {ranks} "
                         f"({gpus}) · cores: - · launches: 1 per policy · intervals: {n}",
-                        "From " + ctx.committed_source(rel) + ".", f"{ranks} ranks on {gpus} ({machine}), {n} intervals"))
+                        "From " + ctx.committed_source(rel) + ".", f"{ranks} ranks on {gpus}, {machine.split(':')[0]}, {n} intervals, one launch per policy"))
         verdicts.append((f"{ranks}xH200", verdict(rows)))
     if not runs:
         return None
