@@ -70,7 +70,7 @@ Action add_sweep(CLI::App& app) {
     if (sum.finished) {  // a job may write several CSV rows (one per interval and rank, per launch, ...)
       std::ifstream csv(sum.csv_path);
       const long lines = std::count(std::istreambuf_iterator<char>(csv), std::istreambuf_iterator<char>(), '\n');
-      std::cerr << "wrote " << sum.csv_path << " (" << sum.rows << " jobs, " << sum.resumed << " of them resumed; "
+      std::cerr << "wrote " << sum.csv_path << " (" << sum.rows << " jobs, " << sum.resumed << " resumed; "
                 << std::max(0L, lines - 1) << " rows)\n";
     }
     return 0;
