@@ -249,11 +249,12 @@ class Context:
                 self._names[kind] = []
         return self._names[kind]
 
-    def cpu_run(self, rel, ranks="1", launches=1, intervals="-", extra=""):
-        """The setup line of a small-profile run under RESULTS/rel: its profile (manifest copy) and this machine."""
+    def cpu_run(self, rel, ranks="1", launches=1, intervals="-", extra="", what="CPU backends, OpenCL on PoCL"):
+        """The setup line of a run under RESULTS/rel: its profile (manifest copy; small without one), this machine
+        and what ran on it."""
         profile = self.provenance(rel)[0] or "small"
-        return setup(profile, f"this machine ({this_machine()}; CPU backends, OpenCL on PoCL)", ranks, os.cpu_count(),
-                     launches, intervals, extra)
+        return setup(profile, f"this machine ({this_machine()}; {what})", ranks, os.cpu_count(), launches, intervals,
+                     extra)
 
     def source(self, rel):
         """'From `RESULTS/rel` (`command`, revision R)'."""

@@ -146,13 +146,14 @@ def build(ctx):
     body = (ctx.source(CSV) + "\n\n" + ctx.table("controller_eval", controller_table(rows)) + "\n"
             + ctx.figure("controller_eval", controller_figure(rows, where)))
     runs = [("This run (surrogate)", ctx.cpu_run(CSV, ranks, 1, f"{events} events per rollout",
-                                                 f"{len(seeds)} seeds; deterministic, no timing"), body)]
+                                                 f"{len(seeds)} seeds; deterministic, no timing",
+                                                 what="the surrogate, no engine"), body)]
     long_rows = ctx.rows(LONG)
     if long_rows:
         ev = long_rows[0]["events"]
         runs.append((f"The longer rollout ({ev} events; the paper's stability check)",
                      ctx.cpu_run(LONG, ",".join(sorted({r['ranks'] for r in long_rows}, key=int)), 1,
-                                 f"{ev} events per rollout"),
+                                 f"{ev} events per rollout", what="the surrogate, no engine"),
                      ctx.source(LONG) + "\n\n" + ctx.table("controller_long", controller_table(
                          long_rows, f"Controller evaluation, {ev}-event rollouts (surrogate)"))))
     registered = ctx.names("policies")

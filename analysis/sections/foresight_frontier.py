@@ -33,7 +33,8 @@ def build(ctx):
     if not rows:
         return None
     ranks = ",".join(sorted({r["ranks"] for r in rows}, key=int))
-    return Part([("This run (surrogate)", ctx.cpu_run(CSV, ranks, 1, f"{rows[0].get('events', '?')} events per rollout"),
+    return Part([("This run (surrogate)", ctx.cpu_run(CSV, ranks, 1, f"{rows[0].get('events', '?')} events per rollout",
+                                                                  what="the surrogate, no engine"),
                   ctx.source(CSV) + "\n\n" + ctx.table("foresight_frontier", frontier_table(rows, ctx.rows(EVAL) or [])))],
                 "Not in the paper (a bound on what the GRU's migration target asks).",
                 "No paper comparison: the lazy oracle bounds what any policy can reach with so few migrations.")

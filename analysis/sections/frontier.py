@@ -226,7 +226,8 @@ def build(ctx):
     ranks = ",".join(sorted({r["ranks"] for r in rows}, key=int))
     body = (ctx.source(CSV) + "\n\n" + ctx.table("frontier", balancer_frontier_table(rows)) + "\n"
             + ctx.figure("frontier", balancer_frontier_figure(rows)))
-    return Part([("This run (surrogate)", ctx.cpu_run(CSV, ranks, 1, f"{rows[0].get('events', '?')} events per rollout"), body)],
+    return Part([("This run (surrogate)", ctx.cpu_run(CSV, ranks, 1, f"{rows[0].get('events', '?')} events per rollout",
+                                                                  what="the surrogate, no engine"), body)],
                 "Not in the paper: it compares the RNN with static, reactive and forecast policies only.",
                 "No paper comparison; the tables say where the shipped GRU stands against production balancers.")
 

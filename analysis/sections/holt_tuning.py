@@ -28,7 +28,8 @@ def build(ctx):
     if not rows:
         return None
     ranks = ",".join(sorted({r["ranks"] for r in rows}, key=int))
-    return Part([("This run (surrogate, training seeds)", ctx.cpu_run(CSV, ranks, 1, f"{rows[0].get('events', '?')} events per rollout"),
+    return Part([("This run (surrogate, training seeds)", ctx.cpu_run(CSV, ranks, 1, f"{rows[0].get('events', '?')} events per rollout",
+                                                                  what="the surrogate, no engine"),
                   ctx.source(CSV) + "\n\n" + ctx.table("holt_tuning", holt_tuning_table(rows)))],
                 "The paper names Holt-based forecasting (its refs.) without its smoothing parameters.",
                 "Sets the holt policy's alpha and beta used in the controller evaluation; nothing to compare.")

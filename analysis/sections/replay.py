@@ -61,7 +61,7 @@ def build_replay(ctx):
     if not rows:
         return None
     n = len({r["trace"] for r in rows})
-    return Part([("This run (replay of recorded traces)", ctx.cpu_run(REPLAY, "per trace", 1, "per trace", f"{n} traces"),
+    return Part([("This run (replay of recorded traces)", ctx.cpu_run(REPLAY, "per trace", 1, "per trace", f"{n} traces", what="semlb replay --score"),
                   ctx.source(REPLAY) + "\n\n" + ctx.table("replay_score", replay_score_table(rows)))],
                 "Not in the paper (it evaluates controllers in its surrogate only).",
                 "No paper comparison: how the policies rank on the engine's own work profiles.")

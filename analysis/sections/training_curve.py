@@ -46,7 +46,8 @@ def build(ctx):
         return None
     body = (ctx.source(CSV) + "\n\n" + ctx.table("training_curve", training_curve_table(rows)) + "\n"
             + ctx.figure("training_curve", training_curve_figure(rows)))
-    return Part([("This run (trainer, libtorch on the CPU)", ctx.cpu_run(CSV, "-", 1, f"{len(rows)} validations"), body)],
+    return Part([("This run (trainer, libtorch on the CPU)", ctx.cpu_run(CSV, "-", 1, f"{len(rows)} validations",
+                                                                       what="libtorch trainer on the CPU"), body)],
                 "The paper trains with pytorch 2.5.1 and gives no curve.",
                 "No paper comparison; the shipped weights come from the paper profile (6000 steps, `make train`).")
 
