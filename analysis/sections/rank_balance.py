@@ -5,8 +5,8 @@ from .common import Part, order_policies, plt, register
 
 CSV = "rank_balance/rank_balance.csv"
 DEV_CSV = "end_to_end/rank_balance.csv"  # experiments/end_to_end_ranks.yaml: Day 0-5 of the developing epidermis
-GPU = [("gpu/rank_balance/rank_balance_435661_4ranks_4gpus.csv", "machine C: 4 H200s", "4 H200s (one per rank)"),
-       ("gpu/rank_balance/rank_balance_435661_8ranks_8gpus.csv", "machine D: 8 H200s", "8 H200s (one per rank)")]
+GPU = [("gpu/rank_balance/rank_balance_435661_4ranks_4gpus.csv", "machine C: 4 H200s", "4 H200s, one per rank"),
+       ("gpu/rank_balance/rank_balance_435661_8ranks_8gpus.csv", "machine D: 8 H200s", "8 H200s, one per rank")]
 PAPER_LINE = ("8 L40S GPUs, 435K cells, 100,000 iterations (qualitative, no numbers): static keeps persistent "
               "differences between ranks; reactive narrows the spread after imbalance shows; the RNN tightens the "
               "curves further and slightly lowers per-rank times.")

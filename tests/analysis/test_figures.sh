@@ -41,7 +41,7 @@ done
 rep=$r/REPORT.md
 # One section per paper figure, in the paper's order, before any section beyond the paper.
 want="fig:single_gpu fig:scaling fig:rank_balance fig:load_balance fig:rnn_prediction fig:epidermal_visualization"
-got=$(grep -o '^\*Paper: Fig\. `fig:[a-z_]*`' "$rep" | grep -o 'fig:[a-z_]*' | tr '\n' ' ' | sed 's/ $//')
+got=$(grep -o '^\*Paper: Fig\. `fig:[a-z_]*`' "$rep" | grep -o 'fig:[a-z_]*' | uniq | tr '\n' ' ' | sed 's/ $//')
 [ "$got" = "$want" ] || { echo "paper sections: '$got'"; exit 1; }
 first_extra=$(grep -n "^\*Beyond the paper" "$rep" | head -1 | cut -d: -f1)
 last_paper=$(grep -n '^\*Paper: Fig' "$rep" | tail -1 | cut -d: -f1)
