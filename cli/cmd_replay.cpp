@@ -19,8 +19,9 @@ Action add_replay(CLI::App& app) {
     bool score = false;
   };
   auto o = std::make_shared<Opts>();
-  auto* sub = app.add_subcommand("replay", "Apply a policy to a JSON Lines trace; prints one JSON line per event");
-  sub->add_option("--policy", o->policy, "Policy name: " + registered_list("policies"))->required();
+  auto* sub = app.add_subcommand("replay", "Apply a policy to a JSON Lines trace; prints one JSON line per event. Policies: " +
+                                            registered_list("policies"));
+  sub->add_option("--policy", o->policy, "Policy name")->required();
   sub->add_option("--trace", o->trace, "Trace file (JSON Lines, one event per line)")->required();
   sub->add_option("--weights", o->weights, "GRU weights file (HDF5)");
   sub->add_option("--param", o->params, "Policy parameter POLICY.KEY=VALUE (repeatable)");
