@@ -38,20 +38,22 @@ experiments: build
 # The paper's use case: a small epidermis run rendered like the paper's epidermal figure.
 epidermis: build
 	$(SEMLB) sim --scene scenes/epidermis.yaml --out $(RESULTS)/epidermis --steps 3000
-	$(PYTHON) analysis/render.py $(RESULTS)/epidermis/final.h5 $(RESULTS)/figures/epidermis.png
+	$(PYTHON) analysis/render.py $(RESULTS)/epidermis/final.h5 $(RESULTS)/figures/epidermis.png --semlb $(SEMLB)
 
 # Day 0-5 of the developing epidermis (issue 18), one process, at the small profile's step (experiments/end_to_end.yaml):
-# six snapshots, Day 0 to Day 5, rendered as panels.
+# six snapshots, Day 0 to Day 5, rendered as panels of ellipsoids seen from the side (analysis/render.py), with a
+# ParaView state of the same snapshots and a CSV of cells per type and thickness per day beside the figure.
 DEV := $(RESULTS)/development
 development: build
 	$(SEMLB) sim --quiet --scene scenes/epidermis_development.yaml --out $(DEV) --set time.dt=0.1 --set time.steps=1200 \
 	  --set time.cell_update_every=5 --set output.snapshot_every=240 --set output.checkpoint_every=0
 	$(PYTHON) analysis/render.py $(DEV)/snapshots/step_000000000.h5 $(DEV)/snapshots/step_000000240.h5 \
 	  $(DEV)/snapshots/step_000000480.h5 $(DEV)/snapshots/step_000000720.h5 $(DEV)/snapshots/step_000000960.h5 \
-	  $(DEV)/snapshots/step_000001200.h5 $(RESULTS)/figures/development.png --view 35 -80
+	  $(DEV)/snapshots/step_000001200.h5 $(RESULTS)/figures/development.png --semlb $(SEMLB) \
+	  --paraview $(RESULTS)/figures/development_paraview.py --summary $(RESULTS)/figures/development.csv
 
 analysis:
-	$(PYTHON) analysis/report.py --results $(RESULTS)
+	$(PYTHON) analysis/report.py --results $(RESULTS) --semlb $(SEMLB)
 
 # The surrogate fitted to every engine trace under results/ and the policies' ranks on both (docs/controllers.md
 # "Surrogate fitted to engine traces"); several minutes on 2 cores, so not part of `make experiments`.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""results/gpu/peer_yalla.csv from the output of ../shared/bench/peer_yalla/run.sh (issue 14's peer benchmark).
+"""results/gpu/peer_yalla.csv from the output of scripts/gpu/peer_yalla/run.sh (issue 14's peer benchmark).
 
 Usage: peer_yalla.py --machine TEXT LOG > peer_yalla.csv
 LOG holds rounds of `semlb bench engine` tables followed by ya||a lines ("yalla grid_solver n=N ...

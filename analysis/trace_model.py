@@ -9,10 +9,12 @@ time is split between ranks, not the total: R^2 is taken around each event's mea
 (0: no better than "every rank takes the mean"), and the mean relative error is mean |P_er - T_er| / T_er.
 Events whose times are all zero (a run's first event at step 0) are left out.
 The run's `decomposition.timing` comes from the scene.yaml beside the trace: with `modelled`, times ARE the work
-sums (R^2 = 1 by construction); such traces are listed but left out of the pooled row.
+sums (R^2 = 1 by construction); such traces are listed but left out of the pooled rows. Committed traces (under
+DIR/cpu, DIR/gpu) and the ones a fresh `make experiments` made are pooled apart: pooled_measured_committed and
+pooled_measured.
 
 Usage: trace_model.py --results DIR [--out CSV]   (every DIR/**/trace.jsonl; prints the table; CSV: one row per
-trace and a pooled row, trace=pooled_measured). Exit 2 with FILE:LINE: field 'NAME': reason on a bad trace.
+trace and a pooled row per origin, trace=pooled_measured (fresh) / pooled_measured_committed). Exit 2 with FILE:LINE: field 'NAME': reason on a bad trace.
 Python stdlib only (PyYAML is not needed: the timing key is read line by line).
 """
 import argparse
@@ -28,6 +30,16 @@ COLUMNS = ["trace", "timing", "ranks", "slices", "events", "points", "r2", "mean
 
 class TraceError(Exception):
     pass
+
+
+# Folders under a results folder that hold committed traces (results/cpu: the 2-core VM, results/gpu: H200s); every
+# other trace there was made by this checkout's own `make experiments`. Pooled rows never mix the two.
+COMMITTED = ("cpu", "gpu", "surrogate")
+
+
+def origin(rel):
+    """'committed' for a trace folder (relative to the results folder) under one of COMMITTED, else 'fresh'."""
+    return "committed" if rel.replace(os.sep, "/").split("/", 1)[0] in COMMITTED else "fresh"
 
 
 def find_traces(root):
@@ -138,7 +150,7 @@ def main():
     if not os.path.isdir(a.results):
         print(f"--results: '{a.results}' is not a folder", file=sys.stderr)
         return 2
-    rows, pooled = [], []
+    rows, pooled = [], {"fresh": [], "committed": []}
     try:
         for path in find_traces(a.results):
             events = read_events(path)
@@ -149,17 +161,18 @@ def main():
                          "slices": events[0][1], "events": len(events), "points": points, "r2": r2,
                          "mean_rel_error": mre, "max_rel_error": mx})
             if timing == "measured":
-                pooled += events
+                pooled[origin(rows[-1]["trace"])] += events
     except TraceError as err:
         print(err, file=sys.stderr)
         return 2
     if not rows:
         print(f"--results: no trace.jsonl under '{a.results}'", file=sys.stderr)
         return 2
-    if pooled:
-        points, r2, mre, mx = score(pooled)
-        rows.append({"trace": "pooled_measured", "timing": "measured", "ranks": "", "slices": "",
-                     "events": len(pooled), "points": points, "r2": r2, "mean_rel_error": mre, "max_rel_error": mx})
+    for kind, name in (("fresh", "pooled_measured"), ("committed", "pooled_measured_committed")):
+        if pooled[kind]:
+            points, r2, mre, mx = score(pooled[kind])
+            rows.append({"trace": name, "timing": "measured", "ranks": "", "slices": "", "events": len(pooled[kind]),
+                         "points": points, "r2": r2, "mean_rel_error": mre, "max_rel_error": mx})
     for r in rows:
         print(" ".join(f"{k}={fmt(r[k])}" for k in COLUMNS))
     if a.out:

@@ -149,7 +149,7 @@ Action add_bench(CLI::App& app) {
                   "cells (the host cell stage, per part)")
       ->required()->check(CLI::IsMember({"policies", "train", "engine", "cells"}));
   sub->add_option("--scene", o->scene, "Scene (default: scenes/mechanics.yaml for bench engine, scenes/epidermis.yaml for bench cells)");
-  sub->add_option("--backends", o->backends, "Comma-separated backends (bench engine, cells)")->capture_default_str();
+  sub->add_option("--backends", o->backends, "Comma-separated backends (bench engine, cells): " + registered_list("backends"))->capture_default_str();
   sub->add_option("--cells", o->cells, "Cell counts, e.g. 200,2000 (bench engine, cells)")->capture_default_str();
   sub->add_option("--previous", o->previous,
                   "Earlier ms/step, one per row (backends x cells, comma-separated): prints the ratio (bench engine)");

@@ -23,7 +23,8 @@ Action add_replay(CLI::App& app) {
     long seed = 0;
   };
   auto o = std::make_shared<Opts>();
-  auto* sub = app.add_subcommand("replay", "Apply a policy to a JSON Lines trace; prints one JSON line per event");
+  auto* sub = app.add_subcommand("replay", "Apply a policy to a JSON Lines trace; prints one JSON line per event. Policies: " +
+                                            registered_list("policies"));
   sub->add_option("--policy", o->policy, "Policy name")->required();
   auto* trace = sub->add_option("--trace", o->trace, "Trace file (JSON Lines, one event per line)");
   auto* workload = sub->add_option("--workload", o->workload,

@@ -31,11 +31,11 @@ std::vector<std::string> scene_overrides(const SceneFlags& f) {
 }
 
 void add_scene_flags(CLI::App* sub, SceneFlags& f) {
-  sub->add_option("--backend", f.backend, "serial, cpu-binned, opencl-allpairs or opencl-binned (default: the scene's)");
+  sub->add_option("--backend", f.backend, "Backend: " + registered_list("backends") + " (default: the scene's)");
   sub->add_option("--precision", f.precision, "double or float (default: the scene's)");
   sub->add_option("--platform", f.platform, "OpenCL platform name substring, e.g. NVIDIA or Portable");
   sub->add_option("--device", f.device, "OpenCL device index within the platform")->check(strict_integer(0, 1024));
-  sub->add_option("--set", f.set, "Scene override KEY.PATH=VALUE, e.g. tissue.cells=2000 (repeatable)");
+  sub->add_option("--set", f.set, "Scene override KEY.PATH=VALUE, e.g. tissue.cells=2000 (repeatable); effects: " + registered_list("effects") + "; cell types: " + registered_list("cell-types"));
 }
 
 namespace {

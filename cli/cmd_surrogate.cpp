@@ -3,6 +3,7 @@
 
 #include "commands.hpp"
 #include "common/text_io.hpp"
+#include "common/version.hpp"
 #include "experiments/sweep.hpp"
 #include "surrogate/evaluate.hpp"
 
@@ -17,7 +18,7 @@ Action add_surrogate(CLI::App& app) {
   };
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("surrogate", "Evaluate policies on surrogate scenarios (hard integer boundaries)");
-  sub->add_option("--policies", o->policies, "Comma-separated policy names (static,reactive,persistence,holt,gru,oracle,lazy_oracle)")->required();
+  sub->add_option("--policies", o->policies, "Comma-separated policy names: " + registered_list("policies"))->required();
   sub->add_option("--ranks", o->ranks, "Rank counts, e.g. 2,4,8,16 or 2-16")->capture_default_str();
   sub->add_option("--seeds", o->seeds, "Scenario seeds, inclusive ranges (evaluation seeds: 9000-9999)")->capture_default_str();
   sub->add_option("--events", o->events, "Rebalancing events per rollout")->capture_default_str()->check(strict_integer(1));
@@ -68,7 +69,7 @@ Action add_surrogate(CLI::App& app) {
     so.run.trace_dir = o->dump_traces ? o->out + "/traces" : "";
     so.progress = !o->quiet;
     so.fresh = !o->resume;
-    so.git_revision = SEMLB_GIT_REVISION;
+    so.git_revision = version_string();
     so.command_line = command_line();
     const auto sum = experiments::run_sweep(m, {}, so);
     std::cerr << "wrote " << sum.csv_path << " (" << sum.rows << " rows)\n";

@@ -1,10 +1,13 @@
 // `semlb sweep MANIFEST`: run an experiment manifest (resumable) into RESULTS/<output>.
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <thread>
 
 #include "commands.hpp"
 #include "common/errors.hpp"
+#include "common/version.hpp"
 #include "experiments/sweep.hpp"
 
 namespace semlb::cli {
@@ -20,7 +23,7 @@ Action add_sweep(CLI::App& app) {
   };
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("sweep", "Run an experiment manifest; rerunning resumes an interrupted sweep");
-  sub->add_option("manifest", o->manifest, "Manifest file (YAML), e.g. experiments/controller_eval.yaml")->required();
+  sub->add_option("manifest", o->manifest, "Manifest file (YAML), e.g. experiments/controller_eval.yaml; its runner: " + registered_list("runners"))->required();
   sub->add_option("--profile", o->profile, "Profile (small, paper); default: small when the manifest has it");
   sub->add_option("--set", o->sets, "Override KEY=VALUE (an axis takes a comma list or A-B range; repeatable)");
   sub->add_option("--results", o->results, "Results directory")->capture_default_str();
@@ -59,12 +62,17 @@ Action add_sweep(CLI::App& app) {
     so.run.timing = !o->no_timing;
     if (o->keep_runs) so.run.trace_dir = (std::filesystem::path(o->results) / m.output).parent_path() / "runs";
     so.progress = !o->quiet;
-    so.git_revision = SEMLB_GIT_REVISION;
+    so.git_revision = version_string();  // "0.1.0 (git REV)" in every manifest copy
     so.launcher = o->launcher;
     so.slurm = o->slurm;
     so.slurm.wait = !o->no_wait;
     const auto sum = experiments::run_sweep(m, o->sets, so);
-    if (sum.finished) std::cerr << "wrote " << sum.csv_path << " (" << sum.rows << " rows, " << sum.resumed << " resumed)\n";
+    if (sum.finished) {  // a job may write several CSV rows (one per interval and rank, per launch, ...)
+      std::ifstream csv(sum.csv_path);
+      const long lines = std::count(std::istreambuf_iterator<char>(csv), std::istreambuf_iterator<char>(), '\n');
+      std::cerr << "wrote " << sum.csv_path << " (" << sum.rows << " jobs, " << sum.resumed << " resumed; "
+                << std::max(0L, lines - 1) << " rows)\n";
+    }
     return 0;
   };
 }

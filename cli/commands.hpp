@@ -17,6 +17,12 @@ Action add_sweep(CLI::App& app);
 Action add_bench(CLI::App& app);
 Action add_train(CLI::App& app);
 Action add_sim(CLI::App& app);
+Action add_list(CLI::App& app);
+
+// The names a registry holds (policies, effects, backends, cell-types, runners, launchers), as `semlb list` prints
+// them, and as "a, b, c" for --help texts.
+std::vector<std::string> registered(const std::string& what);
+std::string registered_list(const std::string& what);
 
 // Flags shared by the subcommands that run scenes (sim, bench engine); -1/empty = the scene's value.
 struct SceneFlags {

@@ -71,4 +71,6 @@ std::unique_ptr<Runner> make_runner(const std::string& name, const std::string& 
   return (*factory)();
 }
 
+std::vector<std::string> runner_names() { return registry().names(); }
+
 }  // namespace semlb::experiments

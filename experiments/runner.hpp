@@ -56,5 +56,7 @@ struct RunnerRegistrar {
 };
 
 std::unique_ptr<Runner> make_runner(const std::string& name, const std::string& manifest);
+// The registered runner names, in name order (`semlb list runners`).
+std::vector<std::string> runner_names();
 
 }  // namespace semlb::experiments

@@ -66,7 +66,11 @@ class Progress {
  public:
   Progress(std::string name, size_t total, size_t resumed, bool on)
       : name_(std::move(name)), total_(total), done_(resumed), resumed_(resumed), on_(on),
-        tty_(isatty(fileno(stderr))), start_(std::chrono::steady_clock::now()) {}
+        tty_(isatty(fileno(stderr))), start_(std::chrono::steady_clock::now()) {
+    // A line at once, so a sweep whose first job runs long says it started (then one per finished job)
+    if (on_) std::fprintf(stderr, "%s[%s] %zu/%zu jobs (%zu resumed)  starting%s", tty_ ? "\r" : "", name_.c_str(), done_,
+                          total_, resumed_, tty_ ? "" : "\n");
+  }
   void tick() {
     ++done_;
     if (!on_) return;
@@ -74,7 +78,7 @@ class Progress {
     if (!tty_ && ran % step != 0 && done_ != total_) return;
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     const double eta = ran ? s / ran * (total_ - done_) : 0.0;
-    std::fprintf(stderr, "%s[%s] %zu/%zu rows (%zu resumed)  %.1f s  ETA %.1f s%s", tty_ ? "\r" : "", name_.c_str(),
+    std::fprintf(stderr, "%s[%s] %zu/%zu jobs (%zu resumed)  %.1f s  ETA %.1f s%s", tty_ ? "\r" : "", name_.c_str(),
                  done_, total_, resumed_, s, eta, tty_ && done_ != total_ ? "" : "\n");
   }
 

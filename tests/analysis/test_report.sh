@@ -29,7 +29,7 @@ dev="$work/tables/accuracy_development.md"
 grep -q "^| double | 0.05 | 8.75 | [0-9.]* | 147 (115/24/8) | 0 | 0 | 0 | 0 |$" "$dev" || { echo "reference row"; cat "$dev"; exit 1; }
 grep -q "^| float | 0.05 | 8.75 | [0-9.]* | 146 (114/24/8) | 0.68 | 0.00445 | 0.0227 | 2.66 |$" "$dev" || { echo "float row"; cat "$dev"; exit 1; }
 test "$(grep -c '^| [0-9]* | \(double\|float\) |' "$dev")" -eq 24 || { echo "not 4 runs x 6 sample times"; cat "$dev"; exit 1; }
-grep -q "^## tables/accuracy_development.md" "$work/REPORT.md"
+grep -q "^## [0-9]*\. What accuracy costs on the developing epidermis, Day 0-5$" "$work/REPORT.md"
 head -c 8 "$work/figures/accuracy_development.png" | od -An -c | grep -q "P   N   G"
 grep -q "^!\[figures/accuracy_development.png\]" "$work/REPORT.md"
 if "${PYTHON:-/usr/bin/python3}" "$src/analysis/report.py" --results "$work/empty" 2>/dev/null; then echo "empty results accepted"; exit 1; fi

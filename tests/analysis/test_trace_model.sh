@@ -29,7 +29,7 @@ mkdir -p "$work/r/replay_score"
 printf 'policy,trace,ranks,slices,events,mean_imbalance,migration,mean_max_over_mean\nstatic,load_balance/runs/a,2,4,2,0.5,0,0.25\nreactive,load_balance/runs/a,2,4,2,0.25,3,0.125\n' \
   > "$work/r/replay_score/replay_score.csv"
 "$py" "$src/analysis/report.py" --results "$work/r" >/dev/null
-grep -qF '| load_balance/runs/a | measured | 2 | 2 | 4 | 0.500 | 33.3 | 100.0 |' "$work/r/tables/trace_model.md" || { cat "$work/r/tables/trace_model.md"; exit 1; }
+grep -qF '| load_balance/runs/a | fresh | measured | 2 | 2 | 4 | 0.500 | 33.3 | 100.0 |' "$work/r/tables/trace_model.md" || { cat "$work/r/tables/trace_model.md"; exit 1; }
 grep -qF '| load_balance/runs/a | 2 | 2 | 50.00 / 0 | 25.00 / 3 |' "$work/r/tables/replay_score.md" || { cat "$work/r/tables/replay_score.md"; exit 1; }
 # A line without slice_work: FILE:LINE: field, exit 2, the earlier CSV left as it was.
 echo '{"event":2,"slices":4,"min_width":1,"boundaries":[2],"times":[3,1]}' >> "$work/r/load_balance/runs/a/trace.jsonl"
@@ -40,4 +40,21 @@ set -e
 [ "$rc" = 2 ] || { echo "FAIL: exit $rc on a bad trace"; exit 1; }
 grep -qF "load_balance/runs/a/trace.jsonl:3: field 'slice_work': missing" <<<"$out" || { echo "FAIL: $out"; exit 1; }
 [ "$(cat "$csv")" = "$want" ] || { echo "FAIL: the CSV changed on bad input"; exit 1; }
+# Committed traces (under cpu/, gpu/) and this run's are pooled apart, and replay_score averages them apart.
+mkdir -p "$work/o/load_balance/runs/a" "$work/o/cpu/load_balance/runs/a"
+head -2 "$work/r/load_balance/runs/a/trace.jsonl" > "$work/o/load_balance/runs/a/trace.jsonl"
+cp "$work/r/load_balance/runs/a/scene.yaml" "$work/o/load_balance/runs/a/"
+printf '%s\n' '{"event":0,"slices":4,"min_width":1,"boundaries":[2],"times":[2,2],"slice_work":[1,1,1,1]}' \
+  > "$work/o/cpu/load_balance/runs/a/trace.jsonl"
+cp "$work/r/load_balance/runs/a/scene.yaml" "$work/o/cpu/load_balance/runs/a/"
+"$py" "$src/analysis/trace_model.py" --results "$work/o" --out "$work/o/trace_model/trace_model.csv" >/dev/null
+grep -qx "pooled_measured,measured,,,2,4,0.5,0.333333,1" "$work/o/trace_model/trace_model.csv" || { cat "$work/o/trace_model/trace_model.csv"; exit 1; }
+grep -q "^pooled_measured_committed,measured,,,1,2," "$work/o/trace_model/trace_model.csv" || { cat "$work/o/trace_model/trace_model.csv"; exit 1; }
+mkdir -p "$work/o/replay_score"
+printf 'policy,trace,ranks,slices,events,mean_imbalance,migration,mean_max_over_mean\nstatic,load_balance/runs/a,2,4,2,0.5,0,0.25\nstatic,cpu/load_balance/runs/a,2,4,1,0.1,0,0.05\n' \
+  > "$work/o/replay_score/replay_score.csv"
+"$py" "$src/analysis/report.py" --results "$work/o" >/dev/null
+t="$work/o/tables/replay_score.md"
+grep -qF "| **mean over these 1 traces** | | | **50.00 / 0.0** |" "$t" && grep -qF "| **mean over these 1 traces** | | | **10.00 / 0.0** |" "$t" \
+  && grep -q "^## Traces committed, results/cpu" "$t" && grep -q "^## Traces fresh" "$t" || { echo "FAIL: origins mixed"; cat "$t"; exit 1; }
 echo "analysis.trace_model: ok"

@@ -164,3 +164,45 @@ TEST(Cli, BenchPrintsATableRowPerPolicy) {
   for (const char* p : {"static", "reactive", "persistence", "holt", "gru", "oracle", "foresight"})
     EXPECT_NE(r.out.find(std::string("\n") + p + " "), std::string::npos) << p;
 }
+
+TEST(Cli, VersionNamesTheGitRevision) {
+  const auto r = run(semlb_bin() + " --version");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  // "semlb 0.1.0 (git 865c72d1a2b3)": the project version and the revision CMake configured with
+  EXPECT_EQ(r.out.rfind("semlb 0.1.0 (git ", 0), 0u) << r.out;
+  EXPECT_NE(r.out.find(")"), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+}
+
+TEST(Cli, ListPrintsTheRegistries) {
+  const auto types = run(semlb_bin() + " list cell-types --json");
+  ASSERT_EQ(types.rc, 0) << types.out;
+  EXPECT_EQ(types.out, "[\"basal\",\"spinous\",\"granular\"]\n");  // by type index, as the state files store them
+  const auto policies = run(semlb_bin() + " list policies");
+  ASSERT_EQ(policies.rc, 0) << policies.out;
+  for (const char* p : {"static\n", "reactive\n", "persistence\n", "holt\n", "gru\n", "oracle\n", "lazy_oracle\n",
+                        "gromacs_dlb\n", "foresight\n"})
+    EXPECT_NE(policies.out.find(p), std::string::npos) << p << policies.out;
+  for (const char* what : {"effects", "backends", "runners", "launchers"}) {
+    const auto r = run(semlb_bin() + " list " + what + " --json");
+    EXPECT_EQ(r.rc, 0) << what;
+    EXPECT_EQ(r.out.rfind("[\"", 0), 0u) << what << ": " << r.out;
+  }
+  expect_bad_input("list nothing", "nothing");
+}
+
+TEST(Cli, HelpListsEveryRegisteredName) {
+  // surrogate --help names every policy `semlb list policies` prints, sim --help every backend and effect.
+  const auto help = run(semlb_bin() + " surrogate --help");
+  std::istringstream names(run(semlb_bin() + " list policies").out);
+  std::string name;
+  int n = 0;
+  while (std::getline(names, name)) {
+    EXPECT_NE(help.out.find(name), std::string::npos) << name << " missing from surrogate --help";
+    ++n;
+  }
+  EXPECT_GE(n, 12);
+  const auto sim = run(semlb_bin() + " sim --help");
+  std::istringstream backends(run(semlb_bin() + " list backends").out + run(semlb_bin() + " list effects").out);
+  while (std::getline(backends, name)) EXPECT_NE(sim.out.find(name), std::string::npos) << name << " missing from sim --help";
+}

@@ -52,7 +52,7 @@ TEST(Sweep, KilledSweepResumesWithoutLosingOrDuplicatingRows) {
   write(dir + "/cut/sub/resume.csv.partial", text + "holt,4,90");  // and a torn last row
   const auto resumed = run(base + dir + "/cut");
   ASSERT_EQ(resumed.rc, 0) << resumed.out;
-  EXPECT_NE(resumed.out.find("(30 rows, " + std::to_string(finished) + " resumed)"), std::string::npos) << resumed.out;
+  EXPECT_NE(resumed.out.find("(30 jobs, " + std::to_string(finished) + " resumed; 30 rows)"), std::string::npos) << resumed.out;
   std::string want = reference;
   ASSERT_NE(want.find(original + "\n"), std::string::npos);
   want.replace(want.find(original + "\n"), original.size(), marked);

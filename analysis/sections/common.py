@@ -1,0 +1,262 @@
+"""What every report section shares: CSV reading, atomic writes, the section registry, provenance, setup lines."""
+import csv
+import json
+import os
+import platform
+import re
+import statistics
+import subprocess
+from collections import OrderedDict
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+# The paper's figures of its evaluation section (Sec. V), in its order: (label, what the figure shows).
+PAPER_FIGURES = OrderedDict([
+    ("fig:single_gpu", "Single-device element-interaction time against elements"),
+    ("fig:scaling", "Multi-GPU strong scaling: computation time and speedup, two sizes"),
+    ("fig:rank_balance", "Per-rank computation time per interval: static, reactive, RNN (GRU)"),
+    ("fig:load_balance", "End-to-end load balancing: runtime, mean imbalance, migration"),
+    ("fig:rnn_prediction", "Controller evaluation on held-out scenarios: imbalance and migration"),
+    ("fig:epidermal_visualization", "Epidermal development, Day 0-5: cells as ellipsoids by type"),
+])
+
+# The paper's order of the policies it compares (its Sec. V-E); names the binary lists beyond these follow by name.
+PAPER_POLICY_ORDER = ["static", "persistence", "holt", "reactive", "gru", "oracle"]
+
+
+class Section:
+    """One section of REPORT.md: `key` (its anchor), `order` (paper figures 1-6 in the paper's order, then the
+    extra experiments from 10), `title` (what it shows), `paper` (the paper label it reproduces, or None), `csvs`
+    (CSV paths relative to the results folder it reads; the first is the one whose manifest copy it cites) and
+    `build(ctx)` returning a Part, or None when it has nothing to show."""
+
+    def __init__(self, key, order, title, build, csvs=(), paper=None):
+        self.key, self.order, self.title, self.build, self.csvs, self.paper = key, order, title, build, list(csvs), paper
+
+
+class Part:
+    """A section's content: `runs` (list of (heading, setup line, markdown body)), `paper` (the paper's numbers),
+    `reading` (one line: agrees / differs and why), `supported` (False when the data does not support the paper's
+    claim, None when there is nothing to compare), `summary` (a few words for the report's contents table)."""
+
+    def __init__(self, runs, paper="", reading="", supported=None, summary=""):
+        self.runs, self.paper, self.reading, self.supported, self.summary = runs, paper, reading, supported, summary
+
+
+SECTIONS = []
+
+
+def register(key, order, title, build, csvs=(), paper=None):
+    """Adds a section to the report; each module of analysis/sections/ calls this for what it shows."""
+    SECTIONS.append(Section(key, order, title, build, csvs, paper))
+
+
+def read_rows(path):
+    """The rows of a CSV as dicts (csv.DictReader)."""
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def atomic_write(path, text_or_fig):
+    """Writes text or a matplotlib figure (PNG) to a temporary file, then renames it onto path."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    tmp = path + ".tmp"
+    if isinstance(text_or_fig, str):
+        with open(tmp, "w") as f:
+            f.write(text_or_fig)
+    else:
+        text_or_fig.savefig(tmp, dpi=130, format="png")
+        import matplotlib.pyplot as plt
+        plt.close(text_or_fig)
+    os.replace(tmp, path)
+
+
+def plt():
+    """matplotlib.pyplot on the Agg backend."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as p
+    return p
+
+
+def by(rows, column):
+    """column value -> rows with it, in first-seen order."""
+    out = OrderedDict()
+    for r in rows:
+        out.setdefault(r[column], []).append(r)
+    return out
+
+
+def mean_sd(vals):
+    """(mean, sample sd; 0 for one value)."""
+    return statistics.fmean(vals), (statistics.stdev(vals) if len(vals) > 1 else 0.0)
+
+
+def fmean(vals):
+    vals = list(vals)
+    return statistics.fmean(vals) if vals else float("nan")
+
+
+# t quantiles t_{0.975, df} for the 95% interval (df 1..30; beyond, the normal 1.96 is within 2%)
+T975 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145, 2.131,
+        2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042]
+
+
+def t_interval(diffs):
+    """Mean and 95% t-interval half-width of paired differences (n >= 2; half-width inf for n = 1)."""
+    import math
+    m = statistics.fmean(diffs)
+    if len(diffs) < 2:
+        return m, math.inf
+    df = len(diffs) - 1
+    return m, (T975[df - 1] if df <= len(T975) else 1.96) * statistics.stdev(diffs) / math.sqrt(len(diffs))
+
+
+def order_policies(names):
+    """Policy names in the paper's order, then the others by name."""
+    return sorted(set(names), key=lambda p: (PAPER_POLICY_ORDER.index(p) if p in PAPER_POLICY_ORDER else 99, p))
+
+
+def this_machine():
+    """'CPU model, N cores' of the machine running the report (where `make experiments` made the small profile)."""
+    model = platform.processor() or "CPU"
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    model = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    return f"{model}, {os.cpu_count()} cores"
+
+
+def setup(profile, machine, ranks="1", cores=None, launches=1, intervals="-", extra=""):
+    """The one line each result states: profile, machine, ranks, cores, launches and intervals."""
+    cores = cores if cores is not None else os.cpu_count()
+    line = (f"profile **{profile}** · machine: {machine} · ranks: {ranks} · cores: {cores} · launches: {launches} · "
+            f"intervals: {intervals}")
+    return line + (f" · {extra}" if extra else "")
+
+
+def committed_date(path):
+    """The date (YYYY-MM-DD) of the last commit of a repository file, or 'uncommitted'."""
+    try:
+        out = subprocess.run(["git", "-C", REPO, "log", "-1", "--format=%cs", "--", os.path.relpath(path, REPO)],
+                             capture_output=True, text=True, timeout=20).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        out = ""
+    return out or "uncommitted"
+
+
+def gpu_machines():
+    """Machine letter -> number of H200s, from results/gpu/machines.txt (the letters of the GPU CSVs)."""
+    out = {}
+    path = os.path.join(REPO, "results", "gpu", "machines.txt")
+    if os.path.exists(path):
+        for line in open(path):
+            m = re.match(r"^([A-Z]) GPU \d+: (.*) \(UUID", line)
+            if m:
+                out[m.group(1)] = out.get(m.group(1), 0) + 1
+    return out
+
+
+class Context:
+    """What a section's build sees: the results folder, the committed results, the binary's registries and the
+    writers of tables and figures (each write is recorded for the report)."""
+
+    def __init__(self, results, committed, semlb):
+        self.results, self.committed, self.semlb = results, committed, semlb
+        self.written = []
+        self._names = {}
+
+    def path(self, rel):
+        return os.path.join(self.results, rel)
+
+    def rows(self, rel):
+        """The rows of RESULTS/rel, or None when the file is absent or empty."""
+        p = self.path(rel)
+        if not os.path.exists(p):
+            return None
+        rows = read_rows(p)
+        return rows or None
+
+    def committed_rows(self, rel):
+        """The rows of a committed CSV (rel to the repository's results/), or None."""
+        p = os.path.join(self.committed, rel)
+        return read_rows(p) if os.path.exists(p) else None
+
+    def committed_source(self, rel):
+        """'`results/rel` (committed DATE)' for a committed file."""
+        return f"`results/{rel}` (committed {committed_date(os.path.join(self.committed, rel))})"
+
+    def table(self, name, text):
+        """Writes RESULTS/tables/NAME.md; returns its body for inlining (its '# ' title made a '####' heading)."""
+        rel = f"tables/{name}.md"
+        atomic_write(self.path(rel), text)
+        self.written.append(rel)
+        print(f"report: wrote {self.path(rel)}")
+        return text.replace("\n# ", "\n#### ").removeprefix("# ").split("\n", 1)[-1].strip() + "\n"
+
+    def figure(self, name, fig):
+        """Writes RESULTS/figures/NAME.png; returns the markdown image line."""
+        rel = f"figures/{name}.png"
+        atomic_write(self.path(rel), fig)
+        self.written.append(rel)
+        print(f"report: wrote {self.path(rel)}")
+        return f"![{rel}]({rel})\n"
+
+    def provenance(self, rel):
+        """(profile, command, revision) from the sweep's manifest copy beside RESULTS/rel, or Nones."""
+        p = os.path.splitext(self.path(rel))[0] + ".manifest.yaml"
+        if not os.path.exists(p):
+            return None, None, None
+        lines = open(p).read().splitlines()
+        command = lines[0].lstrip("# ").strip() if lines else ""
+        profile = command.split("--profile ")[1].split()[0] if "--profile " in command else "?"
+        rev = next((l.split(":", 1)[1].strip() for l in lines[:4] if l.startswith("# git revision:")), "?")
+        rev = rev if "git" in rev else f"git {rev}"
+        return profile, command, rev
+
+    def manifest_setting(self, rel, key, default=None):
+        """A `set:` value of the profile the sweep ran (the manifest copy beside RESULTS/rel): the profile's
+        `set:` first, then the manifest's; `default` when absent or unreadable."""
+        p = os.path.splitext(self.path(rel))[0] + ".manifest.yaml"
+        profile = self.provenance(rel)[0]
+        if not os.path.exists(p):
+            return default
+        try:
+            import yaml  # python3-yaml; only the manifest copy's settings need it
+            doc = yaml.safe_load(open(p)) or {}
+        except Exception:  # noqa: BLE001 - no yaml module or a copy it cannot read: the default
+            return default
+        prof = ((doc.get("profiles") or {}).get(profile) or {})
+        for block in ((prof.get("set") or {}), (prof.get("axes") or {}), (doc.get("set") or {}), (doc.get("axes") or {})):
+            if key in block:
+                return block[key]
+        if key == "launches":
+            return prof.get("launches", doc.get("launches", default))
+        return default
+
+    def names(self, kind):
+        """The names the binary registers for KIND (`semlb list KIND --json`: policies, effects, backends,
+        cell-types, runners, launchers); [] when the binary is not there."""
+        if kind not in self._names:
+            try:
+                out = subprocess.run([self.semlb, "list", kind, "--json"], capture_output=True, text=True, timeout=30)
+                self._names[kind] = json.loads(out.stdout) if out.returncode == 0 else []
+            except (OSError, ValueError, subprocess.SubprocessError):
+                self._names[kind] = []
+        return self._names[kind]
+
+    def cpu_run(self, rel, ranks="1", launches=1, intervals="-", extra="", what="CPU backends, OpenCL on PoCL"):
+        """The setup line of a run under RESULTS/rel: its profile (manifest copy; small without one), this machine
+        and what ran on it."""
+        profile = self.provenance(rel)[0] or "small"
+        return setup(profile, f"this machine ({this_machine()}; {what})", ranks, os.cpu_count(), launches, intervals,
+                     extra)
+
+    def source(self, rel):
+        """'From `RESULTS/rel` (`command`, revision R)'."""
+        _, command, rev = self.provenance(rel)
+        return f"From `{rel}`" + (f" (`{command}`, {rev})" if command else "") + "."
