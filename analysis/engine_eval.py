@@ -22,25 +22,44 @@ KNOB_PREFIXES = ("reactive.", "gromacs_dlb.", "hoomd_balance.", "all_tensor.", "
 
 
 def read_points(path):
-    """{(workload, ranks): [point]} with point = dict(policy, setting, imbalance, migration, loop_s, seeds)."""
-    groups = defaultdict(list)
+    """{(workload, ranks): [point]} of a CSV file (read_points_rows); ValueError naming the file on bad input."""
     with open(path) as f:
         rows = list(csv.DictReader(f))
     if not rows:
         raise ValueError(f"{path}: no rows")
+    try:
+        return read_points_rows(rows)
+    except ValueError as err:
+        raise ValueError(f"{path}:{err}")
+
+
+def read_points_rows(rows):
+    """{(workload, ranks): [point]} with point = dict(policy, setting, imbalance, migration, loop_s, seeds): each
+    (workload, policy, knob setting, P) averaged over the replay seeds. ValueError "LINE: field ..." on a bad row."""
+    groups = defaultdict(list)
     knobs = [c for c in rows[0] if c.startswith(KNOB_PREFIXES)]
     for n, r in enumerate(rows, 2):
         try:
             key = (r["workload"], int(r["ranks"]), r["policy"], tuple((k, r[k]) for k in knobs if r[k] != ""))
             groups[key].append((float(r["mean_imbalance"]), float(r["migration"]), float(r["loop_s"])))
         except (KeyError, ValueError) as err:
-            raise ValueError(f"{path}:{n}: field {err}")
+            raise ValueError(f"{n}: field {err}")
     out = defaultdict(list)
     for (w, p, policy, setting), v in groups.items():
         out[(w, p)].append({"policy": policy, "setting": " ".join(f"{k.split('.', 1)[1]}={x}" for k, x in setting),
                             "imbalance": math.fsum(x[0] for x in v) / len(v), "migration": math.fsum(x[1] for x in v) / len(v),
                             "loop_s": math.fsum(x[2] for x in v) / len(v), "seeds": len(v)})
     return out
+
+
+def summary(points_by_key):
+    """{target: (holding cells, cells)} over every (workload, P)."""
+    out = defaultdict(lambda: [0, 0])
+    for key in points_by_key:
+        for name, (ok, _) in evaluate(points_by_key[key])[1].items():
+            out[name][0] += ok
+            out[name][1] += 1
+    return dict(out)
 
 
 def is_reference_reactive(p):
