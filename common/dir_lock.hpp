@@ -5,8 +5,8 @@
 namespace semlb {
 
 // Holds DIR/.semlb.lock (flock, exclusive) for its lifetime; the file holds "PID COMMAND" of the holder while it
-// is held and is emptied on release. The kernel drops the lock when the holder dies, however it dies; the file
-// then still names it, which is how a stale lock is told from a clean one.
+// is held and is removed on release. The kernel drops the lock when the holder dies, however it dies; the file
+// then is still there naming it, which is how a stale lock is told from a clean release.
 class DirLock {
  public:
   // Creates DIR if needed and locks it. When another process holds it: with `wait`, says so once on stderr and

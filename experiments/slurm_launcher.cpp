@@ -227,9 +227,9 @@ std::string log_line(const fs::path& log, size_t i) {
 // parts/INDEX.csv. A failing job is reported ("job I failed: ...") and the others still run; then it throws.
 SweepSummary run_task(const Manifest& m, const SweepOptions& o) {
   SweepOptions to = o;
-  to.run.mpi_launcher = "srun --mpi=pmix --kill-on-bad-exit=1 --cpus-per-task=1" +
-                        (o.slurm.gpus_per_rank > 0 ? " --gpus-per-task=" + std::to_string(o.slurm.gpus_per_rank) : "") +
-                        " --ntasks";
+  to.run.mpi_launcher = {"srun", "--mpi=pmix", "--kill-on-bad-exit=1", "--cpus-per-task=1"};
+  if (o.slurm.gpus_per_rank > 0) to.run.mpi_launcher.push_back("--gpus-per-task=" + std::to_string(o.slurm.gpus_per_rank));
+  to.run.mpi_launcher.push_back("--ntasks");
   const Dirs d((fs::path(o.results_dir) / m.output).string());
   to.run.scratch_dir = d.runs.string();  // shared with rank 0, which may run on another node
   const SweepPlan plan(m, to, SweepPlan::Partial::ignore);
@@ -246,7 +246,7 @@ SweepSummary run_task(const Manifest& m, const SweepOptions& o) {
   for (size_t i : jobs) {
     try {
       if (fail && std::to_string(i) == fail) throw std::runtime_error("failure injected by SEMLB_SWEEP_FAIL_JOB");
-      write_file_atomically(d.part(i).string(), plan.header() + plan.rows(i));
+      write_file_atomically(d.part(i).string(), plan.partial_header() + plan.rows(i));
     } catch (const std::exception& e) {
       std::cerr << "job " << i << " failed: " << e.what() << std::endl;
       ++failed;

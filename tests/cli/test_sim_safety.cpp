@@ -76,5 +76,16 @@ TEST(CliSimSafety, SecondRunIntoAFolderInUseIsRefused) {
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
 }
 
+// Failure 4 for a scene: a policy's weights file named relative to the scene resolves beside the scene, whatever
+// the working directory.
+TEST(CliSimSafety, SceneWeightsResolveBesideTheScene) {
+  const auto dir = fresh_dir("sim_weights_beside");
+  fs::create_directories(dir + "/sub");
+  fs::copy_file(source("controllers/weights/gru_default.h5"), dir + "/sub/w.h5");
+  write(dir + "/sub/s.yaml", slurp(source("scenes/mechanics.yaml")) + "decomposition: {policy: gru, params: {weights: w.h5}}\n");
+  const auto r = run("cd " + dir + " && " + semlb_bin() + " sim --quiet --scene sub/s.yaml --out o --steps 10 --set tissue.cells=20");
+  EXPECT_EQ(r.rc, 0) << r.out;
+}
+
 }  // namespace
 }  // namespace semlb::test
