@@ -107,10 +107,10 @@ std::string settings_digest(const Job& job, const std::string& runner, const Run
   for (const auto& [k, s] : job.settings) {
     d.add(k).add(s.value);
     if (s.value.empty() || s.value.size() >= 4096 || s.value.find('\n') != std::string::npos) continue;
-    std::string f = file_digest(o.resolve(s.value), cache);
-    if (f.empty() && k.size() >= 7 && k.compare(k.size() - 7, 7, "weights") == 0)
-      f = file_digest(resolve_gru_weights(s.value), cache);  // a shipped weights file by its bare name
-    d.add(f);
+    // A policy's weights as the policy finds them (the working directory, then the shipped folder); any other
+    // file relative to the manifest's folder.
+    const bool weights = k.size() >= 7 && k.compare(k.size() - 7, 7, "weights") == 0;
+    d.add(file_digest(weights ? fs::path(resolve_gru_weights(s.value)) : fs::path(o.resolve(s.value)), cache));
   }
   d.add(file_digest(default_gru_weights_path(), cache));
   return d.hex();

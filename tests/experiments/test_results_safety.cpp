@@ -73,6 +73,15 @@ TEST(ResultsSafety, ResumeRecomputesRowsMadeWithOtherSettings) {
   ASSERT_EQ(resumed.rc, 0) << resumed.out;
   EXPECT_NE(resumed.out.find("(30 rows, " + std::to_string(finished) + " resumed)"), std::string::npos) << resumed.out;
   EXPECT_EQ(slurp(dir + "/cut3/sub/d.csv"), ref10);
+  // A file a setting names is part of the digest by its contents: weights rewritten in place between the runs.
+  fs::copy_file(source("controllers/weights/gru_default.h5"), dir + "/w.h5");
+  ASSERT_EQ(run("SEMLB_SWEEP_KILL_AFTER=7 " + base + dir + "/cut4 --set gru.weights=" + dir + "/w.h5").rc, 128 + 9);
+  const size_t made = data_lines(dir + "/cut4/sub/d.csv.partial");
+  fs::copy_file(source("controllers/weights/gru_migration_penalty_8.h5"), dir + "/w.h5", fs::copy_options::overwrite_existing);
+  resumed = run(base + dir + "/cut4 --set gru.weights=" + dir + "/w.h5");
+  ASSERT_EQ(resumed.rc, 0) << resumed.out;
+  EXPECT_NE(resumed.out.find("recomputing " + std::to_string(made) + " of the " + std::to_string(made) + " finished jobs"), std::string::npos)
+      << resumed.out;
 }
 
 // Failure 2: a second sweep into a results folder in use exits 2 naming the holder and writes nothing; with
