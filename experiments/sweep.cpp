@@ -5,13 +5,13 @@
 #include <unistd.h>
 
 #include <atomic>
-#include <chrono>
 #include <cerrno>
+#include <chrono>
 #include <csignal>
-#include <cstring>
-#include <functional>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -99,8 +99,9 @@ const std::string& file_digest(const fs::path& file, FileDigests& cache, bool fo
 
 // The settings digest of a job (docs/experiments.md "Resume"): FNV-1a 64 over the semlb version, the runner,
 // whether wall times are measured, every setting of the job (from the manifest, its profile and --set) and the
-// contents of every file a setting names (relative to the manifest's folder: a scene, a config, weights, and
-// the files a scene names in turn: tissue.file, a policy's weights) and of the shipped GRU weights.
+// contents of every file a setting names (relative to the manifest's folder: a scene, a config, and the files a
+// scene names in turn: tissue.file, a policy's weights; POLICY.weights as the policy finds it) and of the shipped
+// GRU weights.
 std::string settings_digest(const Job& job, const std::string& runner, const RunOptions& o, FileDigests& cache) {
   Digest d;
   d.add(version_string()).add(runner).add(o.timing ? "timing" : "no-timing");
