@@ -49,7 +49,7 @@ Action add_sim(CLI::App& app) {
   struct Opts {
     std::string scene, out, restart;
     SceneFlags flags;
-    bool quiet = false, list = false;
+    bool quiet = false, list = false, wait = false;
   };
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("sim", "Run a scene: DIR/final.h5, snapshots + XDMF, run.csv, checkpoint.h5");
@@ -60,6 +60,7 @@ Action add_sim(CLI::App& app) {
   sub->add_option("--restart", o->restart, "Continue from a checkpoint (DIR/checkpoint.h5): bit-for-bit");
   add_scene_flags(sub, o->flags);
   sub->add_flag("--quiet", o->quiet, "No status line");
+  sub->add_flag("--wait", o->wait, "When another run is writing --out, wait for it (default: exit 2 naming it)");
   sub->add_flag("--list-devices", o->list, "List OpenCL platforms and devices and exit");
   return [o, sub] {
     if (!*sub) return -1;
@@ -76,6 +77,7 @@ Action add_sim(CLI::App& app) {
     if (!mpi) {
       auto scene = engine::load_scene(o->scene, scene_overrides(o->flags));
       engine::RunConfig rc{o->out, o->restart, o->quiet, SEMLB_GIT_REVISION, command_line()};
+      rc.wait = o->wait;
       try {
         const auto sum = engine::run_scene(scene, rc);
         report(sum, o->out);
@@ -91,6 +93,7 @@ Action add_sim(CLI::App& app) {
       engine::Scene scene;
       engine::agree(*mpi, [&] { scene = engine::load_scene(o->scene, scene_overrides(o->flags)); });
       engine::RunConfig rc{o->out, o->restart, o->quiet, SEMLB_GIT_REVISION, command_line()};
+      rc.wait = o->wait;
       const auto sum = engine::run_scene_decomposed(scene, rc, *mpi);
       if (mpi->rank() == 0) report(sum, o->out);
     } catch (const engine::AgreedError& e) {

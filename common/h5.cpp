@@ -45,6 +45,22 @@ File File::create(const std::string& path) {
               path);
 }
 
+File File::create_in_memory(const std::string& name) {
+  Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, name + ": H5Pcreate failed");
+  check(H5Pset_fapl_core(fapl.get(), 1 << 20, 0), "H5Pset_fapl_core");
+  return File(Id(H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose, name + ": cannot create HDF5 file in memory"),
+              name);
+}
+
+std::string File::image() const {
+  check(H5Fflush(id(), H5F_SCOPE_GLOBAL), path_ + ": H5Fflush");
+  const ssize_t n = H5Fget_file_image(id(), nullptr, 0);
+  check(n < 0 ? -1 : 0, path_ + ": H5Fget_file_image");
+  std::string bytes(static_cast<size_t>(n), '\0');
+  check(H5Fget_file_image(id(), bytes.data(), bytes.size()) < 0 ? -1 : 0, path_ + ": H5Fget_file_image");
+  return bytes;
+}
+
 std::vector<std::string> File::list(const std::string& name) const {
   std::vector<std::string> out;
   if (!has(name)) return out;

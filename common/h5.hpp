@@ -29,6 +29,11 @@ class File {
  public:
   static File open_read(const std::string& path);    // throws InputError naming the path
   static File create(const std::string& path);       // truncates
+  // A file in memory only (HDF5's core driver, no backing store): nothing touches the disk; image() is its bytes.
+  // `name` is for messages. Writers save the image with write_file_atomically, so a full disk is one write
+  // error of ours, and HDF5 never holds a half-written file open.
+  static File create_in_memory(const std::string& name);
+  std::string image() const;  // the whole file as bytes (flushes first)
   static File open_write(const std::string& path);   // an existing file, read-write (tests, tools)
   const std::string& path() const { return path_; }
   hid_t id() const { return id_.get(); }

@@ -1,7 +1,12 @@
 // Small text helpers: files, splitting, strict numbers, round-trip reals.
 #include "text_io.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <charconv>
+#include <cstring>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,12 +19,24 @@ namespace semlb {
 
 void write_file_atomically(const std::string& path, const std::string& text) {
   const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out) throw std::runtime_error(tmp + ": write failed");
+  auto fail = [&](const std::string& what, int err) {
+    ::unlink(tmp.c_str());  // no temporary file left; `path` keeps its earlier contents
+    throw std::runtime_error(path + ": " + what + ": " + std::strerror(err));
+  };
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error(path + ": cannot create " + tmp + ": " + std::strerror(errno));
+  for (size_t at = 0; at < text.size();) {
+    const ssize_t n = ::write(fd, text.data() + at, text.size() - at);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int err = n < 0 ? errno : ENOSPC;
+      ::close(fd);
+      fail("write failed", err);
+    }
+    at += static_cast<size_t>(n);
   }
-  std::filesystem::rename(tmp, path);
+  if (::close(fd) != 0) fail("write failed", errno);
+  if (::rename(tmp.c_str(), path.c_str()) != 0) fail("cannot rename " + tmp + " to it", errno);
 }
 
 std::string read_file(const std::string& path) {

@@ -37,7 +37,7 @@ const std::vector<std::string> kSceneNames = {"cells", "backend", "precision", "
 engine::Scene job_scene(const Job& job, const std::string& manifest, const std::string& base_dir) {
   const Setting* file = job.find("scene");
   if (!file) throw InputError(where(manifest, 0, "scene") + "missing (engine runners need a scene file)");
-  const std::string path = std::filesystem::path(file->value).is_absolute() ? file->value : base_dir + "/" + file->value;
+  const std::string path = resolve_path(base_dir, file->value);
   const auto o = scene_overrides(job, kSceneNames, manifest);
   engine::Scene scene;
   try {

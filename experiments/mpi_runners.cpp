@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "common/errors.hpp"
+#include "common/process.hpp"
 #include "common/text_io.hpp"
 #include "engine/decomposition/decomposition.hpp"
 #include "engine/model/scene.hpp"
@@ -37,10 +38,7 @@ std::string get(const Job& job, const std::string& key, const std::string& fallb
   return s ? s->value : fallback;
 }
 
-std::string scene_path(const Job& job, const RunOptions& o) {
-  const std::string scene = get(job, "scene", "");
-  return fs::path(scene).is_absolute() ? scene : o.base_dir + "/" + scene;
-}
+std::string scene_path(const Job& job, const RunOptions& o) { return o.resolve(get(job, "scene", "")); }
 
 // The job's scene with its overrides; an InputError about the file is prefixed with where `scene` was set.
 engine::Scene job_scene(const Job& job, const std::string& manifest, const RunOptions& o) {
@@ -84,7 +82,7 @@ void check_job(const Job& job, const std::string& manifest, const RunOptions& o)
   if (!o.mpi_launcher.empty())
     for (const char* k : {"bind_to", "map_by"})
       if (const Setting* s = job.find(k); s && s->value != "none")
-        throw InputError(where_of(*s, manifest, k) + "applies to this machine's mpirun only; the launcher '" + o.mpi_launcher + "' places the ranks");
+        throw InputError(where_of(*s, manifest, k) + "applies to this machine's mpirun only; the launcher '" + shell_words(o.mpi_launcher) + "' places the ranks");
   scene_overrides(job, kSceneNames, manifest);  // typed values
   if (const long segments = segments_of(job, manifest); segments > 1)
     if (const long steps = job_scene(job, manifest, o).steps; steps % segments != 0)
@@ -100,11 +98,11 @@ void check_job(const Job& job, const std::string& manifest, const RunOptions& o)
   }
 }
 
-// mpirun's placement flags for the job's bind_to / map_by ("" when both are absent or "none").
-std::string placement(const Job& job) {
-  std::string flags;
+// mpirun's placement flags for the job's bind_to / map_by (none when both are absent or "none").
+std::vector<std::string> placement(const Job& job) {
+  std::vector<std::string> flags;
   for (const auto& [k, flag] : {std::pair{"bind_to", "--bind-to"}, {"map_by", "--map-by"}})
-    if (const std::string v = get(job, k, "none"); v != "none") flags += std::string(" ") + flag + " " + v;
+    if (const std::string v = get(job, k, "none"); v != "none") flags.insert(flags.end(), {flag, v});
   return flags;
 }
 
@@ -128,37 +126,39 @@ Launch launch(const Job& job, const RunOptions& o) {
   for (const auto& [k, s] : job.settings) key += k + "=" + s.value + ";";
   const fs::path dir = (o.scratch_dir.empty() ? fs::temp_directory_path() : fs::path(o.scratch_dir)) / ("semlb_mpi_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(key)));
   fs::remove_all(dir);
-  std::ostringstream cmd;
-  const std::string mpi = o.mpi_launcher.empty() ? std::string(SEMLB_MPIEXEC) + " --oversubscribe" + placement(job) + " -np" : o.mpi_launcher;
-  cmd << "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " << mpi << " " << get(job, "ranks", "1") << " " << fs::read_symlink("/proc/self/exe").string() << " sim --quiet --scene " << scene << " --out " << dir.string()
-      << " --set backend.threads=1";
+  // An argument vector, started without a shell (common/process.hpp): paths reach `semlb sim` as they are.
+  std::vector<std::string> argv = o.mpi_launcher;
+  if (argv.empty()) {
+    argv = {SEMLB_MPIEXEC, "--oversubscribe"};
+    for (const auto& f : placement(job)) argv.push_back(f);
+    argv.push_back("-np");
+  }
+  argv.insert(argv.end(), {get(job, "ranks", "1"), fs::read_symlink("/proc/self/exe").string(), "sim", "--quiet", "--scene", scene,
+                           "--out", dir.string(), "--set", "backend.threads=1"});
   auto overrides = scene_overrides(job, kSceneNames, "");
   const std::string policy = row_policy(job, "", o).first;
   for (const auto& [k, s] : job.settings)
     if (is_policy_param(k) && k.rfind(policy + ".", 0) == 0) overrides.push_back("decomposition.params." + k.substr(policy.size() + 1) + "=" + s.value);
-  for (const auto& o : overrides) cmd << " --set " << o;
+  for (const auto& o : overrides) argv.insert(argv.end(), {"--set", o});
   const long segments = segments_of(job, "");
   const long length = segments > 1 ? job_scene(job, "", o).steps / segments : 0;  // steps per segment
   Launch l{dir.string(), 0.0, ""};
   for (long k = 1; k <= segments; ++k) {
-    std::string command = cmd.str();
+    std::vector<std::string> command = argv;
     if (segments > 1) {  // later --set values win (engine::parse_scene applies them in order)
-      command += " --set time.steps=" + std::to_string(k * length) + " --set output.checkpoint_every=" + std::to_string(length);
-      if (k > 1) command += " --restart " + (dir / "checkpoint.h5").string();
+      command.insert(command.end(), {"--set", "time.steps=" + std::to_string(k * length), "--set", "output.checkpoint_every=" + std::to_string(length)});
+      if (k > 1) command.insert(command.end(), {"--restart", (dir / "checkpoint.h5").string()});
     }
-    command += " 2>&1";
     const auto t0 = std::chrono::steady_clock::now();
-    FILE* p = popen(command.c_str(), "r");
-    std::string out;
-    char buf[4096];
-    while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+    const ProcessResult p = run_process(command, {"OMPI_ALLOW_RUN_AS_ROOT=1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1"});
+    const std::string& out = p.output;
     const std::string which = segments > 1 ? " in segment " + std::to_string(k) + " of " + std::to_string(segments) + " (steps " +
                                                  std::to_string((k - 1) * length) + "-" + std::to_string(k * length) + ")"
                                            : "";
-    if (pclose(p) != 0) throw std::runtime_error("MPI launch failed" + which + ": " + command + "\n" + out);
+    if (p.status != 0) throw std::runtime_error("MPI launch failed" + which + ": " + shell_words(command) + "\n" + out);
     if (const size_t at = out.find("semlb sim: restart: "); k > 1 && at != std::string::npos)
       throw std::runtime_error("MPI launch" + which + ": the balancer did not continue from the checkpoint (" +
-                               out.substr(at, out.find('\n', at) - at) + "): " + command);
+                               out.substr(at, out.find('\n', at) - at) + "): " + shell_words(command));
     l.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     l.output = out;
   }
@@ -268,8 +268,8 @@ std::string machine(const Job& job, const Launch& l, const RunOptions& o) {
   const size_t at = l.output.rfind(" s on "), end = l.output.rfind("; wrote ");
   if (at != std::string::npos && end != std::string::npos && end > at) device = l.output.substr(at + 6, end - at - 6);
   std::string m = std::string(host) + " " + std::to_string(std::thread::hardware_concurrency()) + " cpus; " + device +
-                  "; " + (o.mpi_launcher.empty() ? "mpirun" + (placement(job).empty() ? std::string(" default placement") : placement(job))
-                                                 : o.mpi_launcher);
+                  "; " + (o.mpi_launcher.empty() ? "mpirun" + (placement(job).empty() ? std::string(" default placement") : " " + shell_words(placement(job)))
+                                                 : shell_words(o.mpi_launcher));
   std::replace(m.begin(), m.end(), ',', ';');
   std::replace(m.begin(), m.end(), '\n', ' ');
   return m;

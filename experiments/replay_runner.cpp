@@ -20,7 +20,7 @@ const char* const kTraceFile = "trace.jsonl";  // what the engine's rank 0 write
 fs::path traces_dir(const Job& job, const std::string& manifest, const RunOptions& o) {
   const Setting* s = job.find("traces");
   if (!s) throw InputError(where(manifest, 0, "traces") + "missing (the folder searched for " + kTraceFile + " files)");
-  const fs::path p = fs::path(s->value).is_absolute() ? fs::path(s->value) : fs::path(o.base_dir) / s->value;
+  const fs::path p = o.resolve(s->value);
   if (!fs::is_directory(p)) throw InputError(where_of(*s, manifest, "traces") + "'" + p.string() + "' is not a folder");
   return p;
 }

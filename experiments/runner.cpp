@@ -1,6 +1,7 @@
 // Runner registry.
 #include "runner.hpp"
 
+#include <filesystem>
 #include <map>
 
 #include "common/errors.hpp"
@@ -15,6 +16,13 @@ Registry<std::function<std::unique_ptr<Runner>()>>& registry() {
   return r;
 }
 }  // namespace
+
+std::string resolve_path(const std::string& base_dir, const std::string& file) {
+  const std::filesystem::path p(file);
+  return p.is_absolute() || base_dir.empty() ? file : (std::filesystem::path(base_dir) / p).string();
+}
+
+std::string RunOptions::resolve(const std::string& file) const { return resolve_path(base_dir, file); }
 
 std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::string>& names, const std::string& manifest) {
   std::vector<std::string> o;

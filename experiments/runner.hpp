@@ -15,11 +15,18 @@ struct RunOptions {
   bool timing = true;     // false: wall-clock columns are written as 0 (byte-identical reruns)
   std::string trace_dir;  // non-empty: runners that produce traces write them here
   std::string base_dir;   // relative file paths in a manifest are relative to the manifest's folder
-  // How MPI runners start their ranks: a command the rank count is appended to. Empty: this machine's
-  // `mpirun --oversubscribe -np` (the slurm launcher's tasks use `srun --mpi=pmix ... --ntasks`).
-  std::string mpi_launcher;
+  // How MPI runners start their ranks: a program and its arguments, the rank count appended (started without a
+  // shell). Empty: this machine's `mpirun --oversubscribe -np` (the slurm launcher's tasks use `srun --mpi=pmix
+  // ... --ntasks`).
+  std::vector<std::string> mpi_launcher;
   std::string scratch_dir;  // where MPI runs write their files (rank 0 may be on another node); empty: /tmp
+  // FILE as a manifest names it: resolve_path(base_dir, FILE).
+  std::string resolve(const std::string& file) const;
 };
+
+// FILE as the file in folder BASE_DIR names it: absolute as given, else relative to BASE_DIR (the working directory
+// when BASE_DIR is empty).
+std::string resolve_path(const std::string& base_dir, const std::string& file);
 
 class Runner {
  public:

@@ -1,6 +1,5 @@
 // The "slurm" sweep launcher: the unfinished jobs as one Slurm job array (each task runs one or more jobs and
 // writes each job's rows to its own part file); the sweep waits (squeue + part files), collects, assembles OUTPUT.
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -13,6 +12,7 @@
 #include <thread>
 
 #include "common/errors.hpp"
+#include "common/process.hpp"
 #include "common/text_io.hpp"
 #include "sweep.hpp"
 
@@ -37,16 +37,12 @@ std::string quote(const std::string& s) {  // for /bin/sh
   return q + "'";
 }
 
-// Runs a command; its stdout (stderr too), and throws naming the command when it fails.
-std::string command(const std::string& cmd) {
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) throw std::runtime_error("cannot run " + cmd);
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  const int status = pclose(p);
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) throw std::runtime_error(cmd + " failed:\n" + out);
-  return out;
+// Runs a program with its arguments (no shell: common/process.hpp); its stdout (stderr too), and throws naming
+// the command when it fails.
+std::string command(const std::vector<std::string>& argv) {
+  const ProcessResult r = run_process(argv);
+  if (r.status != 0) throw std::runtime_error(shell_words(argv) + " failed:\n" + r.output);
+  return r.output;
 }
 
 // The array task's command: this binary, the same manifest, profile, overrides and output options, plus --task
@@ -67,7 +63,7 @@ using Tasks = std::vector<std::vector<size_t>>;  // array index -> the job indic
 // The cluster's MaxArraySize (array indices must be below it); Slurm's default, 1001, when scontrol cannot tell.
 size_t max_array_size() {
   try {
-    std::stringstream ss(command("timeout 30 scontrol show config"));  // a broken config makes it retry for 60 s
+    std::stringstream ss(command({"timeout", "30", "scontrol", "show", "config"}));  // a broken config makes it retry for 60 s
     for (std::string line; std::getline(ss, line);)
       if (line.rfind("MaxArraySize", 0) == 0) return std::max(1L, parse_integer(line.substr(line.find('=') + 1).substr(1), "MaxArraySize: "));
   } catch (const std::exception&) {
@@ -154,7 +150,7 @@ std::map<std::string, std::string> queued(const std::set<std::string>& jobs) {
   if (jobs.empty()) return q;
   static const std::set<std::string> ended = {"CD", "F", "CA", "TO", "NF", "OOM", "BF", "DL", "PR", "RV"};
   // All of this user's jobs rather than `-j IDS`, which fails once one of them is gone from Slurm.
-  std::stringstream ss(command("squeue --me -h -r -o '%F %K %t'"));
+  std::stringstream ss(command({"squeue", "--me", "-h", "-r", "-o", "%F %K %t"}));
   for (std::string id, task, state; ss >> id >> task >> state;)
     if (jobs.count(id) && !ended.count(state)) q[id + "_" + task] = state;
   return q;
@@ -227,9 +223,9 @@ std::string log_line(const fs::path& log, size_t i) {
 // parts/INDEX.csv. A failing job is reported ("job I failed: ...") and the others still run; then it throws.
 SweepSummary run_task(const Manifest& m, const SweepOptions& o) {
   SweepOptions to = o;
-  to.run.mpi_launcher = "srun --mpi=pmix --kill-on-bad-exit=1 --cpus-per-task=1" +
-                        (o.slurm.gpus_per_rank > 0 ? " --gpus-per-task=" + std::to_string(o.slurm.gpus_per_rank) : "") +
-                        " --ntasks";
+  to.run.mpi_launcher = {"srun", "--mpi=pmix", "--kill-on-bad-exit=1", "--cpus-per-task=1"};
+  if (o.slurm.gpus_per_rank > 0) to.run.mpi_launcher.push_back("--gpus-per-task=" + std::to_string(o.slurm.gpus_per_rank));
+  to.run.mpi_launcher.push_back("--ntasks");
   const Dirs d((fs::path(o.results_dir) / m.output).string());
   to.run.scratch_dir = d.runs.string();  // shared with rank 0, which may run on another node
   const SweepPlan plan(m, to, SweepPlan::Partial::ignore);
@@ -246,7 +242,7 @@ SweepSummary run_task(const Manifest& m, const SweepOptions& o) {
   for (size_t i : jobs) {
     try {
       if (fail && std::to_string(i) == fail) throw std::runtime_error("failure injected by SEMLB_SWEEP_FAIL_JOB");
-      write_file_atomically(d.part(i).string(), plan.header() + plan.rows(i));
+      write_file_atomically(d.part(i).string(), plan.partial_header() + plan.rows(i));
     } catch (const std::exception& e) {
       std::cerr << "job " << i << " failed: " << e.what() << std::endl;
       ++failed;
@@ -286,7 +282,7 @@ SweepSummary run_slurm(const Manifest& m, const std::vector<std::string>& overri
     for (const auto& p : {d.parts, d.logs, d.runs}) fs::create_directories(p);
     const Tasks tasks = split_tasks(todo);
     write_file_atomically(d.script.string(), batch_script(plan, tasks, d, overrides, o));
-    std::string id = command("sbatch --parsable " + quote(d.script.string()));
+    std::string id = command({"sbatch", "--parsable", d.script.string()});
     id = id.substr(0, id.find_first_of(";\n"));  // "JOBID[;CLUSTER]"
     parse_integer(id, "sbatch --parsable: job id: ");
     std::string line = id + " ";

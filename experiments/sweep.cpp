@@ -5,28 +5,39 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <sstream>
 #include <thread>
 
+#include <yaml-cpp/yaml.h>
+
+#include "common/digest.hpp"
+#include "common/dir_lock.hpp"
 #include "common/errors.hpp"
 #include "common/registry.hpp"
 #include "common/text_io.hpp"
+#include "common/version.hpp"
+#include "controllers/gru.hpp"
 
 namespace semlb::experiments {
 namespace fs = std::filesystem;
 namespace {
 
-std::string csv_line(const std::vector<std::string>& cells) {
+std::string join(const std::vector<std::string>& cells) {
   std::string s;
   for (size_t i = 0; i < cells.size(); ++i) s += (i ? "," : "") + cells[i];
-  return s + "\n";
+  return s;
 }
+
+std::string csv_line(const std::vector<std::string>& cells) { return join(cells) + "\n"; }
 
 // A job's value of axis A; empty when the job's axis group lacks A.
 std::string axis_value(const Job& j, const std::string& a) {
@@ -36,18 +47,75 @@ std::string axis_value(const Job& j, const std::string& a) {
 
 class Appender {  // one write(2) per row with O_APPEND: a kill leaves whole rows or a torn last line
  public:
-  explicit Appender(const std::string& path) : fd_(::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT, 0644)) {
-    if (fd_ < 0) throw std::runtime_error(path + ": cannot open for appending");
+  explicit Appender(const std::string& path) : path_(path), fd_(::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT, 0644)) {
+    if (fd_ < 0) throw std::runtime_error(path + ": cannot open for appending: " + std::strerror(errno));
   }
   ~Appender() { ::close(fd_); }
   void append(const std::string& line) {
     if (::write(fd_, line.data(), line.size()) != static_cast<ssize_t>(line.size()))
-      throw std::runtime_error("append failed");
+      throw std::runtime_error(path_ + ": write failed: " + std::strerror(errno ? errno : ENOSPC));
   }
 
  private:
+  std::string path_;
   int fd_;
 };
+
+const char* const kDigestColumn = "settings_digest";  // OUTPUT.partial's first column (docs/experiments.md "Resume")
+
+using FileDigests = std::map<std::string, std::string>;  // path -> digest of its contents ("" when not a file)
+
+// The digest of FILE's contents when it is a regular file ("" otherwise), and, for a YAML file (a scene, a config),
+// of the files it names relative to its folder (a scene's tissue.file, a policy's weights; one level deep).
+// Each file is read once per sweep (CACHE).
+const std::string& file_digest(const fs::path& file, FileDigests& cache, bool follow = true) {
+  const std::string key = file.string() + (follow ? "" : "\x1f");
+  if (const auto it = cache.find(key); it != cache.end()) return it->second;
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return cache[key] = "";
+  Digest d;
+  d.add(read_file(file.string()));
+  if (follow && (file.extension() == ".yaml" || file.extension() == ".yml")) {
+    YAML::Node root;
+    try {
+      root = YAML::LoadFile(file.string());
+    } catch (const std::exception&) {
+    }  // not YAML: its contents are in the digest already
+    std::function<void(const YAML::Node&)> walk = [&](const YAML::Node& n) {
+      if (n.IsScalar()) {
+        const std::string& v = n.Scalar();
+        if (!v.empty() && v.size() < 4096 && v.find('\n') == std::string::npos) {
+          const fs::path p = fs::path(v).is_absolute() ? fs::path(v) : file.parent_path() / v;
+          if (const std::string& f = file_digest(p, cache, false); !f.empty()) d.add(v).add(f);
+        }
+      } else if (n.IsSequence() || n.IsMap()) {
+        for (const auto& c : n) walk(n.IsMap() ? c.second : c);
+      }
+    };
+    walk(root);
+  }
+  return cache[key] = d.hex();
+}
+
+// The settings digest of a job (docs/experiments.md "Resume"): FNV-1a 64 over the semlb version, the runner,
+// whether wall times are measured, every setting of the job (from the manifest, its profile and --set) and the
+// contents of every file a setting names (relative to the manifest's folder: a scene, a config, and the files a
+// scene names in turn: tissue.file, a policy's weights; POLICY.weights as the policy finds it) and of the shipped
+// GRU weights.
+std::string settings_digest(const Job& job, const std::string& runner, const RunOptions& o, FileDigests& cache) {
+  Digest d;
+  d.add(version_string()).add(runner).add(o.timing ? "timing" : "no-timing");
+  for (const auto& [k, s] : job.settings) {
+    d.add(k).add(s.value);
+    if (s.value.empty() || s.value.size() >= 4096 || s.value.find('\n') != std::string::npos) continue;
+    // A policy's weights as the policy finds them (the working directory, then the shipped folder); any other
+    // file relative to the manifest's folder.
+    const bool weights = k.size() >= 7 && k.compare(k.size() - 7, 7, "weights") == 0;
+    d.add(file_digest(weights ? fs::path(resolve_gru_weights(s.value)) : fs::path(o.resolve(s.value)), cache));
+  }
+  d.add(file_digest(default_gru_weights_path(), cache));
+  return d.hex();
+}
 
 void copy_manifest(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o,
                    const std::string& csv) {
@@ -58,7 +126,7 @@ void copy_manifest(const Manifest& m, const std::vector<std::string>& overrides,
     for (const auto& s : overrides) head += " --set " + s;
     head += "\n";
   }
-  head += "# git revision: " + o.git_revision + "\n";
+  head += "# git revision: " + o.git_revision + "\n# semlb " + version_string() + "\n";
   write_file_atomically(fs::path(csv).replace_extension(".manifest.yaml").string(), head + body);
 }
 
@@ -98,8 +166,11 @@ long kill_after_rows() {  // test hook: SEMLB_SWEEP_KILL_AFTER=N sends SIGKILL t
 
 SweepPlan::SweepPlan(const Manifest& m, const SweepOptions& o, Partial partial)
     : m_(m), runner_(make_runner(m.runner, m.path)), jobs_(m.expand()), run_(o.run) {
-  if (run_.base_dir.empty() && !m.path.empty()) run_.base_dir = fs::path(m.path).parent_path().string();
+  // Relative paths in the manifest are relative to its folder, whatever the working directory.
+  if (run_.base_dir.empty() && !m.path.empty()) run_.base_dir = fs::absolute(m.path).parent_path().string();
   for (const auto& j : jobs_) runner_->check(j, m.path, run_);
+  FileDigests files;
+  for (const auto& j : jobs_) digests_.push_back(settings_digest(j, m.runner, run_, files));
   // The sweep's own key columns (axes the runner does not write) come first, then the runner's columns.
   layout_.axes = m.axis_names();
   const auto cols = runner_->columns();
@@ -113,19 +184,42 @@ SweepPlan::SweepPlan(const Manifest& m, const SweepOptions& o, Partial partial)
   if (partial == Partial::ignore) return;
   std::vector<std::string> order;
   if (partial == Partial::read_only) {
-    if (fs::exists(partial_) && !o.fresh) done_ = read_rows(partial_, order);
+    if (fs::exists(partial_) && !o.fresh) done_ = current(read_rows(partial_, order), nullptr);
     return;
   }
-  fs::create_directories(fs::path(csv_).parent_path());
+  // One writer per results folder: locked before anything is written (docs/experiments.md "Locks").
+  lock_ = std::make_unique<DirLock>(fs::path(csv_).parent_path().string(), o.wait);
   if (o.fresh) fs::remove(partial_);
   // Only an interrupted run (.partial) is resumed; a finished OUTPUT is always recomputed, since the code
   // that produced it may have changed since.
-  if (!fs::exists(partial_)) write_file_atomically(partial_, header());
-  done_ = read_rows(partial_, order);
-  std::string text = header();  // without a torn last line, so that appends start on a fresh line
-  for (auto& k : order) text += done_[k];
+  if (!fs::exists(partial_)) write_file_atomically(partial_, partial_header());
+  size_t stale = 0;
+  const auto found = read_rows(partial_, order);
+  done_ = current(found, &stale);
+  if (stale > 0)
+    std::fprintf(stderr, "[%s] recomputing %zu of the %zu finished jobs in %s: made with other settings (their settings digest "
+                 "differs: a manifest, profile or --set value, an input file or the semlb build changed)\n",
+                 m.name.c_str(), stale, found.size(), partial_.c_str());
+  std::string text = partial_header();  // without a torn last line or stale rows, so that appends start on a fresh line
+  for (auto& k : order)
+    if (done_.count(k)) text += done_[k];
   write_file_atomically(partial_, text);
 }
+
+SweepPlan::~SweepPlan() = default;
+
+std::map<std::string, std::string> SweepPlan::current(const std::map<std::string, Rows>& found, size_t* stale) const {
+  std::map<std::string, std::string> done;
+  for (size_t i = 0; i < jobs_.size(); ++i) {
+    const auto it = found.find(key(i));
+    if (it == found.end()) continue;
+    if (it->second.digest == digests_[i]) done[key(i)] = it->second.lines;
+    else if (stale) ++*stale;
+  }
+  return done;
+}
+
+std::string SweepPlan::partial_header() const { return std::string(kDigestColumn) + "," + header(); }
 
 std::string SweepPlan::header() const { return csv_line(layout_.header); }
 
@@ -137,28 +231,38 @@ std::string SweepPlan::key(size_t i) const {
 
 bool SweepPlan::done(size_t i) const { return done_.count(key(i)) > 0; }
 
-// Reads finished rows (job key -> its lines) from an earlier CSV; a torn last line (no newline) is dropped.
-// A job's rows are appended in one write, so a job is either complete or (torn line aside) absent.
-std::map<std::string, std::string> SweepPlan::read_rows(const std::string& path, std::vector<std::string>& order) const {
-  std::map<std::string, std::string> rows;
+// Reads finished rows (job key -> its settings digest and lines) from an OUTPUT.partial or part file; a torn last
+// line (no newline) is dropped. A job's rows are appended in one write, so a job is either complete or (torn line
+// aside) absent. A file of a semlb without digests (the plain header) reads with empty digests: every row stale.
+std::map<std::string, SweepPlan::Rows> SweepPlan::read_rows(const std::string& path, std::vector<std::string>& order) const {
+  std::map<std::string, Rows> rows;
   std::string text = read_file(path);
   if (text.empty()) return rows;
   if (text.back() != '\n') text.erase(text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1);
   std::stringstream ss(text);
   std::string line;
   std::getline(ss, line);
-  if (header() != line + "\n")
+  const bool digests = partial_header() == line + "\n";
+  if (!digests && header() != line + "\n")
     throw InputError(path + ":1: header differs from this manifest's columns; move the file away to start afresh");
   long n = 1;
   while (std::getline(ss, line)) {
     ++n;
-    const auto cells = split(line, ',');
+    auto cells = split(line, ',');
+    std::string digest;
+    if (digests) {
+      digest = cells.front();
+      cells.erase(cells.begin());
+    }
     if (cells.size() != layout_.header.size()) throw InputError(where(path, n, "") + "row has the wrong number of columns");
     std::string key;
     for (const auto& a : layout_.axes)
       key += cells[std::find(layout_.header.begin(), layout_.header.end(), a) - layout_.header.begin()] + '\x1f';
     if (!rows.count(key)) order.push_back(key);
-    rows[key] += line + "\n";  // a job may have several rows
+    Rows& r = rows[key];
+    if (!r.lines.empty() && r.digest != digest) r.digest = "mixed";  // never matches: the job reruns
+    else r.digest = digest;
+    r.lines += (digests ? digest + "," : std::string(",")) + join(cells) + "\n";  // a job may have several rows
   }
   return rows;
 }
@@ -175,7 +279,7 @@ std::string SweepPlan::rows(size_t i) const {
                                 ? job.find(columns[c]) : nullptr;
       cells.push_back(axis ? axis->value : row[c]);
     }
-    lines += csv_line(cells);
+    lines += digests_[i] + "," + csv_line(cells);
   }
   return lines;
 }
@@ -193,12 +297,16 @@ std::string SweepPlan::rows_from_file(size_t i, const std::string& path) const {
   if (order.empty()) return "";  // a job without rows
   if (order.size() != 1 || order[0] != key(i))
     throw InputError(path + ": rows are not job " + std::to_string(i) + "'s of this manifest; remove the file to rerun the job");
-  return rows[order[0]];
+  if (rows[order[0]].digest != digests_[i])
+    throw InputError(path + ": job " + std::to_string(i) + "'s rows were made with other settings (settings digest); remove the file to rerun the job");
+  return rows[order[0]].lines;
 }
 
 void SweepPlan::finish(const std::vector<std::string>& overrides, const SweepOptions& o) const {
-  std::string text = header();  // job order; rows of other jobs in .partial are dropped
-  for (size_t i = 0; i < jobs_.size(); ++i) text += done_.at(key(i));
+  std::string text = header();  // job order, without the digest column; rows of other jobs in .partial are dropped
+  for (size_t i = 0; i < jobs_.size(); ++i)
+    for (const auto& line : split(done_.at(key(i)), '\n'))
+      if (!line.empty()) text += line.substr(line.find(',') + 1) + "\n";
   write_file_atomically(csv_, text);
   fs::remove(partial_);
   copy_manifest(m_, overrides, o, csv_);

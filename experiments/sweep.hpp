@@ -10,6 +10,10 @@
 #include "manifest.hpp"
 #include "runner.hpp"
 
+namespace semlb {
+class DirLock;
+}
+
 namespace semlb::experiments {
 
 // The `slurm` launcher's settings (sbatch options; docs/experiments.md "Slurm").
@@ -32,6 +36,7 @@ struct SweepOptions {
   std::string git_revision = "unknown";
   std::string command_line;  // recorded beside the results when the manifest has no file
   bool fresh = false;        // discard the rows of an interrupted run instead of resuming it
+  bool wait = false;         // wait for a sweep holding the results folder instead of exiting 2 (--wait)
   std::string launcher = "local";
   SlurmOptions slurm;
 };
@@ -49,9 +54,13 @@ class SweepPlan {
   // What the plan does with RESULTS/OUTPUT.partial: resume it (create RESULTS/, start it afresh with o.fresh,
   // drop a torn last line), only read it if it exists (--dry-run), or leave it alone (an array task).
   enum class Partial { resume, read_only, ignore };
-  // Expands and checks every job (InputError before anything runs), then handles OUTPUT.partial as `partial`
-  // says. InputError when its header is not this manifest's.
+  // Expands and checks every job (InputError before anything runs), computes each job's settings digest, then
+  // handles OUTPUT.partial as `partial` says; to resume it, first locks OUTPUT's folder (common/dir_lock.hpp:
+  // InputError naming the holder when another process has it, unless o.wait) for the plan's lifetime. Rows whose
+  // digest is not their job's are dropped (and said so on stderr): those jobs run again. InputError when the
+  // header is not this manifest's.
   SweepPlan(const Manifest& m, const SweepOptions& o, Partial partial = Partial::resume);
+  ~SweepPlan();
   const Manifest& manifest() const { return m_; }
   const std::vector<Job>& jobs() const { return jobs_; }
   const RunOptions& run_options() const { return run_; }
@@ -59,31 +68,42 @@ class SweepPlan {
   const std::string& csv_path() const { return csv_; }
   const std::string& partial_path() const { return partial_; }
   std::string header() const;  // the CSV header line
-  bool done(size_t i) const;   // job i's rows are in OUTPUT.partial
-  // Runs job i (the runner) and returns its CSV lines; does not record them.
+  // OUTPUT.partial's (and part files') header: `settings_digest,` then header(); each row starts with its job's digest
+  std::string partial_header() const;
+  bool done(size_t i) const;   // job i's rows, made with its settings, are in OUTPUT.partial
+  const std::string& digest(size_t i) const { return digests_[i]; }  // job i's settings digest (16 hex digits)
+  // Runs job i (the runner) and returns its CSV lines, each starting with the job's digest; does not record them.
   std::string rows(size_t i) const;
   // Appends job i's lines to OUTPUT.partial in one write(2) and records them; a job already done is skipped
   // (returns false), so collecting the same rows twice never duplicates them.
   bool record(size_t i, const std::string& lines);
-  // Job i's lines from a CSV written by `header() + rows(i)` (an array task's part file); InputError naming the
-  // file when its header or a row's key is not job i's.
+  // Job i's lines from a CSV written by `partial_header() + rows(i)` (an array task's part file); InputError naming
+  // the file when its header, a row's key or its settings digest is not job i's.
   std::string rows_from_file(size_t i, const std::string& path) const;
-  // Writes OUTPUT in job order (every job must be done), removes OUTPUT.partial, copies the manifest beside it.
+  // Writes OUTPUT in job order without the digest column (every job must be done), removes OUTPUT.partial, copies
+  // the manifest beside it.
   void finish(const std::vector<std::string>& overrides, const SweepOptions& o) const;
 
  private:
   struct Layout {
     std::vector<std::string> header, axes, extra_axes;
   };
+  struct Rows {
+    std::string digest, lines;  // a job's rows (digest first on each line) and their digest
+  };
   std::string key(size_t i) const;
-  std::map<std::string, std::string> read_rows(const std::string& path, std::vector<std::string>& order) const;
+  std::map<std::string, Rows> read_rows(const std::string& path, std::vector<std::string>& order) const;
+  // The rows of `found` whose digest is their job's (job key -> lines); counts the others in *stale.
+  std::map<std::string, std::string> current(const std::map<std::string, Rows>& found, size_t* stale) const;
   Manifest m_;
   std::unique_ptr<Runner> runner_;
   std::vector<Job> jobs_;
+  std::vector<std::string> digests_;  // per job
   RunOptions run_;
   Layout layout_;
   std::string csv_, partial_;
   std::map<std::string, std::string> done_;  // job key -> its lines
+  std::unique_ptr<DirLock> lock_;            // held while resuming into OUTPUT's folder
 };
 
 // Rows are appended to RESULTS/OUTPUT.partial as they finish (one write per job); when all jobs are done the

@@ -49,8 +49,7 @@ class TrainRunner final : public Runner {
     std::string file;
     std::vector<std::string> sets;
     for (const auto& [k, s] : job.settings) {
-      if (k == "config") file = std::filesystem::path(s.value).is_absolute() || base_dir.empty()
-                                    ? s.value : (std::filesystem::path(base_dir) / s.value).string();
+      if (k == "config") file = resolve_path(base_dir, s.value);
       else sets.push_back(k + "=" + s.value);
     }
     try {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include "backends/backend.hpp"
@@ -30,7 +31,15 @@ Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
   if (d.timing != "measured" && d.timing != "modelled") s.fail("timing", "must be measured or modelled");
   d.overlap = s.boolean("overlap", d.overlap);
   const Section p = s.child("params");
-  for (const auto& k : p.keys()) d.params.set(k, p.text(k, ""));
+  for (const auto& k : p.keys()) {
+    std::string v = p.text(k, "");
+    // A policy's weights file relative to the scene file's folder, when it is there (else as given: the working
+    // directory, then the shipped weights folder, controllers/gru.hpp resolve_gru_weights).
+    if (const auto beside = std::filesystem::path(scene.path).parent_path() / v;
+        k == "weights" && !v.empty() && std::filesystem::path(v).is_relative() && std::filesystem::is_regular_file(beside))
+      v = beside.string();
+    d.params.set(k, v);
+  }
   p.finish();
   s.finish();
   // On 3 or more ranks the ghost exchange, which reaches the neighbouring ranks only, needs slabs at least as

@@ -11,6 +11,7 @@
 #include <map>
 #include <sstream>
 
+#include "common/dir_lock.hpp"
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
 #include "decomposition/distributed.hpp"
@@ -80,8 +81,7 @@ class RunOutputs {
  public:
   RunOutputs(const Scene& scene, const RunConfig& config, long first, std::string header,
              std::map<std::string, std::string> attrs)
-      : scene_(scene), dir_(config.out_dir), header_(std::move(header)), attrs_(std::move(attrs)) {
-    fs::create_directories(dir_);
+      : lock_(config.out_dir, config.wait), scene_(scene), dir_(config.out_dir), header_(std::move(header)), attrs_(std::move(attrs)) {
     write_file_atomically(dir_ + "/scene.yaml", "# semlb " + config.git_revision + ": " + config.command_line + "\n" + scene.text);
     rows_ = earlier_rows(dir_ + "/run.csv", first);
     snapshots_ = earlier_snapshots(dir_, first);
@@ -122,6 +122,7 @@ class RunOutputs {
     snapshots_.push_back({s.step, s.time, s.elements(), snapshot_name(s.step)});
     write_xdmf(dir_ + "/snapshots.xmf", snapshots_);
   }
+  DirLock lock_;  // one run writes DIR at a time; taken (and DIR created) before any file is written
   const Scene& scene_;
   std::string dir_, header_;
   std::map<std::string, std::string> attrs_;
@@ -139,6 +140,16 @@ State failing_state(State s, long step, double dt) {
   return s;
 }
 
+// A state read from a file (a restart, tissue.file) at or past the run's last step would run nothing: refused,
+// naming both steps, as LAMMPS refuses `run N upto` before the current step. A generated tissue at step 0 with
+// time.steps 0 is a run of its first state alone (its files written), and allowed.
+void check_steps_ahead(const Scene& scene, const RunConfig& config, const State& initial) {
+  if (scene.steps > initial.step || (config.restart.empty() && initial.step == 0)) return;
+  const std::string from = config.restart.empty() ? "the tissue.file state" : config.restart;
+  throw InputError("--steps / time.steps: step " + std::to_string(scene.steps) + " is not after step " + std::to_string(initial.step) +
+                   " of " + from + ": nothing to run (give a final step after " + std::to_string(initial.step) + ")");
+}
+
 // The next step at which the driver must stop to log or write a file.
 long next_stop(const Scene& scene, long step, long last) {
   auto next = [&](long every) { return every > 0 ? (step / every + 1) * every : last; };
@@ -150,6 +161,7 @@ long next_stop(const Scene& scene, long step, long last) {
 RunSummary run_scene(Scene& scene, const RunConfig& config) {
   State initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);
   if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);  // the tissue section is not used
+  check_steps_ahead(scene, config, initial);
   Decomposition::from_scene(scene, 1);  // a scene meant for mpirun is checked on one device too
   const long first = initial.step, last = std::max(scene.steps, first);
   Simulation sim(scene, std::move(initial));  // all input checked before anything is written
@@ -205,6 +217,7 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
   agree(mpi, [&] {  // all input checked here, before anything is written
     initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);
     if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);
+    check_steps_ahead(scene, config, initial);
     const auto restored = config.restart.empty() ? std::nullopt : read_decomposition(config.restart);
     if (restored && scene.auto_box) std::tie(scene.box_lo[0], scene.box_hi[0]) = std::pair(restored->x_lo, restored->x_hi);
     sim = std::make_unique<DistributedSimulation>(scene, initial, mpi, root ? config.out_dir + "/trace.jsonl" : "", restored);

@@ -14,6 +14,7 @@ struct RunConfig {
   std::string restart;  // a checkpoint (or any state file) to continue from; its step is kept
   bool quiet = false;
   std::string git_revision = "unknown", command_line;
+  bool wait = false;  // out_dir in use by another run (common/dir_lock.hpp): wait for it instead of InputError
 };
 
 struct RunSummary {
@@ -37,7 +38,10 @@ inline constexpr std::array<const char*, 7> kColumns = {kStep, kRank, kComputeS,
 // DIR/run.csv, DIR/scene.yaml, DIR/checkpoint.h5; on a numerical failure DIR/failure.h5 (the state frozen since
 // the failing step, labelled with it) and a SimulationError. Each of final, checkpoint and failure.h5 has an
 // XDMF index beside it (NAME.xmf). Bad input throws
-// InputError before anything is written.
+// InputError before anything is written, also a restart (or tissue.file) state at or past time.steps, which would
+// run nothing. DIR is locked (DIR/.semlb.lock) while the run writes it: a second run into DIR is an InputError
+// naming the first (or waits, with config.wait). A write error (a full disk) throws std::runtime_error naming the
+// file; no temporary file is left and earlier files (the last checkpoint) stay whole.
 RunSummary run_scene(Scene& scene, const RunConfig& config);
 // The same across the ranks of `mpi` (docs/engine.md "Decomposition"): rank 0 writes final.h5, run.csv,
 // checkpoints and snapshots (gathered, cells in id order), trace.jsonl (one line per rebalancing event, in

@@ -53,9 +53,11 @@ TEST(Sweep, KilledSweepResumesWithoutLosingOrDuplicatingRows) {
   const auto resumed = run(base + dir + "/cut");
   ASSERT_EQ(resumed.rc, 0) << resumed.out;
   EXPECT_NE(resumed.out.find("(30 jobs, " + std::to_string(finished) + " resumed; 30 rows)"), std::string::npos) << resumed.out;
+  // .partial's rows start with their settings digest, which OUTPUT leaves out.
+  const std::string row = original.substr(original.find(',') + 1), marked_row = marked.substr(marked.find(',') + 1);
   std::string want = reference;
-  ASSERT_NE(want.find(original + "\n"), std::string::npos);
-  want.replace(want.find(original + "\n"), original.size(), marked);
+  ASSERT_NE(want.find(row + "\n"), std::string::npos);
+  want.replace(want.find(row + "\n"), row.size(), marked_row);
   EXPECT_EQ(slurp(dir + "/cut/sub/resume.csv"), want);  // the finished jobs were reused, the rest computed
   EXPECT_FALSE(fs::exists(dir + "/cut/sub/resume.csv.partial"));
 

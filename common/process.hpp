@@ -1,0 +1,21 @@
+// Child processes started from an argument vector (posix_spawnp): no shell between semlb and what it starts.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace semlb {
+
+struct ProcessResult {
+  int status = 0;      // the exit code; 128 + N when killed by signal N
+  std::string output;  // stdout and stderr together
+};
+
+// Runs argv[0] (looked up in PATH) with argv, the environment plus `env` ("NAME=VALUE", replacing a variable
+// of the same name), and waits for it; its stdout and stderr are collected. Throws std::runtime_error naming
+// the program when it cannot be started. Nothing in argv is interpreted by a shell.
+ProcessResult run_process(const std::vector<std::string>& argv, const std::vector<std::string>& env = {});
+
+// argv as one line for messages, each word quoted for /bin/sh where it needs it (copy-paste reproduces it).
+std::string shell_words(const std::vector<std::string>& argv);
+
+}  // namespace semlb
