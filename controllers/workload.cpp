@@ -3,10 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 
 #include "common/errors.hpp"
 #include "common/h5.hpp"
+#include "common/text_io.hpp"
 
 namespace semlb {
 namespace {
@@ -59,60 +59,55 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
 
 void write_workload(const std::string& path, const EngineWorkload& w) {
   validate_workload(w, path);
-  const std::string tmp = path + ".tmp";
-  try {
-    {
-      auto f = h5::File::create(tmp);
-      f.set_deflate(6);
-      f.write_attr("format", std::string(kFormat));
-      f.write_attr("version", EngineWorkload::kVersion);
-      f.write_attr("slices", static_cast<long>(w.slices));
-      f.write_attr("min_width", static_cast<long>(w.min_width));
-      f.write_attr("x0_um", w.x0_um);
-      f.write_attr("slice_width_um", w.slice_width_um);
-      f.write_attr("cutoff_um", w.cutoff_um);
-      f.write_attr("ghost_reach_um", w.ghost_reach_um);
-      f.write_attr("rebalance_every", w.rebalance_every);
-      f.write_attr("ranks", static_cast<long>(w.ranks));
-      f.write_attr("scene", w.scene);
-      f.write_attr("command", w.command);
-      f.write_attr("git_revision", w.git_revision);
-      f.write_attr("device", w.device);
-      const hsize_t E = w.events.size(), S = static_cast<hsize_t>(w.slices);
-      std::vector<int64_t> step, cells, elements, event;
-      std::vector<double> time, phase, interval;
-      std::vector<int64_t> work, slice_elements, below, above;
-      for (const auto& e : w.events) {
-        step.push_back(e.step);
-        cells.push_back(e.cells);
-        elements.push_back(e.elements);
-        event.push_back(e.growth_event ? 1 : 0);
-        time.push_back(e.time_h);
-        phase.push_back(e.growth_phase);
-        interval.push_back(e.interval_s);
-        for (double x : e.slice_work) work.push_back(static_cast<int64_t>(x));
-        for (double x : e.slice_elements) slice_elements.push_back(static_cast<int64_t>(x));
-        for (double x : e.band_below) below.push_back(static_cast<int64_t>(x));
-        for (double x : e.band_above) above.push_back(static_cast<int64_t>(x));
-      }
-      f.write("events/step", {E}, step);
-      f.write("events/time_h", {E}, time);
-      f.write("events/cells", {E}, cells);
-      f.write("events/elements", {E}, elements);
-      f.write("events/growth_phase", {E}, phase);
-      f.write("events/growth_event", {E}, event);
-      f.write("events/interval_s", {E}, interval);
-      f.write("events/slice_work", {E, S}, work);
-      f.write("events/slice_elements", {E, S}, slice_elements);
-      f.write("events/band_below", {E, S - 1}, below);
-      f.write("events/band_above", {E, S - 1}, above);
+  std::string image;
+  {
+    auto f = h5::File::create_in_memory(path);  // built in memory, then one checked atomic write (a full disk: one line)
+    f.set_deflate(6);
+    f.write_attr("format", std::string(kFormat));
+    f.write_attr("version", EngineWorkload::kVersion);
+    f.write_attr("slices", static_cast<long>(w.slices));
+    f.write_attr("min_width", static_cast<long>(w.min_width));
+    f.write_attr("x0_um", w.x0_um);
+    f.write_attr("slice_width_um", w.slice_width_um);
+    f.write_attr("cutoff_um", w.cutoff_um);
+    f.write_attr("ghost_reach_um", w.ghost_reach_um);
+    f.write_attr("rebalance_every", w.rebalance_every);
+    f.write_attr("ranks", static_cast<long>(w.ranks));
+    f.write_attr("scene", w.scene);
+    f.write_attr("command", w.command);
+    f.write_attr("git_revision", w.git_revision);
+    f.write_attr("device", w.device);
+    const hsize_t E = w.events.size(), S = static_cast<hsize_t>(w.slices);
+    std::vector<int64_t> step, cells, elements, event;
+    std::vector<double> time, phase, interval;
+    std::vector<int64_t> work, slice_elements, below, above;
+    for (const auto& e : w.events) {
+      step.push_back(e.step);
+      cells.push_back(e.cells);
+      elements.push_back(e.elements);
+      event.push_back(e.growth_event ? 1 : 0);
+      time.push_back(e.time_h);
+      phase.push_back(e.growth_phase);
+      interval.push_back(e.interval_s);
+      for (double x : e.slice_work) work.push_back(static_cast<int64_t>(x));
+      for (double x : e.slice_elements) slice_elements.push_back(static_cast<int64_t>(x));
+      for (double x : e.band_below) below.push_back(static_cast<int64_t>(x));
+      for (double x : e.band_above) above.push_back(static_cast<int64_t>(x));
     }
-    std::filesystem::rename(tmp, path);
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw;
+    f.write("events/step", {E}, step);
+    f.write("events/time_h", {E}, time);
+    f.write("events/cells", {E}, cells);
+    f.write("events/elements", {E}, elements);
+    f.write("events/growth_phase", {E}, phase);
+    f.write("events/growth_event", {E}, event);
+    f.write("events/interval_s", {E}, interval);
+    f.write("events/slice_work", {E, S}, work);
+    f.write("events/slice_elements", {E, S}, slice_elements);
+    f.write("events/band_below", {E, S - 1}, below);
+    f.write("events/band_above", {E, S - 1}, above);
+    image = f.image();
   }
+  write_file_atomically(path, image);
 }
 
 EngineWorkload read_workload(const std::string& path) {

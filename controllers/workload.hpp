@@ -35,7 +35,7 @@ struct EngineWorkload {
 // Checks every invariant read_workload checks (shapes, integers, ranges, increasing steps); throws InputError
 // "FILE: field 'NAME': reason" (FILE = `file`).
 void validate_workload(const EngineWorkload& w, const std::string& file);
-// Writes `w` to `path` atomically (path.tmp, renamed), deflate-compressed; validates first.
+// Writes `w` to `path` atomically (built in memory, then write_file_atomically), deflate-compressed; validates first.
 void write_workload(const std::string& path, const EngineWorkload& w);
 // Reads a workload file strictly: format "semlb-workload", version kVersion (a newer one is refused by name), every
 // dataset present with its shape and type, then validate_workload. InputError "FILE: field 'NAME': reason".
