@@ -2,7 +2,7 @@
 import os
 import sys
 
-from .common import Part, register
+from .common import Part, register, setup as setup_line
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import engine_eval  # noqa: E402  (analysis/engine_eval.py: the tables and the targets, also a command of its own)
@@ -35,8 +35,9 @@ def build(ctx):
     committed = ctx.committed_rows(COMMITTED)
     if committed:
         setup, body, s = run_part(ctx, committed, "controller_eval_engine_paper",
-                                  "Profile paper; workloads recorded on one NVIDIA H200 (results/gpu/workloads/README.md), "
-                                  "replayed on this project's CPU; P = 2, 4, 8, 16; 3 replay seeds",
+                                  setup_line("paper", "workloads recorded on 1 NVIDIA H200 (results/gpu/workloads/README.md), "
+                                             "replayed on a CPU, no engine", "2,4,8,16", "-", 1, "every recorded event",
+                                             "3 replay seeds"),
                                   "From " + ctx.committed_source(COMMITTED) + ".")
         runs.append(("Committed paper profile", setup, body))
         summary = summary or s
