@@ -71,7 +71,7 @@ TEST(ResultsSafety, ResumeRecomputesRowsMadeWithOtherSettings) {
   const size_t finished = data_lines(dir + "/cut3/sub/d.csv.partial");
   resumed = run(base + dir + "/cut3");
   ASSERT_EQ(resumed.rc, 0) << resumed.out;
-  EXPECT_NE(resumed.out.find("(30 rows, " + std::to_string(finished) + " resumed)"), std::string::npos) << resumed.out;
+  EXPECT_NE(resumed.out.find("(30 jobs, " + std::to_string(finished) + " resumed; 30 rows)"), std::string::npos) << resumed.out;
   EXPECT_EQ(slurp(dir + "/cut3/sub/d.csv"), ref10);
   // A file a setting names is part of the digest by its contents: weights rewritten in place between the runs.
   fs::copy_file(source("controllers/weights/gru_default.h5"), dir + "/w.h5");
