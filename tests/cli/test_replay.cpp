@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../run_command.hpp"
-#include "controllers/workload.hpp"
+#include "../workload_fixtures.hpp"
 
 using namespace semlb::test;
 
@@ -75,26 +75,11 @@ TEST(Replay, ErrorsNameFileLineAndField) {
   expect_bad_input("replay --policy foresight --trace " + dir + "/nowork1.jsonl", "nowork1.jsonl:1: policy 'foresight'");
 }
 
-// `semlb replay --workload F --ranks P`: the time model on the hand case of tests/surrogate/test_workload_replay.cpp
+// `semlb replay --workload F --ranks P`: the time model on the hand workload (tests/workload_fixtures.hpp)
 // through the CLI, and its refusals (exit 2, one line).
 TEST(Replay, WorkloadAtARankCountThroughTheTimeModel) {
   const auto dir = fresh_dir("replay_workload");
-  semlb::EngineWorkload w;
-  w.slices = 4;
-  w.cutoff_um = 8.75;
-  w.ghost_reach_um = 8.8;
-  w.rebalance_every = 10;
-  semlb::WorkloadEvent a;
-  a.step = 10;
-  a.elements = 8;
-  a.slice_work = {4, 4, 4, 4};
-  a.slice_elements = {2, 2, 2, 2};
-  a.band_below = a.band_above = {1, 1, 1};
-  semlb::WorkloadEvent b = a;
-  b.step = 20;
-  b.slice_work = {8, 4, 2, 2};
-  w.events = {a, b};
-  semlb::write_workload(dir + "/w.h5", w);
+  semlb::write_workload(dir + "/w.h5", semlb::test::hand_workload());
   const std::string exact = " --time-model ghost_weight=0.5 --time-model speed_spread=0 --time-model jitter=0"
                             " --time-model seconds_per_work=0.5 --time-model migrate_s_per_slice=0";
   const auto r = run(semlb_bin() + " replay --policy static --workload " + dir + "/w.h5 --ranks 2" + exact);

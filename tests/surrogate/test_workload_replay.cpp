@@ -5,33 +5,12 @@
 #include "common/errors.hpp"
 #include "controllers/policy.hpp"
 #include "surrogate/workload_replay.hpp"
+#include "../workload_fixtures.hpp"
 
 namespace semlb::surrogate {
 namespace {
 
-// 4 slices, 2 events of 8 elements (2 units of W_s per element): even, then heavy on the left.
-EngineWorkload hand() {
-  EngineWorkload w;
-  w.slices = 4;
-  w.min_width = 1;
-  w.cutoff_um = 8.75;
-  w.ghost_reach_um = 8.8;
-  w.rebalance_every = 10;
-  WorkloadEvent a;
-  a.step = 10;
-  a.elements = 8;
-  a.cells = 1;
-  a.interval_s = 1;
-  a.slice_work = {4, 4, 4, 4};
-  a.slice_elements = {2, 2, 2, 2};
-  a.band_below = {1, 1, 1};
-  a.band_above = {1, 1, 1};
-  WorkloadEvent b = a;
-  b.step = 20;
-  b.slice_work = {8, 4, 2, 2};
-  w.events = {a, b};
-  return w;
-}
+EngineWorkload hand() { return test::hand_workload(); }  // tests/workload_fixtures.hpp
 
 WorkloadReplay exact(int ranks) {
   WorkloadReplay r;
