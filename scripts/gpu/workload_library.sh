@@ -21,6 +21,7 @@ variants=(
   "dev_v3.1_s1|$dev|2400|--set effects.growth.front.speed=3.1"
   "dev_centre_v12.4_s1|$dev|2400|--set effects.growth.front.x0=2975 --set effects.growth.front.speed=12.4"
   "epidermis_s1|$epi|1000|--set decomposition.rebalance_every=50"
+  "epidermis_long_s2|$epi|4000|--set decomposition.rebalance_every=50 --seed 2"
 )
 want=("$@")
 mkdir -p "$OUT"
