@@ -29,9 +29,10 @@ void check_counts(const std::vector<double>& v, size_t n, const std::string& fil
 void validate_workload(const EngineWorkload& w, const std::string& file) {
   if (w.slices < 1) fail(file, "slices", "must be >= 1, got " + std::to_string(w.slices));
   if (w.min_width < 1 || w.min_width > w.slices) fail(file, "min_width", "must be in [1, slices], got " + std::to_string(w.min_width));
-  for (const auto& [name, v] : {std::pair<const char*, double>{"x0_um", w.x0_um}, {"slice_width_um", w.slice_width_um},
-                                {"cutoff_um", w.cutoff_um}, {"ghost_reach_um", w.ghost_reach_um}})
-    if (!std::isfinite(v) || (std::string(name) != "x0_um" && !(v > 0))) fail(file, name, "must be finite" + std::string(name == std::string("x0_um") ? "" : " and > 0"));
+  if (!std::isfinite(w.x0_um)) fail(file, "x0_um", "must be finite");
+  for (const auto& [name, v] : {std::pair<const char*, double>{"slice_width_um", w.slice_width_um}, {"cutoff_um", w.cutoff_um},
+                                {"ghost_reach_um", w.ghost_reach_um}})
+    if (!std::isfinite(v) || !(v > 0)) fail(file, name, "must be finite and > 0");
   if (w.rebalance_every < 1) fail(file, "rebalance_every", "must be >= 1");
   if (w.ranks < 1) fail(file, "ranks", "must be >= 1");
   if (w.events.empty()) fail(file, "events", "the workload has no events");

@@ -64,9 +64,8 @@ class WorkloadEvalRunner final : public Runner {
     auto policy = make_policy(name, policy_params(job, "")[name]);
     const auto workload = load(path_of(w, o).string());
     const auto res = surrogate::replay_workload(*workload, r, *policy, name, path_of(w, o).string());
-    const auto track = surrogate::replay_track(*workload, r, w.value);
     return {{w.value, name, std::to_string(r.ranks), std::to_string(r.seed), std::to_string(res.events),
-             std::to_string(track.slices), format_real(res.mean_imbalance), std::to_string(res.migration),
+             std::to_string(res.slices), format_real(res.mean_imbalance), std::to_string(res.migration),
              format_real(res.loop_s), format_real(res.ideal_s), format_real(res.migrate_s),
              format_real(res.first_quarter_imbalance), format_real(res.last_quarter_imbalance),
              o.timing ? format_real(res.us_per_decision) : "0"}};

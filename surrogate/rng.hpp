@@ -34,4 +34,10 @@ inline double normal(uint64_t seed, uint64_t stream, uint64_t counter, uint64_t 
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
 }
 
+// Standard normal clipped at 3 sigma: the draw of every multiplicative noise and spread.
+inline double clipped_normal(uint64_t seed, uint64_t stream, uint64_t counter, uint64_t index = 0) {
+  const double z = normal(seed, stream, counter, index);
+  return z < -3.0 ? -3.0 : (z > 3.0 ? 3.0 : z);
+}
+
 }  // namespace semlb::rng

@@ -13,9 +13,7 @@ namespace semlb::surrogate {
 namespace {
 
 enum Stream : uint64_t { kSetup = 1, kHotspot, kDrift, kGrowth, kBurst, kTimeNoise, kWorkNoise, kTexture, kBias };
-double clipped_normal(uint64_t seed, uint64_t stream, uint64_t counter, uint64_t index) {
-  return std::clamp(rng::normal(seed, stream, counter, index), -3.0, 3.0);
-}
+using rng::clipped_normal;
 
 }  // namespace
 

@@ -84,7 +84,7 @@ ReplayTrack replay_track(const EngineWorkload& w, const WorkloadReplay& r, const
 
 std::vector<double> speed_factors(int ranks, uint64_t seed, double spread) {
   std::vector<double> s(ranks);
-  for (int q = 0; q < ranks; ++q) s[q] = std::max(0.05, 1.0 + spread * std::clamp(rng::normal(seed, kSpeed, 0, q), -3.0, 3.0));
+  for (int q = 0; q < ranks; ++q) s[q] = std::max(0.05, 1.0 + spread * rng::clipped_normal(seed, kSpeed, 0, q));
   return s;
 }
 
@@ -114,6 +114,7 @@ WorkloadReplayResult replay_workload(const EngineWorkload& w, const WorkloadRepl
   const auto initial = optimal_partition(t.work[0], r.ranks, t.min_width);
   WorkloadReplayResult res;
   res.events = K;
+  res.slices = t.slices;
   double max_over_mean_sum = 0, decide_s = 0;
   auto account = [&](const std::vector<double>& times, long moved) {
     res.imbalance.push_back(global_imbalance(times));

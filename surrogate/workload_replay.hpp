@@ -48,6 +48,7 @@ struct WorkloadReplay {
 };
 
 struct WorkloadReplayResult : RolloutResult {
+  int slices = 0;         // after coarsening
   double loop_s = 0;      // sum over intervals of max_r T_r + migration seconds (the projected loop time)
   double compute_s = 0;   // sum of max_r T_r
   double migrate_s = 0;   // migration seconds

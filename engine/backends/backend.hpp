@@ -123,8 +123,6 @@ class Backend {
   // the owned elements move or change (integrate, upload, cell stage, migration).
   virtual std::array<double, 2> x_extent() = 0;
   virtual void bands(double below, double above, Ghosts& down, Ghosts& up) = 0;
-  // The positions of the ghosts set last (3 per element), kept through update_cells.
-  virtual std::vector<double> ghost_positions() = 0;
   // Owned cells and elements now (on the device for OpenCL: no download); `host` is the caller's State.
   virtual std::pair<long, long> counts(const State& host) const { return {host.cells(), host.elements()}; }
   // W_s of the owned cells on the tissue-wide grid `g` (work_grid): the owned elements counted per bin, `reduce`

@@ -38,7 +38,7 @@ class CpuBackend : public Backend {
     count("cell_stage");
     download(host);
     Ghosts ghosts;  // kept through the stage, as the OpenCL backend keeps them (the next set_ghosts replaces them)
-    ghosts.position = ghost_positions();
+    ghosts.position.assign(pos_.begin() + 3 * owned_, pos_.end());
     ghosts.info.assign(info_.begin() + owned_, info_.end());
     ghosts.keys.assign(key_.begin() + owned_, key_.end());
     const bool changed = run_cell_stage(host, rules, seed, elapsed_h, step);
@@ -46,7 +46,6 @@ class CpuBackend : public Backend {
     set_ghosts(ghosts);
     return changed;
   }
-  std::vector<double> ghost_positions() override { return {pos_.begin() + 3 * owned_, pos_.end()}; }
   std::array<std::array<double, 3>, 2> bounds() override {
     std::array<std::array<double, 3>, 2> b{};
     for (int d = 0; d < 3; ++d) {

@@ -97,12 +97,6 @@ class OpenClBackend final : public Backend {
     n_ = owned_ + m;
   }
 
-  std::vector<double> ghost_positions() override {
-    std::vector<double> p;
-    to_positions(read_packed(pos_, n_ - owned_, owned_), p);
-    return p;
-  }
-
   std::pair<long, long> counts(const State&) const override { return {cells_, owned_}; }
 
   std::vector<double> slice_work(State& host, const SliceMap& map, const Grid& g, const CountReduce& reduce) override {
