@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <condition_variable>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -130,36 +131,93 @@ void copy_manifest(const Manifest& m, const std::vector<std::string>& overrides,
   write_file_atomically(fs::path(csv).replace_extension(".manifest.yaml").string(), head + body);
 }
 
+// The sweep's progress on stderr: a line at the start, one per finished job (every 5% of them when stderr is not a
+// terminal), and a heartbeat for jobs that run long: a job still running 2 s after it started is named with its axes,
+// then every 30 s while it runs (`[name] job 3/40 (policy=gru ranks=8) running  12.0 s`).
 class Progress {
  public:
+  using Clock = std::chrono::steady_clock;
+  static constexpr double kFirstBeat = 2.0, kEveryBeat = 30.0;  // s
+
   Progress(std::string name, size_t total, size_t resumed, bool on)
       : name_(std::move(name)), total_(total), done_(resumed), resumed_(resumed), on_(on),
-        tty_(isatty(fileno(stderr))), start_(std::chrono::steady_clock::now()) {
+        tty_(isatty(fileno(stderr))), start_(Clock::now()) {
+    if (!on_) return;
     // A line at once, so a sweep whose first job runs long says it started (then one per finished job)
-    if (on_) std::fprintf(stderr, "%s[%s] %zu/%zu jobs (%zu resumed)  starting%s", tty_ ? "\r" : "", name_.c_str(), done_,
-                          total_, resumed_, tty_ ? "" : "\n");
+    std::fprintf(stderr, "%s[%s] %zu/%zu jobs (%zu resumed)  starting%s", tty_ ? "\r" : "", name_.c_str(), done_,
+                 total_, resumed_, tty_ ? "" : "\n");
+    beat_ = std::thread([this] { heartbeat(); });
   }
-  void tick() {
+  ~Progress() {
+    {
+      std::lock_guard lock(mu_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    if (beat_.joinable()) beat_.join();
+  }
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+
+  /// A job begins: `index` is its 0-based position in the manifest, `label` its axes as `KEY=VALUE ...`.
+  void begin(size_t index, std::string label) {
+    std::lock_guard lock(mu_);
+    running_[index] = Running{std::move(label), Clock::now(), 0};
+  }
+  /// The job that began with `index` has finished; prints the finished-jobs line.
+  void tick(size_t index) {
+    std::lock_guard lock(mu_);
+    running_.erase(index);
     ++done_;
     if (!on_) return;
     const size_t ran = done_ - resumed_, step = std::max<size_t>(1, (total_ - resumed_) / 20);
     if (!tty_ && ran % step != 0 && done_ != total_) return;
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const double s = seconds(start_);
     const double eta = ran ? s / ran * (total_ - done_) : 0.0;
     std::fprintf(stderr, "%s[%s] %zu/%zu jobs (%zu resumed)  %.1f s  ETA %.1f s%s", tty_ ? "\r" : "", name_.c_str(),
                  done_, total_, resumed_, s, eta, tty_ && done_ != total_ ? "" : "\n");
   }
 
  private:
+  struct Running {
+    std::string label;
+    Clock::time_point since;
+    int beats;  // heartbeat lines printed for this job
+  };
+  static double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
+
+  void heartbeat() {
+    std::unique_lock lock(mu_);
+    while (!wake_.wait_for(lock, std::chrono::milliseconds(250), [this] { return stop_; })) {
+      for (auto& [index, job] : running_) {
+        const double s = seconds(job.since);
+        if (s < kFirstBeat + kEveryBeat * job.beats) continue;
+        ++job.beats;
+        std::fprintf(stderr, "%s[%s] job %zu/%zu (%s) running  %.1f s\n", tty_ ? "\r" : "", name_.c_str(), index + 1,
+                     total_, job.label.c_str(), s);
+      }
+    }
+  }
+
   std::string name_;
   size_t total_, done_, resumed_;
   bool on_, tty_;
-  std::chrono::steady_clock::time_point start_;
+  Clock::time_point start_;
+  std::mutex mu_;
+  std::condition_variable wake_;
+  bool stop_ = false;
+  std::map<size_t, Running> running_;
+  std::thread beat_;
 };
 
 long kill_after_rows() {  // test hook: SEMLB_SWEEP_KILL_AFTER=N sends SIGKILL to itself after N new rows
   const char* v = std::getenv("SEMLB_SWEEP_KILL_AFTER");
   return v ? std::atol(v) : -1;
+}
+
+long job_delay_ms() {  // test hook: SEMLB_SWEEP_JOB_DELAY_MS=N makes every job last N ms longer (heartbeat tests)
+  const char* v = std::getenv("SEMLB_SWEEP_JOB_DELAY_MS");
+  return v ? std::atol(v) : 0;
 }
 
 }  // namespace
@@ -226,6 +284,12 @@ std::string SweepPlan::header() const { return csv_line(layout_.header); }
 std::string SweepPlan::key(size_t i) const {
   std::string k;
   for (const auto& a : layout_.axes) k += axis_value(jobs_[i], a) + '\x1f';
+  return k;
+}
+
+std::string SweepPlan::label(size_t i) const {
+  std::string k;
+  for (const auto& a : layout_.axes) k += (k.empty() ? "" : " ") + a + "=" + axis_value(jobs_[i], a);
   return k;
 }
 
@@ -334,15 +398,17 @@ SweepSummary run_local(const Manifest& m, const std::vector<std::string>& overri
   std::mutex mu;
   std::atomic<size_t> next{0};
   std::exception_ptr error;
-  const long kill_after = kill_after_rows();
+  const long kill_after = kill_after_rows(), delay_ms = job_delay_ms();
   auto worker = [&] {
     for (size_t t; (t = next++) < todo.size();) {
       try {
+        progress.begin(todo[t], plan.label(todo[t]));
         const std::string lines = plan.rows(todo[t]);  // all rows of the job, appended with one write
+        if (delay_ms > 0) std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
         std::lock_guard lock(mu);
         plan.record(todo[t], lines);
         ++sum.ran;
-        progress.tick();
+        progress.tick(todo[t]);
         if (kill_after >= 0 && static_cast<long>(sum.ran) >= kill_after) std::raise(SIGKILL);
       } catch (...) {
         std::lock_guard lock(mu);

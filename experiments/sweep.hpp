@@ -70,6 +70,8 @@ class SweepPlan {
   std::string header() const;  // the CSV header line
   // OUTPUT.partial's (and part files') header: `settings_digest,` then header(); each row starts with its job's digest
   std::string partial_header() const;
+  /// Job i's axes as `KEY=VALUE KEY=VALUE` (progress lines).
+  std::string label(size_t i) const;
   bool done(size_t i) const;   // job i's rows, made with its settings, are in OUTPUT.partial
   const std::string& digest(size_t i) const { return digests_[i]; }  // job i's settings digest (16 hex digits)
   // Runs job i (the runner) and returns its CSV lines, each starting with the job's digest; does not record them.

@@ -179,3 +179,28 @@ set:
   EXPECT_NE(migration(rows[1]), "0");  // tau 0 rebalances ...
   EXPECT_EQ(migration(rows[2]), "0");  // ... tau 100 never does: the row ran with its own group's value
 }
+
+// A job still running 2 s after it began is named on stderr with its axes (issue 29: a line within 2 s of the start
+// of every job longer than 5 s); quick jobs print no such line.
+TEST(Sweep, LongJobsGetAHeartbeatLineNamingThem) {
+  const auto dir = fresh_dir("sweep_heartbeat");
+  write(dir + "/m.yaml", R"(name: beat
+runner: surrogate
+output: beat.csv
+axes:
+  policy: [static, reactive]
+  ranks: [2]
+  seed: "1"
+set:
+  events: 5
+)");
+  const std::string cmd = semlb_bin() + " sweep " + dir + "/m.yaml --no-timing --jobs 1 --results ";
+  const auto slow = run("SEMLB_SWEEP_JOB_DELAY_MS=3500 " + cmd + dir + "/slow");
+  ASSERT_EQ(slow.rc, 0) << slow.out;
+  EXPECT_NE(slow.out.find("[beat] job 1/2 (policy=static ranks=2 seed=1) running"), std::string::npos) << slow.out;
+  EXPECT_NE(slow.out.find("[beat] job 2/2 (policy=reactive ranks=2 seed=1) running"), std::string::npos) << slow.out;
+  const auto quick = run(cmd + dir + "/quick");
+  ASSERT_EQ(quick.rc, 0) << quick.out;
+  EXPECT_EQ(quick.out.find(") running"), std::string::npos) << quick.out;
+  EXPECT_EQ(slurp(dir + "/slow/beat.csv"), slurp(dir + "/quick/beat.csv"));
+}
