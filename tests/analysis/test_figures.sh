@@ -28,6 +28,25 @@ head -1 "$r/figures/development.csv" | grep -qx "time_h,step,cells,elements,basa
   || { echo "summary header"; cat "$r/figures/development.csv"; exit 1; }
 grep -q "XDMFReader" "$r/figures/development_paraview.py"
 grep -qF "$work/dev/snapshots.xmf" "$r/figures/development_paraview.py"
+# The state file loads in ParaView and draws the tissue: pvbatch on a virtual display, the last snapshot saved as a PNG
+# that must show more than the background (a state whose reader or glyphs failed leaves a uniform image).
+cat > "$work/shot.py" <<'PY'
+import sys
+exec(open(sys.argv[1]).read())
+scene = GetAnimationScene()
+scene.AnimationTime = reader.TimestepValues[-1]
+SaveScreenshot(sys.argv[2], view, ImageResolution=[640, 480])
+PY
+timeout 300 xvfb-run -a pvbatch "$work/shot.py" "$r/figures/development_paraview.py" "$work/paraview.png" >/dev/null 2>&1 \
+  || { echo "pvbatch could not render development_paraview.py"; exit 1; }
+"$py" - "$work/paraview.png" <<'PY'
+import sys
+import matplotlib.image as mpimg
+img = mpimg.imread(sys.argv[1])[..., :3]
+background = img[0, 0]
+drawn = (abs(img - background).sum(axis=2) > 0.05).mean()
+assert 0.01 < drawn < 0.9, f"ParaView drew {drawn:.1%} of the image"
+PY
 "$py" "$src/analysis/report.py" --results "$r" --semlb "$semlb" >/dev/null
 for f in single_device strong_scaling rank_balance rank_balance_gpu_4ranks rank_balance_gpu_8ranks load_balance \
          end_to_end_load_balance load_balance_gpu_4 load_balance_gpu_8 controller_eval development effects_cost \
