@@ -27,6 +27,7 @@ void visit(C& c, F&& f) {
   f("checkpoint_every", c.checkpoint_every), f("imbalance_norm", c.imbalance_norm), f("migration_norm", c.migration_norm);
   f("features", c.features), f("workloads", c.workloads), f("trace_fraction", c.trace_fraction);
   f("front_fraction", c.front_fraction), f("trace_coarsen_max", c.trace_coarsen_max);
+  f("trace_jitter_max", c.trace_jitter_max);
 }
 
 void parse(const std::string& text, long& out, const std::string& at) { out = parse_integer(text, at); }
@@ -67,6 +68,7 @@ void check(const TrainConfig& c) {
   need(c.trace_fraction >= 0 && c.trace_fraction <= 1, "trace_fraction", "must be in [0, 1]");
   need(c.front_fraction >= 0 && c.front_fraction <= 1, "front_fraction", "must be in [0, 1]");
   need(c.trace_coarsen_max >= 1, "trace_coarsen_max", "must be >= 1");
+  need(c.trace_jitter_max >= 0.005 && c.trace_jitter_max <= 0.3, "trace_jitter_max", "must be in [0.005, 0.3]");
   need(c.trace_fraction == 0 || !c.workloads.empty(), "trace_fraction", "needs workloads (comma-separated workload files)");
 }
 

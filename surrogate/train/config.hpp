@@ -41,12 +41,14 @@ struct TrainConfig {
   // Trace-driven episodes (docs/train.md "Engine workloads"): a fraction `trace_fraction` of the episodes replays a
   // window of `events + 1` events of one of the comma-separated workload files (training split only; paths relative to
   // the working directory), at a random rank count in [ranks_min, ranks_max] that fits, with 1..trace_coarsen_max
-  // adjacent slices merged and the time jitter of a synthetic scenario. Of the synthetic episodes a fraction
+  // adjacent slices merged and a time jitter (relative std) drawn uniformly in [0.005, trace_jitter_max] (0.03: a
+  // synthetic scenario's range; the time model's measured jitter is 0.03). Of the synthetic episodes a fraction
   // `front_fraction` carries a moving proliferative front (scenario front_amplitude / front_speed / front_start).
   std::string workloads;
   double trace_fraction = 0.0;
   double front_fraction = 0.0;
   long trace_coarsen_max = 4;
+  double trace_jitter_max = 0.03;
 };
 
 // Loads FILE (may be empty: defaults) then KEY=VALUE overrides; errors name the file, line and field.

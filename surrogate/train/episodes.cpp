@@ -45,7 +45,7 @@ void trace_episode(Episode& e, const TrainConfig& c, uint64_t key, uint64_t seed
   e.scenario.ranks = r.ranks;
   e.scenario.slices = track.slices;
   e.scenario.min_width = track.min_width;
-  e.scenario.time_jitter = rng::uniform(0.005, 0.03, key, 6, 0);
+  e.scenario.time_jitter = rng::uniform(0.005, c.trace_jitter_max, key, 6, 0);
   for (int t = 0; t < want; ++t) {  // a window shorter than the rollout holds its last event
     const int at = std::min(t, static_cast<int>(track.work.size()) - 1);
     e.work.push_back(track.work[at]);

@@ -249,6 +249,27 @@ TEST(Episodes, TraceDrivenEpisodesReplayWindowsOfAWorkloadFile) {
   EXPECT_EQ(make_episode(c, 3, 1, loaded).work, make_episode(c, 3, 1, loaded).work);
   EXPECT_THROW(load_train_config("", {"trace_fraction=0.5"}), InputError);  // no workloads named
   EXPECT_THROW(load_train_config("", {"features=boundary-v9"}), InputError);
+  // The trace episodes' jitter is drawn in [0.005, trace_jitter_max] (the default 0.03: a synthetic scenario's range).
+  auto jitters = [&](const TrainConfig& cfg) {
+    double lo = 1, hi = 0;
+    for (long step = 0; step < 100; ++step) {
+      const auto e = make_episode(cfg, step, 0, loaded);
+      if (e.source != "workload:0") continue;
+      lo = std::min(lo, e.scenario.time_jitter), hi = std::max(hi, e.scenario.time_jitter);
+    }
+    return std::pair{lo, hi};
+  };
+  const auto [lo3, hi3] = jitters(c);
+  EXPECT_GE(lo3, 0.005);
+  EXPECT_LE(hi3, 0.03);
+  auto wide = c;
+  wide.trace_jitter_max = 0.08;
+  const auto [lo8, hi8] = jitters(wide);
+  EXPECT_GE(lo8, 0.005);
+  EXPECT_GT(hi8, 0.05);
+  EXPECT_LE(hi8, 0.08);
+  EXPECT_THROW(load_train_config("", {"trace_jitter_max=0.001"}), InputError);
+  EXPECT_THROW(load_train_config("", {"trace_jitter_max=0.5"}), InputError);
   c.workloads = dir + "/absent.h5";
   EXPECT_THROW(load_training_workloads(c), InputError);
 }
