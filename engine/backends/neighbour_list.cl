@@ -110,12 +110,33 @@ __kernel void nl_forces(__global const real4* sorted_pos, __global const real4* 
   long acc[3] = {0, 0, 0};
   if (count <= kmax) {
     __global const int* p = nl + s;
+#ifdef SEMLB_NL_MASK /* a variant: the listed partners 32 at a time, a mask of those within the cutoff, then the force
+                        law on its set bits (as stencil_forces), so the lanes of a warp evaluate together */
+    for (int base = 0; base < count; base += 32, p += 32 * (long)stride) {
+      int m = min(32, count - base);
+      uint mask = 0;
+      for (int k = 0; k < m; ++k) {
+        real4 q = sorted_pos[p[(long)k * stride]];
+        SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
+        if (!(dx * dx + dy * dy + dz * dz >= cutoff2)) mask |= 1u << k;
+      }
+      while (mask) {
+        int k = 31 - (int)clz(mask & (0 - mask));
+        mask &= mask - 1;
+        int j = p[(long)k * stride];
+        real4 q = sorted_pos[j];
+        if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
+          semlb_coincident_force(keys[i], keys[sorted_index[j]], info, INFO(q.w), table, acc);
+      }
+    }
+#else
     for (int k = 0; k < count; ++k, p += stride) {
       int j = *p;
       real4 q = sorted_pos[j];
       if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
         semlb_coincident_force(keys[i], keys[sorted_index[j]], info, INFO(q.w), table, acc);
     }
+#endif
   } else {
     stencil_forces(me, i, s, bin3(ref[s], lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table,
                    cutoff2, acc);

@@ -14,6 +14,7 @@ bench() { "$S" bench engine --platform NVIDIA --backends opencl-binned --cells 1
 if [ "$what" = bench ] || [ "$what" = all ]; then
   for s in $skins; do bench --precision float --set backend.skin="$s"; done > "$OUT/bench_float.txt" 2>&1
   for s in 0 1; do bench --precision double --set backend.skin="$s"; done > "$OUT/bench_double.txt" 2>&1
+  SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_NL_MASK bench --precision float --set backend.skin=1 > "$OUT/bench_mask.txt" 2>&1
   SEMLB_OPENCL_PROFILE=1 bench --precision float --set backend.skin=1 > "$OUT/bench_profile.txt" 2>&1
 fi
 if [ "$what" = dev ] || [ "$what" = all ]; then
