@@ -4,17 +4,18 @@
 # (SEMLB_OPENCL_PROFILE=1: device ms per kernel), and the paper-size development run (scenes/epidermis_development.yaml,
 # 435,661 cells, Day 0-5, 2,400 steps of 0.05 h, float) as a CSV row of results/gpu/development_1gpu.csv.
 # Usage: bash scripts/gpu/neighbour_list.sh SEMLB OUT [bench|dev|all] [SKINS] [DEV_SKINS]
-#   (defaults: all, SKINS "0 0.5 1 1.5 2", DEV_SKINS "1")
+#   (defaults: all, SKINS "0 0.5 1 1.5 2", DEV_SKINS "1"; BENCH_CELLS: the bench's --cells, default 11000,435661)
 set -uo pipefail
 S=$1; OUT=$2; what=${3:-all}; skins=${4:-"0 0.5 1 1.5 2"}; dev_skins=${5:-"1"}
 here=$(cd "$(dirname "$0")/../.." && pwd)
 export OCL_ICD_FILENAMES=${OCL_ICD_FILENAMES:-libnvidia-opencl.so.1}
 mkdir -p "$OUT"
-bench() { "$S" bench engine --platform NVIDIA --backends opencl-binned --cells 11000,435661 --steps 200 "$@"; }
+cells=${BENCH_CELLS:-11000,435661}
+bench() { "$S" bench engine --platform NVIDIA --backends opencl-binned --cells "$cells" --steps 200 "$@"; }
 if [ "$what" = bench ] || [ "$what" = all ]; then
   for s in $skins; do bench --precision float --set backend.skin="$s"; done > "$OUT/bench_float.txt" 2>&1
-  for s in 0 1; do bench --precision double --set backend.skin="$s"; done > "$OUT/bench_double.txt" 2>&1
   SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_NL_MASK bench --precision float --set backend.skin=1 > "$OUT/bench_mask.txt" 2>&1
+  for s in 0 1; do bench --precision double --set backend.skin="$s"; done > "$OUT/bench_double.txt" 2>&1
   SEMLB_OPENCL_PROFILE=1 bench --precision float --set backend.skin=1 > "$OUT/bench_profile.txt" 2>&1
 fi
 if [ "$what" = dev ] || [ "$what" = all ]; then
