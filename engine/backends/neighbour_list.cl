@@ -82,7 +82,7 @@ __kernel void nl_build(__global const int* gate, __global const real4* sorted_po
         }
       }
     nl_count[s] = count;
-    atomic_max(&stats[0], count);
+    if (count > ((volatile __global int*)stats)[0]) atomic_max(&stats[0], count);  /* rarely: one address for all */
   }
 }
 
@@ -138,10 +138,34 @@ __kernel void nl_forces(__global const real4* sorted_pos, __global const real4* 
     }
 #endif
   } else {
+#ifdef SEMLB_NL_SPLIT
+    return;  /* nl_overflow's */
+#else
     stencil_forces(me, i, s, bin3(ref[s], lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table,
                    cutoff2, acc);
+#endif
   }
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
+}
+
+/* A variant (-DSEMLB_NL_SPLIT, to measure): the slots over kmax in a kernel of their own, so that nl_forces holds
+   only the list loop's registers; without it this kernel returns at once (the host launches it always). */
+__kernel void nl_overflow(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
+                          __global const ulong* keys, __global const int* nl_count, int kmax, __global const int* starts,
+                          real4 lo, real4 size, int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff,
+                          __global long* force, int n) {
+#ifdef SEMLB_NL_SPLIT
+  int s = get_global_id(0);
+  if (s >= n || nl_count[s] <= kmax) return;
+  real4 me = sorted_pos[s];
+  int i = sorted_index[s];
+  long acc[3] = {0, 0, 0};
+  stencil_forces(me, i, s, bin3(ref[s], lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table,
+                 cutoff * cutoff, acc);
+  force[3 * i] += acc[0];
+  force[3 * i + 1] += acc[1];
+  force[3 * i + 2] += acc[2];
+#endif
 }

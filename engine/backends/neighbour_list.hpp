@@ -22,7 +22,8 @@ namespace semlb::engine {
 template <class Real>
 class NeighbourList {
  public:
-  explicit NeighbourList(double skin) { stats_.skin = skin; }
+  // split: the kernels were built with -DSEMLB_NL_SPLIT (nl_overflow then visits every slot; else one item).
+  NeighbourList(double skin, bool split) : split_(split) { stats_.skin = skin; }
   bool on() const { return stats_.skin > 0; }
   void invalidate() { valid_ = false; }
   // The device's build count and largest partner count (a blocking read of 8 bytes: benches and tests only).
@@ -87,6 +88,8 @@ class NeighbourList {
     b.launch("nl_done", 1, 1, gate_.get(), stats_buf_.get());
     b.launch("nl_forces", n, kGroup, sorted_pos_.get(), ref_.get(), sorted_index_.get(), keys.get(), count_.get(),
              list_.get(), stride, kmax, starts_.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), ni);
+    b.launch("nl_overflow", split_ ? n : 1, kGroup, sorted_pos_.get(), ref_.get(), sorted_index_.get(), keys.get(),
+             count_.get(), kmax, starts_.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), ni);
     valid_ = true;
     if (rebuild || ++since_read_ >= kReadEvery) request(b);  // kmax follows the densest element, a step or more late
   }
@@ -131,7 +134,7 @@ class NeighbourList {
   }
 
   ListStats stats_;
-  bool valid_ = false;
+  bool split_ = false, valid_ = false;
   long n_ = -1, capacity_ = 0, bins_ = 0, kmax_ = 64, stored_kmax_ = -1, cap_ = 1L << 40, since_read_ = 0;
   double cutoff_ = -1;
   Grid grid_;

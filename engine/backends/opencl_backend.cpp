@@ -35,7 +35,8 @@ class OpenClBackend final : public Backend {
   using Real4 = std::array<Real, 4>;
 
  public:
-  OpenClBackend(const BackendConfig& c, bool binned) : binned_(binned), list_(binned ? c.skin : 0.0) {
+  OpenClBackend(const BackendConfig& c, bool binned)
+      : binned_(binned), list_(binned ? c.skin : 0.0, build_options().find("SEMLB_NL_SPLIT") != std::string::npos) {
     dev_ = cl::choose_device(c.platform, c.device, c.local_rank);
     cl_device_fp_config fp64 = 0;
     clGetDeviceInfo(dev_.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, nullptr);
@@ -543,9 +544,8 @@ class OpenClBackend final : public Backend {
     const char* text = source.c_str();
     program_ = cl::Program(clCreateProgramWithSource(ctx_.get(), 1, &text, nullptr, &err));
     cl::check(err, "clCreateProgramWithSource");
-    std::string options = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") + (has_fp64_ ? " -DSEMLB_CELLS" : "");
-    // Kernel experiments (docs/engine.md): e.g. SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_SLOTS=2 to time a variant.
-    if (const char* extra = std::getenv("SEMLB_OPENCL_BUILD_OPTIONS")) options += std::string(" ") + extra;
+    const std::string options = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") +
+                                (has_fp64_ ? " -DSEMLB_CELLS" : "") + " " + build_options();
     if (clBuildProgram(program_.get(), 1, &dev_.device, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
       size_t n = 0;
       clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
@@ -555,7 +555,7 @@ class OpenClBackend final : public Backend {
     }
     for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned",
                           "forces_nonlocal", "forces_allpairs", "membrane", "integrate", "noise", "x_extent", "band_flags", "band_gather", "bounds",
-                          "nl_check", "nl_bin_count", "nl_scatter", "nl_build", "nl_done", "nl_forces"}) {
+                          "nl_check", "nl_bin_count", "nl_scatter", "nl_build", "nl_done", "nl_forces", "nl_overflow"}) {
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
       cl::check(err, k);
     }
@@ -564,6 +564,12 @@ class OpenClBackend final : public Backend {
         kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
         cl::check(err, k);
       }
+  }
+
+  // Kernel experiments (docs/engine.md): e.g. SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_NL_MASK to time a variant.
+  static std::string build_options() {
+    const char* extra = std::getenv("SEMLB_OPENCL_BUILD_OPTIONS");
+    return extra ? extra : "";
   }
 
   cl::Mem buffer(size_t bytes) {

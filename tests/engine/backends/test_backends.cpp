@@ -363,7 +363,7 @@ TEST(Backends, UnlistedEffectsLaunchNothing) {
       // the neighbour list (default skin): its check from the second step on (the first builds unasked), the gated
       // build kernels every step (they return at once unless the check asked for a build), the list's force kernel
       {"opencl-binned", {{"nl_check", 9}, {"nl_bin_count", 10}, {"scan_blocks", 10}, {"scan_sums", 10}, {"scan_add", 10},
-                         {"nl_scatter", 10}, {"nl_build", 10}, {"nl_done", 10}, {"nl_forces", 10}}}};
+                         {"nl_scatter", 10}, {"nl_build", 10}, {"nl_done", 10}, {"nl_forces", 10}, {"nl_overflow", 10}}}};
   for (const auto& backend : available_backends())
     for (const bool extra : {false, true}) {  // mechanics only; then with membrane and noise listed too
       std::vector<std::string> sets = {"backend.name=" + backend};
