@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <map>
 #include <random>
 
 #include "engine/backends/cpu_physics.hpp"
@@ -186,7 +187,28 @@ effects:
 TEST(NeighbourList, SkinIsANonNegativeLength) {
   EXPECT_THROW(scene_from(testing::kMechanicsYaml, {"backend.skin=-1"}), InputError);
   EXPECT_EQ(scene_from(testing::kMechanicsYaml, {"backend.skin=0"}).backend.skin, 0.0);
-  EXPECT_EQ(scene_from(testing::kMechanicsYaml).backend.skin, 1.0);
+  EXPECT_EQ(scene_from(testing::kMechanicsYaml).backend.skin, 0.0);  // no list unless a scene asks for one
+}
+
+// What a step launches with the list: its check from the second step on (the first builds unasked), the gated build
+// kernels every step (they return at once unless the check asked for a build), the list's force kernels; and with
+// skin 0 the stencil over fresh bins, as before the list.
+TEST(NeighbourList, LaunchesTheGatedBuildEveryStepAndTheCheckAfterTheFirst) {
+  if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
+  using Launches = std::map<std::string, long>;
+  const Launches list = {{"nl_check", 9}, {"nl_bin_count", 10}, {"scan_blocks", 10}, {"scan_sums", 10}, {"scan_add", 10},
+                         {"nl_scatter", 10}, {"nl_build", 10}, {"nl_done", 10}, {"nl_forces", 10}, {"nl_overflow", 10},
+                         {"zero_forces", 10}, {"integrate", 10}};
+  const Launches stencil = {{"bin_count", 10}, {"scan_blocks", 10}, {"scan_sums", 10}, {"scan_add", 10}, {"scatter", 10},
+                            {"forces_binned", 10}, {"zero_forces", 10}, {"integrate", 10}};
+  for (const auto& [skin, want] : {std::pair{"1", list}, {"0", stencil}}) {
+    auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=opencl-binned", std::string("backend.skin=") + skin});
+    scene.box_lo = {0, 0, 0};
+    scene.box_hi = {40, 40, 40};
+    Simulation sim(scene, testing::random_state(10, 5, 40.0, 1));
+    sim.advance(10);
+    EXPECT_EQ(sim.backend().launches(), want) << "skin " << skin;
+  }
 }
 
 }  // namespace
