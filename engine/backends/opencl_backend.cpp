@@ -140,7 +140,6 @@ class OpenClBackend final : public Backend {
     leavers = {};
     owner.clear();
     near_valid_ = false;
-    list_.invalidate();
     for (const auto& [name, f] : host.cell_fields) leavers.cell_fields[name];
     n_ = owned_;  // the ghosts go
     const long n = cells_;
@@ -163,6 +162,7 @@ class OpenClBackend final : public Backend {
     cl_int leaving = 0;
     read(dstarts_, &leaving, sizeof leaving, n * sizeof(cl_int));
     if (leaving == 0) return;  // nothing crosses
+    list_.invalidate();  // the owned elements change
     exclusive_scan(counts2_, estarts_, esums_, estarts_, 2 * n);
     cl_int ends[2] = {0, 0};  // leavers' elements, leavers' + stayers'
     read(estarts_, &ends[0], sizeof(cl_int), n * sizeof(cl_int));
