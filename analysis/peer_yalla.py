@@ -18,7 +18,7 @@ def main():
     ap.add_argument("log")
     a = ap.parse_args()
     w = csv.writer(sys.stdout, lineterminator="\n")
-    w.writerow(["elements", "semlb_ms_per_step", "yalla_ms_per_eval", "ratio", "precision", "machine", "round"])
+    w.writerow(["elements", "semlb_ms_per_step", "yalla_ms_per_eval", "ratio", "precision", "machine", "round", "skin"])
     header, semlb, rnd, rows = None, {}, 0, 0
     for n, line in enumerate(open(a.log), 1):
         f = line.split()
@@ -27,15 +27,16 @@ def main():
         elif f and f[0] == "backend":
             header = f
         elif header and f and f[0].startswith("opencl"):
-            semlb[int(f[header.index("elements")])] = (float(f[header.index("ms/step")]), f[header.index("precision")])
+            skin = f[header.index("skin")] if "skin" in header else "0"  # the neighbour list's (issue 27); 0: none
+            semlb[int(f[header.index("elements")])] = (float(f[header.index("ms/step")]), f[header.index("precision")], skin)
         elif line.startswith("yalla"):
             m = re.search(r"n=(\d+) .*ms/force-eval=([0-9.]+)", line)
             if not m or int(m.group(1)) not in semlb:
                 print(f"peer_yalla.py: {a.log}:{n}: no semlb row for this ya||a line", file=sys.stderr)
                 sys.exit(2)
-            ms, precision = semlb[int(m.group(1))]
+            ms, precision, skin = semlb[int(m.group(1))]
             y = float(m.group(2))
-            w.writerow([m.group(1), ms, y, f"{y / ms:.3g}", precision, a.machine, rnd])
+            w.writerow([m.group(1), ms, y, f"{y / ms:.3g}", precision, a.machine, rnd, float(skin)])
             rows += 1
     if not rows:
         print(f"peer_yalla.py: {a.log}: no ya||a lines", file=sys.stderr)

@@ -77,8 +77,9 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
                        " rows (backends x cells)");
   }
   std::printf("# semlb bench engine: %s, %ld timed steps after %ld warm-up steps\n", scene_file.c_str(), steps, warmup);
-  std::printf("%-16s %-9s %9s %10s %10s %14s %10s %8s %9s %9s %9s  %s\n", "backend", "precision", "cells", "elements",
-              "seconds", "elem-steps/s", "ms/step", "ratio", "per_cube", "candid.", "neighb.", "device");
+  std::printf("%-16s %-9s %9s %10s %10s %14s %10s %6s %9s %8s %9s %9s %9s  %s\n", "backend", "precision", "cells",
+              "elements", "seconds", "elem-steps/s", "ms/step", "skin", "builds/st", "ratio", "per_cube", "candid.",
+              "neighb.", "device");
   size_t row = 0;
   for_each_scene(scene_file, backends, cells, flags, [&](engine::Scene& scene, const std::string& backend) {
     const auto t = engine::time_scene(scene, steps, warmup);
@@ -86,9 +87,13 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
     const double ms = 1e3 * t.seconds / static_cast<double>(steps);
     const std::string ratio = before.empty() ? "-" : format_real(std::round(100 * before[row] / ms) / 100);
     ++row;
-    std::printf("%-16s %-9s %9ld %10ld %10.4f %14.4g %10.4f %8s %9.2f %9.1f %9.1f  %s\n", backend.c_str(),
+    std::printf("%-16s %-9s %9ld %10ld %10.4f %14.4g %10.4f %6.2f %9.4f %8s %9.2f %9.1f %9.1f  %s\n", backend.c_str(),
                 scene.backend.precision.c_str(), t.cells, t.elements, t.seconds, t.element_steps_per_second(), ms,
-                ratio.c_str(), stats.per_cutoff_cube, stats.candidates, stats.neighbours, t.device.c_str());
+                t.list.skin, static_cast<double>(t.list_builds) / static_cast<double>(steps), ratio.c_str(),
+                stats.per_cutoff_cube, stats.candidates, stats.neighbours, t.device.c_str());
+    if (t.list.skin > 0)
+      std::printf("    list: skin %.3g um, %ld builds in %ld steps, at most %ld partners per element, %ld stored\n",
+                  t.list.skin, t.list_builds, steps, t.list.max_partners, t.list.kmax);
     for (const auto& [kernel, secs] : t.kernel_seconds)  // with SEMLB_OPENCL_PROFILE=1
       std::printf("    kernel %-20s %10.4f ms/step\n", kernel.c_str(), 1e3 * secs / steps);
   });

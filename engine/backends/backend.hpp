@@ -92,6 +92,14 @@ struct Traffic {
   long h2d = 0, d2h = 0;
 };
 
+// What opencl-binned's neighbour list did since construction (Backend::list_stats; semlb bench engine prints it).
+struct ListStats {
+  double skin = 0;        // um; 0: no list (backends without one, or the stencil over fresh bins every step)
+  long builds = 0;        // list builds (the device decides them; read back from it)
+  long max_partners = 0;  // the most partners one element had at a build (within cutoff + skin)
+  long kmax = 0;          // partners stored per element; an element with more takes the stencil
+};
+
 class Backend {
  public:
   virtual ~Backend() = default;
@@ -165,6 +173,11 @@ class Backend {
   virtual void noise(double amplitude, uint64_t seed, long step) = 0;  // Y += amplitude * N(0,1)
   virtual Failure failure() = 0;
   virtual void finish() {}  // waits for queued work (so that wall times are honest)
+  // The neighbour list's figures (a blocking read of 8 bytes on OpenCL); zeros without a list.
+  virtual ListStats list_stats() { return {}; }
+  // The owned elements' force sums now (3 per element, fixed point, 2^-32 force units), as zero_forces and the
+  // force effects left them: a blocking download for tests.
+  virtual std::vector<int64_t> fixed_forces() = 0;
   // finish(), calling `progress` repeatedly while the device still works (a decomposed run lets MPI move the
   // ghost bands meanwhile). The C++ backends' work is done when their calls return: progress runs once.
   virtual void finish_while(const std::function<void()>& progress) {

@@ -82,6 +82,7 @@ class CpuBackend : public Backend {
     count("zero_forces");
     std::fill(force_.begin(), force_.end(), 0);
   }
+  std::vector<int64_t> fixed_forces() override { return {force_.begin(), force_.begin() + 3 * owned_}; }
   long owned() const { return owned_; }  // forces, integration and noise apply to elements [0, owned)
   long total() const { return static_cast<long>(info_.size()); }
 

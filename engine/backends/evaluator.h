@@ -19,6 +19,7 @@ typedef SEMLB_REAL semlb_real;
 #define SEMLB_FORCE_MAX 1048576.0
 /* Below this distance (length units) the pair direction is taken from the element keys (r = 0). */
 #define SEMLB_R_MIN 1e-6
+#define SEMLB_R_MIN2 1e-12 /* SEMLB_R_MIN^2 as one literal (the device compiler did not fold the product) */
 
 /* Parameter table layout (reals): a Morse set is stored as derived constants (U0/xi1, 1/xi1, V0/xi2, 1/xi2),
  * computed on the host from the scene's U0, V0, xi1, xi2, so that the kernels divide nothing. */
@@ -80,7 +81,7 @@ static inline int semlb_pair_force(semlb_real dx, semlb_real dy, semlb_real dz, 
   semlb_real r2 = dx * dx + dy * dy + dz * dz;
   if (r2 >= cutoff2) return 0;
 #ifdef SEMLB_PAIR_RSQRT
-  if (r2 < (semlb_real)(SEMLB_R_MIN * SEMLB_R_MIN)) return -1;
+  if (r2 < (semlb_real)SEMLB_R_MIN2) return -1;
   semlb_real inv = SEMLB_PAIR_RSQRT(r2), r = r2 * inv;
 #else
   semlb_real r = SEMLB_SQRT(r2);

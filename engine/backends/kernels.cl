@@ -56,8 +56,9 @@ static inline void scan_local(__local int* tmp, int l, int w) {
 }
 
 /* Exclusive scan, step 1: within blocks of the work-group size (power of two, <= 1024). */
-__kernel void scan_blocks(__global const int* counts, __global int* starts, __global int* sums, int nbins,
-                          __local int* tmp) {
+__kernel void scan_blocks(__global const int* gate, __global const int* counts, __global int* starts, __global int* sums,
+                          int nbins, __local int* tmp) {
+  if (!gate[0]) return;  /* gate: the scan kernels run only when its first int is set (neighbour_list.cl) */
   int g = get_global_id(0), l = get_local_id(0), w = get_local_size(0);
   int v = g < nbins ? counts[g] : 0;
   tmp[l] = v;
@@ -67,7 +68,8 @@ __kernel void scan_blocks(__global const int* counts, __global int* starts, __gl
 }
 
 /* Step 2: one work-group scans the block sums in chunks, carrying the running total. */
-__kernel void scan_sums(__global int* sums, int nblocks, __local int* tmp) {
+__kernel void scan_sums(__global const int* gate, __global int* sums, int nblocks, __local int* tmp) {
+  if (!gate[0]) return;
   int l = get_local_id(0), w = get_local_size(0);
   int carry = 0;
   for (int base = 0; base < nblocks; base += w) {
@@ -81,8 +83,9 @@ __kernel void scan_sums(__global int* sums, int nblocks, __local int* tmp) {
 }
 
 /* Step 3: add the block offsets; the scatter cursor starts at each bin's start; starts[nbins] = the total. */
-__kernel void scan_add(__global int* starts, __global const int* sums, __global const int* counts, int nbins,
-                       __global int* cursor) {
+__kernel void scan_add(__global const int* gate, __global int* starts, __global const int* sums,
+                       __global const int* counts, int nbins, __global int* cursor) {
+  if (!gate[0]) return;
   int g = get_global_id(0);
   if (g < nbins) {
     int s = starts[g] + sums[get_group_id(0)];
@@ -209,6 +212,8 @@ __kernel void forces_allpairs(__global const real4* pos, __global const ulong* k
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
 }
+
+#include "neighbour_list.cl"
 
 __kernel void membrane(__global const real4* pos, __constant const SEMLB_REAL* m, __global long* force, int n) {
   int i = get_global_id(0);

@@ -11,6 +11,7 @@
 #include "common/errors.hpp"
 #include "cpu_physics.hpp"
 #include "model/tissue.hpp"
+#include "neighbour_list.hpp"
 #include "opencl.hpp"
 
 namespace semlb::engine {
@@ -34,7 +35,8 @@ class OpenClBackend final : public Backend {
   using Real4 = std::array<Real, 4>;
 
  public:
-  OpenClBackend(const BackendConfig& c, bool binned) : binned_(binned) {
+  OpenClBackend(const BackendConfig& c, bool binned)
+      : binned_(binned), list_(binned ? c.skin : 0.0, build_options().find("SEMLB_NL_SPLIT") != std::string::npos) {
     dev_ = cl::choose_device(c.platform, c.device, c.local_rank);
     cl_device_fp_config fp64 = 0;
     clGetDeviceInfo(dev_.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, nullptr);
@@ -61,6 +63,8 @@ class OpenClBackend final : public Backend {
     bounds_ = buffer(6 * kExtentGroups * sizeof(Real));
     cell_fail_ = buffer(sizeof(cl_int));
     near_ = buffer(sizeof(cl_int));  // a valid argument before the first band selection
+    always_ = buffer(sizeof(cl_int));
+    fill(always_, 1, sizeof(cl_int));
   }
 
   std::string name() const override { return binned_ ? "opencl-binned" : "opencl-allpairs"; }
@@ -68,6 +72,7 @@ class OpenClBackend final : public Backend {
 
   void upload(const State& s) override {
     near_valid_ = false;
+    list_.invalidate();
     n_ = owned_ = s.elements();
     if (n_ > capacity_) allocate(n_ + n_ / 4 + 64);
     write_elements(0, s.position, s.element_info(), s.element_keys());
@@ -157,6 +162,7 @@ class OpenClBackend final : public Backend {
     cl_int leaving = 0;
     read(dstarts_, &leaving, sizeof leaving, n * sizeof(cl_int));
     if (leaving == 0) return;  // nothing crosses
+    list_.invalidate();  // the owned elements change
     exclusive_scan(counts2_, estarts_, esums_, estarts_, 2 * n);
     cl_int ends[2] = {0, 0};  // leavers' elements, leavers' + stayers'
     read(estarts_, &ends[0], sizeof(cl_int), n * sizeof(cl_int));
@@ -196,6 +202,7 @@ class OpenClBackend final : public Backend {
   void append_cells(State& host, const State& arrivals) override {
     if (!has_fp64_) return Backend::append_cells(host, arrivals);
     near_valid_ = false;
+    list_.invalidate();
     n_ = owned_;
     const long m = arrivals.cells(), e = arrivals.elements();
     if (m == 0) return;
@@ -325,6 +332,7 @@ class OpenClBackend final : public Backend {
       launch("cells_differentiate", m, kGroup, static_cast<cl_int>(m), rules, elapsed_h, pos_.get(), cell_.first.get(),
              cell_.count.get(), cell_.type.get(), cell_.age.get());
     const bool changed = total != owned_ || daughters > 0;
+    if (changed) list_.invalidate();  // else the same elements in the same order
     owned_ = total;
     n_ = total + ghosts;
     cells_ = m;
@@ -397,6 +405,7 @@ class OpenClBackend final : public Backend {
              LocalBytes{kGroup * sizeof(Real4)}, near_.get(), owned(), cl_int{1});
       return;
     }
+    if (list_.on()) return list_.forces(*this, grid, cutoff, table_, pos_, keys_, force_, owned_);
     sort_into_bins(grid, 0, owned_, owned_sort_);
     launch("forces_binned", owned_, kGroup, owned_sort_.sorted_pos.get(), owned_sort_.sorted_index.get(), keys_.get(),
            owned_sort_.starts.get(), real4(grid.lo), real4(grid.size), int4(grid.dims), table_.get(),
@@ -453,6 +462,12 @@ class OpenClBackend final : public Backend {
   }
 
   void finish() override { cl::check(clFinish(queue_.get()), "clFinish"); }
+  ListStats list_stats() override { return list_.stats(*this); }
+  std::vector<int64_t> fixed_forces() override {
+    std::vector<int64_t> f(3 * owned_);
+    read(force_, f.data(), f.size() * sizeof(int64_t));
+    return f;
+  }
 
   void finish_while(const std::function<void()>& progress) override {
     cl_event marker = nullptr;
@@ -529,9 +544,8 @@ class OpenClBackend final : public Backend {
     const char* text = source.c_str();
     program_ = cl::Program(clCreateProgramWithSource(ctx_.get(), 1, &text, nullptr, &err));
     cl::check(err, "clCreateProgramWithSource");
-    std::string options = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") + (has_fp64_ ? " -DSEMLB_CELLS" : "");
-    // Kernel experiments (docs/engine.md): e.g. SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_SLOTS=2 to time a variant.
-    if (const char* extra = std::getenv("SEMLB_OPENCL_BUILD_OPTIONS")) options += std::string(" ") + extra;
+    const std::string options = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") +
+                                (has_fp64_ ? " -DSEMLB_CELLS" : "") + " " + build_options();
     if (clBuildProgram(program_.get(), 1, &dev_.device, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
       size_t n = 0;
       clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
@@ -540,7 +554,8 @@ class OpenClBackend final : public Backend {
       throw std::runtime_error("OpenCL: kernels failed to build on " + device_name() + ":\n" + log);
     }
     for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned",
-                          "forces_nonlocal", "forces_allpairs", "membrane", "integrate", "noise", "x_extent", "band_flags", "band_gather", "bounds"}) {
+                          "forces_nonlocal", "forces_allpairs", "membrane", "integrate", "noise", "x_extent", "band_flags", "band_gather", "bounds",
+                          "nl_check", "nl_bin_count", "nl_scatter", "nl_build", "nl_done", "nl_forces", "nl_overflow"}) {
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
       cl::check(err, k);
     }
@@ -549,6 +564,12 @@ class OpenClBackend final : public Backend {
         kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
         cl::check(err, k);
       }
+  }
+
+  // Kernel experiments (docs/engine.md): e.g. SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_NL_MASK to time a variant.
+  static std::string build_options() {
+    const char* extra = std::getenv("SEMLB_OPENCL_BUILD_OPTIONS");
+    return extra ? extra : "";
   }
 
   cl::Mem buffer(size_t bytes) {
@@ -629,12 +650,31 @@ class OpenClBackend final : public Backend {
     band_pos_ = buffer(capacity * sizeof(Real4));  // the migration's leavers (cells_split)
   }
 
-  // starts[i] = counts[0] + ... + counts[i-1] for i <= n (three kernels); cursor[i] = starts[i].
-  void exclusive_scan(const cl::Mem& counts, const cl::Mem& starts, const cl::Mem& sums, const cl::Mem& cursor, long n) {
+  // starts[i] = counts[0] + ... + counts[i-1] for i <= n (three kernels); cursor[i] = starts[i]. With `gate`, the
+  // kernels do nothing unless its first int is set (the neighbour list's builds).
+  void exclusive_scan(const cl::Mem& counts, const cl::Mem& starts, const cl::Mem& sums, const cl::Mem& cursor, long n,
+                      const cl::Mem* gate = nullptr) {
     const cl_int nb = static_cast<cl_int>(n), blocks = static_cast<cl_int>(round_up(n, kScanGroup) / kScanGroup);
-    launch("scan_blocks", n, kScanGroup, counts.get(), starts.get(), sums.get(), nb, LocalBytes{kScanGroup * sizeof(cl_int)});
-    launch("scan_sums", kScanGroup, kScanGroup, sums.get(), blocks, LocalBytes{kScanGroup * sizeof(cl_int)});
-    launch("scan_add", n, kScanGroup, starts.get(), sums.get(), counts.get(), nb, cursor.get());
+    const cl_mem g = (gate ? *gate : always_).get();
+    launch("scan_blocks", n, kScanGroup, g, counts.get(), starts.get(), sums.get(), nb, LocalBytes{kScanGroup * sizeof(cl_int)});
+    launch("scan_sums", kScanGroup, kScanGroup, g, sums.get(), blocks, LocalBytes{kScanGroup * sizeof(cl_int)});
+    launch("scan_add", n, kScanGroup, g, starts.get(), sums.get(), counts.get(), nb, cursor.get());
+  }
+  // `bytes` of m set to the int `value` (on the device).
+  void fill(const cl::Mem& m, cl_int value, size_t bytes) {
+    if (bytes) cl::check(clEnqueueFillBuffer(queue_.get(), m.get(), &value, sizeof value, 0, bytes, 0, nullptr, nullptr), "fill buffer");
+  }
+  // A non-blocking read whose completion the returned event tells.
+  cl::Event read_event(const cl::Mem& m, void* data, size_t bytes) {
+    cl_event e = nullptr;
+    cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_FALSE, 0, bytes, data, 0, nullptr, &e), "read buffer");
+    moved(0, static_cast<long>(bytes));
+    return cl::Event(e);
+  }
+  size_t max_alloc() const {
+    cl_ulong bytes = 0;
+    clGetDeviceInfo(dev_.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof bytes, &bytes, nullptr);
+    return static_cast<size_t>(bytes);
   }
 
   // A counting sort by bin with its own buffers (the owned elements' and the ghosts'): per bin the count, the
@@ -744,7 +784,10 @@ class OpenClBackend final : public Backend {
     }
   }
 
+  template <class> friend class semlb::engine::NeighbourList;
   bool binned_, profile_ = false, has_fp64_ = false, cells_stale_ = false;
+  NeighbourList<Real> list_;  // opencl-binned's local pairs when backend.skin > 0
+  cl::Mem always_;            // an int 1: the gate of ungated scans
   Cells cell_, back_, leave_;  // leave_: the migration's leavers (leave_.first holds each one's new owner)
   long cells_ = 0, plan_capacity_ = 0, work_bins_capacity_ = 0, work_capacity_ = 0, bounds_capacity_ = 0;
   cl::Mem work_counts_, work_, owner_bounds_;  // W_s: elements per bin, per-slice sums; the interior boundaries

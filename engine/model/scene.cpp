@@ -125,6 +125,7 @@ void read_backend(const Section& s, BackendConfig& b) {
   b.threads = static_cast<int>(s.integer("threads", 0, 0, 4096));
   b.platform = s.text("platform", "");
   b.device = static_cast<int>(s.integer("device", 0, 0, 1024));
+  b.skin = s.real("skin", b.skin, 0, 1e3);
   s.finish();
 }
 

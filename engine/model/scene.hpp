@@ -43,6 +43,7 @@ struct BackendConfig {
   std::string platform;               // OpenCL platform name substring; empty: see docs/engine.md
   int device = 0;                     // device index within the chosen platform
   int local_rank = 0;                 // added to `device` (one device per local MPI rank)
+  double skin = 0.0;                  // um, opencl-binned's neighbour list (docs/engine.md); 0: none, bins every step
 };
 
 struct Scene {

@@ -56,10 +56,13 @@ Timing time_scene(Scene& scene, long steps, long warmup, long profile_steps) {
   sim.advance(sim.host_state().step + warmup);
   sim.backend().finish();
   const auto kernels_before = sim.backend().kernel_seconds();
+  const long builds_before = sim.backend().list_stats().builds;
   const auto t0 = std::chrono::steady_clock::now();
   sim.advance(sim.host_state().step + steps);
   sim.backend().finish();
   t.seconds = seconds_since(t0);
+  t.list = sim.backend().list_stats();
+  t.list_builds = t.list.builds - builds_before;
   t.steps = steps;
   for (const auto& [k, v] : sim.backend().kernel_seconds()) t.kernel_seconds[k] = v - (kernels_before.count(k) ? kernels_before.at(k) : 0.0);
   const State& s = sim.sync();

@@ -4,29 +4,31 @@
 # (ncu_replay.cpp: checks the replay reproduces the OpenCL launch bit for bit, times it), and writes ncu's full
 # report, its details page and its per-SASS-instruction source page, for float and double.
 # Usage: scripts/gpu/ncu_forces.sh SEMLB OUT [CELLS] [PRECISIONS]   (an NVIDIA GPU, nvcc and ncu on the PATH)
+# KERNEL=nl_forces SKIN=0.5 profiles the neighbour list's force kernel instead (issue 27; not yet run).
 set -euo pipefail
 semlb=$1; out=$2; cells=${3:-435661}; precisions=${4:-"float double"}
 here=$(cd "$(dirname "$0")" && pwd)
+k=${KERNEL:-forces_binned}; skin=${SKIN:-0}
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 mkdir -p "$out"
 nvcc -O2 -std=c++17 "$here/ncu_replay.cpp" -lcuda -o "$scratch/ncu_replay"
 for p in $precisions; do
   cap="$scratch/capture_$p"
-  SEMLB_OPENCL_PROFILE=1 SEMLB_OPENCL_CAPTURE="forces_binned:$cap" "$semlb" bench engine --platform NVIDIA \
-    --backends opencl-binned --cells "$cells" --steps 20 --warmup 1 --precision "$p" > "$out/bench_$p.txt" 2>&1
+  SEMLB_OPENCL_PROFILE=1 SEMLB_OPENCL_CAPTURE="$k:$cap" "$semlb" bench engine --platform NVIDIA \
+    --backends opencl-binned --cells "$cells" --steps 20 --warmup 1 --precision "$p" --set backend.skin="$skin" > "$out/bench_$p.txt" 2>&1
   rc=0; "$scratch/ncu_replay" "$cap" 20 > "$out/replay_$p.txt" 2>&1 || rc=$?
   if [ "$rc" != 0 ] && grep -q "did not load" "$out/replay_$p.txt"; then  # JIT refused it: ptxas's cubin instead
     ptxas -arch=sm_90 "$cap/patched.ptx" -o "$cap/patched.cubin"
     rc=0; "$scratch/ncu_replay" "$cap" 20 > "$out/replay_$p.txt" 2>&1 || rc=$?
   fi
-  cp "$cap/program.bin" "$out/forces_binned_$p.ptx"
+  cp "$cap/program.bin" "$out/${k}_$p.ptx"
   ptxas -arch=sm_90 -v "$cap/patched.ptx" -o /dev/null > "$out/ptxas_$p.txt" 2>&1 || true
   [ "$rc" = 0 ] || { cat "$out/replay_$p.txt" "$out/ptxas_$p.txt"; exit 1; }
-  ncu --clock-control none --set full -k regex:forces_binned -c 1 -f -o "$out/forces_binned_$p" \
+  ncu --clock-control none --set full -k "regex:$k" -c 1 -f -o "$out/${k}_$p" \
     "$scratch/ncu_replay" "$cap" 1 > "$out/ncu_run_$p.log" 2>&1
-  ncu --import "$out/forces_binned_$p.ncu-rep" --page details --print-details all > "$out/ncu_details_$p.txt" 2>&1 ||
-    ncu --import "$out/forces_binned_$p.ncu-rep" --page details > "$out/ncu_details_$p.txt" 2>&1
-  ncu --import "$out/forces_binned_$p.ncu-rep" --page source --csv --print-source sass > "$out/ncu_source_$p.csv" 2>&1 || true
+  ncu --import "$out/${k}_$p.ncu-rep" --page details --print-details all > "$out/ncu_details_$p.txt" 2>&1 ||
+    ncu --import "$out/${k}_$p.ncu-rep" --page details > "$out/ncu_details_$p.txt" 2>&1
+  ncu --import "$out/${k}_$p.ncu-rep" --page source --csv --print-source sass > "$out/ncu_source_$p.csv" 2>&1 || true
   rm -rf "$cap"
 done

@@ -60,19 +60,38 @@ TEST(CliSim, BenchEnginePrintsElementStepsPerSecond) {
   EXPECT_NE(r.out.find("\ncpu-binned "), std::string::npos) << r.out;
 }
 
+// opencl-binned with a neighbour list: the skin and the builds per step beside ms/step, and a line with its figures.
+TEST(CliSim, BenchEnginePrintsTheSkinAndTheListBuilds) {
+  const auto r = run(semlb_bin() + " bench engine --backends opencl-binned --cells 20 --steps 40 --warmup 1 --set backend.skin=0.5");
+  if (r.rc != 0) GTEST_SKIP() << "no OpenCL platform? " << r.out;
+  const size_t at = r.out.find("\nopencl-binned ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  std::istringstream row(r.out.substr(at + 1));
+  std::string backend, precision;
+  double n, elements, seconds, rate, ms, skin, builds;
+  row >> backend >> precision >> n >> elements >> seconds >> rate >> ms >> skin >> builds;
+  ASSERT_TRUE(row) << r.out;
+  EXPECT_EQ(skin, 0.5) << r.out;
+  EXPECT_GE(builds, 0.0) << r.out;
+  EXPECT_LE(builds, 1.0) << r.out;
+  EXPECT_NE(r.out.find("    list: skin 0.5 um, "), std::string::npos) << r.out;
+}
+
 TEST(CliSim, BenchEnginePrintsMsPerStepAndTheRatioToAPreviousFigure) {
   const auto r = run(semlb_bin() + " bench engine --backends serial --cells 20,40 --steps 3 --warmup 1 --previous 1e9,1e9");
   ASSERT_EQ(r.rc, 0) << r.out;
   ASSERT_NE(r.out.find("ms/step"), std::string::npos) << r.out;
   size_t at = 0;
-  for (double cells : {20.0, 40.0}) {  // row: backend precision cells elements seconds e-s/s ms ratio ...
+  for (double cells : {20.0, 40.0}) {  // row: backend precision cells elements seconds e-s/s ms skin builds ratio ...
     at = r.out.find("\nserial ", at);
     ASSERT_NE(at, std::string::npos) << r.out;
     std::istringstream row(r.out.substr(++at));
     std::string backend, precision;
-    double n, elements, seconds, rate, ms, ratio;
-    row >> backend >> precision >> n >> elements >> seconds >> rate >> ms >> ratio;
+    double n, elements, seconds, rate, ms, skin, builds, ratio;
+    row >> backend >> precision >> n >> elements >> seconds >> rate >> ms >> skin >> builds >> ratio;
     ASSERT_TRUE(row) << r.out;
+    EXPECT_EQ(skin, 0.0) << r.out;  // serial has no neighbour list
+    EXPECT_EQ(builds, 0.0) << r.out;
     EXPECT_EQ(n, cells) << r.out;
     EXPECT_NEAR(ms, 1e3 * elements / rate, 1e-3 * ms) << r.out;  // both from one timing (rate to 4 digits)
     EXPECT_NEAR(seconds, 3 * ms / 1e3, 1e-4) << r.out;                // seconds printed to 4 decimals

@@ -24,9 +24,12 @@ using testing::random_state;
 using testing::scene_from;
 
 // Positions after `steps` steps of mechanics + membrane on a random tissue, with the given backend.
-State run(const std::string& backend, const std::string& precision, State s, long steps, int threads = 0, double side = 40) {
+// `skin`: opencl-binned's neighbour list (0: the stencil over fresh bins every step).
+State run(const std::string& backend, const std::string& precision, State s, long steps, int threads = 0, double side = 40,
+          const std::string& skin = "1") {
   auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.precision=" + precision,
-                                                    "backend.threads=" + std::to_string(threads), "effects.membrane={}"});
+                                                    "backend.threads=" + std::to_string(threads), "effects.membrane={}",
+                                                    "backend.skin=" + skin});
   scene.box_lo = {0, 0, 0};
   scene.box_hi = {side, side, side};
   Simulation sim(scene, std::move(s));
@@ -58,6 +61,7 @@ TEST(Backends, OpenClMatchesTheCppReference) {
   EXPECT_LT(max_difference(ref, run("opencl-binned", "float", s, 5)), 1e-3);
   // The two device variants share the fixed-point sums, so they agree bit for bit with each other.
   EXPECT_EQ(run("opencl-allpairs", "double", s, 5).hash(), run("opencl-binned", "double", s, 5).hash());
+  EXPECT_EQ(run("opencl-allpairs", "float", s, 5).hash(), run("opencl-binned", "float", s, 5, 0, 40, "0").hash());
   // A grid of 22^3 = 10,648 bins: the bin scan spans 42 work-groups.
   const auto wide = random_state(3000, 4, 200.0, 15);
   EXPECT_EQ(run("opencl-allpairs", "float", wide, 2, 0, 200).hash(), run("opencl-binned", "float", wide, 2, 0, 200).hash());
@@ -66,8 +70,9 @@ TEST(Backends, OpenClMatchesTheCppReference) {
 
 // Final positions of `steps` steps on a 200 um box (22^3 bins), or the state frozen
 // at the failing step when the run stops.
-State run_wide(const std::string& backend, const std::string& precision, State s, long steps) {
-  auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.precision=" + precision});
+State run_wide(const std::string& backend, const std::string& precision, State s, long steps, const std::string& skin = "1") {
+  auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.precision=" + precision,
+                                                    "backend.skin=" + skin});
   scene.box_lo = {0, 0, 0};
   scene.box_hi = {200, 200, 200};
   Simulation sim(scene, std::move(s));
@@ -97,13 +102,15 @@ TEST(Backends, BinnedMaskKeepsExactlyTheAllPairsPairs) {
   for (const char* precision : {"float", "double"})
     for (const auto& [name, s] : {std::pair{"crowded", crowded}, {"outside", outside}}) {
       const State all = run_wide("opencl-allpairs", precision, s, 2);
-      EXPECT_EQ(all.hash(), run_wide("opencl-binned", precision, s, 2).hash()) << name << " " << precision;
+      for (const char* skin : {"0", "1"})  // the stencil over fresh bins, and the neighbour list
+        EXPECT_EQ(all.hash(), run_wide("opencl-binned", precision, s, 2, skin).hash()) << name << " " << precision << " skin " << skin;
       EXPECT_NE(all.hash(), s.hash()) << name;  // the forces moved something
     }
   // All-pairs pairs a NaN element with every element, a binned backend with its stencil only: compare the
   // device's binned kernel with the C++ binned backend (same stencil); the NaN's partners take the clamped
-  // force (a 1e4 um step), the others agree to 1e-9 um.
-  const State host = run_wide("cpu-binned", "double", nonfinite, 2), device = run_wide("opencl-binned", "double", nonfinite, 2);
+  // force (a 1e4 um step), the others agree to 1e-9 um. (With a neighbour list a NaN element meets the elements
+  // of the list's bins, of edge cutoff + skin: other partners, so the stencil is compared here.)
+  const State host = run_wide("cpu-binned", "double", nonfinite, 2), device = run_wide("opencl-binned", "double", nonfinite, 2, "0");
   long partners = 0;
   for (size_t i = 0; i < host.position.size(); ++i) {
     const double a = host.position[i], b = device.position[i];
@@ -353,6 +360,7 @@ TEST(Backends, UnlistedEffectsLaunchNothing) {
       {"serial", {{"forces_allpairs", 10}}},
       {"cpu-binned", {{"bin_sort", 10}, {"forces_binned", 10}}},
       {"opencl-allpairs", {{"forces_allpairs", 10}}},
+      // (the default skin 0: no neighbour list; with one: NeighbourList.LaunchesTheGatedBuildEveryStepAndTheCheckAfterTheFirst)
       {"opencl-binned", {{"bin_count", 10}, {"scan_blocks", 10}, {"scan_sums", 10}, {"scan_add", 10}, {"scatter", 10},
                          {"forces_binned", 10}}}};
   for (const auto& backend : available_backends())
@@ -424,9 +432,9 @@ TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
   const std::string dir = test::fresh_dir("kernel_capture");
   const auto s = random_state(40, 9, 40.0, 21);
   setenv("SEMLB_OPENCL_CAPTURE", ("forces_binned:" + dir).c_str(), 1);
-  const State out = run("opencl-binned", "float", s, 3);
+  const State out = run("opencl-binned", "float", s, 3, 0, 40, "0");  // the stencil kernel (no neighbour list)
   unsetenv("SEMLB_OPENCL_CAPTURE");
-  EXPECT_EQ(out.hash(), run("opencl-binned", "float", s, 3).hash());  // capturing changes nothing
+  EXPECT_EQ(out.hash(), run("opencl-binned", "float", s, 3, 0, 40, "0").hash());  // capturing changes nothing
   std::ifstream launch(dir + "/launch.txt");
   std::vector<std::string> lines;
   for (std::string line; std::getline(launch, line);) lines.push_back(line);

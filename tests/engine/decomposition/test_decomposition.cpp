@@ -126,10 +126,18 @@ TEST(Decomposition, OpenClRanksMatchOneOpenClDevice) {
   ASSERT_EQ(r.rc, 0) << r.out;
   const uint64_t reference = read_state(dir + "/single/final.h5").hash();
   const std::string workload = workload_of(dir + "/single/workload.h5");
+  // With backend.skin, opencl-binned's neighbour list takes the local pairs (on each rank its owned elements) and the
+  // stencil the ghosts: one device and 2 and 4 ranks with the list give the state of one device without it.
+  r = run(semlb_bin() + " sim" + args + " --set backend.skin=1 --out " + dir + "/single_list");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_EQ(read_state(dir + "/single_list/final.h5").hash(), reference) << "one device with the list";
   // 2 ranks overlapped and blocking; 4 ranks: the middle ones select both bands in one pass
-  for (const std::string variant : {"np2", "np2_blocking", "np4"}) {
-    const std::string extra = variant == "np2_blocking" ? " --set decomposition.overlap=false" : "";
-    r = run(mpirun(variant == "np4" ? 4 : 2) + args + extra + " --out " + dir + "/" + variant);
+  for (const std::string variant : {"np2", "np2_blocking", "np4", "np2_skin", "np4_skin"}) {
+    const std::string extra = variant == "np2_blocking" ? " --set decomposition.overlap=false"
+                              : variant == "np2_skin"   ? " --set backend.skin=0.3"  // rebuilt often
+                              : variant == "np4_skin"   ? " --set backend.skin=1"
+                                                        : "";
+    r = run(mpirun(variant.rfind("np4", 0) == 0 ? 4 : 2) + args + extra + " --out " + dir + "/" + variant);
     ASSERT_EQ(r.rc, 0) << r.out;
     EXPECT_EQ(read_state(dir + "/" + variant + "/final.h5").hash(), reference) << variant;
     EXPECT_EQ(workload_of(dir + "/" + variant + "/workload.h5"), workload) << variant << ": W_s on the device, counts summed over ranks";

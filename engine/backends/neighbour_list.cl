@@ -1,0 +1,171 @@
+/* The neighbour list of opencl-binned (a Verlet list with a skin, reused across steps; docs/engine.md "Neighbour
+   list"): pasted into kernels.cl after the pair kernels, whose helpers (bin3, stencil_forces) it uses.
+   Per step: nl_check refreshes the sorted positions and raises gate[0] when an element has moved farther than the
+   trigger since the last build; the build kernels (nl_bin_count, the bin scan, nl_scatter, nl_build, nl_done) run
+   every step but return at once unless gate[0] is set, so the device decides when to rebuild and no count crosses
+   to the host; nl_forces evaluates the listed pairs. The list: for sorted slot s, nl_count[s] partners (sorted
+   slots, within cutoff + skin at the build) at nl[s], nl[s + stride], ... (column-major: the lanes of a warp read
+   consecutive words); a slot with more than kmax partners keeps its count and takes the exact 27-bin stencil of
+   the build's bins instead. */
+
+/* Fraction of the skin an element may move before the list is rebuilt: half the skin less 2% for rounding (two
+   elements that each moved less than this came closer by less than the skin). A build option so that the list
+   test can show a wrong trigger being caught (-DSEMLB_NL_TRIGGER=1.5). */
+#ifndef SEMLB_NL_TRIGGER
+#define SEMLB_NL_TRIGGER 0.49
+#endif
+
+/* Items of a grid-stride build kernel: the loops below visit [0, n) whatever the launch size. */
+#define NL_FOR(s, n) for (int s = get_global_id(0); s < (n); s += get_global_size(0))
+
+/* Sorted slot s of the last build: its position now (pos[sorted_index[s]]) into sorted_pos, and gate[0] = 1 when
+   it moved by more than SEMLB_NL_TRIGGER skin since the build (ref[s]) or its displacement is not finite. */
+__kernel void nl_check(__global const real4* pos, __global const int* sorted_index, __global const real4* ref,
+                       __global real4* sorted_pos, int n, SEMLB_REAL skin, __global int* gate) {
+  int s = get_global_id(0);
+  if (s >= n) return;
+  SEMLB_REAL t = (SEMLB_REAL)SEMLB_NL_TRIGGER * skin, trigger2 = t * t;
+  real4 p = pos[sorted_index[s]], r = ref[s];
+  sorted_pos[s] = p;
+  SEMLB_REAL dx = p.x - r.x, dy = p.y - r.y, dz = p.z - r.z;
+  if (!(dx * dx + dy * dy + dz * dz < trigger2)) gate[0] = 1;
+}
+
+/* The build's counting sort by bin (bins of edge >= cutoff + skin), gated: bin of each element, counts. */
+__kernel void nl_bin_count(__global const int* gate, __global const real4* pos, int n, real4 lo, real4 size, int4 dims,
+                           __global int* bin, __global int* counts) {
+  if (!gate[0]) return;
+  NL_FOR(i, n) {
+    int4 b = bin3(pos[i], lo, size, dims);
+    int k = (b.z * dims.y + b.y) * dims.x + b.x;
+    bin[i] = k;
+    atomic_inc(&counts[k]);
+  }
+}
+
+/* Gated scatter into bin order; ref (the positions of the build) = sorted_pos. */
+__kernel void nl_scatter(__global const int* gate, __global const real4* pos, __global const int* bin,
+                         __global int* cursor, __global real4* sorted_pos, __global real4* ref,
+                         __global int* sorted_index, int n) {
+  if (!gate[0]) return;
+  NL_FOR(i, n) {
+    int s = atomic_inc(&cursor[bin[i]]);
+    real4 p = pos[i];
+    sorted_pos[s] = p;
+    ref[s] = p;
+    sorted_index[s] = i;
+  }
+}
+
+/* Gated build: for each sorted slot, the sorted slots within the list radius (r^2 < list2; a NaN distance counts
+   as within, as in semlb_pair_force) among the 27 bins around its own, itself excluded; the first kmax are stored.
+   stats[0] = the largest count (atomic_max), read by the host to size kmax. */
+__kernel void nl_build(__global const int* gate, __global const real4* sorted_pos, __global const int* starts,
+                       real4 lo, real4 size, int4 dims, SEMLB_REAL list2, int n, int stride, int kmax,
+                       __global int* nl_count, __global int* nl, __global int* stats) {
+  if (!gate[0]) return;
+  NL_FOR(s, n) {
+    real4 me = sorted_pos[s];
+    int4 b = bin3(me, lo, size, dims);
+    int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1), count = 0;
+    __global int* out = nl + s;
+    for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
+      for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
+        int row = (z * dims.y + y) * dims.x;
+        int last = starts[row + x1 + 1];
+        for (int j = starts[row + x0]; j < last; ++j) {
+          real4 q = sorted_pos[j];
+          SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
+          if (j == s || dx * dx + dy * dy + dz * dz >= list2) continue;
+          if (count < kmax) out[(long)count * stride] = j;
+          ++count;
+        }
+      }
+    nl_count[s] = count;
+    if (count > ((volatile __global int*)stats)[0]) atomic_max(&stats[0], count);  /* rarely: one address for all */
+  }
+}
+
+/* Gated, one item: the build is done (gate[0] = 0) and counted (stats[1]). */
+__kernel void nl_done(__global int* gate, __global int* stats) {
+  if (!gate[0]) return;
+  gate[0] = 0;
+  ++stats[1];
+}
+
+/* Local pair forces (owned on owned) over the list: one item per sorted slot of the build. Every listed pair goes
+   through semlb_pair_force, which keeps those within the cutoff now: the same pairs and the same fixed-point sums
+   as the stencil and as all pairs, as long as no element moved by more than the trigger since the build. A slot
+   over kmax takes the stencil of the build's bins around its position at the build (bins of edge >= cutoff +
+   skin: every partner within the cutoff now was within cutoff + skin then, hence in those bins). */
+__kernel void nl_forces(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
+                        __global const ulong* keys, __global const int* nl_count, __global const int* nl, int stride,
+                        int kmax, __global const int* starts, real4 lo, real4 size, int4 dims,
+                        __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n) {
+  int s = get_global_id(0);
+  if (s >= n) return;
+  real4 me = sorted_pos[s];
+  int i = sorted_index[s], info = INFO(me.w), count = nl_count[s];
+  SEMLB_REAL cutoff2 = cutoff * cutoff;
+  long acc[3] = {0, 0, 0};
+  if (count <= kmax) {
+    __global const int* p = nl + s;
+#ifdef SEMLB_NL_MASK /* a variant: the listed partners 32 at a time, a mask of those within the cutoff, then the force
+                        law on its set bits (as stencil_forces), so the lanes of a warp evaluate together */
+    for (int base = 0; base < count; base += 32, p += 32 * (long)stride) {
+      int m = min(32, count - base);
+      uint mask = 0;
+      for (int k = 0; k < m; ++k) {
+        real4 q = sorted_pos[p[(long)k * stride]];
+        SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
+        if (!(dx * dx + dy * dy + dz * dz >= cutoff2)) mask |= 1u << k;
+      }
+      while (mask) {
+        int k = 31 - (int)clz(mask & (0 - mask));
+        mask &= mask - 1;
+        int j = p[(long)k * stride];
+        real4 q = sorted_pos[j];
+        if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
+          semlb_coincident_force(keys[i], keys[sorted_index[j]], info, INFO(q.w), table, acc);
+      }
+    }
+#else
+    for (int k = 0; k < count; ++k, p += stride) {
+      int j = *p;
+      real4 q = sorted_pos[j];
+      if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
+        semlb_coincident_force(keys[i], keys[sorted_index[j]], info, INFO(q.w), table, acc);
+    }
+#endif
+  } else {
+#ifdef SEMLB_NL_SPLIT
+    return;  /* nl_overflow's */
+#else
+    stencil_forces(me, i, s, bin3(ref[s], lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table,
+                   cutoff2, acc);
+#endif
+  }
+  force[3 * i] += acc[0];
+  force[3 * i + 1] += acc[1];
+  force[3 * i + 2] += acc[2];
+}
+
+/* A variant (-DSEMLB_NL_SPLIT, to measure): the slots over kmax in a kernel of their own, so that nl_forces holds
+   only the list loop's registers; without it this kernel returns at once (the host launches it always). */
+__kernel void nl_overflow(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
+                          __global const ulong* keys, __global const int* nl_count, int kmax, __global const int* starts,
+                          real4 lo, real4 size, int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff,
+                          __global long* force, int n) {
+#ifdef SEMLB_NL_SPLIT
+  int s = get_global_id(0);
+  if (s >= n || nl_count[s] <= kmax) return;
+  real4 me = sorted_pos[s];
+  int i = sorted_index[s];
+  long acc[3] = {0, 0, 0};
+  stencil_forces(me, i, s, bin3(ref[s], lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table,
+                 cutoff * cutoff, acc);
+  force[3 * i] += acc[0];
+  force[3 * i + 1] += acc[1];
+  force[3 * i + 2] += acc[2];
+#endif
+}

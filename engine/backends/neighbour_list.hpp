@@ -1,0 +1,146 @@
+// opencl-binned's neighbour list with a skin, reused across steps (the host side of neighbour_list.cl).
+#pragma once
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+#include "backend.hpp"
+#include "opencl.hpp"
+
+namespace semlb::engine {
+
+
+// A Verlet list over the owned elements of one OpenCL backend (HOOMD-blue's nlist with r_buff, LAMMPS's
+// `neighbor SKIN bin` with `neigh_modify check yes`): built from bins of edge >= cutoff + skin, it lists per element
+// the partners within cutoff + skin; the force kernel evaluates only those. The list is rebuilt on the device when an
+// element has moved by more than SEMLB_NL_TRIGGER (0.49) skin since the last build (a flag raised by nl_check, read
+// by the gated build kernels: no host round trip per step), and by the host whenever the owned elements change
+// (upload, cell stage, migration: invalidate()), the grid or the cutoff changes, or kmax must grow. Exact: the pairs
+// within the cutoff are those of all pairs, so forces are the same fixed-point sums bit for bit.
+// B is the backend class (OpenClBackend<Real>): it provides buffer(), launch(), fill(), exclusive_scan().
+template <class Real>
+class NeighbourList {
+ public:
+  // split: the kernels were built with -DSEMLB_NL_SPLIT (nl_overflow then visits every slot; else one item).
+  NeighbourList(double skin, bool split) : split_(split) { stats_.skin = skin; }
+  bool on() const { return stats_.skin > 0; }
+  void invalidate() { valid_ = false; }
+  // The device's build count and largest partner count (a blocking read of 8 bytes: benches and tests only).
+  template <class B>
+  ListStats stats(B& b) {
+    if (!on() || !stats_buf_) return stats_;
+    cl_int s[2] = {0, 0};
+    b.read(stats_buf_, s, sizeof s);
+    stats_.max_partners = s[0];
+    stats_.builds = s[1];
+    stats_.kmax = stored_kmax_;
+    return stats_;
+  }
+
+  // Adds the local pair forces (owned elements [0, n) of pos on each other) to force, as opencl-binned's stencil does.
+  template <class B>
+  void forces(B& b, const Grid& g, double cutoff, const cl::Mem& table, const cl::Mem& pos, const cl::Mem& keys,
+              const cl::Mem& force, long n) {
+    if (n <= 0) return;
+    std::array<double, 3> hi{};
+    for (int d = 0; d < 3; ++d) hi[d] = g.lo[d] + g.size[d] * g.dims[d];
+    const Grid lg = Grid::cover(g.lo, hi, cutoff + stats_.skin);
+    poll(b);
+    bool rebuild = !valid_ || n != n_ || cutoff != cutoff_ || lg.lo != grid_.lo || lg.size != grid_.size || lg.dims != grid_.dims;
+    if (!gate_) {
+      gate_ = b.buffer(sizeof(cl_int));
+      stats_buf_ = b.buffer(2 * sizeof(cl_int));
+      b.fill(stats_buf_, 0, 2 * sizeof(cl_int));
+    }
+    if (n > capacity_ || kmax_ > stored_kmax_) {
+      allocate(b, std::max(n + n / 4 + 64, capacity_));
+      rebuild = true;
+    }
+    if (lg.bins() > bins_) {
+      bins_ = lg.bins() + lg.bins() / 4;
+      counts_ = b.buffer(bins_ * sizeof(cl_int));
+      starts_ = b.buffer((bins_ + 1) * sizeof(cl_int));
+      cursor_ = b.buffer(bins_ * sizeof(cl_int));
+      sums_ = b.buffer((bins_ + 255) / 256 * sizeof(cl_int));
+    }
+    grid_ = lg;
+    n_ = n;
+    cutoff_ = cutoff;
+    const cl_int ni = static_cast<cl_int>(n), stride = static_cast<cl_int>(capacity_), kmax = static_cast<cl_int>(stored_kmax_);
+    const Real list = static_cast<Real>(cutoff + stats_.skin);
+    if (rebuild) {
+      b.fill(gate_, 1, sizeof(cl_int));
+    } else {
+      b.launch("nl_check", n, kGroup, pos.get(), sorted_index_.get(), ref_.get(), sorted_pos_.get(), ni,
+               static_cast<Real>(stats_.skin), gate_.get());
+    }
+    b.fill(counts_, 0, lg.bins() * sizeof(cl_int));
+    const long wide = std::min<long>(n, kStrideItems);  // grid-stride: a gated launch that returns costs little
+    const auto lo = b.real4(lg.lo), size = b.real4(lg.size);
+    const auto dims = b.int4(lg.dims);
+    b.launch("nl_bin_count", wide, kGroup, gate_.get(), pos.get(), ni, lo, size, dims, bin_.get(), counts_.get());
+    b.exclusive_scan(counts_, starts_, sums_, cursor_, lg.bins(), &gate_);
+    b.launch("nl_scatter", wide, kGroup, gate_.get(), pos.get(), bin_.get(), cursor_.get(), sorted_pos_.get(),
+             ref_.get(), sorted_index_.get(), ni);
+    b.launch("nl_build", wide, kGroup, gate_.get(), sorted_pos_.get(), starts_.get(), lo, size, dims,
+             static_cast<Real>(list * list), ni, stride, kmax, count_.get(), list_.get(), stats_buf_.get());
+    b.launch("nl_done", 1, 1, gate_.get(), stats_buf_.get());
+    b.launch("nl_forces", n, kGroup, sorted_pos_.get(), ref_.get(), sorted_index_.get(), keys.get(), count_.get(),
+             list_.get(), stride, kmax, starts_.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), ni);
+    b.launch("nl_overflow", split_ ? n : 1, kGroup, sorted_pos_.get(), ref_.get(), sorted_index_.get(), keys.get(),
+             count_.get(), kmax, starts_.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), ni);
+    valid_ = true;
+    if (rebuild || ++since_read_ >= kReadEvery) request(b);  // kmax follows the densest element, a step or more late
+  }
+
+ private:
+  static constexpr size_t kGroup = 128;           // work-group size of the list kernels
+  static constexpr long kStrideItems = 1L << 18;  // work-items of the gated grid-stride kernels
+  static constexpr long kReadEvery = 32;          // steps between reads of the largest partner count
+
+  template <class B>
+  void allocate(B& b, long capacity) {
+    capacity_ = capacity;
+    const long fits = static_cast<long>(b.max_alloc() / sizeof(cl_int) / static_cast<size_t>(capacity));
+    cap_ = std::max(1L, fits);
+    kmax_ = std::min(kmax_, cap_);  // one buffer holds the list
+    stored_kmax_ = kmax_;
+    bin_ = b.buffer(capacity * sizeof(cl_int));
+    sorted_index_ = b.buffer(capacity * sizeof(cl_int));
+    count_ = b.buffer(capacity * sizeof(cl_int));
+    sorted_pos_ = b.buffer(capacity * sizeof(std::array<Real, 4>));
+    ref_ = b.buffer(capacity * sizeof(std::array<Real, 4>));
+    list_ = b.buffer(static_cast<size_t>(capacity) * static_cast<size_t>(kmax_) * sizeof(cl_int));
+  }
+  // A non-blocking read of the largest partner count, unless one is in flight.
+  template <class B>
+  void request(B& b) {
+    if (pending_) return;
+    since_read_ = 0;
+    pending_ = b.read_event(stats_buf_, host_stats_.data(), sizeof host_stats_);
+  }
+  // If the last read has arrived: kmax grows to 9/8 of the largest count (+8), up to what one buffer may hold.
+  template <class B>
+  void poll(B& b) {
+    if (!pending_) return;
+    cl_int status = CL_QUEUED;
+    cl::check(clGetEventInfo(pending_.get(), CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, nullptr), "clGetEventInfo");
+    if (status != CL_COMPLETE) return;
+    pending_ = cl::Event();
+    const long most = host_stats_[0];
+    if (most <= stored_kmax_ || stored_kmax_ >= cap_) return;
+    kmax_ = most + most / 8 + 8;  // allocate() caps it to one buffer
+  }
+
+  ListStats stats_;
+  bool split_ = false, valid_ = false;
+  long n_ = -1, capacity_ = 0, bins_ = 0, kmax_ = 64, stored_kmax_ = -1, cap_ = 1L << 40, since_read_ = 0;
+  double cutoff_ = -1;
+  Grid grid_;
+  cl::Mem gate_, stats_buf_, counts_, starts_, cursor_, sums_, bin_, sorted_index_, count_, sorted_pos_, ref_, list_;
+  cl::Event pending_;
+  std::array<cl_int, 2> host_stats_{};
+};
+
+}  // namespace semlb::engine

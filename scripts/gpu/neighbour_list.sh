@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Issue 27's measurements of opencl-binned's neighbour list on one NVIDIA GPU (docs/engine.md "Neighbour list"):
+# `semlb bench engine` per skin (0 = the stencil over fresh bins every step) in float and double, one profiled run
+# (SEMLB_OPENCL_PROFILE=1: device ms per kernel), and the paper-size development run (scenes/epidermis_development.yaml,
+# 435,661 cells, Day 0-5, 2,400 steps of 0.05 h, float) as a CSV row of results/gpu/development_1gpu.csv.
+# Usage: bash scripts/gpu/neighbour_list.sh SEMLB OUT [bench|dev|all] [SKINS] [DEV_SKINS]
+#   (defaults: all, SKINS "0 0.5 1 1.5 2", DEV_SKINS "1"; BENCH_CELLS: the bench's --cells, default 11000,435661)
+set -uo pipefail
+S=$1; OUT=$2; what=${3:-all}; skins=${4:-"0 0.5 1 1.5 2"}; dev_skins=${5:-"1"}
+here=$(cd "$(dirname "$0")/../.." && pwd)
+export OCL_ICD_FILENAMES=${OCL_ICD_FILENAMES:-libnvidia-opencl.so.1}
+mkdir -p "$OUT"
+cells=${BENCH_CELLS:-11000,435661}
+bench() { "$S" bench engine --platform NVIDIA --backends opencl-binned --cells "$cells" --steps 200 "$@"; }
+if [ "$what" = bench ] || [ "$what" = all ]; then
+  for s in $skins; do bench --precision float --set backend.skin="$s"; done > "$OUT/bench_float.txt" 2>&1
+  SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_NL_MASK bench --precision float --set backend.skin=1 > "$OUT/bench_mask.txt" 2>&1
+  for s in 0 1; do bench --precision double --set backend.skin="$s"; done > "$OUT/bench_double.txt" 2>&1
+  SEMLB_OPENCL_PROFILE=1 bench --precision float --set backend.skin=1 > "$OUT/bench_profile.txt" 2>&1
+fi
+if [ "$what" = dev ] || [ "$what" = all ]; then
+  machine=$(nvidia-smi --query-gpu=name --format=csv,noheader | head -1)
+  [ -f "$OUT/development_1gpu.csv" ] ||
+    echo "cells_start,cells_end,elements_end,steps,precision,loop_s,mechanics_s,machine,skin" > "$OUT/development_1gpu.csv"
+  for s in $dev_skins; do
+    run=$(mktemp -d)
+    "$S" sim --scene "$here/scenes/epidermis_development.yaml" --out "$run" --steps 2400 --backend opencl-binned \
+      --platform NVIDIA --precision float --quiet --set tissue.cells=435661 --set effects.growth.front.speed=24.8 \
+      --set output.snapshot_every=0 --set output.checkpoint_every=0 --set backend.skin="$s" > "$OUT/dev_skin$s.log" 2>&1
+    cp "$run/run.csv" "$OUT/dev_skin$s.run.csv"
+    # loop_s: the logged wall seconds summed (the time-stepping loop); mechanics_s: the mechanics column summed
+    python3 - "$run/run.csv" "$s" "$machine" >> "$OUT/development_1gpu.csv" <<'EOF'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+loop = sum(float(r["wall_s"]) for r in rows)
+mech = sum(float(r["mechanics_s"]) for r in rows)
+print(f"435661,{rows[-1]['cells']},{rows[-1]['elements']},{rows[-1]['step']},float,{loop:.3f},{mech:.3f},{sys.argv[3]},{sys.argv[2]}")
+EOF
+    rm -rf "$run"
+  done
+fi

@@ -1,0 +1,215 @@
+// opencl-binned's neighbour list (skin, reuse, rebuild on the device) against all pairs, bit for bit: pairs just inside
+// and outside the cutoff and cutoff + skin moved across half the skin, a division, and a wrong trigger being caught.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <random>
+
+#include "engine/backends/cpu_physics.hpp"
+#include "engine/model/tissue.hpp"
+#include "engine/run/simulation.hpp"
+#include "../engine_fixtures.hpp"
+
+namespace semlb::engine {
+namespace {
+
+using testing::available_backends;
+using testing::scene_from;
+
+constexpr double kCutoff = 8.75, kSkin = 1.0;
+
+bool have_opencl() {
+  const auto b = available_backends();
+  return std::find(b.begin(), b.end(), "opencl-binned") != b.end();
+}
+
+// 6 x 6 x 4 pair sites 30 um apart (no two sites within cutoff + skin + their drift); the pair at site k lies at a
+// distance of cutoff + u skin along a random direction, u from {-1e-4, 1e-4, 1 - 1e-4, 1 + 1e-4} (just inside and
+// just outside the cutoff and cutoff + skin) or uniform in [-0.5, 2]. A pair is one cell of two elements or two cells
+// of one (the intra and the inter Morse sets).
+State pair_sites(uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n(0, 1);
+  std::uniform_real_distribution<double> u(-0.5, 2.0);
+  const double edges[] = {-1e-4, 1e-4, 1 - 1e-4, 1 + 1e-4};
+  State s;
+  int k = 0;
+  for (int z = 0; z < 4; ++z)
+    for (int y = 0; y < 6; ++y)
+      for (int x = 0; x < 6; ++x, ++k) {
+        const double c[3] = {20.0 + 30 * x, 20.0 + 30 * y, 20.0 + 30 * z};
+        double d[3] = {n(rng), n(rng), n(rng)};
+        const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        const double r = kCutoff + kSkin * (k % 2 == 0 ? edges[(k / 2) % 4] : u(rng));
+        for (double& v : d) v *= 0.5 * r / len;
+        const bool one_cell = k % 3 == 0;
+        for (int e = 0; e < 2; ++e) {
+          if (e == 0 || !one_cell) {
+            s.cell_id.push_back(static_cast<uint64_t>(2 * k + e));
+            s.cell_type.push_back(k % 3);
+            s.cell_count.push_back(one_cell ? 2 : 1);
+          }
+          for (int a = 0; a < 3; ++a) s.position.push_back(c[a] + (e == 0 ? d[a] : -d[a]));
+        }
+      }
+  s.reindex();
+  return s;
+}
+
+// Derived Morse constants (U0/xi1, 1/xi1, V0/xi2, 1/xi2) for every set, slightly different per set.
+std::vector<double> table() {
+  std::vector<double> t(SEMLB_TABLE_SIZE);
+  for (size_t i = 0; i < t.size(); i += 4) {
+    const double U0 = 4.0, V0 = 0.5 + 0.01 * static_cast<double>(i), xi1 = 0.8, xi2 = 1.1;
+    t[i] = U0 / xi1, t[i + 1] = 1 / xi1, t[i + 2] = V0 / xi2, t[i + 3] = 1 / xi2;
+  }
+  return t;
+}
+
+struct Walk {
+  std::vector<std::vector<int64_t>> forces;  // per step
+  std::vector<long> within;                  // pairs within the cutoff per step (host brute force)
+  ListStats list;
+};
+
+// `steps` steps of: the pair forces (read back), then Brownian moves of sigma um per coordinate (the noise kernel).
+Walk walk(const std::string& backend, const std::string& precision, double skin, long steps, double sigma) {
+  BackendConfig c;
+  c.name = backend;
+  c.precision = precision;
+  c.skin = skin;
+  auto b = make_backend(c);
+  State s = pair_sites(7);
+  b->upload(s);
+  const Grid g = Grid::cover({0, 0, 0}, {200, 200, 140}, kCutoff);
+  Walk w;
+  for (long step = 0; step < steps; ++step) {
+    b->zero_forces();
+    b->pair_forces(table(), kCutoff, g);
+    w.forces.push_back(b->fixed_forces());
+    b->download(s);
+    long within = 0;
+    for (long i = 0; i < s.elements(); ++i)
+      for (long j = i + 1; j < s.elements(); ++j) {
+        double r2 = 0;
+        for (int a = 0; a < 3; ++a) r2 += (s.position[3 * i + a] - s.position[3 * j + a]) * (s.position[3 * i + a] - s.position[3 * j + a]);
+        within += r2 < kCutoff * kCutoff;
+      }
+    w.within.push_back(within);
+    b->noise(sigma, 11, step);
+  }
+  w.list = b->list_stats();
+  return w;
+}
+
+// Pairs cross the cutoff while the list is reused (the in-cutoff count changes between builds), and every step's
+// forces equal all pairs' bit for bit, in both precisions.
+TEST(NeighbourList, SeesExactlyTheAllPairsPairsWhileElementsMoveAcrossHalfTheSkin) {
+  if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
+  for (const char* precision : {"double", "float"}) {
+    const long steps = 80;
+    const double sigma = kSkin / 20;
+    const Walk all = walk("opencl-allpairs", precision, 0, steps, sigma);
+    const Walk list = walk("opencl-binned", precision, kSkin, steps, sigma);
+    const Walk fresh = walk("opencl-binned", precision, 0, steps, sigma);  // bins every step
+    ASSERT_EQ(all.forces.size(), list.forces.size());
+    long changes = 0;
+    for (long t = 0; t < steps; ++t) {
+      EXPECT_EQ(list.forces[t], all.forces[t]) << precision << " step " << t;
+      EXPECT_EQ(fresh.forces[t], all.forces[t]) << precision << " step " << t;
+      changes += t > 0 && all.within[t] != all.within[t - 1];
+    }
+    EXPECT_GT(changes, 10) << precision << ": pairs crossed the cutoff";
+    EXPECT_EQ(list.list.skin, kSkin);
+    EXPECT_GT(list.list.builds, 2) << precision << ": rebuilt as elements moved";
+    EXPECT_LT(list.list.builds, steps / 3) << precision << ": and reused in between";
+    EXPECT_EQ(fresh.list.builds, 0);
+  }
+}
+
+// The same walk with the rebuild trigger at 3 skins instead of 0.49 (a build option of the kernels): pairs that
+// enter the cutoff from beyond cutoff + skin are missed, and the comparison above catches it.
+TEST(NeighbourList, AWrongTriggerMissesPairsAndIsCaught) {
+  if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
+  const char* before = std::getenv("SEMLB_OPENCL_BUILD_OPTIONS");
+  const std::string saved = before ? before : "";
+  setenv("SEMLB_OPENCL_BUILD_OPTIONS", (saved + " -DSEMLB_NL_TRIGGER=3.0").c_str(), 1);
+  const Walk list = walk("opencl-binned", "double", kSkin, 80, kSkin / 20);
+  if (before) setenv("SEMLB_OPENCL_BUILD_OPTIONS", saved.c_str(), 1);
+  else unsetenv("SEMLB_OPENCL_BUILD_OPTIONS");
+  const Walk all = walk("opencl-allpairs", "double", 0, 80, kSkin / 20);
+  long wrong = 0;
+  for (size_t t = 0; t < all.forces.size(); ++t) wrong += list.forces[t] != all.forces[t];
+  EXPECT_EQ(list.list.builds, 1) << "built once, never rebuilt";
+  EXPECT_GT(wrong, 0) << "a list never rebuilt must miss pairs, or this walk tests nothing";
+}
+
+// Growth and division change the elements at every cell stage: the list is rebuilt there and the run equals
+// opencl-allpairs and opencl-binned without a list, bit for bit, in both precisions.
+TEST(NeighbourList, RunsWithDivisionsEqualAllPairs) {
+  if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
+  const std::string yaml = R"(
+name: t
+cutoff: 8.75
+tissue: {cells: 30, layers: 2}
+time: {dt: 0.01, steps: 60, cell_update_every: 5}
+backend: {name: serial}
+effects:
+  mechanics: {}
+  membrane: {}
+  growth: {cycle_time: 0.3, types: [basal, spinous]}
+  division: {at_elements: 14, types: [basal, spinous]}
+  noise: {diffusion: 0.5}
+)";
+  for (const char* precision : {"double", "float"}) {
+    std::map<std::string, State> out;
+    long cells0 = 0, builds = 0;
+    for (const std::string v : {"opencl-allpairs", "opencl-binned", "opencl-binned skin"}) {
+      const bool list = v == "opencl-binned skin";
+      auto scene = scene_from(yaml, {"backend.name=" + v.substr(0, v.find(' ')), std::string("backend.precision=") + precision,
+                                     "backend.skin=" + std::string(list ? "0.5" : "0")});
+      Simulation sim(scene, make_tissue(scene));
+      cells0 = sim.host_state().cells();
+      sim.advance(60);
+      out[v] = sim.sync();
+      if (list) builds = sim.backend().list_stats().builds;
+    }
+    EXPECT_GT(out["opencl-allpairs"].cells(), cells0 + 5) << precision << ": cells divided";
+    EXPECT_EQ(out["opencl-binned skin"].hash(), out["opencl-allpairs"].hash()) << precision;
+    EXPECT_EQ(out["opencl-binned"].hash(), out["opencl-allpairs"].hash()) << precision;
+    EXPECT_GE(builds, 12) << precision << ": at least one build per cell stage that changed the elements";
+  }
+}
+
+TEST(NeighbourList, SkinIsANonNegativeLength) {
+  EXPECT_THROW(scene_from(testing::kMechanicsYaml, {"backend.skin=-1"}), InputError);
+  EXPECT_EQ(scene_from(testing::kMechanicsYaml, {"backend.skin=0"}).backend.skin, 0.0);
+  EXPECT_EQ(scene_from(testing::kMechanicsYaml).backend.skin, 0.0);  // no list unless a scene asks for one
+}
+
+// What a step launches with the list: its check from the second step on (the first builds unasked), the gated build
+// kernels every step (they return at once unless the check asked for a build), the list's force kernels; and with
+// skin 0 the stencil over fresh bins, as before the list.
+TEST(NeighbourList, LaunchesTheGatedBuildEveryStepAndTheCheckAfterTheFirst) {
+  if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
+  using Launches = std::map<std::string, long>;
+  const Launches list = {{"nl_check", 9}, {"nl_bin_count", 10}, {"scan_blocks", 10}, {"scan_sums", 10}, {"scan_add", 10},
+                         {"nl_scatter", 10}, {"nl_build", 10}, {"nl_done", 10}, {"nl_forces", 10}, {"nl_overflow", 10},
+                         {"zero_forces", 10}, {"integrate", 10}};
+  const Launches stencil = {{"bin_count", 10}, {"scan_blocks", 10}, {"scan_sums", 10}, {"scan_add", 10}, {"scatter", 10},
+                            {"forces_binned", 10}, {"zero_forces", 10}, {"integrate", 10}};
+  for (const auto& [skin, want] : {std::pair{"1", list}, {"0", stencil}}) {
+    auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=opencl-binned", std::string("backend.skin=") + skin});
+    scene.box_lo = {0, 0, 0};
+    scene.box_hi = {40, 40, 40};
+    Simulation sim(scene, testing::random_state(10, 5, 40.0, 1));
+    sim.advance(10);
+    EXPECT_EQ(sim.backend().launches(), want) << "skin " << skin;
+  }
+}
+
+}  // namespace
+}  // namespace semlb::engine
