@@ -10,7 +10,7 @@ MANIFESTS := $(wildcard experiments/*.yaml)
 export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
-.PHONY: deps build test experiments epidermis development analysis bench train train-synthetic train-v1 clean surrogate-fit
+.PHONY: deps build test experiments epidermis development analysis bench train train-fronts train-synthetic train-v1 clean surrogate-fit
 
 deps:
 	bash scripts/install-deps.sh
@@ -65,6 +65,8 @@ surrogate-fit: build
 # boundary-v2; docs/train.md "Engine workloads"), and its synthetic-only ablation; each resumes after an interruption.
 train: build
 	$(SEMLB) train --config surrogate/train/engine_mixed.yaml --out controllers/weights/gru_default.h5
+train-fronts: build
+	$(SEMLB) train --config surrogate/train/engine_mixed_fronts.yaml --out controllers/weights/gru_mixed_fronts.h5
 train-synthetic: build
 	$(SEMLB) train --config surrogate/train/engine_synthetic.yaml --out controllers/weights/gru_synthetic.h5
 # The recipe of the weights shipped before issue 25 (synthetic scenarios, boundary-v1), kept as gru_v1_migration_penalty_2.h5.
