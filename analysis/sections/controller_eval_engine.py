@@ -2,7 +2,7 @@
 import os
 import sys
 
-from .common import Part, register, setup as setup_line
+from .common import Part, plt as _pyplot, register, setup as setup_line
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import engine_eval  # noqa: E402  (analysis/engine_eval.py: the tables and the targets, also a command of its own)
@@ -14,10 +14,65 @@ PAPER_LINE = ("The paper evaluates the controllers on synthetic surrogate scenar
               "less migration; it reports no evaluation on recorded engine workloads.")
 
 
+FAMILIES = ["reactive", "gromacs_dlb", "hoomd_balance", "all_tensor", "lammps_shift"]  # deployable, with a knob
+
+
+def family_front(points):
+    """The points of one family that no other of them dominates, by migration ascending."""
+    front = [p for p in points if not any(engine_eval.dominates(q, p) for q in points)]
+    return sorted(front, key=lambda p: (p["migration"], p["imbalance"]))
+
+
+def pareto_figure(points_by_key, workload):
+    """One workload's imbalance-migration plane, a panel per P: every deployable family's knob settings and their
+    front, static, persistence/holt, every GRU weights file (the shipped one as a large star) and the foresight floor."""
+    plt = _pyplot()
+    ranks = sorted(P for (w, P) in points_by_key if w == workload)
+    fig, axes = plt.subplots(1, len(ranks), figsize=(4.2 * len(ranks), 4.4), squeeze=False)
+    for ax, P in zip(axes[0], ranks):
+        points = points_by_key[(workload, P)]
+        for fam in FAMILIES:
+            mine = [p for p in points if p["policy"] == fam]
+            if not mine:
+                continue
+            dots = ax.scatter([p["migration"] for p in mine], [100 * p["imbalance"] for p in mine], s=9, alpha=0.35)
+            front = family_front(mine)
+            ax.plot([p["migration"] for p in front], [100 * p["imbalance"] for p in front], "-", lw=1,
+                    color=dots.get_facecolor()[0], label=fam)
+        for p in points:
+            x, y = p["migration"], 100 * p["imbalance"]
+            if p["policy"] == "gru":
+                shipped = p["setting"] == ""
+                ax.scatter([x], [y], marker="*", s=220 if shipped else 70, color="crimson" if shipped else "grey",
+                           edgecolor="black", linewidth=0.5, zorder=5, label="gru (shipped)" if shipped else None)
+                if not shipped:
+                    ax.annotate(p["setting"].removeprefix("weights=").removesuffix(".h5"), (x, y), fontsize=6,
+                                xytext=(3, 3), textcoords="offset points")
+            elif p["policy"] in ("static", "persistence", "holt") or (p["policy"] == "foresight" and p["setting"] == "lambda=0"):
+                ax.scatter([x], [y], marker={"static": "s", "foresight": "v"}.get(p["policy"], "D"), s=40,
+                           color="black", zorder=4)
+                ax.annotate(p["policy"], (x, y), fontsize=7, xytext=(3, -9), textcoords="offset points")
+        ax.set_yscale("log")
+        ax.set_title(f"P = {P}")
+        ax.set_xlabel("slices moved over the run")
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel("mean imbalance (%)")
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), fontsize=8, frameon=False)
+    fig.suptitle(f"{os.path.basename(workload)}: imbalance against migration (means over the replay seeds; lines: each "
+                 "family's front over its knob)", fontsize=10)
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
+    return fig
+
+
 def run_part(ctx, rows, name, setup, source):
-    """(setup, body) of one CSV, and its target summary."""
+    """(setup, body) of one CSV, and its target summary; a Pareto figure (a panel per P) per workload."""
     points = engine_eval.read_points_rows(rows)
-    body = source + "\n\n" + ctx.table(name, "# Controllers on engine workloads\n" + engine_eval.render(points))
+    body = source + "\n\n"
+    for w in sorted({w for (w, _) in points}):
+        stem = os.path.splitext(os.path.basename(w))[0]
+        body += ctx.figure(f"{name}_{stem}", pareto_figure(points, w))
+    body += "\n" + ctx.table(name, "# Controllers on engine workloads\n" + engine_eval.render(points))
     return setup, body, engine_eval.summary(points)
 
 

@@ -50,7 +50,8 @@ PY
 "$py" "$src/analysis/report.py" --results "$r" --semlb "$semlb" >/dev/null
 for f in single_device strong_scaling rank_balance rank_balance_gpu_4ranks rank_balance_gpu_8ranks load_balance \
          end_to_end_load_balance load_balance_gpu_4 load_balance_gpu_8 controller_eval development effects_cost \
-         effects_cost_gpu accuracy_development; do
+         effects_cost_gpu accuracy_development controller_eval_engine_paper_dev_v24.8_s1 \
+         controller_eval_engine_paper_epidermis_s1 controller_eval_engine_paper_epidermis_half_s1; do
   png=$r/figures/$f.png
   [ -s "$png" ] || { echo "missing or empty: $png"; exit 1; }
   head -c 8 "$png" | od -An -c | grep -q "P   N   G" || { echo "not a PNG: $png"; exit 1; }
