@@ -17,7 +17,7 @@ Action add_sweep(CLI::App& app) {
     std::string manifest, profile, results = "results";
     std::vector<std::string> sets;
     int jobs = 0;
-    bool no_timing = false, quiet = false, keep_runs = false, no_wait = false, wait = false;
+    bool no_timing = false, quiet = false, keep_runs = false, no_wait = false, wait = false, check = false;
     std::string launcher = "local";
     experiments::SlurmOptions slurm;
   };
@@ -30,6 +30,9 @@ Action add_sweep(CLI::App& app) {
   sub->add_option("--jobs", o->jobs, "Worker threads (default: all cores)")->check(strict_integer(0, 4096));
   sub->add_flag("--no-timing", o->no_timing, "Write wall-clock columns as 0 (byte-identical reruns)");
   sub->add_flag("--quiet", o->quiet, "No progress line");
+  sub->add_flag("--check", o->check,
+                "Expand the manifest and check every job as its runner would (files, rank counts, settings); run and "
+                "write nothing (exit 2 naming the field on a bad job)");
   sub->add_flag("--wait", o->wait, "When another sweep is writing the results folder, wait for it (default: exit 2 naming it)");
   sub->add_flag("--keep-runs", o->keep_runs,
                 "Keep each job's run files (engine MPI runs: scene.yaml, run.csv, rank_times.csv, trace.jsonl) under runs/ beside the CSV");
@@ -68,6 +71,11 @@ Action add_sweep(CLI::App& app) {
     so.slurm = o->slurm;
     so.slurm.wait = !o->no_wait;
     so.wait = o->wait;
+    if (o->check) {
+      const experiments::SweepPlan plan(m, so, experiments::SweepPlan::Partial::ignore);
+      std::cerr << o->manifest << " (profile " << m.profile << "): " << plan.jobs().size() << " jobs checked\n";
+      return 0;
+    }
     const auto sum = experiments::run_sweep(m, o->sets, so);
     if (sum.finished) {  // a job may write several CSV rows (one per interval and rank, per launch, ...)
       std::ifstream csv(sum.csv_path);

@@ -3,7 +3,7 @@
 # at the paper's size (435,661 cells, Day 0-5, 2,400 steps of 0.05 h, an event every 20 steps) and of the epidermis
 # scene, run on ONE device with output.workload (a decomposition of one rank: W_s does not depend on the partition, so
 # one run serves every rank count). Writes OUT/NAME.h5 (workload), OUT/NAME.run.csv and OUT/NAME.scene.yaml per variant.
-# Variants named small_* are the CPU versions for `make experiments` (2,500 cells, cpu-binned, results/cpu/workloads/).
+# Variants named small_* are the CPU versions for `make experiments` (2,500-4,900 cells, cpu-binned, results/cpu/workloads/).
 # Usage: bash scripts/gpu/workload_library.sh SEMLB OUT [VARIANT ...]   (default: every variant below but small_*)
 set -euo pipefail
 S=$1; OUT=$2; shift 2
@@ -13,7 +13,7 @@ dev="$here/scenes/epidermis_development.yaml"
 epi="$here/scenes/epidermis.yaml"
 common=(--quiet --set output.snapshot_every=0 --set output.checkpoint_every=0 --set output.workload=true)
 gpu=(--backend opencl-binned --platform NVIDIA --precision float --set tissue.cells=435661)
-cpu=(--backend cpu-binned --precision double --set tissue.cells=2500)
+cpu=(--backend cpu-binned --precision double)
 # NAME|scene|steps|overrides (the sheet spans x 0 .. ~5,950 um; 24.8 um/h = half of it in 120 h, the shipped speed)
 variants=(
   "dev_v24.8_s1|$dev|2400|--set effects.growth.front.speed=24.8"
@@ -30,10 +30,11 @@ variants=(
   # every 10 steps. Over 3,000 steps static reaches 51% at P = 8 (out of the regime): that longer run, seed 2, trains.
   "epidermis_half_s1|$epi|750|--set decomposition.rebalance_every=10 --set effects.growth.front.x0=2975 --set effects.growth.front.speed=0"
   "epidermis_half3k_s2|$epi|3000|--set decomposition.rebalance_every=50 --set effects.growth.front.x0=2975 --set effects.growth.front.speed=0 --seed 2"
-  # the CPU versions: a 50 x 50 sheet (~450 um); the development scene at dt 0.1 h (the small profile's) with the
-  # front at half the sheet in 120 h (1.9 um/h), an event every 10 steps; the epidermis scene as epidermis_s1
-  "small_dev_s1|$dev|1200|--set time.dt=0.1 --set time.cell_update_every=5 --set decomposition.rebalance_every=10 --set effects.growth.front.speed=1.9"
-  "small_epidermis_s1|$epi|1000|--set decomposition.rebalance_every=50"
+  # the CPU versions (wide enough for 16 ranks of 13 slices): the development scene on a 50 x 50 sheet (~450 um) at
+  # dt 0.1 h (the small profile's) with the front at half the sheet in 120 h (1.9 um/h), an event every 10 steps; the
+  # epidermis scene on a 70 x 70 sheet as epidermis_s1
+  "small_dev_s1|$dev|1200|--set tissue.cells=2500 --set time.dt=0.1 --set time.cell_update_every=5 --set decomposition.rebalance_every=10 --set effects.growth.front.speed=1.9"
+  "small_epidermis_s1|$epi|1000|--set tissue.cells=4900 --set decomposition.rebalance_every=50"
 )
 want=("$@")
 mkdir -p "$OUT"

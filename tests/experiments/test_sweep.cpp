@@ -204,3 +204,26 @@ set:
   EXPECT_EQ(quick.out.find(") running"), std::string::npos) << quick.out;
   EXPECT_EQ(slurp(dir + "/slow/beat.csv"), slurp(dir + "/quick/beat.csv"));
 }
+
+// Every shipped manifest passes its runner's checks at each of its profiles as shipped (no overrides but the traces
+// folder replay_score is given by the Makefile): a job that `make experiments` or a paper-profile run would refuse
+// (a missing file, a rank count that does not fit a workload) fails here. And --check itself refuses such a job.
+TEST(Sweep, ShippedManifestsPassTheirChecksAtEveryProfile) {
+  for (const auto& entry : fs::directory_iterator(source("experiments")))
+    if (entry.path().extension() == ".yaml")
+      for (const char* profile : {"small", "paper"}) {
+        if (slurp(entry.path().string()).find(std::string("  ") + profile + ":") == std::string::npos) continue;
+        const std::string sets = entry.path().stem() == "replay_score" ? " --set traces=" + source("results/cpu") : "";
+        const auto r = run(semlb_bin() + " sweep " + entry.path().string() + " --profile " + profile + sets +
+                           " --check --results " + fresh_dir("check"));
+        EXPECT_EQ(r.rc, 0) << entry.path() << " --profile " << profile << ": " << r.out;
+        EXPECT_NE(r.out.find("jobs checked"), std::string::npos) << r.out;
+      }
+  const auto dir = fresh_dir("check_refuses");
+  write(dir + "/m.yaml", "name: w\nrunner: workload_eval\noutput: w.csv\naxes:\n  ranks: [2, 200]\n  workload: [" +
+                             source("results/cpu/workloads/small_dev_s1.h5") + "]\n  policy: [static]\n  seed: \"0\"\n");
+  const auto bad = run(semlb_bin() + " sweep " + dir + "/m.yaml --check --results " + dir + "/out");
+  EXPECT_EQ(bad.rc, 2) << bad.out;
+  EXPECT_NE(bad.out.find("200 ranks"), std::string::npos) << bad.out;
+  EXPECT_FALSE(fs::exists(dir + "/out/w.csv.partial"));
+}
