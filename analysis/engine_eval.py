@@ -38,12 +38,26 @@ def read_points_rows(rows):
     (workload, policy, knob setting, P) averaged over the replay seeds. ValueError "LINE: field ..." on a bad row."""
     groups = defaultdict(list)
     knobs = [c for c in rows[0] if c.startswith(KNOB_PREFIXES)]
-    for n, r in enumerate(rows, 2):
+
+    def cell(r, n, name, parse):
+        text = r.get(name)
+        if text is None:
+            raise ValueError(f"{n}: field '{name}': missing (the row has {len([v for v in r.values() if v is not None])} "
+                             f"of the header's {len(rows[0])} cells)")
         try:
-            key = (r["workload"], int(r["ranks"]), r["policy"], tuple((k, r[k]) for k in knobs if r[k] != ""))
-            groups[key].append((float(r["mean_imbalance"]), float(r["migration"]), float(r["loop_s"])))
-        except (KeyError, ValueError) as err:
-            raise ValueError(f"{n}: field {err}")
+            value = parse(text)
+        except ValueError:
+            raise ValueError(f"{n}: field '{name}': '{text}' is not a number")
+        if isinstance(value, float) and not math.isfinite(value):
+            raise ValueError(f"{n}: field '{name}': '{text}' is not finite")
+        return value
+
+    for n, r in enumerate(rows, 2):
+        if None in r:  # more cells than the header
+            raise ValueError(f"{n}: {len(r[None])} cells beyond the header's {len(rows[0])}")
+        key = (cell(r, n, "workload", str), cell(r, n, "ranks", int), cell(r, n, "policy", str),
+               tuple((k, r[k] or "") for k in knobs if (r[k] or "") != ""))
+        groups[key].append(tuple(cell(r, n, c, float) for c in ("mean_imbalance", "migration", "loop_s")))
     out = defaultdict(list)
     for (w, p, policy, setting), v in groups.items():
         out[(w, p)].append({"policy": policy, "setting": " ".join(f"{k.split('.', 1)[1]}={x}" for k, x in setting),
@@ -133,8 +147,11 @@ def main():
     a = ap.parse_args()
     try:
         points = read_points(a.csv)
-    except (OSError, ValueError) as err:
-        print(err, file=sys.stderr)
+    except OSError as err:
+        print(f"engine_eval.py: --csv {a.csv}: {err.strerror}", file=sys.stderr)
+        return 2
+    except ValueError as err:
+        print(f"engine_eval.py: {err}", file=sys.stderr)
         return 2
     text = render(points)
     print(text)

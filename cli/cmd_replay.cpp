@@ -49,6 +49,11 @@ Action add_replay(CLI::App& app) {
     if (!o->weights.empty()) params[o->policy].set("weights", o->weights);
     auto policy = make_policy(o->policy, params[o->policy]);
     if (o->trace.empty() == o->workload.empty()) throw InputError("replay: give --trace or --workload");
+    if (!o->workload.empty() && o->score)
+      throw InputError("replay: --score is for --trace (a --workload replay always prints its score)");
+    if (!o->trace.empty())
+      for (const char* flag : {"--ranks", "--seed", "--first-event", "--events", "--coarsen", "--time-model"})
+        if (sub->count(flag)) throw InputError(std::string("replay: ") + flag + " is for --workload, not --trace");
     if (!o->workload.empty()) {
       if (o->ranks < 1) throw InputError("replay: --workload needs --ranks P");
       surrogate::WorkloadReplay r;

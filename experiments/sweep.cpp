@@ -289,7 +289,10 @@ std::string SweepPlan::key(size_t i) const {
 
 std::string SweepPlan::label(size_t i) const {
   std::string k;
-  for (const auto& a : layout_.axes) k += (k.empty() ? "" : " ") + a + "=" + axis_value(jobs_[i], a);
+  for (const auto& a : layout_.axes) {  // the axes this job sets (an axis group leaves the others' cells empty)
+    const std::string v = axis_value(jobs_[i], a);
+    if (!v.empty()) k += (k.empty() ? "" : " ") + a + "=" + v;
+  }
   return k;
 }
 

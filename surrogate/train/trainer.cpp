@@ -58,7 +58,7 @@ double learning_rate(const TrainConfig& c, long step) {
 }
 
 double temperature(const TrainConfig& c, long step) {
-  const double progress = c.steps > 1 ? static_cast<double>(step) / (c.steps - 1) : 1.0;
+  const double progress = c.steps > 1 ? std::min(1.0, static_cast<double>(step) / (c.steps - 1)) : 1.0;
   return c.temp_start + (c.temp_end - c.temp_start) * progress;
 }
 
@@ -185,8 +185,9 @@ TrainSummary run_training(const TrainConfig& c, const TrainOptions& o) {
   auto log_validation = [&](long at) {
     const GruWeights current = export_weights(model, c.ds_max_frac, parse_feature_set(c.features, ""));
     const Validation v = validate(c, &current);
+    const long trained = std::max(0L, at - 1);  // the log names the last step's learning rate and temperature
     std::ofstream(log, std::ios::app) << at << "," << format_real(seconds()) << "," << format_real(last_loss) << ","
-                                      << format_real(learning_rate(c, at)) << "," << format_real(temperature(c, at)) << ","
+                                      << format_real(learning_rate(c, trained)) << "," << format_real(temperature(c, trained)) << ","
                                       << format_real(v.imbalance) << "," << format_real(v.migration) << ","
                                       << format_real(reactive.imbalance) << "," << format_real(reactive.migration) << "\n";
     if (o.progress)

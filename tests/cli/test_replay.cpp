@@ -95,4 +95,9 @@ TEST(Replay, WorkloadAtARankCountThroughTheTimeModel) {
   expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model speed=1", "unknown time model key 'speed'");
   expect_bad_input("replay --policy static --workload " + dir + "/t.jsonl --ranks 2", "t.jsonl");
   expect_bad_input("replay --policy static", "give --trace or --workload");
+  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --score", "--score is for --trace");
+  write(dir + "/t.jsonl", "");
+  for (const char* flag : {"--ranks 2", "--seed 1", "--coarsen 2", "--events 3", "--first-event 1", "--time-model jitter=0"})
+    expect_bad_input("replay --policy static --trace " + dir + "/t.jsonl " + flag,
+                     std::string(flag).substr(0, std::string(flag).find(' ')) + " is for --workload, not --trace");
 }

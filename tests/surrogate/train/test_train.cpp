@@ -169,6 +169,11 @@ TEST(Trainer, KilledRunResumesToTheSameWeights) {
     EXPECT_EQ(split(log[i], ',')[0], std::to_string(i));
     EXPECT_GE(std::stod(split(log[i], ',')[1]), 0.0) << log[i];
   }
+  // Each row's temperature is the one its step trained with: temp_start at step 1 down to temp_end at the last.
+  const auto c = load_train_config("", {"steps=4"});
+  for (int i = 1; i <= 4; ++i)
+    EXPECT_NEAR(std::stod(split(log[i], ',')[4]), c.temp_start + (c.temp_end - c.temp_start) * (i - 1) / 3.0, 1e-12)
+        << log[i];
 }
 
 TEST(SoftRollout, TruncatedBpttKeepsTheForwardPassAndShortensGradients) {
