@@ -63,7 +63,9 @@ void check(const TrainConfig& c) {
   need(c.migration_norm == "slices" || c.migration_norm == "reactive", "migration_norm", "must be slices or reactive");
   for (long s : surrogate::parse_int_list(c.validation_seeds, "validation_seeds"))
     need(surrogate::kValidationSeeds.contains(s), "validation_seeds", "must lie in the validation range 8000-8999");
-  surrogate::parse_int_list(c.validation_ranks, "validation_ranks");
+  for (long r : surrogate::parse_int_list(c.validation_ranks, "validation_ranks"))
+    need(r >= 2 && r <= 64, "validation_ranks", "each must be in [2, 64] (the training rank range's limits)");
+  need(c.validation_events >= 1, "validation_events", "must be >= 1");
   parse_feature_set(c.features, "training setting 'features': ");
   need(c.trace_fraction >= 0 && c.trace_fraction <= 1, "trace_fraction", "must be in [0, 1]");
   need(c.front_fraction >= 0 && c.front_fraction <= 1, "front_fraction", "must be in [0, 1]");

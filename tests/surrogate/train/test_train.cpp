@@ -273,6 +273,8 @@ TEST(Episodes, TraceDrivenEpisodesReplayWindowsOfAWorkloadFile) {
   EXPECT_GE(lo8, 0.005);
   EXPECT_GT(hi8, 0.05);
   EXPECT_LE(hi8, 0.08);
+  EXPECT_THROW(load_train_config("", {"validation_ranks=2,100000"}), InputError);
+  EXPECT_THROW(load_train_config("", {"validation_events=-1"}), InputError);
   EXPECT_THROW(load_train_config("", {"trace_jitter_max=0.001"}), InputError);
   EXPECT_THROW(load_train_config("", {"trace_jitter_max=0.5"}), InputError);
   c.workloads = dir + "/absent.h5";
