@@ -3,6 +3,7 @@ import os
 import sys
 
 from .common import Part, plt as _pyplot, register, setup as setup_line
+from .frontier import DEPLOYABLE, pareto_front
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import engine_eval  # noqa: E402  (analysis/engine_eval.py: the tables and the targets, also a command of its own)
@@ -14,15 +15,6 @@ PAPER_LINE = ("The paper evaluates the controllers on synthetic surrogate scenar
               "less migration; it reports no evaluation on recorded engine workloads.")
 
 
-FAMILIES = ["reactive", "gromacs_dlb", "hoomd_balance", "all_tensor", "lammps_shift"]  # deployable, with a knob
-
-
-def family_front(points):
-    """The points of one family that no other of them dominates, by migration ascending."""
-    front = [p for p in points if not any(engine_eval.dominates(q, p) for q in points)]
-    return sorted(front, key=lambda p: (p["migration"], p["imbalance"]))
-
-
 def pareto_figure(points_by_key, workload):
     """One workload's imbalance-migration plane, a panel per P: every deployable family's knob settings and their
     front, static, persistence/holt, every GRU weights file (the shipped one as a large star) and the foresight floor."""
@@ -31,14 +23,14 @@ def pareto_figure(points_by_key, workload):
     fig, axes = plt.subplots(1, len(ranks), figsize=(4.2 * len(ranks), 4.4), squeeze=False)
     for ax, P in zip(axes[0], ranks):
         points = points_by_key[(workload, P)]
-        for fam in FAMILIES:
-            mine = [p for p in points if p["policy"] == fam]
+        for fam in DEPLOYABLE:
+            mine = [(p["policy"], p["setting"], p["imbalance"], p["migration"]) for p in points if p["policy"] == fam]
             if not mine:
                 continue
-            dots = ax.scatter([p["migration"] for p in mine], [100 * p["imbalance"] for p in mine], s=9, alpha=0.35)
-            front = family_front(mine)
-            ax.plot([p["migration"] for p in front], [100 * p["imbalance"] for p in front], "-", lw=1,
-                    color=dots.get_facecolor()[0], label=fam)
+            dots = ax.scatter([p[3] for p in mine], [100 * p[2] for p in mine], s=9, alpha=0.35)
+            front = pareto_front(mine)
+            ax.plot([p[3] for p in front], [100 * p[2] for p in front], "-", lw=1, color=dots.get_facecolor()[0],
+                    label=fam)
         for p in points:
             x, y = p["migration"], 100 * p["imbalance"]
             if p["policy"] == "gru":

@@ -58,7 +58,7 @@ double learning_rate(const TrainConfig& c, long step) {
 }
 
 double temperature(const TrainConfig& c, long step) {
-  const double progress = c.steps > 1 ? std::min(1.0, static_cast<double>(step) / (c.steps - 1)) : 1.0;
+  const double progress = c.steps > 1 ? static_cast<double>(step) / (c.steps - 1) : 1.0;
   return c.temp_start + (c.temp_end - c.temp_start) * progress;
 }
 

@@ -6,6 +6,7 @@
 #include "common/errors.hpp"
 #include "common/h5.hpp"
 #include "controllers/workload.hpp"
+#include "../workload_fixtures.hpp"
 
 namespace semlb {
 namespace {
@@ -18,14 +19,10 @@ std::string tmp_path(const std::string& name) {
 
 // Three slices, two events, hand-written.
 EngineWorkload small() {
-  EngineWorkload w;
-  w.slices = 3;
-  w.min_width = 1;
+  EngineWorkload w = test::workload_shape(3, 1, 20);
   w.x0_um = -5;
   w.slice_width_um = 10;
-  w.cutoff_um = 8.75;
   w.ghost_reach_um = 8.8375;
-  w.rebalance_every = 20;
   w.ranks = 2;
   w.scene = "hand";
   w.command = "semlb sim ...";

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "../../run_command.hpp"
+#include "../../workload_fixtures.hpp"
 #include "common/errors.hpp"
 #include "controllers/features.hpp"
 #include "controllers/gru.hpp"
@@ -202,12 +203,7 @@ TEST(SoftRollout, TruncatedBpttKeepsTheForwardPassAndShortensGradients) {
 // Trace-driven episodes: windows of a recorded workload at a rank count that fits, from a file the config names, and
 // the mixed family's three sources in the proportions asked for.
 TEST(Episodes, TraceDrivenEpisodesReplayWindowsOfAWorkloadFile) {
-  EngineWorkload w;
-  w.slices = 64;
-  w.min_width = 2;
-  w.cutoff_um = 8.75;
-  w.ghost_reach_um = 8.8;
-  w.rebalance_every = 10;
+  EngineWorkload w = test::workload_shape(64, 2, 10);
   for (int t = 0; t < 30; ++t) {
     WorkloadEvent e;
     e.step = 10 * (t + 1);
