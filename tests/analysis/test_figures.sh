@@ -37,8 +37,11 @@ scene = GetAnimationScene()
 scene.AnimationTime = reader.TimestepValues[-1]
 SaveScreenshot(sys.argv[2], view, ImageResolution=[640, 480])
 PY
-timeout 300 xvfb-run -a pvbatch "$work/shot.py" "$r/figures/development_paraview.py" "$work/paraview.png" >/dev/null 2>&1 \
-  || { echo "pvbatch could not render development_paraview.py"; exit 1; }
+# Two tries (xvfb-run -a can lose the race for a display number); a failure prints what pvbatch and Xvfb said.
+shoot() { timeout 300 xvfb-run -a -e "$work/xvfb.log" pvbatch "$work/shot.py" "$r/figures/development_paraview.py" \
+            "$work/paraview.png" >"$work/pvbatch.log" 2>&1; }
+shoot || shoot || { echo "pvbatch could not render development_paraview.py:"; tail -n 40 "$work/pvbatch.log" "$work/xvfb.log"
+                    exit 1; }
 "$py" - "$work/paraview.png" <<'PY'
 import sys
 import matplotlib.image as mpimg
