@@ -1,4 +1,4 @@
-// Backends evaluate the element kernels (pair forces, membrane, integration, noise) on one device;
+// Backends evaluate the element kernels (pair forces, element terms, integration, noise) on one device;
 // they register by name (serial, cpu-binned, opencl-allpairs, opencl-binned).
 #pragma once
 #include <array>
@@ -147,7 +147,7 @@ class Backend {
                             State& leavers, std::vector<int>& owner);
   // Appends `arrivals`' cells after the owned ones (their fields by name; missing ones are 0). Drops the ghosts.
   virtual void append_cells(State& host, const State& arrivals);
-  // Forces start at zero each step; the pair forces and membrane_forces add to them (fixed point).
+  // Forces start at zero each step; the pair forces and element_term add to them (fixed point).
   virtual void zero_forces() = 0;
   // Pair forces in two parts, as GROMACS splits them: the local part (owned elements on owned elements) needs no
   // ghost, so a decomposed run computes it while the ghost bands travel; the non-local part (ghosts on owned
@@ -166,7 +166,10 @@ class Backend {
     pair_forces_local(table, cutoff, grid);
     pair_forces_nonlocal(table, cutoff, grid);
   }
-  virtual void membrane_forces(const std::vector<double>& membrane) = 0;
+  // Adds the registered element term `name`'s force (terms/term.hpp) on every owned element, in fixed point;
+  // `params` its derived parameters (ElementTerm::read). C++ backends call the term's evaluator in their
+  // precision; OpenCL launches the term's kernel (named `name`). std::logic_error for an unregistered name.
+  virtual void element_term(const std::string& name, const std::vector<double>& params) = 0;
   // Y += dt/eta * F; records a Failure on a non-finite position or a step above max_step. The failing step
   // completes on every element; from the next step on, integrate and noise move nothing (frozen).
   virtual void integrate(double dt_over_eta, double max_step, long step) = 0;

@@ -6,6 +6,7 @@
 
 #include "backend.hpp"
 #include "cpu_physics.hpp"
+#include "terms/term.hpp"
 
 namespace semlb::engine {
 
@@ -86,13 +87,19 @@ class CpuBackend : public Backend {
   long owned() const { return owned_; }  // forces, integration and noise apply to elements [0, owned)
   long total() const { return static_cast<long>(info_.size()); }
 
-  void membrane_forces(const std::vector<double>& membrane) override {
-    count("membrane");
-    const std::vector<Real> m(membrane.begin(), membrane.end());
+  void element_term(const std::string& name, const std::vector<double>& params) override {
+    const ElementTerm& term = engine::element_term(name);
+    TermEvaluator<Real> evaluate;
+    if constexpr (std::is_same_v<Real, double>) evaluate = term.f64; else evaluate = term.f32;
+    count(name);
+    const std::vector<Real> p(params.begin(), params.end());
     const long n = owned_;
 #pragma omp parallel for schedule(static) num_threads(threads())
-    for (long i = 0; i < n; ++i)
-      force_[3 * i + 2] += Physics<Real>::fixed(Physics<Real>::membrane(pos_[3 * i + 2], phys64::semlb_info_type(info_[i]), m.data()));
+    for (long i = 0; i < n; ++i) {
+      Real f[3];
+      evaluate(pos_[3 * i], pos_[3 * i + 1], pos_[3 * i + 2], phys64::semlb_info_type(info_[i]), p.data(), f);
+      for (int d = 0; d < 3; ++d) force_[3 * i + d] += Physics<Real>::fixed(f[d]);
+    }
   }
 
   void integrate(double dt_over_eta, double max_step, long step) override {

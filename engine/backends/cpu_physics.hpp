@@ -49,7 +49,6 @@ struct Physics;
       if (NS::semlb_pair_force(dx, dy, dz, ii, ij, t, c2, acc) < 0)                                     \
         NS::semlb_coincident_force(ki, kj, ii, ij, t, acc);                                             \
     }                                                                                                   \
-    static REAL membrane(REAL z, int type, const REAL* m) { return NS::semlb_membrane_fz(z, type, m); } \
     static int64_t fixed(REAL f) { return NS::semlb_to_fixed(f); }                                      \
     static REAL step(int64_t f, REAL dt_eta) { return NS::semlb_displacement(f, dt_eta); }              \
     static REAL gauss(uint64_t s, uint64_t k, uint64_t t, uint64_t c) { return NS::semlb_gauss(s, k, t, c); } \

@@ -114,16 +114,6 @@ static inline void semlb_coincident_force(SEMLB_ULONG key_i, SEMLB_ULONG key_j, 
   acc[2] += semlb_to_fixed(s * uz);
 }
 
-/* Membrane parameters (reals), derived like a Morse set: (U_wall/xi_wall, 1/xi_wall, V_adh/xi_adh, 1/xi_adh);
- * the plane is z = 0. */
-#define SEMLB_MEMBRANE_SIZE 4
-/* z-force of the basement membrane (V_ext): repulsive wall for every element, adhesion for basal (type 0). */
-static inline semlb_real semlb_membrane_fz(semlb_real z, int type, SEMLB_CONST const semlb_real* m) {
-  semlb_real f = m[0] * SEMLB_EXP(-z * m[1]);
-  if (type == 0) f -= m[2] * SEMLB_EXP(-z * m[3]);
-  return semlb_clamp_force(f);
-}
-
 /* Overdamped Euler update of one coordinate: dY = dt/eta * F (eq. 1). */
 static inline semlb_real semlb_displacement(SEMLB_LONG fixed_force, semlb_real dt_over_eta) {
   return dt_over_eta * ((semlb_real)fixed_force * (semlb_real)SEMLB_FIXED_INV);

@@ -215,12 +215,8 @@ __kernel void forces_allpairs(__global const real4* pos, __global const ulong* k
 
 #include "neighbour_list.cl"
 
-__kernel void membrane(__global const real4* pos, __constant const SEMLB_REAL* m, __global long* force, int n) {
-  int i = get_global_id(0);
-  if (i >= n) return;
-  real4 p = pos[i];
-  force[3 * i + 2] += semlb_to_fixed(semlb_membrane_fz(p.z, semlb_info_type(INFO(p.w)), m));
-}
+/* The element terms (terms/NAME.h), each followed by its kernel from terms/element_term.cl. */
+#include "element_terms.cl"
 
 /* Overdamped update; the first failing step records (step, lowest element*4+code) and completes on every
    element; later steps (fail[0] < step) move nothing, so the frozen state does not depend on launch order. */

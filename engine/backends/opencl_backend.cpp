@@ -13,6 +13,7 @@
 #include "model/tissue.hpp"
 #include "neighbour_list.hpp"
 #include "opencl.hpp"
+#include "terms/term.hpp"
 
 namespace semlb::engine {
 
@@ -23,6 +24,7 @@ namespace {
 constexpr size_t kGroup = 128;      // work-group size of the element kernels
 constexpr size_t kScanGroup = 256;  // work-group size of the bin scan
 constexpr size_t kExtentGroups = 64;  // work-groups of the x range reduction
+constexpr size_t kTermParams = 64;    // reals an element term's parameter buffer holds
 
 struct LocalBytes {  // a __local kernel argument
   size_t bytes;
@@ -58,7 +60,6 @@ class OpenClBackend final : public Backend {
     }
     fail_ = buffer(2 * sizeof(cl_int));
     table_ = buffer(64 * sizeof(Real));
-    membrane_ = buffer(8 * sizeof(Real));
     extent_ = buffer(2 * kExtentGroups * sizeof(Real));
     bounds_ = buffer(6 * kExtentGroups * sizeof(Real));
     cell_fail_ = buffer(sizeof(cl_int));
@@ -432,9 +433,13 @@ class OpenClBackend final : public Backend {
            real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get());
   }
 
-  void membrane_forces(const std::vector<double>& m) override {
-    write_reals(membrane_, m);
-    launch("membrane", owned_, kGroup, pos_.get(), membrane_.get(), force_.get(), owned());
+  void element_term(const std::string& name, const std::vector<double>& params) override {
+    engine::element_term(name);  // std::logic_error for an unregistered name
+    if (params.size() > kTermParams) throw std::logic_error("element term '" + name + "': more than 64 parameters");
+    cl::Mem& p = term_params_[name];
+    if (!p) p = buffer(kTermParams * sizeof(Real));
+    write_reals(p, params);
+    launch(name.c_str(), owned_, kGroup, pos_.get(), p.get(), force_.get(), owned());
   }
 
   void integrate(double dt_over_eta, double max_step, long step) override {
@@ -554,10 +559,14 @@ class OpenClBackend final : public Backend {
       throw std::runtime_error("OpenCL: kernels failed to build on " + device_name() + ":\n" + log);
     }
     for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned",
-                          "forces_nonlocal", "forces_allpairs", "membrane", "integrate", "noise", "x_extent", "band_flags", "band_gather", "bounds",
+                          "forces_nonlocal", "forces_allpairs", "integrate", "noise", "x_extent", "band_flags", "band_gather", "bounds",
                           "nl_check", "nl_bin_count", "nl_scatter", "nl_build", "nl_done", "nl_forces", "nl_overflow"}) {
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
       cl::check(err, k);
+    }
+    for (const std::string& k : element_term_names()) {  // one kernel per element term (terms/element_term.cl)
+      kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k.c_str(), &err));
+      cl::check(err, k.c_str());
     }
     if (has_fp64_)
       for (const char* k : {"cells_plan", "cells_rewrite", "cells_differentiate", "work_bins", "work_cells", "cells_owner", "cells_split"}) {
@@ -801,7 +810,8 @@ class OpenClBackend final : public Backend {
   cl::KernelCapture capture_;
   std::map<std::string, cl::Kernel> kernels_;
   std::map<cl_mem, std::vector<Real>> last_written_;
-  cl::Mem pos_, keys_, force_, fail_, table_, membrane_;
+  cl::Mem pos_, keys_, force_, fail_, table_;
+  std::map<std::string, cl::Mem> term_params_;  // each element term's parameters, by name
   BinSort owned_sort_, ghost_sort_;  // the local forces' bins; the ghosts' own (non-local forces)
   cl::Mem extent_, flags_, band_starts_, band_sums_, band_pos_;
   // The last bands() selection: both bands compacted (lower first) and near_[k] the owned element of slot k

@@ -1,0 +1,59 @@
+// The element-term registry, and each term as an effect that adds its forces through Backend::element_term.
+#include "term.hpp"
+
+#include <cctype>
+#include <stdexcept>
+
+#include "common/registry.hpp"
+#include "effects/effect.hpp"
+
+namespace semlb::engine {
+namespace {
+
+Registry<ElementTerm>& registry() {
+  static Registry<ElementTerm> r;
+  return r;
+}
+
+bool c_identifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return true;
+}
+
+// An element term listed in the scene: its parameters read once, its forces added every step (the local part:
+// a term of an element's own position needs no ghost).
+class TermEffect final : public Effect {
+ public:
+  TermEffect(std::string name, std::vector<double> params) : name_(std::move(name)), params_(std::move(params)) {}
+  std::string name() const override { return name_; }
+  bool adds_forces() const override { return true; }
+  void forces(Backend& b, const Grid&) override { b.element_term(name_, params_); }
+
+ private:
+  std::string name_;
+  std::vector<double> params_;
+};
+
+}  // namespace
+
+ElementTermRegistrar::ElementTermRegistrar(const std::string& name, ElementTerm term) {
+  if (!c_identifier(name)) throw std::logic_error("element term '" + name + "': not a C identifier");
+  if (registry().find(name)) throw std::logic_error("element term '" + name + "' registered twice");
+  const int order = term.order;
+  registry().add(name, std::move(term));
+  EffectRegistrar(name, {order, [name](const Section& s, const Scene&) {
+                           return std::make_unique<TermEffect>(name, element_term(name).read(s));
+                         }});
+}
+
+const ElementTerm& element_term(const std::string& name) {
+  const ElementTerm* t = registry().find(name);
+  if (!t) throw std::logic_error("no element term '" + name + "' (known: " + registry().known() + ")");
+  return *t;
+}
+
+std::vector<std::string> element_term_names() { return registry().names(); }
+
+}  // namespace semlb::engine

@@ -1,0 +1,45 @@
+// Element terms: an external force on every owned element from its own position and cell type (V_ext of the
+// paper's eq. 1), each written once as a C99 evaluator header (terms/NAME.h) and registered by name; the loop
+// around it is written once per backend kind (CpuBackend::element_term, the OpenCL kernel template element_term.cl).
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "backends/cpu_physics.hpp"
+#include "model/scene.hpp"
+
+namespace semlb::engine {
+
+// The force (force units, before the fixed-point clamp) on one element at (x, y, z) um of cell type `type`,
+// written into f[0..2]; `p` the term's derived parameters (ElementTerm::read). The C++ instantiation of the
+// evaluator `semlb_term_NAME` of terms/NAME.h in one precision.
+template <class Real>
+using TermEvaluator = void (*)(Real x, Real y, Real z, int type, const Real* p, Real* f);
+
+// A registered element term. Its name is its scene key (`effects.NAME`), the stem of its evaluator header
+// terms/NAME.h (whose `semlb_term_NAME` the OpenCL kernel NAME calls) and its kernel's name in launches().
+// terms/NAME.cpp includes terms/NAME.h once inside namespace phys64 and once inside phys32 (cpu_physics.hpp: the
+// evaluator's macros and types in double and float) and registers phys64::semlb_term_NAME and
+// phys32::semlb_term_NAME as f64 and f32.
+struct ElementTerm {
+  int order = 20;  // its place among the effects (effect.hpp EffectInfo::order)
+  // The derived parameters (reals) from the scene's section; the section's errors name file, line and field.
+  std::function<std::vector<double>(const Section&)> read;
+  TermEvaluator<double> f64 = nullptr;
+  TermEvaluator<float> f32 = nullptr;
+  // A valid section for it (YAML flow map): what the suites that iterate element_term_names() run it with.
+  std::string example = "{}";
+};
+
+// Registers `term` under `name` (a C identifier: it names the OpenCL kernel) as an element term and as an
+// effect (effect.hpp: adds_forces, the local part). std::logic_error on a name that is not a C identifier or is
+// registered twice.
+struct ElementTermRegistrar {
+  ElementTermRegistrar(const std::string& name, ElementTerm term);
+};
+// The term registered under `name`; std::logic_error when there is none (the effect registry checks scene names).
+const ElementTerm& element_term(const std::string& name);
+std::vector<std::string> element_term_names();
+
+}  // namespace semlb::engine
