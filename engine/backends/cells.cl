@@ -1,0 +1,207 @@
+/* The cell stage (growth, division, differentiation) on the device, rules from cells.h; W_s, owners and the
+   migration split (kernels.cl includes it). */
+#ifdef SEMLB_CELLS /* built when the device has fp64: the cell bookkeeping is double on every backend */
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#pragma OPENCL FP_CONTRACT OFF
+#ifdef SEMLB_DOUBLE
+#define CELL_INFO(i) as_double((long)(i))
+#else
+#define CELL_INFO(i) as_float(i)
+#endif
+#define SEMLB_CELL_IN __global const real4*
+#define SEMLB_CELL_X(in, e, d) ((double)((__global const SEMLB_REAL*)(in))[4 * (e) + (d)])
+#define SEMLB_CELL_OUT __global real4*
+#define SEMLB_CELL_KEYS __global ulong*
+#define SEMLB_CELL_PUT(out, keys, e, x, y, z, info, key) \
+  ((out)[e] = (real4)((SEMLB_REAL)(x), (SEMLB_REAL)(y), (SEMLB_REAL)(z), CELL_INFO(info)), (keys)[e] = (key))
+#include "cells.h"
+
+/* Per cell: growth (clock, births), the division decision and its split plan. counts[c] = the cell's
+   elements after the stage, counts[n + c] = its daughter's (0 if none); divides[c] = 0 or 1; a cell that
+   would divide past the id depth records its index in fail[0] (atomic_min). */
+__kernel void cells_plan(int n, semlb_cell_rules r, ulong seed, ulong step, double elapsed, __global const real4* pos,
+                         __global const ulong* id, __global const int* type, __global const int* first,
+                         __global const int* count, __global double* clock, __global const double* depth,
+                         __global int* births, __global double* old_centroid, __global semlb_cell_split* split,
+                         __global int* counts, __global int* divides, __global volatile int* fail) {
+  int c = get_global_id(0);
+  if (c >= n) return;
+  double clk = clock[c], ctr[3];
+  int t = type[c], cnt = count[c];
+  semlb_cell_centroid(pos, first[c], cnt, ctr);
+  int b = semlb_cell_births(&r, t, cnt, ctr[0], elapsed, &clk);
+  clock[c] = clk;
+  births[c] = b;
+  for (int d = 0; d < 3; ++d) old_centroid[3 * c + d] = ctr[d];
+  int grown = cnt + b;
+  int div = r.division && ((r.division_types >> t) & 1) && grown >= r.at_elements;
+  if (div && (int)depth[c] >= SEMLB_CELL_MAX_DEPTH) {
+    atomic_min(&fail[0], c);
+    div = 0;
+  }
+  int leave = 0;
+  if (div) {
+    semlb_cell_split s;
+    semlb_cell_plan_split(pos, first[c], cnt, b, ctr, &r, seed, id[c], step, &s);
+    split[c] = s;
+    leave = s.leave;
+  }
+  divides[c] = div;
+  counts[c] = grown - leave;
+  counts[n + c] = leave;
+}
+
+/* Per cell: writes the mother (index c) and its daughter (index n + dstarts[c]) into the new arrays:
+   elements at estarts[c] / estarts[n + c] (exclusive scans of counts and divides). */
+__kernel void cells_rewrite(int n, semlb_cell_rules r, ulong seed, ulong step, __global const real4* pos,
+                            __global const ulong* id, __global const int* type, __global const int* first,
+                            __global const int* count, __global const double* clock, __global const double* depth,
+                            __global const double* age, __global const int* births, __global const double* old_centroid,
+                            __global const semlb_cell_split* split, __global const int* counts,
+                            __global const int* divides, __global const int* estarts, __global const int* dstarts,
+                            __global real4* out_pos, __global ulong* out_keys, __global ulong* out_id,
+                            __global int* out_type, __global int* out_first, __global int* out_count,
+                            __global double* out_clock, __global double* out_depth, __global double* out_age) {
+  int c = get_global_id(0);
+  if (c >= n) return;
+  int div = divides[c], t = type[c];
+  double dep = depth[c] + div, ctr[3] = {old_centroid[3 * c], old_centroid[3 * c + 1], old_centroid[3 * c + 2]};
+  ulong me = id[c], daughter = div ? me | ((ulong)1 << (SEMLB_CELL_ROOT_ID_BITS + (int)depth[c])) : 0;
+  int dc = n + dstarts[c];
+  out_id[c] = me;
+  out_type[c] = t;
+  out_first[c] = estarts[c];
+  out_count[c] = counts[c];
+  out_clock[c] = clock[c];
+  out_depth[c] = dep;
+  out_age[c] = age[c];
+  semlb_cell_split s;
+  if (div) {
+    s = split[c];
+    out_id[dc] = daughter;
+    out_type[dc] = t;
+    out_first[dc] = estarts[n + c];
+    out_count[dc] = counts[n + c];
+    out_clock[dc] = clock[c];
+    out_depth[dc] = dep;
+    out_age[dc] = age[c];
+  }
+  semlb_cell_rewrite(pos, first[c], count[c], births[c], ctr, &r, seed, step, me, t, estarts[c], c, div ? &s : 0,
+                     daughter, estarts[n + c], dc, out_pos, out_keys);
+}
+
+/* Per cell of the new state: differentiation on its own centroid; a new type is written into its elements. */
+__kernel void cells_differentiate(int n, semlb_cell_rules r, double elapsed, __global real4* pos,
+                                  __global const int* first, __global const int* count, __global int* type,
+                                  __global double* age) {
+  int c = get_global_id(0);
+  if (c >= n) return;
+  double ctr[3], a = age[c];
+  int t = type[c];
+  semlb_cell_centroid(pos, first[c], count[c], ctr);
+  int changed = semlb_cell_differentiate(&r, ctr[2], elapsed, &t, &a);
+  age[c] = a;
+  if (!changed) return;
+  type[c] = t;
+  for (int k = 0; k < count[c]; ++k) pos[first[c] + k].w = CELL_INFO(semlb_info_pack(c, t));
+}
+
+/* ---- The decomposition on the device: W_s (a reduction) and migration (owners, packing, compaction). ---- */
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+/* Grid::bin_of and SliceMap::slice_of (backend.cpp) in double: floor, clamped, NaN -> 0. */
+static inline int clamp_floor(double f, int n) { return !(f >= 0) ? 0 : (f >= n ? n - 1 : (int)f); }
+static inline long work_bin(__global const real4* pos, int e, double4 lo, double4 size, int4 dims, int4* b) {
+  (*b).x = clamp_floor(floor((SEMLB_CELL_X(pos, e, 0) - lo.x) / size.x), dims.x);
+  (*b).y = clamp_floor(floor((SEMLB_CELL_X(pos, e, 1) - lo.y) / size.y), dims.y);
+  (*b).z = clamp_floor(floor((SEMLB_CELL_X(pos, e, 2) - lo.z) / size.z), dims.z);
+  return ((long)(*b).z * dims.y + (*b).y) * dims.x + (*b).x;
+}
+
+/* Elements per bin over pos[0..n) (the owned elements; other ranks' are summed in by the host); counts zeroed before. */
+__kernel void work_bins(__global const real4* pos, int n, double4 lo, double4 size, int4 dims, __global int* counts) {
+  int i = get_global_id(0);
+  int4 b;
+  if (i < n) atomic_inc(&counts[work_bin(pos, i, lo, size, dims, &b)]);
+}
+
+/* Per cell: w_i = n_i * (elements in the 3x3x3 bins around its centroid's bin), added to its slice (exact). */
+__kernel void work_cells(int n, __global const real4* pos, __global const int* first, __global const int* count,
+                         double4 lo, double4 size, int4 dims, __global const int* counts, double x0, double width,
+                         int slices, __global long* work) {
+  int c = get_global_id(0);
+  if (c >= n) return;
+  double ctr[3];
+  semlb_cell_centroid(pos, first[c], count[c], ctr);
+  int4 b;
+  b.x = clamp_floor(floor((ctr[0] - lo.x) / size.x), dims.x);
+  b.y = clamp_floor(floor((ctr[1] - lo.y) / size.y), dims.y);
+  b.z = clamp_floor(floor((ctr[2] - lo.z) / size.z), dims.z);
+  long near = 0;
+  for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
+    for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y)
+      for (int x = max(b.x - 1, 0); x <= min(b.x + 1, dims.x - 1); ++x) near += counts[((long)z * dims.y + y) * dims.x + x];
+  atom_add(&work[clamp_floor(floor((ctr[0] - x0) / width), slices)], (long)count[c] * near);
+}
+
+/* Per cell: its owner (owner_of: interior boundaries at or below its centroid's slice), leave[c] = owner != rank,
+   and its elements counted among the leavers' (elems[c]) or the stayers' (elems[n + c]). */
+__kernel void cells_owner(int n, __global const real4* pos, __global const int* first, __global const int* count,
+                          double x0, double width, int slices, __global const int* bounds, int nb, int rank,
+                          __global int* leave, __global int* owner, __global int* elems) {
+  int c = get_global_id(0);
+  if (c >= n) return;
+  double ctr[3];
+  semlb_cell_centroid(pos, first[c], count[c], ctr);
+  int s = clamp_floor(floor((ctr[0] - x0) / width), slices), o = 0;
+  for (int k = 0; k < nb; ++k) o += bounds[k] <= s;
+  int l = o != rank;
+  owner[c] = o;
+  leave[c] = l;
+  elems[c] = l ? count[c] : 0;
+  elems[n + c] = l ? 0 : count[c];
+}
+
+/* Per cell: a leaver goes to slot lstarts[c] of the l_ arrays (l_first holds its new owner), its elements at
+   estarts[c]; a stayer to slot c - lstarts[c] of the out_ arrays, its elements at estarts[n + c] - estarts[n],
+   their info renumbered to the new cell index. */
+__kernel void cells_split(int n, __global const real4* pos, __global const ulong* keys, __global const ulong* id,
+                          __global const int* type, __global const int* first, __global const int* count,
+                          __global const double* clock, __global const double* depth, __global const double* age,
+                          __global const int* leave, __global const int* owner, __global const int* lstarts,
+                          __global const int* estarts, __global real4* out_pos, __global ulong* out_keys,
+                          __global ulong* out_id, __global int* out_type, __global int* out_first,
+                          __global int* out_count, __global double* out_clock, __global double* out_depth,
+                          __global double* out_age, __global real4* l_pos, __global ulong* l_id, __global int* l_type,
+                          __global int* l_first, __global int* l_count, __global double* l_clock,
+                          __global double* l_depth, __global double* l_age) {
+  int c = get_global_id(0);
+  if (c >= n) return;
+  int f = first[c], m = count[c], t = type[c];
+  if (leave[c]) {
+    int j = lstarts[c], at = estarts[c];
+    l_id[j] = id[c];
+    l_type[j] = t;
+    l_first[j] = owner[c];
+    l_count[j] = m;
+    l_clock[j] = clock[c];
+    l_depth[j] = depth[c];
+    l_age[j] = age[c];
+    for (int k = 0; k < m; ++k) l_pos[at + k] = pos[f + k];
+    return;
+  }
+  int j = c - lstarts[c], at = estarts[n + c] - estarts[n];
+  out_id[j] = id[c];
+  out_type[j] = t;
+  out_first[j] = at;
+  out_count[j] = m;
+  out_clock[j] = clock[c];
+  out_depth[j] = depth[c];
+  out_age[j] = age[c];
+  for (int k = 0; k < m; ++k) {
+    real4 p = pos[f + k];
+    p.w = CELL_INFO(semlb_info_pack(j, t));
+    out_pos[at + k] = p;
+    out_keys[at + k] = keys[f + k];
+  }
+}
+#endif

@@ -1,0 +1,357 @@
+// The OpenCL backends (opencl-allpairs, opencl-binned) as one class template over the precision: declared here,
+// defined in opencl_backend.cpp (device, program, element kernels, ghost bands) and opencl_cells.cpp (the cell
+// stage, W_s and the migration on the device); the kernels are kernels.cl and its parts.
+#pragma once
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+#include <tuple>
+#include "backend.hpp"
+#include "common/errors.hpp"
+#include "cpu_physics.hpp"
+#include "model/tissue.hpp"
+#include "neighbour_list.hpp"
+#include "opencl.hpp"
+#include "terms/term.hpp"
+
+namespace semlb::engine::opencl_impl {
+
+constexpr size_t kGroup = 128;      // work-group size of the element kernels
+constexpr size_t kScanGroup = 256;  // work-group size of the bin scan
+constexpr size_t kExtentGroups = 64;  // work-groups of the x range reduction
+constexpr size_t kTermParams = 64;    // reals an element term's parameter buffer holds
+
+struct LocalBytes {  // a __local kernel argument
+  size_t bytes;
+};
+
+inline size_t round_up(size_t n, size_t m) { return (n + m - 1) / m * m; }
+
+template <class Real>
+class OpenClBackend final : public Backend {
+  using Real4 = std::array<Real, 4>;
+
+ public:
+  OpenClBackend(const BackendConfig& c, bool binned);
+
+  std::string name() const override { return binned_ ? "opencl-binned" : "opencl-allpairs"; }
+  std::string device_name() const override { return dev_.platform_name + ": " + dev_.device_name; }
+
+  void upload(const State& s) override;
+
+  // The ghosts go up from pinned memory without a host sync (two non-blocking writes): the next call waits for
+  // them before it reuses that memory.
+  void set_ghosts(const Ghosts& g) override;
+
+  std::pair<long, long> counts(const State&) const override { return {cells_, owned_}; }
+
+  std::vector<double> slice_work(State& host, const SliceMap& map, const Grid& g, const CountReduce& reduce) override;
+
+  void take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers, std::vector<int>& owner) override;
+
+  void append_cells(State& host, const State& arrivals) override;
+
+  void download(State& s) override;
+
+  void require_cells() override {
+    if (!has_fp64_)
+      throw InputError("effects: the cell stage needs double precision on the device, and '" + dev_.device_name +
+                       "' has none (cl_khr_fp64); use a device with it or a C++ backend");
+  }
+
+  std::array<std::array<double, 3>, 2> bounds() override;
+
+  // The cell stage on the device: cells_plan, scans of the new counts and of the divisions, cells_rewrite into
+  // the second element and cell buffers (swapped after), cells_differentiate. Only the new element and cell
+  // counts and the depth-error flag come back.
+  bool update_cells(State&, const CellRules& rules, uint64_t seed, double elapsed_h, long step) override;
+
+  std::array<double, 2> x_extent() override;
+
+  // Flags of both bands, one scan over the 2n flags, the gather (bands and the non-local items) on the device; two
+  // blocking reads: the two counts, then the bands (positions, keys) into pinned memory.
+  void bands(double below, double above, Ghosts& down, Ghosts& up) override;
+
+  void zero_forces() override {
+    count("zero_forces");
+    const cl_long zero = 0;
+    if (owned_) cl::check(clEnqueueFillBuffer(queue_.get(), force_.get(), &zero, sizeof zero, 0, 3 * owned_ * sizeof(cl_long), 0, nullptr, nullptr), "zero forces");
+  }
+
+  void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid& grid) override;
+
+  // The ghosts sorted into bins of their own on the device (the same counting sort, its own buffers), then one
+  // item per owned element of the bands' selection (or every owned element without one).
+  void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid& grid) override;
+
+  void element_term(const std::string& name, const std::vector<double>& params) override;
+
+  void integrate(double dt_over_eta, double max_step, long step) override {
+    if (step > INT_MAX) throw std::runtime_error("opencl backends count steps in 32 bits");
+    near_valid_ = false;  // the bands' selection was for these positions
+    launch("integrate", owned_, kGroup, pos_.get(), force_.get(), static_cast<Real>(dt_over_eta),
+           static_cast<Real>(max_step * max_step), static_cast<cl_int>(step), fail_.get(), owned());
+  }
+
+  void noise(double amplitude, uint64_t seed, long step) override {
+    launch("noise", owned_, kGroup, pos_.get(), keys_.get(), static_cast<Real>(amplitude), static_cast<cl_ulong>(seed),
+           static_cast<cl_long>(step), fail_.get(), owned());
+  }
+
+  Failure failure() override;
+
+  void finish() override { cl::check(clFinish(queue_.get()), "clFinish"); }
+  ListStats list_stats() override { return list_.stats(*this); }
+  std::vector<int64_t> fixed_forces() override {
+    std::vector<int64_t> f(3 * owned_);
+    read(force_, f.data(), f.size() * sizeof(int64_t));
+    return f;
+  }
+
+  void finish_while(const std::function<void()>& progress) override;
+
+ private:
+  cl_int owned() const { return static_cast<cl_int>(owned_); }
+
+  void write_elements(long at, const std::vector<double>& position, const std::vector<int>& info, const std::vector<uint64_t>& keys) {
+    const long n = static_cast<long>(keys.size());
+    std::vector<Real4> packed(n);
+    pack_elements(position, info, n, packed.data());
+    write(pos_, packed.data(), n * sizeof(Real4), at * sizeof(Real4));
+    write(keys_, keys.data(), n * sizeof(uint64_t), at * sizeof(uint64_t));
+  }
+
+  // Elements [0, n) of host arrays (3 reals, info) as the device's Real4 (x, y, z, packed info).
+  static void pack_elements(const std::vector<double>& position, const std::vector<int>& info, long n, Real4* out) {
+    for (long i = 0; i < n; ++i)
+      out[i] = {static_cast<Real>(position[3 * i]), static_cast<Real>(position[3 * i + 1]),
+                static_cast<Real>(position[3 * i + 2]), pack_info(info[i])};
+  }
+  static Real pack_info(int info) {
+    Real w{};
+    if constexpr (std::is_same_v<Real, float>) {
+      std::memcpy(&w, &info, sizeof info);
+    } else {
+      const int64_t wide = info;
+      std::memcpy(&w, &wide, sizeof wide);
+    }
+    return w;
+  }
+  std::vector<Real4> read_packed(const cl::Mem& m, long n, long at = 0) {
+    std::vector<Real4> packed(n);
+    read(m, packed.data(), n * sizeof(Real4), at * sizeof(Real4));
+    return packed;
+  }
+  static void to_positions(const Real4* packed, long n, std::vector<double>& p) {  // keeps p's capacity
+    p.resize(3 * n);
+    for (long i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) p[3 * i + c] = packed[i][c];
+  }
+  static void to_positions(const std::vector<Real4>& packed, std::vector<double>& p) {
+    to_positions(packed.data(), static_cast<long>(packed.size()), p);
+  }
+  static int unpack_info(Real w) {
+    if constexpr (std::is_same_v<Real, float>) {
+      int info;
+      std::memcpy(&info, &w, sizeof info);
+      return info;
+    } else {
+      int64_t wide;
+      std::memcpy(&wide, &w, sizeof wide);
+      return static_cast<int>(wide);
+    }
+  }
+  static Real4 real4(const std::array<double, 3>& v) {
+    return {static_cast<Real>(v[0]), static_cast<Real>(v[1]), static_cast<Real>(v[2]), 0};
+  }
+  static std::array<cl_int, 4> int4(const std::array<int, 3>& v) { return {v[0], v[1], v[2], 0}; }
+
+  void build();
+
+  // Kernel experiments (docs/engine.md): e.g. SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_NL_MASK to time a variant.
+  static std::string build_options() {
+    const char* extra = std::getenv("SEMLB_OPENCL_BUILD_OPTIONS");
+    return extra ? extra : "";
+  }
+
+  cl::Mem buffer(size_t bytes) {
+    cl_int err = CL_SUCCESS;
+    cl::Mem m(clCreateBuffer(ctx_.get(), CL_MEM_READ_WRITE, std::max<size_t>(bytes, 16), nullptr, &err));
+    cl::check(err, "clCreateBuffer");
+    return m;
+  }
+  void write(const cl::Mem& m, const void* data, size_t bytes, size_t offset = 0) {
+    if (bytes) cl::check(clEnqueueWriteBuffer(queue_.get(), m.get(), CL_TRUE, offset, bytes, data, 0, nullptr, nullptr), "write buffer");
+    moved(static_cast<long>(bytes), 0);
+  }
+  // bytes from `from` at `from_at` to `to` at `to_at`, on the device (nothing crosses to the host).
+  void copy(const cl::Mem& from, const cl::Mem& to, size_t bytes, size_t from_at = 0, size_t to_at = 0) {
+    if (bytes) cl::check(clEnqueueCopyBuffer(queue_.get(), from.get(), to.get(), from_at, to_at, bytes, 0, nullptr, nullptr), "copy buffer");
+  }
+  void read(const cl::Mem& m, void* data, size_t bytes, size_t offset = 0) {
+    if (bytes) cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_TRUE, offset, bytes, data, 0, nullptr, nullptr), "read buffer");
+    moved(0, static_cast<long>(bytes));
+  }
+  // Non-blocking read: `data` is filled once a later blocking call on the (in-order) queue returns.
+  void read_async(const cl::Mem& m, void* data, size_t bytes, size_t offset = 0) {
+    if (bytes) cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_FALSE, offset, bytes, data, 0, nullptr, nullptr), "read buffer");
+    moved(0, static_cast<long>(bytes));
+  }
+  // Non-blocking write; `data` must stay unchanged until the returned event completes.
+  cl::Event write_async(const cl::Mem& m, const void* data, size_t bytes, size_t offset = 0) {
+    cl_event e = nullptr;
+    if (bytes) cl::check(clEnqueueWriteBuffer(queue_.get(), m.get(), CL_FALSE, offset, bytes, data, 0, nullptr, &e), "write buffer");
+    moved(static_cast<long>(bytes), 0);
+    return cl::Event(e);
+  }
+  void write_reals(const cl::Mem& m, const std::vector<double>& values) {
+    const std::vector<Real> r(values.begin(), values.end());
+    if (r != last_written_[m.get()]) {  // parameters rarely change: write them once
+      write(m, r.data(), r.size() * sizeof(Real));
+      last_written_[m.get()] = r;
+    }
+  }
+
+  // Room for n elements (owned + ghosts); growing keeps elements [0, n_) and the owned elements' forces (the
+  // local part, when the ghosts arrive between the two parts) by device copies.
+  void reserve_elements(long n);
+
+  // The per-cell work arrays of the cell stage and the migration for n cells.
+  void reserve_plan(long n);
+
+  void allocate(long capacity);
+
+  // starts[i] = counts[0] + ... + counts[i-1] for i <= n (three kernels); cursor[i] = starts[i]. With `gate`, the
+  // kernels do nothing unless its first int is set (the neighbour list's builds).
+  void exclusive_scan(const cl::Mem& counts, const cl::Mem& starts, const cl::Mem& sums, const cl::Mem& cursor, long n,
+                      const cl::Mem* gate = nullptr) {
+    const cl_int nb = static_cast<cl_int>(n), blocks = static_cast<cl_int>(round_up(n, kScanGroup) / kScanGroup);
+    const cl_mem g = (gate ? *gate : always_).get();
+    launch("scan_blocks", n, kScanGroup, g, counts.get(), starts.get(), sums.get(), nb, LocalBytes{kScanGroup * sizeof(cl_int)});
+    launch("scan_sums", kScanGroup, kScanGroup, g, sums.get(), blocks, LocalBytes{kScanGroup * sizeof(cl_int)});
+    launch("scan_add", n, kScanGroup, g, starts.get(), sums.get(), counts.get(), nb, cursor.get());
+  }
+  // `bytes` of m set to the int `value` (on the device).
+  void fill(const cl::Mem& m, cl_int value, size_t bytes) {
+    if (bytes) cl::check(clEnqueueFillBuffer(queue_.get(), m.get(), &value, sizeof value, 0, bytes, 0, nullptr, nullptr), "fill buffer");
+  }
+  // A non-blocking read whose completion the returned event tells.
+  cl::Event read_event(const cl::Mem& m, void* data, size_t bytes) {
+    cl_event e = nullptr;
+    cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_FALSE, 0, bytes, data, 0, nullptr, &e), "read buffer");
+    moved(0, static_cast<long>(bytes));
+    return cl::Event(e);
+  }
+  size_t max_alloc() const {
+    cl_ulong bytes = 0;
+    clGetDeviceInfo(dev_.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof bytes, &bytes, nullptr);
+    return static_cast<size_t>(bytes);
+  }
+
+  // A counting sort by bin with its own buffers (the owned elements' and the ghosts'): per bin the count, the
+  // first sorted slot (starts, bins + 1) and the scatter cursor; per sorted slot the position and element index.
+  struct BinSort {
+    cl::Mem counts, starts, cursor, sums, bin, sorted_pos, sorted_index;
+    long bins = 0, elements = 0;  // capacities
+  };
+
+  // Counting sort of elements [first, first + count) by bin: count (atomics), exclusive scan, scatter.
+  void sort_into_bins(const Grid& g, long first, long count, BinSort& s);
+
+  template <class T>
+  void set_arg(cl_kernel k, cl_uint i, const T& v, const char* name) {
+    if constexpr (std::is_same_v<T, LocalBytes>) cl::check(clSetKernelArg(k, i, v.bytes, nullptr), name);
+    else cl::check(clSetKernelArg(k, i, sizeof(T), &v), name);
+  }
+
+  template <class T>
+  static cl::KernelCapture::Arg captured(const T& v) {
+    using Arg = cl::KernelCapture::Arg;
+    if constexpr (std::is_same_v<T, LocalBytes>) return {Arg::kLocal, nullptr, {}, v.bytes};
+    else if constexpr (std::is_same_v<T, cl_mem>) return {Arg::kBuffer, v, {}, 0};
+    else {
+      const auto* p = reinterpret_cast<const unsigned char*>(&v);
+      return {Arg::kValue, nullptr, std::vector<unsigned char>(p, p + sizeof(T)), 0};
+    }
+  }
+
+  template <class... Args>
+  void launch(const char* name, long items, size_t group, const Args&... args) {
+    if (items <= 0) return;
+    count(name, items);  // every kernel enqueued, by name (launches(), launch_items())
+    cl_kernel k = kernels_.at(name).get();
+    cl_uint i = 0;
+    (set_arg(k, i++, args, name), ...);
+    const size_t global = round_up(static_cast<size_t>(items), group);
+    std::vector<cl::KernelCapture::Arg> capture;
+    if (capture_.wants(name)) {
+      (capture.push_back(captured(args)), ...);
+      capture_.before(queue_.get(), program_.get(), global, group, capture);
+    }
+    cl_event raw = nullptr;
+    cl::check(clEnqueueNDRangeKernel(queue_.get(), k, 1, nullptr, &global, &group, 0, nullptr, profile_ ? &raw : nullptr), name);
+    if (!capture.empty()) capture_.after(queue_.get(), capture);
+    if (raw) {
+      const cl::Event event(raw);
+      cl_event e = event.get();
+      cl::check(clWaitForEvents(1, &e), "clWaitForEvents");
+      cl_ulong t0 = 0, t1 = 0;
+      clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_START, sizeof t0, &t0, nullptr);
+      clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_END, sizeof t1, &t1, nullptr);
+      kernel_seconds_[name] += 1e-9 * static_cast<double>(t1 - t0);
+    }
+  }
+
+  // Per-cell arrays on the device (cell index order, as the host State): the cell stage reads one set and
+  // writes the other, then swaps them.
+  struct Cells {
+    cl::Mem id, type, first, count, clock, depth, age;
+    long capacity = 0;
+    void allocate(OpenClBackend& b, long cap) {
+      capacity = cap;
+      id = b.buffer(cap * sizeof(uint64_t));
+      for (cl::Mem* m : {&type, &first, &count}) *m = b.buffer(cap * sizeof(cl_int));
+      for (cl::Mem* m : {&clock, &depth, &age}) *m = b.buffer(cap * sizeof(double));
+    }
+    std::vector<std::pair<const char*, const cl::Mem*>> fields() const {
+      return {{"growth.clock", &clock}, {"division.depth", &depth}, {"differentiation.age", &age}};
+    }
+  };
+
+  void upload_cells(const State& s);
+
+  template <class> friend class semlb::engine::NeighbourList;
+  bool binned_, profile_ = false, has_fp64_ = false, cells_stale_ = false;
+  NeighbourList<Real> list_;  // opencl-binned's local pairs when backend.skin > 0
+  cl::Mem always_;            // an int 1: the gate of ungated scans
+  Cells cell_, back_, leave_;  // leave_: the migration's leavers (leave_.first holds each one's new owner)
+  long cells_ = 0, plan_capacity_ = 0, work_bins_capacity_ = 0, work_capacity_ = 0, bounds_capacity_ = 0;
+  cl::Mem work_counts_, work_, owner_bounds_;  // W_s: elements per bin, per-slice sums; the interior boundaries
+  std::vector<int> last_boundaries_;
+  cl::Mem pos_back_, keys_back_, bounds_, cell_fail_, births_, old_centroid_, split_, counts2_, estarts_, esums_, divides_,
+      dstarts_, dsums_;
+  cl::DeviceInfo dev_{};
+  cl::Context ctx_;
+  cl::Queue queue_;
+  cl::Program program_;
+  cl::KernelCapture capture_;
+  std::map<std::string, cl::Kernel> kernels_;
+  std::map<cl_mem, std::vector<Real>> last_written_;
+  cl::Mem pos_, keys_, force_, fail_, table_;
+  std::map<std::string, cl::Mem> term_params_;  // each element term's parameters, by name
+  BinSort owned_sort_, ghost_sort_;  // the local forces' bins; the ghosts' own (non-local forces)
+  cl::Mem extent_, flags_, band_starts_, band_sums_, band_pos_;
+  // The last bands() selection: both bands compacted (lower first) and near_[k] the owned element of slot k
+  // (-1: listed in the lower band already), the non-local forces' items while near_valid_.
+  cl::Mem band_out_pos_, band_out_keys_, near_;
+  long band_capacity_ = 0, near_items_ = 0;
+  bool near_valid_ = false;
+  cl::Pinned down_, up_;  // pinned host memory: the bands down, the ghosts up
+  cl::Event up_done_;     // the ghost upload's last write from up_
+  long n_ = 0, owned_ = 0, capacity_ = 0;  // n_: owned + ghosts
+};
+
+}  // namespace semlb::engine::opencl_impl
