@@ -1,5 +1,6 @@
 // A by-name registry filled by static registrar objects: policies, effects, backends, runners, launchers.
 #pragma once
+#include <cctype>
 #include <map>
 #include <string>
 #include <vector>
@@ -32,5 +33,14 @@ class Registry {
  private:
   std::map<std::string, T> entries_;
 };
+
+// True when `name` is a C identifier ([A-Za-z_][A-Za-z0-9_]*): plug-ins whose name also names generated code (the
+// OpenCL kernels of element terms and removal rules) are checked with it when they register.
+inline bool is_c_identifier(const std::string& name) {
+  if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0]))) return false;
+  for (char c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return true;
+}
 
 }  // namespace semlb

@@ -9,6 +9,7 @@
 #include "common/registry.hpp"
 #include "effects/effect.hpp"
 #include "model/tissue.hpp"
+#include "removal/removal.hpp"
 
 namespace semlb::engine {
 namespace {
@@ -78,6 +79,27 @@ void Backend::take_leavers(State& host, const SliceMap& map, const std::vector<i
   if (leavers.cells() == 0) return;  // the backend holds exactly these cells
   host = std::move(stay);
   upload(host);
+}
+
+long Backend::remove_cells(State& host, const std::string& rule, const std::vector<double>& params) {
+  const RemovalEvaluator removes = removal_rule(rule).removes;
+  download(host);
+  State kept;
+  kept.step = host.step;
+  kept.time = host.time;
+  for (const auto& [name, f] : host.cell_fields) kept.cell_fields[name];
+  long removed = 0;
+  for (long c = 0; c < host.cells(); ++c) {
+    double ctr[3];
+    cellrules::semlb_cell_centroid(host.position.data(), host.cell_first[c], host.cell_count[c], ctr);
+    if (removes(ctr[0], ctr[1], ctr[2], host.cell_type[c], host.cell_count[c], params.data())) ++removed;
+    else copy_cell(host, c, kept);
+  }
+  if (removed == 0) return 0;  // the backend holds exactly these cells
+  kept.reindex();
+  host = std::move(kept);
+  upload(host);
+  return removed;
 }
 
 void Backend::append_cells(State& host, const State& arrivals) {

@@ -145,6 +145,12 @@ class Backend {
   // device (the leaver count, then only the leavers, come back). Others: on `host` (downloaded first), uploaded.
   virtual void take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank,
                             State& leavers, std::vector<int>& owner);
+  // Removes the owned cells that the removal rule `rule` (removal/removal.hpp) flags from their centroid, type and
+  // element count, `params` its derived parameters; the others keep their order (reindexed), ids are never reused
+  // (state.hpp). Drops the ghosts. Returns the number of cells removed. OpenCL with fp64: the rule's kernel and the
+  // migration's compaction on the device (4 bytes back). Others: on `host` (downloaded first), then uploaded.
+  // std::logic_error for an unregistered rule.
+  virtual long remove_cells(State& host, const std::string& rule, const std::vector<double>& params);
   // Appends `arrivals`' cells after the owned ones (their fields by name; missing ones are 0). Drops the ghosts.
   virtual void append_cells(State& host, const State& arrivals);
   // Forces start at zero each step; the pair forces and element_term add to them (fixed point).

@@ -204,4 +204,6 @@ __kernel void cells_split(int n, __global const real4* pos, __global const ulong
     out_keys[at + k] = keys[f + k];
   }
 }
+/* The removal rules (removal/NAME.h), each followed by its flags kernel from removal/removal_rule.cl. */
+#include "removal_rules.cl"
 #endif

@@ -1,7 +1,8 @@
 # Writes OUT: a C++ string holding KERNELS with each `#include "PART"` replaced by that file of PARTS
 # ('|'-separated: the .cl parts of backends/), then `#include "evaluator.h"` and `#include "cells.h"` by EVALUATOR
-# and CELLS, and `#include "element_terms.cl"` by every element term: for each header terms/NAME.h of TERMS
-# ('|'-separated), the header, then TERM_TEMPLATE with NAME for @TERM@ (terms/term.hpp).
+# and CELLS, and the plug-ins' markers by their code: `#include "element_terms.cl"` by, for each header
+# terms/NAME.h of TERMS ('|'-separated), the header and then TERM_TEMPLATE with NAME for @TERM@ (terms/term.hpp);
+# `#include "removal_rules.cl"` likewise from RULES and RULE_TEMPLATE with @RULE@ (removal/removal.hpp).
 file(READ ${KERNELS} source)
 string(REPLACE "|" ";" parts "${PARTS}")
 foreach(part IN LISTS parts)
@@ -11,18 +12,26 @@ foreach(part IN LISTS parts)
 endforeach()
 file(READ ${EVALUATOR} evaluator)
 file(READ ${CELLS} cells)
-file(READ ${TERM_TEMPLATE} term_template)
-string(REPLACE "|" ";" term_headers "${TERMS}")
-set(terms "")
-foreach(header IN LISTS term_headers)
-  get_filename_component(name ${header} NAME_WE)
-  file(READ ${header} body)
-  string(REPLACE "@TERM@" "${name}" kernel "${term_template}")
-  string(APPEND terms "${body}\n${kernel}\n")
-endforeach()
 string(REPLACE "#include \"evaluator.h\"" "${evaluator}" source "${source}")
 string(REPLACE "#include \"cells.h\"" "${cells}" source "${source}")
-string(REPLACE "#include \"element_terms.cl\"" "${terms}" source "${source}")
-file(WRITE ${OUT} "// Generated from engine/backends/*.cl, evaluator.h, cells.h and engine/terms: do not edit.\n"
+
+# Each header of the '|'-separated HEADERS followed by TEMPLATE with its stem for PLACEHOLDER, in place of MARKER.
+function(expand_plugins marker headers template placeholder)
+  file(READ ${template} text)
+  string(REPLACE "|" ";" list "${headers}")
+  set(code "")
+  foreach(header IN LISTS list)
+    get_filename_component(name ${header} NAME_WE)
+    file(READ ${header} body)
+    string(REPLACE "${placeholder}" "${name}" kernel "${text}")
+    string(APPEND code "${body}\n${kernel}\n")
+  endforeach()
+  string(REPLACE "#include \"${marker}\"" "${code}" out "${source}")
+  set(source "${out}" PARENT_SCOPE)
+endfunction()
+expand_plugins(element_terms.cl "${TERMS}" ${TERM_TEMPLATE} @TERM@)
+expand_plugins(removal_rules.cl "${RULES}" ${RULE_TEMPLATE} @RULE@)
+
+file(WRITE ${OUT} "// Generated from engine/backends/*.cl, evaluator.h, cells.h, engine/terms and engine/removal: do not edit.\n"
   "namespace semlb::engine {\nextern const char* const kKernelSource;\n"
   "const char* const kKernelSource = R\"SEMLBCL(${source})SEMLBCL\";\n}\n")

@@ -46,7 +46,7 @@ class NeighbourList {
     std::array<double, 3> hi{};
     for (int d = 0; d < 3; ++d) hi[d] = g.lo[d] + g.size[d] * g.dims[d];
     const Grid lg = Grid::cover(g.lo, hi, cutoff + stats_.skin);
-    poll(b);
+    poll();
     bool rebuild = !valid_ || n != n_ || cutoff != cutoff_ || lg.lo != grid_.lo || lg.size != grid_.size || lg.dims != grid_.dims;
     if (!gate_) {
       gate_ = b.buffer(sizeof(cl_int));
@@ -121,8 +121,7 @@ class NeighbourList {
     pending_ = b.read_event(stats_buf_, host_stats_.data(), sizeof host_stats_);
   }
   // If the last read has arrived: kmax grows to 9/8 of the largest count (+8), up to what one buffer may hold.
-  template <class B>
-  void poll(B& b) {
+  void poll() {
     if (!pending_) return;
     cl_int status = CL_QUEUED;
     cl::check(clGetEventInfo(pending_.get(), CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, nullptr), "clGetEventInfo");

@@ -1,6 +1,7 @@
 // "opencl-allpairs" and "opencl-binned": the device, its program and the element kernels (forces, terms,
 // integration, noise, bands) of the OpenCL backends (opencl_backend.hpp), and their registration.
 #include "opencl_backend.hpp"
+#include "removal/removal.hpp"
 
 namespace semlb::engine {
 
@@ -238,6 +239,12 @@ void OpenClBackend<Real>::build() {
     kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k.c_str(), &err));
     cl::check(err, k.c_str());
   }
+  if (has_fp64_)
+    for (const std::string& r : removal_rule_names()) {  // one kernel per removal rule (removal/removal_rule.cl)
+      const std::string k = "remove_" + r;
+      kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k.c_str(), &err));
+      cl::check(err, k.c_str());
+    }
   if (has_fp64_)
     for (const char* k : {"cells_plan", "cells_rewrite", "cells_differentiate", "work_bins", "work_cells", "cells_owner", "cells_split"}) {
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));

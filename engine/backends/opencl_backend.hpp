@@ -52,6 +52,7 @@ class OpenClBackend final : public Backend {
 
   void take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers, std::vector<int>& owner) override;
 
+  long remove_cells(State& host, const std::string& rule, const std::vector<double>& params) override;
   void append_cells(State& host, const State& arrivals) override;
 
   void download(State& s) override;
@@ -322,6 +323,10 @@ class OpenClBackend final : public Backend {
   };
 
   void upload_cells(const State& s);
+  // After a flags kernel (cells_owner, remove_NAME) set leave[c] in births_, owner[c] in divides_ and the element
+  // counts in counts2_ of the n owned cells: the leavers go into leave_ (their elements into band_pos_), the others
+  // are compacted in order (cells_split). Returns {leavers, their elements}; {0, 0} changes nothing.
+  std::array<long, 2> split_cells(long n);
 
   template <class> friend class semlb::engine::NeighbourList;
   bool binned_, profile_ = false, has_fp64_ = false, cells_stale_ = false;
@@ -341,7 +346,8 @@ class OpenClBackend final : public Backend {
   std::map<std::string, cl::Kernel> kernels_;
   std::map<cl_mem, std::vector<Real>> last_written_;
   cl::Mem pos_, keys_, force_, fail_, table_;
-  std::map<std::string, cl::Mem> term_params_;  // each element term's parameters, by name
+  std::map<std::string, cl::Mem> term_params_, rule_params_;  // each element term's / removal rule's parameters
+  std::map<std::string, std::vector<double>> last_rule_params_;
   BinSort owned_sort_, ghost_sort_;  // the local forces' bins; the ghosts' own (non-local forces)
   cl::Mem extent_, flags_, band_starts_, band_sums_, band_pos_;
   // The last bands() selection: both bands compacted (lower first) and near_[k] the owned element of slot k

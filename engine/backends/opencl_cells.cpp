@@ -1,6 +1,7 @@
 // The cell stage, W_s and the migration of the OpenCL backends on the device (opencl_backend.hpp): growth,
 // division and differentiation (kernels cells_*), per-slice work, leavers and arrivals, the cells up and down.
 #include "opencl_backend.hpp"
+#include "removal/removal.hpp"
 
 namespace semlb::engine::opencl_impl {
 
@@ -59,29 +60,8 @@ void OpenClBackend<Real>::take_leavers(State& host, const SliceMap& map, const s
   launch("cells_owner", n, kGroup, nc, pos_.get(), cell_.first.get(), cell_.count.get(), map.x0, map.width,
          static_cast<cl_int>(map.slices), owner_bounds_.get(), static_cast<cl_int>(boundaries.size()),
          static_cast<cl_int>(rank), births_.get(), divides_.get(), counts2_.get());
-  exclusive_scan(births_, dstarts_, dsums_, dstarts_, n);
-  cl_int leaving = 0;
-  read(dstarts_, &leaving, sizeof leaving, n * sizeof(cl_int));
+  const auto [leaving, leaver_elements] = split_cells(n);
   if (leaving == 0) return;  // nothing crosses
-  list_.invalidate();  // the owned elements change
-  exclusive_scan(counts2_, estarts_, esums_, estarts_, 2 * n);
-  cl_int ends[2] = {0, 0};  // leavers' elements, leavers' + stayers'
-  read(estarts_, &ends[0], sizeof(cl_int), n * sizeof(cl_int));
-  read(estarts_, &ends[1], sizeof(cl_int), 2 * n * sizeof(cl_int));
-  if (n > back_.capacity) back_.allocate(*this, n + n / 4 + 64);
-  if (leaving > leave_.capacity) leave_.allocate(*this, leaving + leaving / 4 + 64);
-  launch("cells_split", n, kGroup, nc, pos_.get(), keys_.get(), cell_.id.get(), cell_.type.get(), cell_.first.get(),
-         cell_.count.get(), cell_.clock.get(), cell_.depth.get(), cell_.age.get(), births_.get(), divides_.get(),
-         dstarts_.get(), estarts_.get(), pos_back_.get(), keys_back_.get(), back_.id.get(), back_.type.get(),
-         back_.first.get(), back_.count.get(), back_.clock.get(), back_.depth.get(), back_.age.get(), band_pos_.get(),
-         leave_.id.get(), leave_.type.get(), leave_.first.get(), leave_.count.get(), leave_.clock.get(),
-         leave_.depth.get(), leave_.age.get());
-  std::swap(pos_, pos_back_);
-  std::swap(keys_, keys_back_);
-  std::swap(cell_, back_);
-  cells_ = n - leaving;
-  n_ = owned_ = ends[1] - ends[0];
-  cells_stale_ = true;
   const long m = leaving;
   leavers.cell_id.resize(m);
   leavers.cell_type.resize(m);
@@ -96,7 +76,7 @@ void OpenClBackend<Real>::take_leavers(State& host, const SliceMap& map, const s
       f->second.resize(m);
       read(*mem, f->second.data(), m * sizeof(double));
     }
-  to_positions(read_packed(band_pos_, ends[0]), leavers.position);
+  to_positions(read_packed(band_pos_, leaver_elements), leavers.position);
   leavers.reindex();
 }
 
@@ -253,7 +233,58 @@ void OpenClBackend<Real>::upload_cells(const State& s) {
   }
 }
 
+template <class Real>
+std::array<long, 2> OpenClBackend<Real>::split_cells(long n) {
+  const cl_int nc = static_cast<cl_int>(n);
+  exclusive_scan(births_, dstarts_, dsums_, dstarts_, n);
+  cl_int leaving = 0;
+  read(dstarts_, &leaving, sizeof leaving, n * sizeof(cl_int));
+  if (leaving == 0) return {0, 0};
+  list_.invalidate();  // the owned elements change
+  exclusive_scan(counts2_, estarts_, esums_, estarts_, 2 * n);
+  cl_int ends[2] = {0, 0};  // leavers' elements, leavers' + stayers'
+  read(estarts_, &ends[0], sizeof(cl_int), n * sizeof(cl_int));
+  read(estarts_, &ends[1], sizeof(cl_int), 2 * n * sizeof(cl_int));
+  if (n > back_.capacity) back_.allocate(*this, n + n / 4 + 64);
+  if (leaving > leave_.capacity) leave_.allocate(*this, leaving + leaving / 4 + 64);
+  launch("cells_split", n, kGroup, nc, pos_.get(), keys_.get(), cell_.id.get(), cell_.type.get(), cell_.first.get(),
+         cell_.count.get(), cell_.clock.get(), cell_.depth.get(), cell_.age.get(), births_.get(), divides_.get(),
+         dstarts_.get(), estarts_.get(), pos_back_.get(), keys_back_.get(), back_.id.get(), back_.type.get(),
+         back_.first.get(), back_.count.get(), back_.clock.get(), back_.depth.get(), back_.age.get(), band_pos_.get(),
+         leave_.id.get(), leave_.type.get(), leave_.first.get(), leave_.count.get(), leave_.clock.get(),
+         leave_.depth.get(), leave_.age.get());
+  std::swap(pos_, pos_back_);
+  std::swap(keys_, keys_back_);
+  std::swap(cell_, back_);
+  cells_ = n - leaving;
+  n_ = owned_ = ends[1] - ends[0];
+  cells_stale_ = true;
+  return {leaving, ends[0]};
+}
+
+template <class Real>
+long OpenClBackend<Real>::remove_cells(State& host, const std::string& rule, const std::vector<double>& params) {
+  if (!has_fp64_) return Backend::remove_cells(host, rule, params);
+  removal_rule(rule);  // std::logic_error for an unregistered rule
+  near_valid_ = false;
+  n_ = owned_;  // the ghosts go
+  const long n = cells_;
+  if (n == 0) return 0;
+  reserve_plan(n);
+  cl::Mem& p = rule_params_[rule];
+  if (!p) p = buffer(64 * sizeof(double));
+  if (params != last_rule_params_[rule]) {
+    write(p, params.data(), params.size() * sizeof(double));
+    last_rule_params_[rule] = params;
+  }
+  launch(("remove_" + rule).c_str(), n, kGroup, static_cast<cl_int>(n), pos_.get(), cell_.first.get(), cell_.count.get(),
+         cell_.type.get(), p.get(), births_.get(), divides_.get(), counts2_.get());
+  return split_cells(n)[0];
+}
+
 #define SEMLB_OPENCL_CELLS_INSTANCES(Real) \
+  template std::array<long, 2> OpenClBackend<Real>::split_cells(long n); \
+  template long OpenClBackend<Real>::remove_cells(State& host, const std::string& rule, const std::vector<double>& params); \
   template std::vector<double> OpenClBackend<Real>::slice_work(State& host, const SliceMap& map, const Grid& g, const CountReduce& reduce); \
   template void OpenClBackend<Real>::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers, std::vector<int>& owner); \
   template void OpenClBackend<Real>::append_cells(State& host, const State& arrivals); \

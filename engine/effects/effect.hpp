@@ -28,6 +28,9 @@ class Effect {
   virtual bool changes_cells() const { return false; }           // cell stage, every cell update
   // Sets this effect's part of the cell stage's rules (growth, division or differentiation).
   virtual void cell_rules(CellRules&) const {}
+  // Cell stage, after the backend ran the rules: changes the backend's cells itself (a removal rule: `host` is the
+  // caller's State, stale on OpenCL). True when it removed or added elements (the grid may need refitting).
+  virtual bool after_cell_stage(Backend&, State& /*host*/) { return false; }
   // The phase in [0, 1) of this effect's growth cycle at `time` (h), if it has one: what the controllers
   // see as Observation::growth_phase (paper Sec. IV-C).
   virtual std::optional<double> growth_phase(double /*time*/) const { return std::nullopt; }

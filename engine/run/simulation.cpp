@@ -123,7 +123,9 @@ void Simulation::update_cells() {
   };
   const double elapsed = scene_->dt * static_cast<double>(scene_->cell_update_every);
   cellrules::semlb_cell_front_at(&rules_, state_.time);
-  const bool changed = backend_->update_cells(state_, rules_, scene_->seed, elapsed, state_.step);
+  bool changed = backend_->update_cells(state_, rules_, scene_->seed, elapsed, state_.step);
+  for (const auto& e : effects_)
+    if (e->changes_cells()) changed = e->after_cell_stage(*backend_, state_) || changed;
   lap(0);
   if (changed) refit_grid();
   lap(1);

@@ -1,7 +1,6 @@
 // The element-term registry, and each term as an effect that adds its forces through Backend::element_term.
 #include "term.hpp"
 
-#include <cctype>
 #include <stdexcept>
 
 #include "common/registry.hpp"
@@ -13,13 +12,6 @@ namespace {
 Registry<ElementTerm>& registry() {
   static Registry<ElementTerm> r;
   return r;
-}
-
-bool c_identifier(const std::string& s) {
-  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
-  for (char c : s)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
-  return true;
 }
 
 // An element term listed in the scene: its parameters read once, its forces added every step (the local part:
@@ -39,7 +31,7 @@ class TermEffect final : public Effect {
 }  // namespace
 
 ElementTermRegistrar::ElementTermRegistrar(const std::string& name, ElementTerm term) {
-  if (!c_identifier(name)) throw std::logic_error("element term '" + name + "': not a C identifier");
+  if (!is_c_identifier(name)) throw std::logic_error("element term '" + name + "': not a C identifier");
   if (registry().find(name)) throw std::logic_error("element term '" + name + "' registered twice");
   const int order = term.order;
   registry().add(name, std::move(term));

@@ -83,9 +83,10 @@ TEST(ElementTerms, EachIsAnEffectThatLaunchesOnlyItsOwnKernel) {
     sim.advance(3);
     const auto& launched = sim.backend().launches();
     EXPECT_EQ(launched.at(name), 3) << name;
-    for (const auto& other : element_term_names()) {
-      if (other != name) EXPECT_EQ(launched.count(other), 0u) << other << " launched in a scene listing only " << name;
-    }
+    for (const auto& other : element_term_names())
+      if (other != name) {
+        EXPECT_EQ(launched.count(other), 0u) << other << " launched in a scene listing only " << name;
+      }
   }
 }
 

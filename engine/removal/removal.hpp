@@ -1,0 +1,41 @@
+// Cell removal rules: at every cell stage a cell leaves the tissue when its rule says so from its centroid, type
+// and element count (desquamation: cells above a height are shed), each written once as a C99 evaluator header
+// (removal/NAME.h) and registered by name; the compaction is written once per backend kind (Backend::remove_cells:
+// on the host for the C++ backends, on the device for OpenCL with the kernel template removal_rule.cl and the
+// migration's cells_split).
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "model/scene.hpp"
+
+namespace semlb::engine {
+
+// 1 when the cell with centroid (cx, cy, cz) um, cell type `type` and `count` elements is removed; `p` the rule's
+// derived parameters (RemovalRule::read). The C++ instantiation of `semlb_remove_NAME` of removal/NAME.h (double:
+// the cell stage's bookkeeping is double on every backend, cells.h).
+using RemovalEvaluator = int (*)(double cx, double cy, double cz, int type, int count, const double* p);
+
+// A registered removal rule. Its name is its scene key (`effects.NAME`), the stem of its evaluator header
+// removal/NAME.h and, prefixed `remove_`, its OpenCL kernel's name in launches(). removal/NAME.cpp includes
+// removal/NAME.h inside namespace cellrules (cpu_physics.hpp) and registers cellrules::semlb_remove_NAME.
+struct RemovalRule {
+  int order = 70;  // its place among the effects (effect.hpp EffectInfo::order): after the cell rules
+  // The derived parameters (at most 64 doubles) from the scene's section; its errors name file, line and field.
+  std::function<std::vector<double>(const Section&)> read;
+  RemovalEvaluator removes = nullptr;
+  // A valid section for it (YAML flow map): what the suites that iterate removal_rule_names() run it with.
+  std::string example = "{}";
+};
+
+// Registers `rule` under `name` (a C identifier) as a removal rule and as an effect (effect.hpp: a cell effect
+// whose after_cell_stage calls Backend::remove_cells). std::logic_error on a bad or repeated name.
+struct RemovalRuleRegistrar {
+  RemovalRuleRegistrar(const std::string& name, RemovalRule rule);
+};
+// The rule registered under `name`; std::logic_error when there is none.
+const RemovalRule& removal_rule(const std::string& name);
+std::vector<std::string> removal_rule_names();
+
+}  // namespace semlb::engine
