@@ -1,0 +1,22 @@
+// "desquamation": cells whose centroid rises above `height` um are shed (evaluator: desquamation.h).
+#include "removal.hpp"
+
+#include "backends/cpu_physics.hpp"
+
+namespace semlb::engine::cellrules {
+#include "removal/desquamation.h"
+}  // namespace semlb::engine::cellrules
+
+namespace semlb::engine {
+namespace {
+
+// effects.desquamation: {height: um above the membrane at z = 0; required}.
+std::vector<double> read(const Section& s) {
+  if (!s.has("height")) s.fail("height", "is required (um: cells whose centroid is above it are shed)");
+  return {s.real("height", 0, 0, 1e9)};
+}
+
+const RemovalRuleRegistrar registrar("desquamation", {70, read, cellrules::semlb_remove_desquamation, "{height: 12}"});
+
+}  // namespace
+}  // namespace semlb::engine
