@@ -108,12 +108,14 @@ __kernel void cells_differentiate(int n, semlb_cell_rules r, double elapsed, __g
 
 /* ---- The decomposition on the device: W_s (a reduction) and migration (owners, packing, compaction). ---- */
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
-/* Grid::bin_of and SliceMap::slice_of (backend.cpp) in double: floor, clamped, NaN -> 0. */
-static inline int clamp_floor(double f, int n) { return !(f >= 0) ? 0 : (f >= n ? n - 1 : (int)f); }
+/* Grid::bin_of, SliceMap::slice_of, owner_of and the 27-bin count of W_s (decomposition/slices.hpp) in double. */
+#define SEMLB_FLOOR floor
+#define SEMLB_GLOBAL __global
+#include "slices.h"
 static inline long work_bin(__global const real4* pos, int e, double4 lo, double4 size, int4 dims, int4* b) {
-  (*b).x = clamp_floor(floor((SEMLB_CELL_X(pos, e, 0) - lo.x) / size.x), dims.x);
-  (*b).y = clamp_floor(floor((SEMLB_CELL_X(pos, e, 1) - lo.y) / size.y), dims.y);
-  (*b).z = clamp_floor(floor((SEMLB_CELL_X(pos, e, 2) - lo.z) / size.z), dims.z);
+  (*b).x = semlb_bin_of(SEMLB_CELL_X(pos, e, 0), lo.x, size.x, dims.x);
+  (*b).y = semlb_bin_of(SEMLB_CELL_X(pos, e, 1), lo.y, size.y, dims.y);
+  (*b).z = semlb_bin_of(SEMLB_CELL_X(pos, e, 2), lo.z, size.z, dims.z);
   return ((long)(*b).z * dims.y + (*b).y) * dims.x + (*b).x;
 }
 
@@ -132,15 +134,9 @@ __kernel void work_cells(int n, __global const real4* pos, __global const int* f
   if (c >= n) return;
   double ctr[3];
   semlb_cell_centroid(pos, first[c], count[c], ctr);
-  int4 b;
-  b.x = clamp_floor(floor((ctr[0] - lo.x) / size.x), dims.x);
-  b.y = clamp_floor(floor((ctr[1] - lo.y) / size.y), dims.y);
-  b.z = clamp_floor(floor((ctr[2] - lo.z) / size.z), dims.z);
-  long near = 0;
-  for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
-    for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y)
-      for (int x = max(b.x - 1, 0); x <= min(b.x + 1, dims.x - 1); ++x) near += counts[((long)z * dims.y + y) * dims.x + x];
-  atom_add(&work[clamp_floor(floor((ctr[0] - x0) / width), slices)], (long)count[c] * near);
+  long near = semlb_near_count(counts, semlb_bin_of(ctr[0], lo.x, size.x, dims.x), semlb_bin_of(ctr[1], lo.y, size.y, dims.y),
+                               semlb_bin_of(ctr[2], lo.z, size.z, dims.z), dims.x, dims.y, dims.z);
+  atom_add(&work[semlb_slice_of(ctr[0], x0, width, slices)], (long)count[c] * near);
 }
 
 /* Per cell: its owner (owner_of: interior boundaries at or below its centroid's slice), leave[c] = owner != rank,
@@ -152,8 +148,7 @@ __kernel void cells_owner(int n, __global const real4* pos, __global const int* 
   if (c >= n) return;
   double ctr[3];
   semlb_cell_centroid(pos, first[c], count[c], ctr);
-  int s = clamp_floor(floor((ctr[0] - x0) / width), slices), o = 0;
-  for (int k = 0; k < nb; ++k) o += bounds[k] <= s;
+  int o = semlb_owner_of(semlb_slice_of(ctr[0], x0, width, slices), bounds, nb);
   int l = o != rank;
   owner[c] = o;
   leave[c] = l;

@@ -36,7 +36,7 @@ struct Decomposition : SliceMap {
 // Decomposition::from_scene and the sweep's engine runners (before anything runs) both refuse through it.
 void check_engine_policy(const std::string& policy);
 
-// slice_workload (W_s), owner_of: backends/backend.hpp, beside the device versions.
+// SliceMap, owner_of, split_by_owner and slice_workload (W_s): decomposition/slices.hpp.
 
 
 }  // namespace semlb::engine

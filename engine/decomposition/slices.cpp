@@ -1,0 +1,116 @@
+// The bin grid, the slices, their owners, the ownership split and W_s on the host (slices.hpp); the arithmetic
+// from slices.h, shared with the kernels.
+#include "slices.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "backends/cpu_physics.hpp"
+#include "common/errors.hpp"
+#include "model/tissue.hpp"
+
+namespace semlb::engine {
+namespace arith {
+#define SEMLB_FLOOR std::floor
+#define SEMLB_GLOBAL
+#include "decomposition/slices.h"
+#undef SEMLB_FLOOR
+#undef SEMLB_GLOBAL
+}  // namespace arith
+
+namespace {
+std::array<double, 3> centroid_of(const State& s, long c) {  // the cell stage's rule (cells.h)
+  std::array<double, 3> ctr{};
+  cellrules::semlb_cell_centroid(s.position.data(), s.cell_first[c], s.cell_count[c], ctr.data());
+  return ctr;
+}
+}  // namespace
+
+Grid Grid::cover(const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cutoff) {
+  Grid g;
+  g.lo = lo;
+  for (int d = 0; d < 3; ++d) {
+    const double extent = std::max(hi[d] - lo[d], cutoff * (1 + 1e-4));
+    // 1e-4 of slack keeps bins >= cutoff even after float rounding of positions on a device
+    g.dims[d] = std::max(1, static_cast<int>(std::floor(extent / (cutoff * (1 + 1e-4)))));
+    g.size[d] = extent / g.dims[d];
+  }
+  if (g.bins() > (1L << 31) - 2) throw InputError("domain: " + std::to_string(g.bins()) + " bins exceed 2^31; enlarge the cutoff or shrink the box");
+  return g;
+}
+
+std::array<int, 3> Grid::bin_of(const double* p) const {
+  std::array<int, 3> b{};
+  for (int d = 0; d < 3; ++d) b[d] = arith::semlb_bin_of(p[d], lo[d], size[d], dims[d]);  // NaN -> bin 0
+  return b;
+}
+
+int SliceMap::slice_of(double x) const { return arith::semlb_slice_of(x, x0, width, slices); }
+
+int owner_of(int slice, const std::vector<int>& boundaries) {
+  return arith::semlb_owner_of(slice, boundaries.data(), static_cast<int>(boundaries.size()));
+}
+
+void split_by_owner(const State& s, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& stay,
+                    State* leave, std::vector<int>* owner) {
+  for (State* to : {&stay, leave}) {
+    if (!to) continue;
+    *to = {};
+    to->step = s.step;
+    to->time = s.time;
+    for (const auto& [name, f] : s.cell_fields) to->cell_fields[name];
+  }
+  for (long c = 0; c < s.cells(); ++c) {
+    const int o = owner_of(map.slice_of(centroid_of(s, c)[0]), boundaries);
+    if (o == rank) {
+      copy_cell(s, c, stay);
+    } else if (leave) {
+      copy_cell(s, c, *leave);
+      owner->push_back(o);
+    }
+  }
+  stay.reindex();
+  if (leave) leave->reindex();
+}
+
+Grid work_grid(const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cutoff) {
+  const auto [plo, phi] = padded_box(lo, hi, cutoff);
+  const Grid g = Grid::cover(plo, phi, cutoff);
+  if (g.bins() > kMaxWorkBins) {
+    std::ostringstream m;
+    m << "workload score: the tissue spans [" << lo[0] << ", " << hi[0] << "] x [" << lo[1] << ", " << hi[1] << "] x ["
+      << lo[2] << ", " << hi[2] << "] um, " << g.bins() << " bins of the cutoff (more than " << kMaxWorkBins
+      << "); a tissue this sparse needs a larger cutoff";
+    throw InputError(m.str());
+  }
+  return g;
+}
+
+namespace {
+long bin_index(const Grid& g, const std::array<int, 3>& b) { return (static_cast<long>(b[2]) * g.dims[1] + b[1]) * g.dims[0] + b[0]; }
+}  // namespace
+
+std::vector<int> bin_counts(const State& s, const Grid& g) {
+  std::vector<int> count(g.bins(), 0);
+  for (long e = 0; e < s.elements(); ++e) ++count[bin_index(g, g.bin_of(&s.position[3 * e]))];
+  return count;
+}
+
+std::vector<double> cell_work(const State& s, const Grid& g, const std::vector<int>& counts, const SliceMap& d) {
+  std::vector<double> w(d.slices, 0.0);
+  for (long c = 0; c < s.cells(); ++c) {
+    const auto ctr = centroid_of(s, c);
+    const auto b = g.bin_of(ctr.data());
+    const long n_near = arith::semlb_near_count(counts.data(), b[0], b[1], b[2], g.dims[0], g.dims[1], g.dims[2]);
+    w[d.slice_of(ctr[0])] += static_cast<double>(s.cell_count[c]) * static_cast<double>(n_near);  // w_i = n_i n_N(i)
+  }
+  return w;
+}
+
+std::vector<double> slice_workload(const State& s, const SliceMap& d, double cutoff) {
+  const auto [lo, hi] = element_bounds(s);
+  const Grid g = work_grid(lo, hi, cutoff);
+  return cell_work(s, g, bin_counts(s, g), d);
+}
+
+}  // namespace semlb::engine
