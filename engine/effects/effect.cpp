@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <map>
+#include <stdexcept>
 
 #include "common/errors.hpp"
 #include "common/registry.hpp"
@@ -18,6 +19,12 @@ Registry<EffectInfo>& registry() {
 EffectRegistrar::EffectRegistrar(const std::string& name, EffectInfo info) { registry().add(name, std::move(info)); }
 
 std::vector<std::string> effect_names() { return registry().names(); }
+
+const std::string& effect_example(const std::string& name) {
+  const EffectInfo* info = registry().find(name);
+  if (!info) throw std::logic_error("no effect '" + name + "' (known: " + registry().known() + ")");
+  return info->example;
+}
 
 std::vector<std::unique_ptr<Effect>> make_effects(const Scene& scene) {
   std::vector<std::pair<int, std::unique_ptr<Effect>>> made;

@@ -39,6 +39,9 @@ class Effect {
 struct EffectInfo {
   int order;  // effects run in this order whatever the scene's order
   std::function<std::unique_ptr<Effect>(const Section&, const Scene&)> make;
+  // A valid section for it (YAML flow map) on the shipped scenes' tissues: what the suites that iterate
+  // effect_names() run it with (tests/engine/effects/test_every_effect.cpp).
+  std::string example = "{}";
 };
 struct EffectRegistrar {
   EffectRegistrar(const std::string& name, EffectInfo info);
@@ -46,6 +49,8 @@ struct EffectRegistrar {
 // The scene's effects, constructed (parameters checked) and sorted by their registered order.
 std::vector<std::unique_ptr<Effect>> make_effects(const Scene& scene);
 std::vector<std::string> effect_names();
+// The registered example section of effect `name` (EffectInfo::example); std::logic_error when unregistered.
+const std::string& effect_example(const std::string& name);
 
 // The mean position of a cell's elements (um).
 std::array<double, 3> centroid(const State& s, long cell);

@@ -35,11 +35,14 @@ RemovalRuleRegistrar::RemovalRuleRegistrar(const std::string& name, RemovalRule 
   if (registry().find(name)) throw std::logic_error("removal rule '" + name + "' registered twice");
   const int order = rule.order;
   registry().add(name, std::move(rule));
-  EffectRegistrar(name, {order, [name](const Section& s, const Scene&) {
+  const std::string example = registry().find(name)->example;
+  EffectRegistrar(name, {order,
+                         [name](const Section& s, const Scene&) {
                            auto p = removal_rule(name).read(s);
                            if (p.size() > 64) throw std::logic_error("removal rule '" + name + "': more than 64 parameters");
                            return std::make_unique<RemovalEffect>(name, std::move(p));
-                         }});
+                         },
+                         example});
 }
 
 const RemovalRule& removal_rule(const std::string& name) {

@@ -35,9 +35,12 @@ ElementTermRegistrar::ElementTermRegistrar(const std::string& name, ElementTerm 
   if (registry().find(name)) throw std::logic_error("element term '" + name + "' registered twice");
   const int order = term.order;
   registry().add(name, std::move(term));
-  EffectRegistrar(name, {order, [name](const Section& s, const Scene&) {
+  const std::string example = registry().find(name)->example;
+  EffectRegistrar(name, {order,
+                         [name](const Section& s, const Scene&) {
                            return std::make_unique<TermEffect>(name, element_term(name).read(s));
-                         }});
+                         },
+                         example});
 }
 
 const ElementTerm& element_term(const std::string& name) {

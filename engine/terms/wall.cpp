@@ -33,7 +33,7 @@ std::vector<double> read(const Section& s) {
 }
 
 const ElementTermRegistrar registrar("wall", {25, read, phys64::semlb_term_wall, phys32::semlb_term_wall,
-                                                    "{xlo: 4, xhi: 36, ylo: 4, yhi: 36, adhesion_V: 0.5}"});
+                                                    "{xlo: -20, xhi: 400, ylo: -20, yhi: 400, adhesion_V: 0.5, adhesion_xi: 20}"});
 
 }  // namespace
 }  // namespace semlb::engine

@@ -1,4 +1,4 @@
-// Helpers for the engine tests: small scenes from text, random tissues and backend lists.
+// Helpers for the engine tests: small scenes from text, random tissues, backend lists and the rank-count harness.
 #pragma once
 #include <random>
 #include <string>
@@ -9,6 +9,8 @@
 #include "engine/backends/opencl.hpp"
 #include "engine/model/scene.hpp"
 #include "engine/model/state.hpp"
+#include "engine/io/io.hpp"
+#include "../run_command.hpp"
 
 namespace semlb::engine::testing {
 
@@ -50,6 +52,31 @@ inline std::vector<std::string> available_backends() {
     b.push_back("opencl-binned");
   }
   return b;
+}
+
+// `semlb sim` under mpirun on `ranks` ranks, bounded by `seconds` (a hang fails the test); `env` holds VAR=VALUE
+// assignments for every rank.
+inline std::string mpirun_sim(int ranks, const std::string& env = "", int seconds = 300) {
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + env + " " + test::within(seconds) + SEMLB_MPIEXEC +
+         " --oversubscribe -np " + std::to_string(ranks) + " " + test::semlb_bin() + " sim";
+}
+
+// The rank-count harness: `semlb sim ARGS` on one device into DIR/single, then under mpirun on each of `ranks` into
+// DIR/npR; every final state must equal the single device's bit for bit (State::hash). Returns the single device's
+// final state. `args` starts with a space and names the scene, steps and settings, not --out.
+inline State expect_same_state_on_ranks(const std::string& args, const std::string& dir,
+                                        const std::vector<int>& ranks = {1, 2, 4}) {
+  auto r = test::run(test::within(300) + test::semlb_bin() + " sim" + args + " --out " + dir + "/single");
+  EXPECT_EQ(r.rc, 0) << r.out;
+  if (r.rc != 0) return {};
+  const State single = read_state(dir + "/single/final.h5");
+  for (int n : ranks) {
+    const std::string out = dir + "/np" + std::to_string(n);
+    r = test::run(mpirun_sim(n) + args + " --out " + out);
+    EXPECT_EQ(r.rc, 0) << n << " ranks: " << r.out;
+    if (r.rc == 0) EXPECT_EQ(read_state(out + "/final.h5").hash(), single.hash()) << n << " ranks";
+  }
+  return single;
 }
 
 }  // namespace semlb::engine::testing

@@ -28,10 +28,7 @@ const std::string kArgs = " --scene " + source("scenes/epidermis.yaml") +
                           " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=50";
 
 // Every run is bounded (within()): a hang fails the test. `env` holds VAR=VALUE assignments for every rank.
-std::string mpirun(int ranks, const std::string& env = "", int seconds = 300) {
-  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + env + " " + within(seconds) + SEMLB_MPIEXEC +
-         " --oversubscribe -np " + std::to_string(ranks) + " " + semlb_bin() + " sim";
-}
+std::string mpirun(int ranks, const std::string& env = "", int seconds = 300) { return testing::mpirun_sim(ranks, env, seconds); }
 
 // W_s = sum of n_i n_N(i) per slice against a brute-force count, on a compact tissue (dense bin counts)
 // and on one whose two halves lie 2e6 um apart (over a million bins).
@@ -62,18 +59,12 @@ TEST(Decomposition, SliceWorkloadMatchesBruteForceCompactAndSpread) {
 
 TEST(Decomposition, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
   const auto dir = fresh_dir("decomposition_ranks");
-  auto r = run(semlb_bin() + " sim" + kArgs + " --steps 200 --out " + dir + "/single");
-  ASSERT_EQ(r.rc, 0) << r.out;
-  const uint64_t reference = read_state(dir + "/single/final.h5").hash();
-  for (int ranks : {1, 2, 4}) {
-    const std::string out = dir + "/np" + std::to_string(ranks);
-    r = run(mpirun(ranks) + kArgs + " --steps 200 --out " + out);
-    ASSERT_EQ(r.rc, 0) << r.out;
-    EXPECT_EQ(read_state(out + "/final.h5").hash(), reference) << ranks << " ranks";
-    EXPECT_EQ(split(read_file(out + "/rank_times.csv"), '\n').size(), 2 + 4u * ranks) << "4 events x ranks rows";
-  }
+  const uint64_t reference = testing::expect_same_state_on_ranks(kArgs + " --steps 200", dir).hash();
+  for (int ranks : {1, 2, 4})
+    EXPECT_EQ(split(read_file(dir + "/np" + std::to_string(ranks) + "/rank_times.csv"), '\n').size(), 2 + 4u * ranks)
+        << "4 events x ranks rows";
   // the blocking exchange (decomposition.overlap: false) moves the same bits
-  r = run(mpirun(2) + kArgs + " --steps 200 --set decomposition.overlap=false --out " + dir + "/blocking");
+  auto r = run(mpirun(2) + kArgs + " --steps 200 --set decomposition.overlap=false --out " + dir + "/blocking");
   ASSERT_EQ(r.rc, 0) << r.out;
   EXPECT_EQ(read_state(dir + "/blocking/final.h5").hash(), reference) << "2 ranks, blocking exchange";
 }

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "../../run_command.hpp"
+#include "../engine_fixtures.hpp"
 #include "common/text_io.hpp"
 #include "engine/backends/opencl.hpp"
 
@@ -47,10 +48,7 @@ Totals read_run(const std::string& path) {
   return t;
 }
 
-std::string mpirun(int ranks) {
-  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + within(600) + SEMLB_MPIEXEC +
-         " --oversubscribe -np " + std::to_string(ranks) + " " + semlb_bin() + " sim";
-}
+std::string mpirun(int ranks) { return testing::mpirun_sim(ranks, "", 600); }
 
 // The sheet is square: 9x the cells is 9x the elements but 3x its y extent, so 3x the band across the slab
 // boundary. The bytes per step must follow the band (well below the element ratio).

@@ -19,7 +19,6 @@ using test::fresh_dir;
 using test::run;
 using test::semlb_bin;
 using test::source;
-using test::within;
 
 const std::string kHeight = "9";  // um: the epidermis scene's cells stratify past it within 100 steps
 
@@ -76,18 +75,9 @@ TEST(Desquamation, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
   const auto dir = fresh_dir("desquamation_ranks");
   const std::string args = " --scene " + source("scenes/epidermis.yaml") +
                            " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=50"
-                           " --set 'effects.desquamation={height: " + kHeight + "}' --steps 150";
-  auto r = run(semlb_bin() + " sim" + args + " --out " + dir + "/single");
-  ASSERT_EQ(r.rc, 0) << r.out;
-  const State single = read_state(dir + "/single/final.h5");
-  for (int ranks : {1, 2, 4}) {
-    const std::string out = dir + "/np" + std::to_string(ranks);
-    r = run("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + within(300) + SEMLB_MPIEXEC +
-            " --oversubscribe -np " + std::to_string(ranks) + " " + semlb_bin() + " sim" + args + " --out " + out);
-    ASSERT_EQ(r.rc, 0) << r.out;
-    EXPECT_EQ(read_state(out + "/final.h5").hash(), single.hash()) << ranks << " ranks";
-  }
-  const auto plain = run(semlb_bin() + " sim" + args.substr(0, args.find(" --set 'effects")) + " --steps 150 --out " + dir + "/plain");
+                           " --steps 150";
+  const State single = testing::expect_same_state_on_ranks(args + " --set 'effects.desquamation={height: " + kHeight + "}'", dir);
+  const auto plain = run(semlb_bin() + " sim" + args + " --out " + dir + "/plain");
   ASSERT_EQ(plain.rc, 0) << plain.out;
   EXPECT_LT(single.cells(), read_state(dir + "/plain/final.h5").cells()) << "nothing was shed";
 }

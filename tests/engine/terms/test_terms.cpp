@@ -41,7 +41,7 @@ std::vector<int64_t> reference(const std::string& name, const State& s, const st
 
 TEST(ElementTerms, EveryTermOnEveryBackendAddsWhatItsEvaluatorGives) {
   ASSERT_FALSE(element_term_names().empty());
-  const State s = testing::random_state(40, 8, 40.0, 21);  // some elements behind the walls' faces: clamped forces
+  const State s = testing::random_state(40, 8, 40.0, 21);
   for (const auto& name : element_term_names()) {
     const auto params = example_params(name);
     for (const auto& backend : testing::available_backends())
