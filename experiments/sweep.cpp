@@ -41,10 +41,7 @@ std::string join(const std::vector<std::string>& cells) {
 std::string csv_line(const std::vector<std::string>& cells) { return join(cells) + "\n"; }
 
 // A job's value of axis A; empty when the job's axis group lacks A.
-std::string axis_value(const Job& j, const std::string& a) {
-  const Setting* s = j.find(a);
-  return s ? s->value : "";
-}
+std::string axis_value(const Job& j, const std::string& a) { return j.text(a, ""); }
 
 class Appender {  // one write(2) per row with O_APPEND: a kill leaves whole rows or a torn last line
  public:
