@@ -223,9 +223,13 @@ std::vector<Observables> observe_run(const engine::Scene& scene, long samples, l
 // reference's); thickness and work centre as differences (um).
 class ObservablesRunner final : public Runner {
  public:
+  // cells per type: one column per type, named engine::type_name (`semlb list cell-types`), by type index
   std::vector<std::string> columns() const override {
-    return {"precision", "dt", "cutoff", "time_h", "steps", "wall_s", "cells", "basal", "spinous", "granular", "thickness_um",
-            "work_centre_um", "cells_error", "thickness_error_um", "work_centre_error_um", "work_profile_error", "reference"};
+    std::vector<std::string> c = {"precision", "dt", "cutoff", "time_h", "steps", "wall_s", "cells"};
+    for (int t = 0; t < engine::kCellTypes; ++t) c.push_back(engine::type_name(t));
+    c.insert(c.end(), {"thickness_um", "work_centre_um", "cells_error", "thickness_error_um", "work_centre_error_um",
+                       "work_profile_error", "reference"});
+    return c;
   }
   bool measures_time() const override { return true; }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
@@ -247,13 +251,14 @@ class ObservablesRunner final : public Runner {
       double type_diff = 0, profile_diff = 0;
       for (size_t t = 0; t < a.per_type.size(); ++t) type_diff += std::abs(static_cast<double>(a.per_type[t] - b.per_type[t]));
       for (size_t s = 0; s < a.work_share.size(); ++s) profile_diff += std::abs(a.work_share[s] - b.work_share.at(s));
-      rows.push_back({scene.backend.precision, job.text("dt", fmt(scene.dt)), job.text("cutoff", fmt(scene.cutoff)),
-                      fmt(static_cast<double>(a.step) * scene.dt), std::to_string(a.step), fmt(o.timing ? a.wall_s : 0),
-                      std::to_string(a.cells), std::to_string(a.per_type[engine::kBasal]), std::to_string(a.per_type[engine::kSpinous]),
-                      std::to_string(a.per_type[engine::kGranular]), fmt(a.thickness_um), fmt(a.work_centre_um),
-                      fmt(type_diff / static_cast<double>(std::max(1L, b.cells))), fmt(a.thickness_um - b.thickness_um),
-                      fmt(a.work_centre_um - b.work_centre_um), fmt(profile_diff / 2),
-                      "dt=" + job.text("reference_dt", "?") + " double cutoff=" + job.text("reference_cutoff", fmt(scene.cutoff))});
+      std::vector<std::string> row = {scene.backend.precision, job.text("dt", fmt(scene.dt)), job.text("cutoff", fmt(scene.cutoff)),
+                                      fmt(static_cast<double>(a.step) * scene.dt), std::to_string(a.step),
+                                      fmt(o.timing ? a.wall_s : 0), std::to_string(a.cells)};
+      for (long n : a.per_type) row.push_back(std::to_string(n));
+      row.insert(row.end(), {fmt(a.thickness_um), fmt(a.work_centre_um), fmt(type_diff / static_cast<double>(std::max(1L, b.cells))),
+                             fmt(a.thickness_um - b.thickness_um), fmt(a.work_centre_um - b.work_centre_um), fmt(profile_diff / 2),
+                             "dt=" + job.text("reference_dt", "?") + " double cutoff=" + job.text("reference_cutoff", fmt(scene.cutoff))});
+      rows.push_back(std::move(row));
     }
     return rows;
   }
