@@ -26,7 +26,8 @@ The fit is the method of simulated moments: each scenario parameter is paired wi
 ranks, slices, min_width, events; fixed fit seeds, so the simulated statistic is a deterministic function of
 the parameter), coordinate by coordinate, ROUNDS times. The check applies the same statistics to rollouts on
 other seeds: each within TOL (relative) or its absolute floor of the family's value.
-The rank comparison: every deployable policy replayed on each trace (`semlb replay --score`, averaged over the
+The rank comparison: every policy the engine runs (`semlb list engine-policies --json`: all but those that need the
+true work of the next interval) replayed on each trace (`semlb replay --score`, averaged over the
 family) and rolled out on the fitted surrogate (--rank-seeds), ranked by mean imbalance and by migration;
 Kendall tau-b between the two rankings.
 
@@ -46,6 +47,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import semlb_names  # noqa: E402
 from trace_model import TraceError, find_traces, read_trace, rank_sums, scene_timing, write_csv  # noqa: E402
 
 JUMP = 0.3
@@ -54,7 +56,6 @@ BISECT_STEPS = 7
 FIT_SEEDS = "9000-9003"
 CHECK_SEEDS = "9100-9103"
 RANK_SEEDS = "9200-9219"
-POLICIES = ["static", "reactive", "persistence", "holt", "gru", "gromacs_dlb", "hoomd_balance", "all_tensor", "lammps_shift"]
 # parameter -> (statistic, low, high, log-scale bisection)
 PARAMETERS = [("work_noise", "work_noise", 0.0, 0.9, False), ("time_jitter", "time_resid", 0.0, 0.9, False),
               ("drift_speed", "drift", 1e-6, 0.05, True), ("growth_rate", "growth", -0.2, 0.5, False),
@@ -189,9 +190,9 @@ class Surrogate:
                                       for p in sorted(glob.glob(os.path.join(out, "traces", "*.jsonl")))])
         return self.cache[key]
 
-    def scores(self, params, seeds):
-        """policy -> (mean imbalance, mean migration) over the seeds."""
-        out = self.run(params, POLICIES, seeds, False)
+    def scores(self, params, seeds, policies):
+        """policy -> (mean imbalance, mean migration) over the seeds, for each of `policies`."""
+        out = self.run(params, policies, seeds, False)
         acc = {}
         with open(os.path.join(out, "controller_eval.csv")) as f:
             for row in csv.DictReader(f):
@@ -267,10 +268,10 @@ def ranks(values):
     return r
 
 
-def replay_scores(semlb, path):
-    """policy -> (mean imbalance, migration) of `semlb replay --score` on one trace."""
+def replay_scores(semlb, path, policies):
+    """policy -> (mean imbalance, migration) of `semlb replay --score` on one trace, for each of `policies`."""
     out = {}
-    for p in POLICIES:
+    for p in policies:
         r = subprocess.run([semlb, "replay", "--policy", p, "--trace", path, "--score"], capture_output=True, text=True)
         if r.returncode != 0:
             raise RuntimeError(f"semlb replay --policy {p} --trace {path}: exit {r.returncode}: {r.stderr.strip()}")
@@ -317,6 +318,11 @@ def main():
     if not any(fams.values()):
         print(f"no trace.jsonl under '{root}'", file=sys.stderr)
         return 2
+    try:  # the policies ranked: every one the engine runs (`semlb list engine-policies`)
+        policies = [] if a.fit_only else semlb_names.names(a.semlb, "engine-policies")
+    except semlb_names.NamesError as err:
+        print(err, file=sys.stderr)
+        return 2
     param_rows, rank_rows, summary = [], [], []
     for fam in sorted(fams):
         traces = fams[fam]
@@ -334,19 +340,19 @@ def main():
                 t, g, ok = chk[stat]
                 param_rows.append({"family": fam, "traces": len(traces), "parameter": name, "value": params[name],
                                    "statistic": stat, "engine": t, "surrogate": g, "ok": int(ok)})
-            sim = sur.scores(params, RANK_SEEDS)
+            sim = sur.scores(params, RANK_SEEDS, policies)
         finally:
             sur.close()
-        eng = {p: [0.0, 0.0] for p in POLICIES}
+        eng = {p: [0.0, 0.0] for p in policies}
         for path, _ in traces:
-            for p, (imb, mig) in replay_scores(a.semlb, path).items():
+            for p, (imb, mig) in replay_scores(a.semlb, path, policies).items():
                 eng[p][0] += imb / len(traces)
                 eng[p][1] += mig / len(traces)
         taus = {}
         for i, metric in enumerate(["imbalance", "migration"]):
-            x, y = [eng[p][i] for p in POLICIES], [sim[p][i] for p in POLICIES]
+            x, y = [eng[p][i] for p in policies], [sim[p][i] for p in policies]
             taus[metric] = (kendall_tau_b(x, y), ranks(x), ranks(y))
-        for k, p in enumerate(POLICIES):
+        for k, p in enumerate(policies):
             rank_rows.append({"family": fam, "policy": p, "ranks": shape["ranks"], "slices": shape["slices"], "events": shape["events"],
                               "engine_imbalance": eng[p][0], "surrogate_imbalance": sim[p][0],
                               "engine_imbalance_rank": taus["imbalance"][1][k], "surrogate_imbalance_rank": taus["imbalance"][2][k],

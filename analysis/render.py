@@ -5,30 +5,20 @@ Each cell is the ellipsoid of its elements' gyration tensor G = mean (y - c)(y -
 along G's eigenvectors (a solid ellipsoid of semi-axes a_i has variance a_i^2 / 5 along them), at least half the
 element spacing. A view projects it orthographically: the outline of an ellipsoid is the ellipse of the projected
 tensor P G P^T, so the picture is exact. Cells are drawn far to near (painter's order) and shaded by depth, coloured
-by type (names from `semlb list cell-types --json`). Default view: the side (x-z), which shows the layers; --view
+by type (names from `semlb list cell-types --json`; exit 2 naming the binary when it cannot list them). Default view: the side (x-z), which shows the layers; --view
 ELEV AZIM gives an oblique one. Several states become panels stacked top to bottom, titled by their time (h, day),
 with axes in um; --paraview FILE also writes a ParaView Python state that opens the snapshots.xmf beside the states.
 Usage: render.py STATE.h5 [STATE.h5 ...] OUT.png [--view ELEV AZIM] [--semlb BINARY] [--paraview STATE.py]"""
 import argparse
-import json
 import math
 import os
-import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import semlb_names  # noqa: E402
+
 COLOURS = ["#2a7ab9", "#e3a72f", "#c0392b", "#6a9f3b", "#8e44ad"]
-
-
-def type_names(semlb):
-    """Cell type names by index from the binary (`semlb list cell-types --json`); 'type N' without it."""
-    try:
-        out = subprocess.run([semlb, "list", "cell-types", "--json"], capture_output=True, text=True, timeout=30)
-        if out.returncode == 0:
-            return json.loads(out.stdout)
-    except (OSError, ValueError, subprocess.SubprocessError):
-        pass
-    return []
 
 
 def read_state(path):
@@ -142,7 +132,6 @@ def main():
     import matplotlib.pyplot as plt
     import numpy as np
     from matplotlib.patches import Patch
-    names = type_names(a.semlb)
     summary = []
     data = []
     for state in a.states:
@@ -151,6 +140,11 @@ def main():
         except (OSError, KeyError) as e:
             print(f"render: {state}: {e}", file=sys.stderr)
             return 2
+    try:
+        names = semlb_names.names(a.semlb, "cell-types")
+    except semlb_names.NamesError as e:
+        print(f"render: {e}", file=sys.stderr)
+        return 2
     basis = view_basis(*a.view)
     side = abs(a.view[0]) < 1e-9 and abs(((a.view[1] + 90) % 180)) < 1e-9
     allpos = np.concatenate([d[0] for d in data]) @ basis.T

@@ -5,6 +5,8 @@ Each module of analysis/sections/ registers the sections it makes (common.regist
 figures, the paper's numbers and a one-line reading); this script imports every module there, builds each section
 and writes RESULTS/REPORT.md in the paper's order (its figures first, then the experiments beyond them). A new
 experiment is one new module file. Python stdlib csv + matplotlib, no pandas.
+Policy, effect and cell-type names come from the binary (`semlb list KIND --json`); a section that needs them
+stops the report with exit 2 and a one-line reason when the binary cannot list them.
 Usage: report.py [--results DIR] [--semlb BINARY] [--committed DIR]"""
 import argparse
 import importlib
@@ -14,6 +16,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import semlb_names  # noqa: E402
 from sections import common  # noqa: E402
 
 
@@ -86,7 +89,11 @@ def main():
     ctx = common.Context(args.results, args.committed, args.semlb)
     built = []
     for sec in load_sections():
-        part = sec.build(ctx)
+        try:
+            part = sec.build(ctx)
+        except semlb_names.NamesError as e:  # a section that names what the binary registers
+            print(f"report: {sec.key}: {e}", file=sys.stderr)
+            return 2
         if part is not None or sec.paper:
             built.append((sec, part))
     if not any(part for _, part in built if part is not None) or not any(

@@ -1,26 +1,58 @@
-// `semlb list WHAT [--json]`: what the registries hold (policies, effects, backends, cell types, runners, launchers).
+// `semlb list WHAT [--json]`: what the registries hold (policies, the policies a simulation can run, effects,
+// backends, cell types, runners, launchers).
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "common/errors.hpp"
 #include "controllers/policy.hpp"
 #include "engine/backends/backend.hpp"
+#include "engine/decomposition/decomposition.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/model/state.hpp"
 #include "experiments/runner.hpp"
 #include "experiments/sweep.hpp"
 
 namespace semlb::cli {
+namespace {
 
-std::vector<std::string> registered(const std::string& what) {
-  if (what == "policies") return policy_names();
-  if (what == "effects") return engine::effect_names();
-  if (what == "backends") return engine::backend_names();
-  if (what == "runners") return experiments::runner_names();
-  if (what == "launchers") return experiments::launcher_names();
-  std::vector<std::string> out;  // cell-types: by type index, the order of the state files' /elements/type
+// The policies the engine runs (engine::check_engine_policy accepts them: they need no true work of the next
+// interval), in name order: what `semlb sim`, the MPI runners and `semlb replay --score` on engine traces take.
+std::vector<std::string> engine_policies() {
+  std::vector<std::string> out;
+  for (const auto& n : policy_names()) {
+    try {
+      engine::check_engine_policy(n);
+      out.push_back(n);
+    } catch (const InputError&) {  // a surrogate baseline (oracle, foresight, ...)
+    }
+  }
+  return out;
+}
+
+// Cell type names by type index: the order of the state files' /elements/type.
+std::vector<std::string> cell_types() {
+  std::vector<std::string> out;
   for (int t = 0; t < engine::kCellTypes; ++t) out.push_back(engine::type_name(t));
   return out;
+}
+
+// Every kind `semlb list` knows, in the order its help names them: its name and the function giving its names.
+struct Kind {
+  const char* name;
+  std::vector<std::string> (*names)();
+};
+const Kind kKinds[] = {{"policies", policy_names},          {"engine-policies", engine_policies},
+                       {"effects", engine::effect_names},    {"backends", engine::backend_names},
+                       {"cell-types", cell_types},           {"runners", experiments::runner_names},
+                       {"launchers", experiments::launcher_names}};
+
+}  // namespace
+
+std::vector<std::string> registered(const std::string& what) {
+  for (const auto& k : kKinds)
+    if (what == k.name) return k.names();
+  throw std::logic_error("semlb list: no kind '" + what + "'");  // callers pass one of kKinds
 }
 
 std::string registered_list(const std::string& what) {
@@ -35,10 +67,14 @@ Action add_list(CLI::App& app) {
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
+  std::vector<std::string> kinds;
+  for (const auto& k : kKinds) kinds.push_back(k.name);
   auto* sub = app.add_subcommand("list", "List what the registries hold, one name per line (or a JSON array)");
-  sub->add_option("what", o->what, "policies, effects, backends, cell-types (by type index), runners or launchers")
+  sub->add_option("what", o->what,
+                  "policies, engine-policies (those a simulation can run: no true work needed), effects, backends, "
+                  "cell-types (by type index), runners or launchers")
       ->required()
-      ->check(CLI::IsMember({"policies", "effects", "backends", "cell-types", "runners", "launchers"}));
+      ->check(CLI::IsMember(kinds));
   sub->add_flag("--json", o->json, "Print a JSON array of the names");
   return [o, sub] {
     if (!*sub) return -1;  // not the chosen subcommand

@@ -22,36 +22,23 @@
 namespace semlb::experiments {
 namespace {
 
-std::string value(const Job& job, const std::string& key, const std::string& fallback) {
-  const Setting* s = job.find(key);
-  return s ? s->value : fallback;
-}
-
 std::string fmt(double v) { return format_real(v); }  // round-trip text (common/text_io.hpp)
 
 // The scene settings (engine::scene_settings()) these runners take by name; `steps` is theirs (timed steps).
 const std::vector<std::string> kSceneNames = {"cells", "backend", "precision", "platform", "dt", "cutoff"};
 
-// The job's scene: `scene` (relative to the manifest), the kSceneNames settings, `scene.KEY` overrides;
-// `effects` ("a+b+c" or "all") keeps only those listed.
-engine::Scene job_scene(const Job& job, const std::string& manifest, const std::string& base_dir) {
-  const Setting* file = job.find("scene");
-  if (!file) throw InputError(where(manifest, 0, "scene") + "missing (engine runners need a scene file)");
-  const std::string path = resolve_path(base_dir, file->value);
-  const auto o = scene_overrides(job, kSceneNames, manifest);
-  engine::Scene scene;
-  try {
-    scene = engine::load_scene(path, o);
-  } catch (const InputError& e) {
-    throw InputError(where_of(*file, manifest, "scene") + e.what());
-  }
-  const std::string effects = value(job, "effects", "all");
+// The job's scene (job_scene with kSceneNames); `effects` ("a+b+c" or "all") keeps only those listed.
+engine::Scene engine_scene(const Job& job, const std::string& manifest, const std::string& base_dir) {
+  engine::Scene scene = job_scene(job, kSceneNames, manifest, base_dir);
+  const std::string effects = job.text("effects", "all");
   if (effects != "all") {
     const auto keep = split(effects, '+');
     for (const auto& k : keep) {
       bool found = false;
       for (const auto& [name, section] : scene.effects) found = found || name == k;
-      if (!found) throw InputError(where_of(*job.find("effects"), manifest, "effects") + "'" + k + "' is not an effect of " + path);
+      if (!found)
+        throw InputError(where_of(*job.find("effects"), manifest, "effects") + "'" + k + "' is not an effect of " +
+                         resolve_path(base_dir, job.find("scene")->value));
     }
     std::erase_if(scene.effects, [&](const auto& e) { return std::find(keep.begin(), keep.end(), e.first) == keep.end(); });
   }
@@ -63,11 +50,10 @@ long integer(const Job& job, const std::string& key, long fallback, const std::s
 }
 
 // Refuses a setting that is neither one of kSceneNames, nor `known` (the runner's own), nor scene.KEY / max_cells.KEY.
-void check_keys(const Job& job, const std::string& manifest, const std::vector<std::string>& known) {
-  auto listed = [](const std::vector<std::string>& v, const std::string& k) { return std::find(v.begin(), v.end(), k) != v.end(); };
-  for (const auto& [k, s] : job.settings)
-    if (!listed(known, k) && !listed(kSceneNames, k) && k.rfind("scene.", 0) != 0 && k.rfind("max_cells.", 0) != 0)
-      throw InputError(where_of(s, manifest, k) + "unknown setting for this runner");
+void check_keys(const Job& job, const std::string& manifest, std::vector<std::string> known) {
+  known.insert(known.end(), kSceneNames.begin(), kSceneNames.end());
+  check_settings(job, manifest, known, [](const std::string& k) { return k.rfind("scene.", 0) == 0 || k.rfind("max_cells.", 0) == 0; },
+                 "this runner");
   for (const auto& [k, s] : job.settings)  // max_cells.BACKEND: the largest cell count BACKEND is timed at
     if (k.rfind("max_cells.", 0) == 0) integer(job, k, 0, manifest);
 }
@@ -81,16 +67,16 @@ class TimingRunner final : public Runner {
   bool measures_time() const override { return true; }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
     check_keys(job, manifest, {"scene", "effects", "steps", "warmup"});
-    auto scene = job_scene(job, manifest, o.base_dir);
+    auto scene = engine_scene(job, manifest, o.base_dir);
     engine::make_effects(scene);  // parameters checked now, not an hour into the sweep
     integer(job, "steps", 100, manifest);
     integer(job, "warmup", 2, manifest);
   }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
-    auto scene = job_scene(job, "", o.base_dir);
+    auto scene = engine_scene(job, "", o.base_dir);
     const long steps = integer(job, "steps", 100, ""), warmup = integer(job, "warmup", 2, "");
-    std::vector<std::string> row = {scene.backend.name, scene.backend.precision, value(job, "effects", "all"), value(job, "cells", "")};
-    const std::string limit = value(job, "max_cells." + scene.backend.name, "");
+    std::vector<std::string> row = {scene.backend.name, scene.backend.precision, job.text("effects", "all"), job.text("cells", "")};
+    const std::string limit = job.text("max_cells." + scene.backend.name, "");
     if (!limit.empty() && integer(job, "cells", 0, "") > integer(job, "max_cells." + scene.backend.name, 0, "")) {  // e.g. serial all-pairs at large n
       row.insert(row.end(), {"", std::to_string(steps), "", "", "", "", "", "", "", "skipped: above max_cells." + scene.backend.name});
       return {row};
@@ -113,17 +99,10 @@ Job reference_job(const Job& job) {
   Job ref = job;
   for (auto& [k, s] : ref.settings) {
     if (k == "precision") s.value = "double";
-    if (k == "dt") s.value = value(job, "reference_dt", s.value);
-    if (k == "cutoff") s.value = value(job, "reference_cutoff", s.value);
+    if (k == "dt") s.value = job.text("reference_dt", s.value);
+    if (k == "cutoff") s.value = job.text("reference_cutoff", s.value);
   }
   return ref;
-}
-
-// "KEY=VALUE;..." of every setting: a cache key.
-std::string job_key(const Job& job) {
-  std::string key;
-  for (const auto& [k, s] : job.settings) key += k + "=" + s.value + ";";
-  return key;
 }
 
 // Final positions of a run of `hours` simulated time; the wall time of the stepping alone.
@@ -146,7 +125,7 @@ class AccuracyRunner final : public Runner {
   bool measures_time() const override { return true; }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
     check_keys(job, manifest, {"scene", "effects", "hours", "reference_dt", "reference_cutoff"});
-    auto scene = job_scene(job, manifest, o.base_dir);
+    auto scene = engine_scene(job, manifest, o.base_dir);
     engine::make_effects(scene);
     for (const auto& e : scene.effects)
       if (e.first == "growth" || e.first == "division" || e.first == "noise")
@@ -155,7 +134,7 @@ class AccuracyRunner final : public Runner {
     job.real("hours", 2.0, 1e-9, 1e9, manifest);
   }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
-    const auto scene = job_scene(job, "", o.base_dir);
+    const auto scene = engine_scene(job, "", o.base_dir);
     const double hours = job.real("hours", 2.0, 1e-9, 1e9, "");
     double wall = 0, unused = 0;
     const auto state = run_for(scene, hours, wall);
@@ -168,9 +147,9 @@ class AccuracyRunner final : public Runner {
       worst = std::max(worst, std::sqrt(d2));
     }
     const double rms = std::sqrt(sum / std::max<size_t>(1, ref.position.size() / 3));
-    return {{scene.backend.precision, value(job, "dt", fmt(scene.dt)), value(job, "cutoff", fmt(scene.cutoff)),
+    return {{scene.backend.precision, job.text("dt", fmt(scene.dt)), job.text("cutoff", fmt(scene.cutoff)),
              std::to_string(std::lround(hours / scene.dt)), fmt(o.timing ? wall : 0), fmt(rms), fmt(worst),
-             "dt=" + value(job, "reference_dt", "?") + " double cutoff=" + value(job, "reference_cutoff", fmt(scene.cutoff))}};
+             "dt=" + job.text("reference_dt", "?") + " double cutoff=" + job.text("reference_cutoff", fmt(scene.cutoff))}};
   }
 
  private:
@@ -180,7 +159,7 @@ class AccuracyRunner final : public Runner {
     const std::string key = job_key(ref);
     std::lock_guard lock(mutex_);
     auto it = cache_.find(key);
-    if (it == cache_.end()) it = cache_.emplace(key, run_for(job_scene(ref, "", o.base_dir), hours, wall)).first;
+    if (it == cache_.end()) it = cache_.emplace(key, run_for(engine_scene(ref, "", o.base_dir), hours, wall)).first;
     return it->second;
   }
   mutable std::mutex mutex_;
@@ -244,16 +223,20 @@ std::vector<Observables> observe_run(const engine::Scene& scene, long samples, l
 // reference's); thickness and work centre as differences (um).
 class ObservablesRunner final : public Runner {
  public:
+  // cells per type: one column per type, named engine::type_name (`semlb list cell-types`), by type index
   std::vector<std::string> columns() const override {
-    return {"precision", "dt", "cutoff", "time_h", "steps", "wall_s", "cells", "basal", "spinous", "granular", "thickness_um",
-            "work_centre_um", "cells_error", "thickness_error_um", "work_centre_error_um", "work_profile_error", "reference"};
+    std::vector<std::string> c = {"precision", "dt", "cutoff", "time_h", "steps", "wall_s", "cells"};
+    for (int t = 0; t < engine::kCellTypes; ++t) c.push_back(engine::type_name(t));
+    c.insert(c.end(), {"thickness_um", "work_centre_um", "cells_error", "thickness_error_um", "work_centre_error_um",
+                       "work_profile_error", "reference"});
+    return c;
   }
   bool measures_time() const override { return true; }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
     check_keys(job, manifest, {"scene", "hours", "sample_h", "cell_stage_h", "reference_dt", "reference_cutoff"});
     for (const char* k : {"reference_dt", "reference_cutoff"}) job.real(k, 1, 1e-9, 1e9, manifest);
     for (const Job& j : {job, reference_job(job)}) {
-      auto scene = job_scene(j, manifest, o.base_dir);
+      auto scene = engine_scene(j, manifest, o.base_dir);
       engine::make_effects(scene);
       plan(j, scene, manifest);
     }
@@ -261,20 +244,21 @@ class ObservablesRunner final : public Runner {
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
     const auto& mine = observations(job, o);
     const auto& ref = observations(reference_job(job), o);
-    const engine::Scene scene = job_scene(job, "", o.base_dir);
+    const engine::Scene scene = engine_scene(job, "", o.base_dir);
     std::vector<std::vector<std::string>> rows;
     for (size_t k = 0; k < mine.size(); ++k) {
       const Observables &a = mine[k], &b = ref.at(k);
       double type_diff = 0, profile_diff = 0;
       for (size_t t = 0; t < a.per_type.size(); ++t) type_diff += std::abs(static_cast<double>(a.per_type[t] - b.per_type[t]));
       for (size_t s = 0; s < a.work_share.size(); ++s) profile_diff += std::abs(a.work_share[s] - b.work_share.at(s));
-      rows.push_back({scene.backend.precision, value(job, "dt", fmt(scene.dt)), value(job, "cutoff", fmt(scene.cutoff)),
-                      fmt(static_cast<double>(a.step) * scene.dt), std::to_string(a.step), fmt(o.timing ? a.wall_s : 0),
-                      std::to_string(a.cells), std::to_string(a.per_type[engine::kBasal]), std::to_string(a.per_type[engine::kSpinous]),
-                      std::to_string(a.per_type[engine::kGranular]), fmt(a.thickness_um), fmt(a.work_centre_um),
-                      fmt(type_diff / static_cast<double>(std::max(1L, b.cells))), fmt(a.thickness_um - b.thickness_um),
-                      fmt(a.work_centre_um - b.work_centre_um), fmt(profile_diff / 2),
-                      "dt=" + value(job, "reference_dt", "?") + " double cutoff=" + value(job, "reference_cutoff", fmt(scene.cutoff))});
+      std::vector<std::string> row = {scene.backend.precision, job.text("dt", fmt(scene.dt)), job.text("cutoff", fmt(scene.cutoff)),
+                                      fmt(static_cast<double>(a.step) * scene.dt), std::to_string(a.step),
+                                      fmt(o.timing ? a.wall_s : 0), std::to_string(a.cells)};
+      for (long n : a.per_type) row.push_back(std::to_string(n));
+      row.insert(row.end(), {fmt(a.thickness_um), fmt(a.work_centre_um), fmt(type_diff / static_cast<double>(std::max(1L, b.cells))),
+                             fmt(a.thickness_um - b.thickness_um), fmt(a.work_centre_um - b.work_centre_um), fmt(profile_diff / 2),
+                             "dt=" + job.text("reference_dt", "?") + " double cutoff=" + job.text("reference_cutoff", fmt(scene.cutoff))});
+      rows.push_back(std::move(row));
     }
     return rows;
   }
@@ -307,10 +291,10 @@ class ObservablesRunner final : public Runner {
       std::lock_guard lock(mutex_);
       if (auto it = cache_.find(key); it != cache_.end()) return it->second;
     }
-    engine::Scene ref = job_scene(reference_job(job), "", o.base_dir);
+    engine::Scene ref = engine_scene(reference_job(job), "", o.base_dir);
     engine::make_tissue(ref);  // fits the box
     const engine::SliceMap map = engine::Decomposition::from_scene(ref, 1);
-    engine::Scene scene = job_scene(job, "", o.base_dir);
+    engine::Scene scene = engine_scene(job, "", o.base_dir);
     const auto [samples, every] = plan(job, scene, "");
     auto obs = observe_run(scene, samples, every, map);
     std::lock_guard lock(mutex_);

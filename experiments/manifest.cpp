@@ -140,6 +140,11 @@ const Setting* Job::find(const std::string& key) const {
   return nullptr;
 }
 
+std::string Job::text(const std::string& key, const std::string& fallback) const {
+  const Setting* s = find(key);
+  return s ? s->value : fallback;
+}
+
 std::vector<std::string> Manifest::axis_names() const {
   std::vector<std::string> n;
   if (launches > 0) n.push_back("launch");

@@ -23,6 +23,8 @@ std::string where_of(const Setting& s, const std::string& manifest, const std::s
 struct Job {
   std::vector<std::pair<std::string, Setting>> settings;
   const Setting* find(const std::string& key) const;
+  // KEY's value as written, or FALLBACK when the job does not set KEY.
+  std::string text(const std::string& key, const std::string& fallback) const;
   // KEY parsed strictly (common/text_io.hpp) in [min, max]; FALLBACK when absent. Errors name the source.
   long integer(const std::string& key, long fallback, long min, long max, const std::string& manifest) const;
   double real(const std::string& key, double fallback, double min, double max, const std::string& manifest) const;

@@ -33,20 +33,11 @@ const std::vector<std::string> kSceneNames = {"cells", "steps", "policy", "initi
 // checkpoint/restart segments it runs as (launch()).
 const std::vector<std::string> kLaunchNames = {"launch", "bind_to", "map_by", "gpus", "segments"};
 
-std::string get(const Job& job, const std::string& key, const std::string& fallback) {
-  const Setting* s = job.find(key);
-  return s ? s->value : fallback;
-}
+std::string scene_path(const Job& job, const RunOptions& o) { return o.resolve(job.text("scene", "")); }
 
-std::string scene_path(const Job& job, const RunOptions& o) { return o.resolve(get(job, "scene", "")); }
-
-// The job's scene with its overrides; an InputError about the file is prefixed with where `scene` was set.
-engine::Scene job_scene(const Job& job, const std::string& manifest, const RunOptions& o) {
-  try {
-    return engine::load_scene(scene_path(job, o), scene_overrides(job, kSceneNames, manifest));
-  } catch (const InputError& e) {
-    throw InputError(where_of(*job.find("scene"), manifest, "scene") + e.what());
-  }
+// The job's scene (job_scene with kSceneNames).
+engine::Scene mpi_scene(const Job& job, const std::string& manifest, const RunOptions& o) {
+  return job_scene(job, kSceneNames, manifest, o.base_dir);
 }
 
 // The row's policy (its scene.decomposition.policy, else `policy`, else the scene file's, else the engine's
@@ -54,7 +45,7 @@ engine::Scene job_scene(const Job& job, const std::string& manifest, const RunOp
 std::pair<std::string, std::string> row_policy(const Job& job, const std::string& manifest, const RunOptions& o) {
   for (const char* k : {"scene.decomposition.policy", "policy"})  // scene.KEY overrides come last, so win
     if (const Setting* s = job.find(k)) return {s->value, where_of(*s, manifest, k)};
-  const engine::Scene scene = job_scene(job, manifest, o);
+  const engine::Scene scene = mpi_scene(job, manifest, o);
   return {scene.decomposition->text("policy", engine::Decomposition{}.policy), scene.decomposition->where("policy")};
 }
 
@@ -66,11 +57,11 @@ long segments_of(const Job& job, const std::string& manifest) { return job.integ
 // `segments` that do not divide the steps, a bad POLICY.KEY parameter, and a row whose policy the engine cannot
 // run (PolicyNeeds::true_work).
 void check_job(const Job& job, const std::string& manifest, const RunOptions& o) {
-  for (const auto& [k, s] : job.settings)
-    if (k != "scene" && k != "ranks" && std::find(kSceneNames.begin(), kSceneNames.end(), k) == kSceneNames.end() &&
-        std::find(kLaunchNames.begin(), kLaunchNames.end(), k) == kLaunchNames.end() && k.rfind("scene.", 0) != 0 &&
-        !is_policy_param(k))
-      throw InputError(where_of(s, manifest, k) + "unknown setting for this runner");
+  std::vector<std::string> known = {"scene", "ranks"};
+  known.insert(known.end(), kSceneNames.begin(), kSceneNames.end());
+  known.insert(known.end(), kLaunchNames.begin(), kLaunchNames.end());
+  check_settings(job, manifest, known, [](const std::string& k) { return k.rfind("scene.", 0) == 0 || is_policy_param(k); },
+                 "this runner");
   for (const char* k : {"scene", "ranks"})
     if (!job.find(k)) throw InputError(where(manifest, 0, k) + "missing");
   job.integer("ranks", 1, 1, 4096, manifest);
@@ -85,7 +76,7 @@ void check_job(const Job& job, const std::string& manifest, const RunOptions& o)
         throw InputError(where_of(*s, manifest, k) + "applies to this machine's mpirun only; the launcher '" + shell_words(o.mpi_launcher) + "' places the ranks");
   scene_overrides(job, kSceneNames, manifest);  // typed values
   if (const long segments = segments_of(job, manifest); segments > 1)
-    if (const long steps = job_scene(job, manifest, o).steps; steps % segments != 0)
+    if (const long steps = mpi_scene(job, manifest, o).steps; steps % segments != 0)
       throw InputError(where_of(*job.find("segments"), manifest, "segments") + std::to_string(segments) + " segments do not divide the " +
                        std::to_string(steps) + " steps (each segment runs steps / segments)");
   check_policy_params(job, manifest);  // every policy's parameters, also of policies this row does not run
@@ -102,7 +93,7 @@ void check_job(const Job& job, const std::string& manifest, const RunOptions& o)
 std::vector<std::string> placement(const Job& job) {
   std::vector<std::string> flags;
   for (const auto& [k, flag] : {std::pair{"bind_to", "--bind-to"}, {"map_by", "--map-by"}})
-    if (const std::string v = get(job, k, "none"); v != "none") flags.insert(flags.end(), {flag, v});
+    if (const std::string v = job.text(k, "none"); v != "none") flags.insert(flags.end(), {flag, v});
   return flags;
 }
 
@@ -122,9 +113,7 @@ struct Launch {
 // started afresh instead of continuing (the sim's "restart:" line).
 Launch launch(const Job& job, const RunOptions& o) {
   const std::string scene = scene_path(job, o);
-  std::string key;
-  for (const auto& [k, s] : job.settings) key += k + "=" + s.value + ";";
-  const fs::path dir = (o.scratch_dir.empty() ? fs::temp_directory_path() : fs::path(o.scratch_dir)) / ("semlb_mpi_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(key)));
+  const fs::path dir = (o.scratch_dir.empty() ? fs::temp_directory_path() : fs::path(o.scratch_dir)) / ("semlb_mpi_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(job_key(job))));
   fs::remove_all(dir);
   // An argument vector, started without a shell (common/process.hpp): paths reach `semlb sim` as they are.
   std::vector<std::string> argv = o.mpi_launcher;
@@ -133,7 +122,7 @@ Launch launch(const Job& job, const RunOptions& o) {
     for (const auto& f : placement(job)) argv.push_back(f);
     argv.push_back("-np");
   }
-  argv.insert(argv.end(), {get(job, "ranks", "1"), fs::read_symlink("/proc/self/exe").string(), "sim", "--quiet", "--scene", scene,
+  argv.insert(argv.end(), {job.text("ranks", "1"), fs::read_symlink("/proc/self/exe").string(), "sim", "--quiet", "--scene", scene,
                            "--out", dir.string(), "--set", "backend.threads=1"});
   auto overrides = scene_overrides(job, kSceneNames, "");
   const std::string policy = row_policy(job, "", o).first;
@@ -141,7 +130,7 @@ Launch launch(const Job& job, const RunOptions& o) {
     if (is_policy_param(k) && k.rfind(policy + ".", 0) == 0) overrides.push_back("decomposition.params." + k.substr(policy.size() + 1) + "=" + s.value);
   for (const auto& o : overrides) argv.insert(argv.end(), {"--set", o});
   const long segments = segments_of(job, "");
-  const long length = segments > 1 ? job_scene(job, "", o).steps / segments : 0;  // steps per segment
+  const long length = segments > 1 ? mpi_scene(job, "", o).steps / segments : 0;  // steps per segment
   Launch l{dir.string(), 0.0, ""};
   for (long k = 1; k <= segments; ++k) {
     std::vector<std::string> command = argv;
@@ -290,13 +279,13 @@ class MpiEndToEndRunner final : public Runner {
   int mpi_ranks(const Job& job) const override { return static_cast<int>(job.integer("ranks", 1, 1, 4096, "")); }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
-    const engine::Scene scene = job_scene(job, "", o);
+    const engine::Scene scene = mpi_scene(job, "", o);
     const Launch l = launch(job, o);
     const RunTotals t = run_totals(l.dir);
     finish_run(job, o, l.dir, true);
     auto fmt = [&](double v) { return format_real(o.timing ? v : 0.0); };
     return {{row_policy(job, "", o).first, scene.decomposition->text("initial", engine::Decomposition{}.initial),
-             get(job, "launch", "1"), get(job, "gpus", "0"), get(job, "ranks", "1"),
+             job.text("launch", "1"), job.text("gpus", "0"), job.text("ranks", "1"),
              std::to_string(scene.tissue->integer("cells", 0, 0, 1L << 62)), t.cells, std::to_string(scene.steps),
              fmt(t.loop_s), fmt(t.compute_s), format_real(t.mean_imbalance), std::to_string(t.moved),
              o.timing ? machine(job, l, o) : "-"}};

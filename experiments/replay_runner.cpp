@@ -60,9 +60,7 @@ class ReplayScoreRunner final : public Runner {
   // Refuses an unknown setting, a bad policy or POLICY.KEY, a missing `traces` folder, a folder without traces,
   // and any trace that does not parse or that --score refuses (FILE:LINE: field ...), before anything runs.
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
-    for (const auto& [k, s] : job.settings)
-      if (k != "policy" && k != "traces" && !is_policy_param(k))
-        throw InputError(where_of(s, manifest, k) + "unknown setting for the replay_score runner");
+    check_settings(job, manifest, {"policy", "traces"}, is_policy_param, "the replay_score runner");
     const Setting* policy = job.find("policy");
     if (!policy) throw InputError(where(manifest, 0, "policy") + "missing (the replay_score runner needs it)");
     check_policy_params(job, manifest);

@@ -1,6 +1,7 @@
 // Runner registry.
 #include "runner.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 
@@ -31,6 +32,30 @@ std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::
   for (const auto& [k, s] : job.settings)
     if (k.rfind("scene.", 0) == 0) o.push_back(k.substr(6) + "=" + s.value);
   return o;
+}
+
+engine::Scene job_scene(const Job& job, const std::vector<std::string>& names, const std::string& manifest, const std::string& base_dir) {
+  const Setting* file = job.find("scene");
+  if (!file) throw InputError(where(manifest, 0, "scene") + "missing (engine runners need a scene file)");
+  const auto overrides = scene_overrides(job, names, manifest);  // its errors name their own settings
+  try {
+    return engine::load_scene(resolve_path(base_dir, file->value), overrides);
+  } catch (const InputError& e) {
+    throw InputError(where_of(*file, manifest, "scene") + e.what());
+  }
+}
+
+std::string job_key(const Job& job) {
+  std::string key;
+  for (const auto& [k, s] : job.settings) key += k + "=" + s.value + ";";
+  return key;
+}
+
+void check_settings(const Job& job, const std::string& manifest, const std::vector<std::string>& known,
+                    const std::function<bool(const std::string&)>& also, const std::string& runner) {
+  for (const auto& [k, s] : job.settings)
+    if (std::find(known.begin(), known.end(), k) == known.end() && !(also && also(k)))
+      throw InputError(where_of(s, manifest, k) + "unknown setting for " + runner);
 }
 
 bool is_scenario_key(const std::string& key) { return key.rfind("scenario.", 0) == 0; }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "controllers/policy.hpp"
+#include "engine/model/scene.hpp"
 #include "manifest.hpp"
 
 namespace semlb::experiments {
@@ -46,6 +47,24 @@ class Runner {
 // runner's choice) that the job sets, its value type-checked (InputError naming its manifest line), then
 // every `scene.KEY` setting as KEY. Shared by the engine runners.
 std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::string>& names, const std::string& manifest);
+
+// The job's scene, for the runners that run the engine: the file its `scene` setting names (relative to
+// BASE_DIR, the manifest's folder), with scene_overrides(job, names, manifest) applied. InputError "MANIFEST: field
+// 'scene': missing (...)" without a `scene` setting; a mistyped override is scene_overrides' InputError (naming the
+// override's line); an InputError about the file or what an override sets in it is prefixed with where `scene` was
+// set ("m.yaml:7: field 'scene': scene.yaml:3: field 'tiem': unknown setting").
+engine::Scene job_scene(const Job& job, const std::vector<std::string>& names, const std::string& manifest, const std::string& base_dir);
+
+// "KEY=VALUE;" for every setting, in the job's order: a key for caches and scratch folders (the same settings give
+// the same key).
+std::string job_key(const Job& job);
+
+// Refuses a setting the runner does not take, before anything runs: the first of the job's settings (in the job's
+// order) that is neither in `known` nor accepted by `also` (families such as scene.KEY or POLICY.KEY; may be empty)
+// is an InputError naming its manifest line and field: "m.yaml:9: field 'stpes': unknown setting for RUNNER", with
+// RUNNER as given ("this runner", "the surrogate runner").
+void check_settings(const Job& job, const std::string& manifest, const std::vector<std::string>& known,
+                    const std::function<bool(const std::string&)>& also, const std::string& runner);
 
 // True for a scenario.KEY setting: an override of the surrogate's scenario draws (surrogate::make_scenario).
 bool is_scenario_key(const std::string& key);

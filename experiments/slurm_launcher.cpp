@@ -13,6 +13,7 @@
 
 #include "common/errors.hpp"
 #include "common/process.hpp"
+#include "common/progress_line.hpp"
 #include "common/text_io.hpp"
 #include "sweep.hpp"
 
@@ -297,7 +298,7 @@ SweepSummary run_slurm(const Manifest& m, const std::vector<std::string>& overri
               << tasks.size() - 1 << " (" << tasks[0].size() << " per task), logs in " << d.logs.string() << "\n";
   }
   sum.ran = todo.size();
-  const bool tty = isatty(fileno(stderr));
+  ProgressLine progress(o.progress);
   std::string shown;
   const auto t0 = std::chrono::steady_clock::now();
   for (bool first = true;; first = false) {
@@ -306,14 +307,14 @@ SweepSummary run_slurm(const Manifest& m, const std::vector<std::string>& overri
       std::ostringstream line;
       line << "[" << m.name << "] " << st.done << "/" << sum.rows << " jobs done, " << st.running << " running, "
            << st.pending << " pending, " << st.failed.size() << " failed";
-      if (line.str() != shown) std::cerr << (tty ? "\r" : "") << line.str() << (tty ? "" : "\n") << std::flush;
+      if (line.str() != shown) progress.show(line.str());
       shown = line.str();
     }
     if (st.active.empty() || !o.slurm.wait) break;
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(1000 * std::min(10.0, 1.0 + s / 60))));
   }
-  if (o.progress && tty) std::cerr << "\n";
+  progress.close();
   if (!st.failed.empty()) {
     std::string msg = std::to_string(st.failed.size()) + " of " + std::to_string(sum.rows) +
                       " jobs failed (rerun the same command to resubmit them):";

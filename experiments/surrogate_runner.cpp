@@ -22,9 +22,8 @@ class SurrogateRunner final : public Runner {
 
   void check(const Job& job, const std::string& manifest, const RunOptions&) const override {
     const auto j = to_eval_job(job, manifest);
-    for (const auto& [k, s] : job.settings)
-      if (k != "policy" && k != "ranks" && k != "seed" && k != "events" && !is_scenario_key(k) && !is_policy_param(k))
-        throw InputError(where_of(s, manifest, k) + "unknown setting for the surrogate runner");
+    check_settings(job, manifest, {"policy", "ranks", "seed", "events"},
+                   [](const std::string& k) { return is_scenario_key(k) || is_policy_param(k); }, "the surrogate runner");
     try {  // the scenario's slice count bounds the rank count: checked here, before any output exists
       surrogate::make_scenario(j.seed, j.ranks, j.scenario);
     } catch (const InputError& e) {

@@ -23,6 +23,7 @@
 #include "common/digest.hpp"
 #include "common/dir_lock.hpp"
 #include "common/errors.hpp"
+#include "common/progress_line.hpp"
 #include "common/registry.hpp"
 #include "common/text_io.hpp"
 #include "common/version.hpp"
@@ -41,10 +42,7 @@ std::string join(const std::vector<std::string>& cells) {
 std::string csv_line(const std::vector<std::string>& cells) { return join(cells) + "\n"; }
 
 // A job's value of axis A; empty when the job's axis group lacks A.
-std::string axis_value(const Job& j, const std::string& a) {
-  const Setting* s = j.find(a);
-  return s ? s->value : "";
-}
+std::string axis_value(const Job& j, const std::string& a) { return j.text(a, ""); }
 
 class Appender {  // one write(2) per row with O_APPEND: a kill leaves whole rows or a torn last line
  public:
@@ -131,7 +129,7 @@ void copy_manifest(const Manifest& m, const std::vector<std::string>& overrides,
   write_file_atomically(fs::path(csv).replace_extension(".manifest.yaml").string(), head + body);
 }
 
-// The sweep's progress on stderr: a line at the start, one per finished job (every 5% of them when stderr is not a
+// The sweep's progress on stderr (a ProgressLine): a line at the start, one per finished job (every 5% of them when stderr is not a
 // terminal), and a heartbeat for jobs that run long: a job still running 2 s after it started is named with its axes,
 // then every 30 s while it runs (`[name] job 3/40 (policy=gru ranks=8) running  12.0 s`).
 class Progress {
@@ -140,12 +138,10 @@ class Progress {
   static constexpr double kFirstBeat = 2.0, kEveryBeat = 30.0;  // s
 
   Progress(std::string name, size_t total, size_t resumed, bool on)
-      : name_(std::move(name)), total_(total), done_(resumed), resumed_(resumed), on_(on),
-        tty_(isatty(fileno(stderr))), start_(Clock::now()) {
-    if (!on_) return;
+      : name_(std::move(name)), total_(total), done_(resumed), resumed_(resumed), line_(on), start_(Clock::now()) {
+    if (!line_.on()) return;
     // A line at once, so a sweep whose first job runs long says it started (then one per finished job)
-    std::fprintf(stderr, "%s[%s] %zu/%zu jobs (%zu resumed)  starting%s", tty_ ? "\r" : "", name_.c_str(), done_,
-                 total_, resumed_, tty_ ? "" : "\n");
+    line_.show(format_text("[%s] %zu/%zu jobs (%zu resumed)  starting", name_.c_str(), done_, total_, resumed_));
     beat_ = std::thread([this] { heartbeat(); });
   }
   ~Progress() {
@@ -169,13 +165,12 @@ class Progress {
     std::lock_guard lock(mu_);
     running_.erase(index);
     ++done_;
-    if (!on_) return;
+    if (!line_.on()) return;
     const size_t ran = done_ - resumed_, step = std::max<size_t>(1, (total_ - resumed_) / 20);
-    if (!tty_ && ran % step != 0 && done_ != total_) return;
-    const double s = seconds(start_);
-    const double eta = ran ? s / ran * (total_ - done_) : 0.0;
-    std::fprintf(stderr, "%s[%s] %zu/%zu jobs (%zu resumed)  %.1f s  ETA %.1f s%s", tty_ ? "\r" : "", name_.c_str(),
-                 done_, total_, resumed_, s, eta, tty_ && done_ != total_ ? "" : "\n");
+    if (!line_.tty() && ran % step != 0 && done_ != total_) return;
+    const double s = seconds(start_), eta = eta_seconds(s, static_cast<double>(ran), static_cast<double>(total_ - done_));
+    line_.show(format_text("[%s] %zu/%zu jobs (%zu resumed)  %.1f s  ETA %.1f s", name_.c_str(), done_, total_, resumed_, s, eta),
+               done_ == total_);
   }
 
  private:
@@ -193,15 +188,14 @@ class Progress {
         const double s = seconds(job.since);
         if (s < kFirstBeat + kEveryBeat * job.beats) continue;
         ++job.beats;
-        std::fprintf(stderr, "%s[%s] job %zu/%zu (%s) running  %.1f s\n", tty_ ? "\r" : "", name_.c_str(), index + 1,
-                     total_, job.label.c_str(), s);
+        line_.show(format_text("[%s] job %zu/%zu (%s) running  %.1f s", name_.c_str(), index + 1, total_, job.label.c_str(), s), true);
       }
     }
   }
 
   std::string name_;
   size_t total_, done_, resumed_;
-  bool on_, tty_;
+  ProgressLine line_;
   Clock::time_point start_;
   std::mutex mu_;
   std::condition_variable wake_;

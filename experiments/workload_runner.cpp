@@ -1,6 +1,5 @@
 // The "workload_eval" runner: one policy replayed on one engine workload file at one rank count through the time
 // model (surrogate/workload_replay.hpp): `semlb replay --workload`'s rollout as sweep rows.
-#include <filesystem>
 #include <limits>
 #include <map>
 #include <memory>
@@ -15,8 +14,6 @@
 namespace semlb::experiments {
 namespace {
 
-namespace fs = std::filesystem;
-
 bool is_model_key(const std::string& k) { return k.rfind("time_model.", 0) == 0; }
 
 class WorkloadEvalRunner final : public Runner {
@@ -29,21 +26,19 @@ class WorkloadEvalRunner final : public Runner {
   }
 
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
-    for (const auto& [k, s] : job.settings)
-      if (k != "policy" && k != "ranks" && k != "seed" && k != "workload" && k != "events" && k != "first_event" &&
-          k != "coarsen" && !is_model_key(k) && !is_policy_param(k))
-        throw InputError(where_of(s, manifest, k) + "unknown setting for the workload_eval runner");
+    check_settings(job, manifest, {"policy", "ranks", "seed", "workload", "events", "first_event", "coarsen"},
+                   [](const std::string& k) { return is_model_key(k) || is_policy_param(k); }, "the workload_eval runner");
     const auto r = replay_of(job, manifest);
     const Setting* w = job.find("workload");
     if (!w) throw InputError(where(manifest, 0, "workload") + "missing (an engine workload file, output.workload)");
     std::shared_ptr<const EngineWorkload> workload;
     try {
-      workload = load(path_of(*w, o).string());
+      workload = load(o.resolve(w->value));
     } catch (const InputError& e) {
       throw InputError(where_of(*w, manifest, "workload") + e.what());
     }
     try {
-      surrogate::replay_track(*workload, r, path_of(*w, o).string());
+      surrogate::replay_track(*workload, r, o.resolve(w->value));
     } catch (const InputError& e) {
       throw InputError(where_of(*job.find("ranks"), manifest, "ranks") + e.what());
     }
@@ -62,8 +57,8 @@ class WorkloadEvalRunner final : public Runner {
     const Setting& w = *job.find("workload");
     const std::string name = job.find("policy")->value;
     auto policy = make_policy(name, policy_params(job, "")[name]);
-    const auto workload = load(path_of(w, o).string());
-    const auto res = surrogate::replay_workload(*workload, r, *policy, name, path_of(w, o).string());
+    const auto workload = load(o.resolve(w.value));
+    const auto res = surrogate::replay_workload(*workload, r, *policy, name, o.resolve(w.value));
     return {{w.value, name, std::to_string(r.ranks), std::to_string(r.seed), std::to_string(res.events),
              std::to_string(res.slices), format_real(res.mean_imbalance), std::to_string(res.migration),
              format_real(res.loop_s), format_real(res.ideal_s), format_real(res.migrate_s),
@@ -81,11 +76,6 @@ class WorkloadEvalRunner final : public Runner {
   }
   mutable std::mutex mutex_;
   mutable std::map<std::string, std::shared_ptr<const EngineWorkload>> cache_;
-
-  static fs::path path_of(const Setting& s, const RunOptions& o) {
-    const fs::path p(s.value);
-    return p.is_absolute() ? p : fs::path(o.base_dir) / p;
-  }
 
   static surrogate::WorkloadReplay replay_of(const Job& job, const std::string& manifest) {
     surrogate::WorkloadReplay r;

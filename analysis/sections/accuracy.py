@@ -35,9 +35,10 @@ def accuracy_figure(rows):
 
 
 
-def development_accuracy_table(rows):
+def development_accuracy_table(rows, types):
     """accuracy_vs_time/development.csv (runner engine_observables): per run the wall time and the largest error over
-    the sample times on each observable, then the observables over time."""
+    the sample times on each observable, then the observables over time. `types`: the cell-type names by index
+    (`semlb list cell-types`), which name the CSV's cells-per-type columns."""
     runs = OrderedDict()
     for r in rows:
         runs.setdefault((r["precision"], r["dt"], r["cutoff"]), []).append(r)
@@ -49,32 +50,32 @@ def development_accuracy_table(rows):
            "(sum over types of |n - n_ref| / cells of the reference, %), thickness (z extent of the tissue, um), the "
            "centre of the per-slice work W_s (um) and the work profile (share of W_s in other slices than the "
            "reference's, %).", "",
-           "| precision | dt (h) | cutoff (um) | wall s | cells Day 5 (basal/spinous/granular) | cells error % | "
+           f"| precision | dt (h) | cutoff (um) | wall s | cells Day 5 ({'/'.join(types)}) | cells error % | "
            "thickness error (um) | work centre error (um) | work profile error % |",
            "|---|---:|---:|---:|---|---:|---:|---:|---:|"]
     for (prec, dt, cutoff), rs in runs.items():
         last = rs[-1]
         out.append(f"| {prec} | {dt} | {cutoff} | {float(last['wall_s']):.3g} | {last['cells']} "
-                   f"({last['basal']}/{last['spinous']}/{last['granular']}) | {worst(rs, 'cells_error', 100):.3g} | "
+                   f"({'/'.join(last[t] for t in types)}) | {worst(rs, 'cells_error', 100):.3g} | "
                    f"{worst(rs, 'thickness_error_um'):.3g} | {worst(rs, 'work_centre_error_um'):.3g} | "
                    f"{worst(rs, 'work_profile_error', 100):.3g} |")
     out += ["", "Over time (hours of simulated time):", "",
-            "| h | precision | dt (h) | cutoff (um) | basal | spinous | granular | thickness (um) | work centre (um) | "
-            "work profile error % |", "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+            "| h | precision | dt (h) | cutoff (um) | " + "".join(f"{t} | " for t in types) + "thickness (um) | "
+            "work centre (um) | work profile error % |", "|---:|---|---:|---:|" + "---:|" * (len(types) + 3)]
     for hours in sorted({r["time_h"] for r in rows}, key=float):
         for (prec, dt, cutoff), rs in runs.items():
             for r in rs:
                 if r["time_h"] == hours:
-                    out.append(f"| {float(hours):g} | {prec} | {dt} | {cutoff} | {r['basal']} | {r['spinous']} | "
-                               f"{r['granular']} | {float(r['thickness_um']):.3g} | {float(r['work_centre_um']):.4g} | "
+                    out.append(f"| {float(hours):g} | {prec} | {dt} | {cutoff} | " + "".join(f"{r[t]} | " for t in types)
+                               + f"{float(r['thickness_um']):.3g} | {float(r['work_centre_um']):.4g} | "
                                f"{100 * float(r['work_profile_error']):.3g} |")
     return "\n".join(out) + "\n"
 
 
 
-def development_accuracy_figure(rows):
+def development_accuracy_figure(rows, types):
     """accuracy_vs_time/development.csv: cells per type, thickness and the work-profile error over Day 0-5, one line
-    style per run (the reference solid), wall time in the legend."""
+    style per run (the reference solid), wall time in the legend; `types` as development_accuracy_table's."""
     plt = _pyplot()
     runs = OrderedDict()
     for r in rows:
@@ -85,7 +86,7 @@ def development_accuracy_figure(rows):
         days = [float(r["time_h"]) / 24 for r in rs]
         label = f"{prec}, dt {dt} h, cutoff {cutoff} um ({float(rs[-1]['wall_s']):.3g} s)"
         ls = styles[i % len(styles)]
-        for t, colour in (("basal", "tab:blue"), ("spinous", "tab:orange"), ("granular", "tab:green")):
+        for t, colour in zip(types, ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple")):
             axes[0].plot(days, [int(r[t]) for r in rs], ls, color=colour, label=f"{t}" if i == 0 else None)
         axes[1].plot(days, [float(r["thickness_um"]) for r in rs], ls, color="k", label=label)
         axes[2].plot(days, [100 * float(r["work_profile_error"]) for r in rs], ls, color="k", label=label)
@@ -130,8 +131,9 @@ def build_dev(ctx):
     if not rows:
         return None
     runs = len({(r["precision"], r["dt"], r["cutoff"]) for r in rows})
-    body = (ctx.source(DEV) + "\n\n" + ctx.table("accuracy_development", development_accuracy_table(rows)) + "\n"
-            + ctx.figure("accuracy_development", development_accuracy_figure(rows)))
+    types = ctx.names("cell-types")  # the CSV's cells-per-type columns, by type index
+    body = (ctx.source(DEV) + "\n\n" + ctx.table("accuracy_development", development_accuracy_table(rows, types)) + "\n"
+            + ctx.figure("accuracy_development", development_accuracy_figure(rows, types)))
     return Part([("This run", ctx.cpu_run(DEV, "1", 1, "-", f"{runs} runs, {len(rows) // max(1, runs)} sample times"), body)],
                 "Not in the paper.", "No paper comparison: the error each setting makes on Day 0-5.")
 

@@ -1,12 +1,13 @@
 """What every report section shares: CSV reading, atomic writes, the section registry, provenance, setup lines."""
 import csv
-import json
 import os
 import platform
 import re
 import statistics
 import subprocess
 from collections import OrderedDict
+
+import semlb_names
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -239,14 +240,11 @@ class Context:
         return default
 
     def names(self, kind):
-        """The names the binary registers for KIND (`semlb list KIND --json`: policies, effects, backends,
-        cell-types, runners, launchers); [] when the binary is not there."""
+        """The names the binary registers for KIND (semlb_names.names: policies, engine-policies, effects,
+        backends, cell-types, runners, launchers), asked once per kind; semlb_names.NamesError (one line) when the
+        binary cannot list them."""
         if kind not in self._names:
-            try:
-                out = subprocess.run([self.semlb, "list", kind, "--json"], capture_output=True, text=True, timeout=30)
-                self._names[kind] = json.loads(out.stdout) if out.returncode == 0 else []
-            except (OSError, ValueError, subprocess.SubprocessError):
-                self._names[kind] = []
+            self._names[kind] = semlb_names.names(self.semlb, kind)
         return self._names[kind]
 
     def cpu_run(self, rel, ranks="1", launches=1, intervals="-", extra="", what="CPU backends, OpenCL on PoCL"):

@@ -68,12 +68,11 @@ def figure(rows, where):
 
 
 def build(ctx):
-    effects = ctx.names("effects")
-    note = (f"`all` = every effect the binary registers: {', '.join(effects)} (`semlb list effects`).\n\n"
-            if effects else "")
     runs = []
     rows = ctx.rows(CSV)
     if rows:
+        effects = ctx.names("effects")
+        note = f"`all` = every effect the binary registers: {', '.join(effects)} (`semlb list effects`).\n\n"
         where = (f"this run: {rows[0]['backend']}, {rows[0]['precision']}, {rows[0]['cells']} cells, "
                  f"{rows[0]['steps']} steps, {__import__('os').cpu_count()} shared cores")
         runs.append(("This run", ctx.cpu_run(CSV, "1", 1, "-", f"{rows[0]['steps']} timed steps per row"),

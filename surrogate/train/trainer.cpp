@@ -1,8 +1,6 @@
 // Training loop.
 #include "trainer.hpp"
 
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -18,6 +16,7 @@
 #include "controllers/gru.hpp"
 #include "common/h5.hpp"
 #include "controllers/reactive.hpp"
+#include "common/progress_line.hpp"
 #include "common/text_io.hpp"
 #include "episodes.hpp"
 #include "model.hpp"
@@ -170,9 +169,10 @@ TrainSummary run_training(const TrainConfig& c, const TrainOptions& o) {
   torch::optim::Adam opt(model->parameters(), torch::optim::AdamOptions(c.lr));
   const auto workloads = load_training_workloads(c);  // read once, shared by every batch
   long step = 0;
+  ProgressLine progress(o.progress);
   if (fs::exists(ckpt)) {
     step = load_checkpoint(ckpt, model, opt, config);
-    if (o.progress) std::fprintf(stderr, "train: resuming from %s at step %ld\n", ckpt.c_str(), step);
+    progress.note(format_text("train: resuming from %s at step %ld", ckpt.c_str(), step));
   }
   start_log(log, fs::exists(ckpt) ? step : -1);
   const Validation reactive = validate(c, nullptr);
@@ -190,9 +190,8 @@ TrainSummary run_training(const TrainConfig& c, const TrainOptions& o) {
                                       << format_real(learning_rate(c, trained)) << "," << format_real(temperature(c, trained)) << ","
                                       << format_real(v.imbalance) << "," << format_real(v.migration) << ","
                                       << format_real(reactive.imbalance) << "," << format_real(reactive.migration) << "\n";
-    if (o.progress)
-      std::fprintf(stderr, "\ntrain: step %ld validation: imbalance %.3f%% (reactive %.3f%%), migration %.1f (reactive %.1f)\n",
-                   at, 100 * v.imbalance, 100 * reactive.imbalance, v.migration, reactive.migration);
+    progress.note(format_text("train: step %ld validation: imbalance %.3f%% (reactive %.3f%%), migration %.1f (reactive %.1f)", at,
+                              100 * v.imbalance, 100 * reactive.imbalance, v.migration, reactive.migration));
     return v;
   };
 
@@ -214,11 +213,11 @@ TrainSummary run_training(const TrainConfig& c, const TrainOptions& o) {
     torch::nn::utils::clip_grad_norm_(model->parameters(), c.clip);
     opt.step();
     const long done = step + 1;
-    if (o.progress && (done % 10 == 0 || done == c.steps)) {
-      const double s = seconds(), eta = s / (done - first) * (c.steps - done);
-      std::fprintf(stderr, "%strain: step %ld/%ld  loss %.4f  soft imbalance %.2f%%  migration %.1f  lr %.2e  T %.2f  %.0f s  ETA %.0f s%s",
-                   isatty(fileno(stderr)) ? "\r" : "", done, c.steps, last_loss, 100 * stats.imbalance, stats.migration,
-                   learning_rate(c, step), temperature(c, step), s, eta, isatty(fileno(stderr)) ? "" : "\n");
+    if (progress.on() && (done % 10 == 0 || done == c.steps)) {
+      const double s = seconds(), eta = eta_seconds(s, static_cast<double>(done - first), static_cast<double>(c.steps - done));
+      progress.show(format_text("train: step %ld/%ld  loss %.4f  soft imbalance %.2f%%  migration %.1f  lr %.2e  T %.2f  %.0f s  ETA %.0f s",
+                                done, c.steps, last_loss, 100 * stats.imbalance, stats.migration, learning_rate(c, step),
+                                temperature(c, step), s, eta));
     }
     if (c.validate_every > 0 && done % c.validate_every == 0 && done < c.steps) log_validation(done);
     if (done % c.checkpoint_every == 0 && done < c.steps) {

@@ -69,6 +69,27 @@ assert not bad, "; ".join(bad)
 assert all(ok for _, _, ok in r["check"].values()), r["check"]
 print("fit: ok", json.dumps(p))
 PY
+# The policies ranked come from the binary: semlb_names.names gives `semlb list engine-policies --json` (the surrogate
+# baselines that need the true work left out), and a missing binary is one line naming it.
+"$py" - "$src/analysis" "$semlb" <<'PY'
+import json, subprocess, sys
+sys.path.insert(0, sys.argv[1])
+import semlb_names
+semlb = sys.argv[2]
+got = semlb_names.names(semlb, "engine-policies")
+assert got == json.loads(subprocess.run([semlb, "list", "engine-policies", "--json"], capture_output=True, text=True).stdout), got
+assert {"static", "reactive", "gru", "gromacs_dlb"} <= set(got) and not {"oracle", "lazy_oracle", "foresight"} & set(got), got
+assert set(got) < set(semlb_names.names(semlb, "policies")), got
+try:
+    semlb_names.names("/nonexistent/semlb", "policies")
+    raise SystemExit("FAIL: no error without the binary")
+except semlb_names.NamesError as e:
+    assert "no binary at '/nonexistent/semlb'" in str(e) and "\n" not in str(e), e
+print("names: ok")
+PY
+set +e; out=$("$py" "$src/analysis/fit_surrogate.py" --semlb "$work/none" --results "$work/t" 2>&1); rc=$?; set -e
+[ "$rc" = 2 ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] && [[ "$out" == *"no binary at '$work/none'"* ]] ||
+  { echo "FAIL: no binary: exit $rc: $out"; exit 1; }
 # A bad trace: FILE:LINE: field, exit 2.
 mkdir -p "$work/bad/x"; echo '{"event":0,"slices":4,"min_width":1,"boundaries":[2],"times":[1,1]}' > "$work/bad/x/trace.jsonl"
 set +e; out=$("$py" "$src/analysis/fit_surrogate.py" --semlb "$semlb" --traces "$work/bad" --fit-only 2>&1); rc=$?; set -e

@@ -183,6 +183,11 @@ TEST(Cli, ListPrintsTheRegistries) {
   for (const char* p : {"static\n", "reactive\n", "persistence\n", "holt\n", "gru\n", "oracle\n", "lazy_oracle\n",
                         "gromacs_dlb\n", "foresight\n"})
     EXPECT_NE(policies.out.find(p), std::string::npos) << p << policies.out;
+  // engine-policies: the policies a simulation runs, the surrogate baselines that need the true work left out
+  const auto engine = run(semlb_bin() + " list engine-policies --json");
+  ASSERT_EQ(engine.rc, 0) << engine.out;
+  EXPECT_EQ(engine.out, "[\"all_tensor\",\"gromacs_dlb\",\"gru\",\"holt\",\"hoomd_balance\",\"lammps_shift\",\"persistence\","
+                        "\"reactive\",\"static\"]\n");
   for (const char* what : {"effects", "backends", "runners", "launchers"}) {
     const auto r = run(semlb_bin() + " list " + what + " --json");
     EXPECT_EQ(r.rc, 0) << what;
