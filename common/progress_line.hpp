@@ -1,5 +1,5 @@
-// The one status line of long runs outside the engine (sweep, Slurm sweep, trainer): how it is drawn on a terminal
-// and in a log.
+// The one status line of long runs (sweep, Slurm sweep, trainer, semlb sim): how it is drawn on a terminal and in a
+// log.
 #pragma once
 #include <cstdio>
 #include <mutex>

@@ -13,6 +13,7 @@
 
 #include "common/dir_lock.hpp"
 #include "common/errors.hpp"
+#include "common/progress_line.hpp"
 #include "common/text_io.hpp"
 #include "decomposition/distributed.hpp"
 #include "io/io.hpp"
@@ -59,17 +60,18 @@ std::vector<Snapshot> earlier_snapshots(const std::string& dir, long step) {
 
 class StatusLine {
  public:
-  StatusLine(bool quiet, long first, long last) : quiet_(quiet), tty_(isatty(2)), first_(first), last_(last) {}
+  StatusLine(bool quiet, long first, long last) : line_(!quiet), first_(first), last_(last) {}
   void update(long step, long cells, long elements, double wall, bool force) {
-    if (quiet_ || (!force && wall - shown_ < (tty_ ? 1.0 : 10.0))) return;
+    if (!line_.on() || (!force && wall - shown_ < (line_.tty() ? 1.0 : 10.0))) return;
     shown_ = wall;
-    const double done = static_cast<double>(step - first_), left = static_cast<double>(last_ - step);
-    std::fprintf(stderr, "%sstep %ld/%ld | cells %ld | elements %ld | %.1f s | ETA %.1f s%s", tty_ ? "\r" : "", step,
-                 last_, cells, elements, wall, done > 0 ? wall / done * left : 0.0, tty_ && !force ? "" : "\n");
+    const double eta = eta_seconds(wall, static_cast<double>(step - first_), static_cast<double>(last_ - step));
+    line_.show(format_text("step %ld/%ld | cells %ld | elements %ld | %.1f s | ETA %.1f s", step, last_, cells, elements,
+                           wall, eta),
+               force);
   }
 
  private:
-  bool quiet_, tty_;
+  ProgressLine line_;  // common/progress_line.hpp: the terminal/log behaviour of every status line
   long first_, last_;
   double shown_ = -1e9;
 };
