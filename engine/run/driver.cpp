@@ -63,7 +63,9 @@ class StatusLine {
   StatusLine(bool quiet, long first, long last) : line_(!quiet), first_(first), last_(last) {}
   void update(long step, long cells, long elements, double wall, bool force) {
     if (!line_.on() || (!force && wall - shown_ < (line_.tty() ? 1.0 : 10.0))) return;
+    if (force && !line_.tty() && step == shown_step_) return;  // a log has this state's line already
     shown_ = wall;
+    shown_step_ = step;
     const double eta = eta_seconds(wall, static_cast<double>(step - first_), static_cast<double>(last_ - step));
     line_.show(format_text("step %ld/%ld | cells %ld | elements %ld | %.1f s | ETA %.1f s", step, last_, cells, elements,
                            wall, eta),
@@ -72,7 +74,7 @@ class StatusLine {
 
  private:
   ProgressLine line_;  // common/progress_line.hpp: the terminal/log behaviour of every status line
-  long first_, last_;
+  long first_, last_, shown_step_ = -1;
   double shown_ = -1e9;
 };
 
