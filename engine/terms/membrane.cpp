@@ -1,12 +1,8 @@
 // "membrane": the basement membrane at z = 0 as an element term (evaluator: membrane.h).
 #include "term.hpp"
 
-namespace semlb::engine::phys64 {
-#include "terms/membrane.h"
-}  // namespace semlb::engine::phys64
-namespace semlb::engine::phys32 {
-#include "terms/membrane.h"
-}  // namespace semlb::engine::phys32
+#define SEMLB_TERM_HEADER "terms/membrane.h"
+#include "terms/instantiate.hpp"
 
 namespace semlb::engine {
 namespace {

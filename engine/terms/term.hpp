@@ -19,9 +19,8 @@ using TermEvaluator = void (*)(Real x, Real y, Real z, int type, const Real* p, 
 
 // A registered element term. Its name is its scene key (`effects.NAME`), the stem of its evaluator header
 // terms/NAME.h (whose `semlb_term_NAME` the OpenCL kernel NAME calls) and its kernel's name in launches().
-// terms/NAME.cpp includes terms/NAME.h once inside namespace phys64 and once inside phys32 (cpu_physics.hpp: the
-// evaluator's macros and types in double and float) and registers phys64::semlb_term_NAME and
-// phys32::semlb_term_NAME as f64 and f32.
+// terms/NAME.cpp compiles terms/NAME.h in both precisions (#define SEMLB_TERM_HEADER "terms/NAME.h", then
+// #include "terms/instantiate.hpp") and registers phys64::semlb_term_NAME and phys32::semlb_term_NAME as f64 and f32.
 struct ElementTerm {
   int order = 20;  // its place among the effects (effect.hpp EffectInfo::order)
   // The derived parameters (reals) from the scene's section; the section's errors name file, line and field.

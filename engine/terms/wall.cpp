@@ -1,14 +1,10 @@
-// "wall": lateral confinement walls at xlo/xhi/ylo/yhi as an element term (evaluator: wall.h; docs/engine.md "Walls").
+// "wall": lateral confinement walls at xlo/xhi/ylo/yhi as an element term (evaluator: wall.h; docs/engine.md "Physics as implemented").
 #include "term.hpp"
 
 #include "common/text_io.hpp"
 
-namespace semlb::engine::phys64 {
-#include "terms/wall.h"
-}  // namespace semlb::engine::phys64
-namespace semlb::engine::phys32 {
-#include "terms/wall.h"
-}  // namespace semlb::engine::phys32
+#define SEMLB_TERM_HEADER "terms/wall.h"
+#include "terms/instantiate.hpp"
 
 namespace semlb::engine {
 namespace {

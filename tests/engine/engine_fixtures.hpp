@@ -1,5 +1,6 @@
 // Helpers for the engine tests: small scenes from text, random tissues, backend lists and the rank-count harness.
 #pragma once
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "engine/model/scene.hpp"
 #include "engine/model/state.hpp"
 #include "engine/io/io.hpp"
+#include "engine/run/simulation.hpp"
 #include "../run_command.hpp"
 
 namespace semlb::engine::testing {
@@ -52,6 +54,41 @@ inline std::vector<std::string> available_backends() {
     b.push_back("opencl-binned");
   }
   return b;
+}
+
+// Every backend this machine runs (available_backends) in both precisions, as (name, precision) pairs.
+inline std::vector<std::pair<std::string, std::string>> backend_precisions() {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& b : available_backends())
+    for (const char* p : {"double", "float"}) out.emplace_back(b, p);
+  return out;
+}
+// A backend by name and precision, the other settings at their defaults.
+inline std::unique_ptr<Backend> backend(const std::string& name, const std::string& precision) {
+  BackendConfig c;
+  c.name = name;
+  c.precision = precision;
+  return make_backend(c);
+}
+// What `read` (a plug-in's ElementTerm::read or RemovalRule::read) derives from the YAML map `yaml` read as the
+// section effects.NAME; every key must have been read (Section::finish).
+template <class Read>
+std::vector<double> section_params(const std::string& name, const std::string& yaml, const Read& read) {
+  const Section s(YAML::Load(yaml), "effects." + name, "test.yaml", nullptr);
+  auto p = read(s);
+  s.finish();
+  return p;
+}
+// The InputError message of kMechanicsYaml with `overrides`, constructed as a Simulation does (the effects' sections
+// read), or "no error".
+inline std::string scene_error(const std::vector<std::string>& overrides) {
+  try {
+    auto scene = scene_from(kMechanicsYaml, overrides);
+    Simulation sim(scene, random_state(2, 2, 5.0, 1));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
 }
 
 // `semlb sim` under mpirun on `ranks` ranks, bounded by `seconds` (a hang fails the test); `env` holds VAR=VALUE

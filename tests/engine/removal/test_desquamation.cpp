@@ -83,15 +83,7 @@ TEST(Desquamation, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
 }
 
 TEST(Desquamation, SceneErrorsNameTheField) {
-  auto message = [](const std::string& yaml) {
-    try {
-      auto scene = testing::scene_from(testing::kMechanicsYaml, {"effects.desquamation=" + yaml});
-      Simulation sim(scene, testing::random_state(2, 2, 5.0, 1));
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
+  auto message = [](const std::string& yaml) { return testing::scene_error({"effects.desquamation=" + yaml}); };
   EXPECT_NE(message("{}").find("effects.desquamation.height': is required"), std::string::npos) << message("{}");
   EXPECT_NE(message("{height: -1}").find("effects.desquamation.height"), std::string::npos) << message("{height: -1}");
   EXPECT_NE(message("{height: 1e}").find("effects.desquamation.height"), std::string::npos) << message("{height: 1e}");

@@ -14,13 +14,6 @@
 namespace semlb::engine {
 namespace {
 
-std::vector<double> example_params(const std::string& name) {
-  const Section s(YAML::Load(removal_rule(name).example), "effects." + name, "test.yaml", nullptr);
-  auto p = removal_rule(name).read(s);
-  s.finish();
-  return p;
-}
-
 // `s` without the cells that rule `name` flags: the reference.
 State kept_by(const std::string& name, const State& s, const std::vector<double>& params) {
   State out;
@@ -43,34 +36,30 @@ TEST(RemovalRules, EveryRuleOnEveryBackendRemovesWhatItsEvaluatorFlags) {
   s.cell_fields["division.depth"] = std::vector<double>(s.cells());
   for (long c = 0; c < s.cells(); ++c) s.cell_fields["growth.clock"][c] = 0.25 * c, s.cell_fields["division.depth"][c] = c % 5;
   for (const auto& name : removal_rule_names()) {
-    const auto params = example_params(name);
-    for (const auto& backend : testing::available_backends())
-      for (const std::string precision : {"double", "float"}) {
-        BackendConfig c;
-        c.name = backend;
-        c.precision = precision;
-        auto b = make_backend(c);
-        b->upload(s);
-        State before = s;
-        b->download(before);  // the positions as this backend holds them (float: rounded)
-        const State want = kept_by(name, before, params);
-        ASSERT_GT(want.cells(), 0) << name << ": the example removes every cell";
-        ASSERT_LT(want.cells(), s.cells()) << name << ": the example removes nothing";
-        State host = before;
-        EXPECT_EQ(b->remove_cells(host, name, params), s.cells() - want.cells()) << name << " on " << backend;
-        b->download(host);
-        EXPECT_EQ(b->counts(host), (std::pair<long, long>{want.cells(), want.elements()})) << name << " on " << backend;
-        EXPECT_EQ(host.cell_id, want.cell_id) << name << " on " << backend << " " << precision;
-        EXPECT_EQ(host.position, want.position) << name << " on " << backend << " " << precision;
-        EXPECT_EQ(host.cell_fields, want.cell_fields) << name << " on " << backend << " " << precision;
-        if (backend.rfind("opencl", 0) == 0) {
-          EXPECT_EQ(b->launches().at("remove_" + name), 1);
-        }
-        // A second pass finds nothing more to remove and changes nothing.
-        EXPECT_EQ(b->remove_cells(host, name, params), 0);
-        const auto names = effect_names();
-        EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name << " is not an effect";
+    const auto params = testing::section_params(name, removal_rule(name).example, removal_rule(name).read);
+    for (const auto& [backend, precision] : testing::backend_precisions()) {
+      auto b = testing::backend(backend, precision);
+      b->upload(s);
+      State before = s;
+      b->download(before);  // the positions as this backend holds them (float: rounded)
+      const State want = kept_by(name, before, params);
+      ASSERT_GT(want.cells(), 0) << name << ": the example removes every cell";
+      ASSERT_LT(want.cells(), s.cells()) << name << ": the example removes nothing";
+      State host = before;
+      EXPECT_EQ(b->remove_cells(host, name, params), s.cells() - want.cells()) << name << " on " << backend;
+      b->download(host);
+      EXPECT_EQ(b->counts(host), (std::pair<long, long>{want.cells(), want.elements()})) << name << " on " << backend;
+      EXPECT_EQ(host.cell_id, want.cell_id) << name << " on " << backend << " " << precision;
+      EXPECT_EQ(host.position, want.position) << name << " on " << backend << " " << precision;
+      EXPECT_EQ(host.cell_fields, want.cell_fields) << name << " on " << backend << " " << precision;
+      if (backend.rfind("opencl", 0) == 0) {
+        EXPECT_EQ(b->launches().at("remove_" + name), 1);
       }
+      // A second pass finds nothing more to remove and changes nothing.
+      EXPECT_EQ(b->remove_cells(host, name, params), 0);
+      const auto names = effect_names();
+      EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name << " is not an effect";
+    }
   }
 }
 

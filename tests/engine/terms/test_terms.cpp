@@ -15,13 +15,6 @@
 namespace semlb::engine {
 namespace {
 
-std::vector<double> example_params(const std::string& name) {
-  const Section s(YAML::Load(element_term(name).example), "effects." + name, "test.yaml", nullptr);
-  auto p = element_term(name).read(s);
-  s.finish();
-  return p;
-}
-
 // The evaluator's force on every element of `s` in precision Real, in fixed point (the reference).
 template <class Real>
 std::vector<int64_t> reference(const std::string& name, const State& s, const std::vector<double>& params) {
@@ -43,32 +36,28 @@ TEST(ElementTerms, EveryTermOnEveryBackendAddsWhatItsEvaluatorGives) {
   ASSERT_FALSE(element_term_names().empty());
   const State s = testing::random_state(40, 8, 40.0, 21);
   for (const auto& name : element_term_names()) {
-    const auto params = example_params(name);
-    for (const auto& backend : testing::available_backends())
-      for (const std::string precision : {"double", "float"}) {
-        BackendConfig c;
-        c.name = backend;
-        c.precision = precision;
-        auto b = make_backend(c);
-        b->upload(s);
-        b->zero_forces();
-        b->element_term(name, params);
-        const auto got = b->fixed_forces();
-        const auto want = precision == "double" ? reference<double>(name, s, params) : reference<float>(name, s, params);
-        ASSERT_EQ(got.size(), want.size());
-        const bool cpp = backend.rfind("opencl", 0) != 0;
-        // OpenCL's exp may differ from std::exp by a few ulps: 1e-12 (double) or 1e-5 (float) of the force, + 1 unit.
-        const double rel = cpp ? 0 : (precision == "double" ? 1e-12 : 1e-5);
-        long nonzero = 0;
-        for (size_t k = 0; k < got.size(); ++k) {
-          nonzero += want[k] != 0;
-          const double tol = rel * std::abs(static_cast<double>(want[k])) + (cpp ? 0 : 1);
-          ASSERT_LE(std::abs(static_cast<double>(got[k] - want[k])), tol)
-              << name << " on " << backend << " " << precision << ", element " << k / 3 << " component " << k % 3;
-        }
-        EXPECT_GT(nonzero, 0) << name << ": the example exerts no force at all";
-        EXPECT_EQ(b->launches().at(name), 1) << name << " on " << backend;
+    const auto params = testing::section_params(name, element_term(name).example, element_term(name).read);
+    for (const auto& [backend, precision] : testing::backend_precisions()) {
+      auto b = testing::backend(backend, precision);
+      b->upload(s);
+      b->zero_forces();
+      b->element_term(name, params);
+      const auto got = b->fixed_forces();
+      const auto want = precision == "double" ? reference<double>(name, s, params) : reference<float>(name, s, params);
+      ASSERT_EQ(got.size(), want.size());
+      const bool cpp = backend.rfind("opencl", 0) != 0;
+      // OpenCL's exp may differ from std::exp by a few ulps: 1e-12 (double) or 1e-5 (float) of the force, + 1 unit.
+      const double rel = cpp ? 0 : (precision == "double" ? 1e-12 : 1e-5);
+      long nonzero = 0;
+      for (size_t k = 0; k < got.size(); ++k) {
+        nonzero += want[k] != 0;
+        const double tol = rel * std::abs(static_cast<double>(want[k])) + (cpp ? 0 : 1);
+        ASSERT_LE(std::abs(static_cast<double>(got[k] - want[k])), tol)
+            << name << " on " << backend << " " << precision << ", element " << k / 3 << " component " << k % 3;
       }
+      EXPECT_GT(nonzero, 0) << name << ": the example exerts no force at all";
+      EXPECT_EQ(b->launches().at(name), 1) << name << " on " << backend;
+    }
   }
 }
 

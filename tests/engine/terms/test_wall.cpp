@@ -13,10 +13,7 @@
 namespace semlb::engine {
 namespace {
 
-std::vector<double> params(const std::string& yaml) {
-  const Section s(YAML::Load(yaml), "effects.wall", "test.yaml", nullptr);
-  return element_term("wall").read(s);
-}
+std::vector<double> params(const std::string& yaml) { return testing::section_params("wall", yaml, element_term("wall").read); }
 
 // The force on one element at (x, y, 5) from the walls of `yaml`, on the serial backend (double).
 std::array<double, 3> force_at(double x, double y, const std::string& yaml) {
@@ -26,9 +23,7 @@ std::array<double, 3> force_at(double x, double y, const std::string& yaml) {
   s.cell_count = {1};
   s.position = {x, y, 5};
   s.reindex();
-  BackendConfig c;
-  c.name = "serial";
-  auto b = make_backend(c);
+  auto b = testing::backend("serial", "double");
   b->upload(s);
   b->zero_forces();
   b->element_term("wall", params(yaml));
@@ -78,15 +73,7 @@ TEST(Wall, ConfinesASpreadingTissueThatSpreadsWithoutIt) {
 }
 
 TEST(Wall, SceneErrorsNameTheField) {
-  auto message = [](const std::string& yaml) {
-    try {
-      auto scene = testing::scene_from(testing::kMechanicsYaml, {"effects.wall=" + yaml});
-      Simulation sim(scene, testing::random_state(2, 2, 5.0, 1));
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
+  auto message = [](const std::string& yaml) { return testing::scene_error({"effects.wall=" + yaml}); };
   EXPECT_NE(message("{xlo: 5, xhi: 5}").find("effects.wall.xhi': must be above xlo (5 um)"), std::string::npos)
       << message("{xlo: 5, xhi: 5}");
   EXPECT_NE(message("{}").find("names no face"), std::string::npos) << message("{}");
