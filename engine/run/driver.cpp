@@ -4,9 +4,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -160,6 +162,204 @@ long next_stop(const Scene& scene, long step, long last) {
   return std::min({last, next(scene.log_every), next(scene.snapshot_every), next(scene.checkpoint_every)});
 }
 
+// What the one run loop (drive) needs of a run: one device (OneDevice) or this rank of a decomposed run
+// (Decomposed). The collective calls (since_last, any, whole, agreed) are called on every rank alike.
+class Run {
+ public:
+  virtual ~Run() = default;
+  virtual bool root() const = 0;
+  virtual long step() = 0;
+  virtual void advance(long stop) = 0;
+  virtual std::pair<long, long> totals() = 0;  // cells and elements (over every rank)
+  // Per phase the seconds since the last call (decomposed: the slowest rank's), then the bytes h2d and d2h (summed).
+  virtual std::pair<std::vector<double>, std::array<long, 2>> since_last() = 0;
+  virtual void mark() = 0;  // since_last counts from now (this rank's own baseline; not collective)
+  virtual bool any(bool mine) = 0;  // true when `mine` is true on some rank
+  virtual State whole() = 0;        // the whole tissue (decomposed: on rank 0, gathered)
+  virtual void agreed(const std::function<void()>& f) = 0;  // f, whose errors every rank agrees on
+  virtual void save(RunOutputs& out, const State& all, long stop) = 0;  // the snapshot/checkpoint due at `stop`
+  // The state to write as failure.h5 when `e` (thrown by advance) is a numerical failure; false to rethrow as is.
+  virtual bool failed(const std::exception& e, State& frozen) = 0;
+  virtual void finish(RunOutputs& out, const State& all) = 0;  // files beside final.h5 (rank 0)
+  virtual std::string device() = 0;
+};
+
+// The loop every `semlb sim` runs, once: stops at each log/snapshot/checkpoint step, one run.csv row per log step
+// (the header: step,time_h,cells,elements,wall_s, a column per phase, bytes_h2d,bytes_d2h), the status line, the
+// failure state, final.h5. `out` is rank 0's files (null elsewhere).
+RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long first, RunOutputs* out) {
+  const long last = std::max(scene.steps, first);
+  const bool root = run.root();
+  StatusLine status(config.quiet || !root, first, last);
+  const auto t0 = std::chrono::steady_clock::now();
+  double wall_before = 0;
+  if (run.any(root && out->wants_first_snapshot(first))) {
+    const State all = run.whole();
+    run.agreed([&] {
+      if (root) out->save_first(all);
+    });
+  }
+  run.mark();  // the first row's bytes are its steps', not the first snapshot's download
+  try {
+    while (run.step() < last) {
+      const long stop = next_stop(scene, run.step(), last);
+      run.advance(stop);
+      const auto [cells, elements] = run.totals();  // no download: the state crosses only when a file needs it
+      const bool log = stop % scene.log_every == 0 || stop == last;
+      std::pair<std::vector<double>, std::array<long, 2>> since;
+      if (log) since = run.since_last();
+      const bool gather = run.any(root && out->wants_state(stop));
+      const State all = gather ? run.whole() : State{};
+      run.agreed([&] {
+        if (!root) return;
+        if (log) {
+          std::ostringstream row;
+          const double w = seconds_since(t0);
+          row << stop << "," << format_real(static_cast<double>(stop) * scene.dt) << "," << cells << "," << elements << ","
+              << format_real(w - wall_before);
+          for (double t : since.first) row << "," << format_real(t);
+          row << "," << since.second[0] << "," << since.second[1];
+          out->log(row.str());
+          wall_before = w;
+        }
+        if (gather) run.save(*out, all, stop);
+      });
+      status.update(stop, cells, elements, seconds_since(t0), false);
+    }
+  } catch (const std::exception& e) {
+    State frozen;
+    if (!run.failed(e, frozen)) throw;
+    run.agreed([&] {
+      if (root) out->write("failure.h5", frozen);
+    });
+    throw;
+  }
+  const State all = run.whole();
+  run.agreed([&] {
+    if (!root) return;
+    out->write("final.h5", all);
+    run.finish(*out, all);
+    status.update(all.step, all.cells(), all.elements(), seconds_since(t0), true);
+  });
+  return {all.step - first, all.cells(), all.elements(), seconds_since(t0), run.device()};
+}
+
+// The header of run.csv for these phases.
+std::string run_header(const std::vector<std::string>& phases) {
+  std::string header = "step,time_h,cells,elements,wall_s";
+  for (const auto& p : phases) header += "," + p + "_s";
+  return header + ",bytes_h2d,bytes_d2h";
+}
+
+// Phase seconds and bytes of `sim` since the last call (the baseline: construction).
+class Deltas {
+ public:
+  explicit Deltas(Simulation& sim) : sim_(sim), phases_(sim.phase_seconds()), bytes_(sim.backend().traffic_total()) {}
+  std::pair<std::vector<double>, std::array<long, 2>> next() {
+    std::vector<double> d = sim_.phase_seconds();
+    for (size_t p = 0; p < d.size(); ++p) d[p] -= phases_[p];
+    phases_ = sim_.phase_seconds();
+    const Traffic now = sim_.backend().traffic_total();
+    const std::array<long, 2> b = {now.h2d - bytes_.h2d, now.d2h - bytes_.d2h};
+    bytes_ = now;
+    return {d, b};
+  }
+
+ private:
+  Simulation& sim_;
+  std::vector<double> phases_;
+  Traffic bytes_;
+};
+
+class OneDevice final : public Run {
+ public:
+  OneDevice(const Scene& scene, Simulation& sim) : scene_(scene), sim_(sim), deltas_(sim) {}
+  bool root() const override { return true; }
+  long step() override { return sim_.host_state().step; }
+  void advance(long stop) override { sim_.advance(stop); }
+  std::pair<long, long> totals() override { return sim_.counts(); }
+  std::pair<std::vector<double>, std::array<long, 2>> since_last() override { return deltas_.next(); }
+  void mark() override { deltas_.next(); }
+  bool any(bool mine) override { return mine; }
+  State whole() override { return sim_.sync(); }
+  void agreed(const std::function<void()>& f) override { f(); }
+  void save(RunOutputs& out, const State& all, long) override { out.save(all); }
+  bool failed(const std::exception& e, State& frozen) override {
+    if (!dynamic_cast<const SimulationError*>(&e)) return false;
+    frozen = failing_state(sim_.host_state(), sim_.backend().failure().step, scene_.dt);
+    return true;
+  }
+  void finish(RunOutputs&, const State&) override {}
+  std::string device() override { return sim_.backend().device_name(); }
+
+ private:
+  const Scene& scene_;
+  Simulation& sim_;
+  Deltas deltas_;
+};
+
+class Decomposed final : public Run {
+ public:
+  Decomposed(const Scene& scene, const RunConfig& config, DistributedSimulation& sim, Mpi& mpi, long first)
+      : scene_(scene), config_(config), sim_(sim), mpi_(mpi), first_(first), deltas_(sim.local()) {}
+  bool root() const override { return mpi_.rank() == 0; }
+  long step() override { return sim_.step(); }
+  void advance(long stop) override { sim_.advance(stop); }
+  std::pair<long, long> totals() override { return sim_.totals(); }
+  std::pair<std::vector<double>, std::array<long, 2>> since_last() override {
+    auto [mine, bytes] = deltas_.next();
+    std::vector<double> slowest(mine.size(), 0.0);
+    const auto all = mpi_.allgather(mine);
+    for (size_t i = 0; i < all.size(); ++i) slowest[i % mine.size()] = std::max(slowest[i % mine.size()], all[i]);
+    std::vector<double> summed = {static_cast<double>(bytes[0]), static_cast<double>(bytes[1])};
+    mpi_.allreduce_sum(summed);
+    return {slowest, {static_cast<long>(summed[0]), static_cast<long>(summed[1])}};
+  }
+  void mark() override { deltas_.next(); }
+  bool any(bool mine) override { return mpi_.allreduce_max(mine ? 1 : 0) > 0; }
+  State whole() override { return sim_.gather(); }
+  void agreed(const std::function<void()>& f) override { agree(mpi_, f); }
+  void save(RunOutputs& out, const State& all, long stop) override {
+    const auto balancer = sim_.checkpoint();
+    out.save(all, &balancer);
+    if (scene_.record_workload && scene_.checkpoint_every > 0 && stop % scene_.checkpoint_every == 0)  // a restart continues it
+      sim_.write_workload(config_.out_dir + "/workload.h5", config_.command_line, config_.git_revision);
+  }
+  bool failed(const std::exception& e, State& frozen) override {
+    const auto* agreed = dynamic_cast<const AgreedError*>(&e);
+    if (!agreed || agreed->failed_step < 0) return false;
+    frozen = failing_state(sim_.gather(), agreed->failed_step, scene_.dt);  // every rank is here
+    return true;
+  }
+  void finish(RunOutputs&, const State&) override {
+    if (scene_.record_workload) sim_.write_workload(config_.out_dir + "/workload.h5", config_.command_line, config_.git_revision);
+    namespace rt = rank_times;
+    std::string rows;
+    for (const char* c : rt::kColumns) (rows += rows.empty() ? "" : ",") += c;
+    rows += "\n";
+    for (const auto& row : earlier_rows(config_.out_dir + "/" + rt::kFile, first_)) rows += row + "\n";  // a restart's
+    for (const auto& iv : sim_.intervals())
+      for (size_t r = 0; r < iv.times.size(); ++r) {
+        const std::map<std::string_view, std::string> field = {
+            {rt::kStep, std::to_string(iv.step)}, {rt::kRank, std::to_string(r)}, {rt::kComputeS, format_real(iv.times[r])},
+            {rt::kExchangeS, format_real(iv.exchange[r])}, {rt::kMigrateS, format_real(iv.migrate[r])},
+            {rt::kImbalance, format_real(iv.imbalance)}, {rt::kMovedSlices, std::to_string(iv.moved)}};
+        for (size_t c = 0; c < rt::kColumns.size(); ++c) (rows += c ? "," : "") += field.at(rt::kColumns[c]);
+        rows += "\n";
+      }
+    write_file_atomically(config_.out_dir + "/" + rt::kFile, rows);
+  }
+  std::string device() override { return sim_.local().backend().device_name(); }
+
+ private:
+  const Scene& scene_;
+  const RunConfig& config_;
+  DistributedSimulation& sim_;
+  Mpi& mpi_;
+  long first_;
+  Deltas deltas_;
+};
+
 }  // namespace
 
 RunSummary run_scene(Scene& scene, const RunConfig& config) {
@@ -167,48 +367,12 @@ RunSummary run_scene(Scene& scene, const RunConfig& config) {
   if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);  // the tissue section is not used
   check_steps_ahead(scene, config, initial);
   Decomposition::from_scene(scene, 1);  // a scene meant for mpirun is checked on one device too
-  const long first = initial.step, last = std::max(scene.steps, first);
+  const long first = initial.step;
   Simulation sim(scene, std::move(initial));  // all input checked before anything is written
-
-  std::string header = "step,time_h,cells,elements,wall_s";
-  for (const auto& p : sim.phases()) header += "," + p + "_s";
-  header += ",bytes_h2d,bytes_d2h";
-  RunOutputs out(scene, config, first, header,
+  RunOutputs out(scene, config, first, run_header(sim.phases()),
                  {{"git_revision", config.git_revision}, {"scene", scene.name}, {"backend", sim.backend().name()}});
-  StatusLine status(config.quiet, first, last);
-  const auto t0 = std::chrono::steady_clock::now();
-  std::vector<double> phase_before = sim.phase_seconds();
-  double wall_before = 0;
-  if (out.wants_first_snapshot(first)) out.save_first(sim.sync());
-  Traffic bytes_before = sim.backend().traffic_total();
-  try {
-    while (sim.host_state().step < last) {
-      const long stop = next_stop(scene, sim.host_state().step, last);
-      sim.advance(stop);
-      const auto [cells, elements] = sim.counts();  // no download: the state crosses only when a file needs it
-      if (stop % scene.log_every == 0 || stop == last) {
-        std::ostringstream row;
-        const double w = seconds_since(t0);
-        const Traffic bytes = sim.backend().traffic_total();
-        row << stop << "," << format_real(sim.host_state().time) << "," << cells << "," << elements << "," << format_real(w - wall_before);
-        for (size_t p = 0; p < sim.phases().size(); ++p) row << "," << format_real(sim.phase_seconds()[p] - phase_before[p]);
-        row << "," << bytes.h2d - bytes_before.h2d << "," << bytes.d2h - bytes_before.d2h;
-        out.log(row.str());
-        phase_before = sim.phase_seconds();
-        wall_before = w;
-        bytes_before = bytes;
-      }
-      if (out.wants_state(stop)) out.save(sim.sync());
-      status.update(stop, cells, elements, seconds_since(t0), false);
-    }
-  } catch (const SimulationError&) {
-    out.write("failure.h5", failing_state(sim.host_state(), sim.backend().failure().step, scene.dt));
-    throw;
-  }
-  const State& s = sim.sync();
-  out.write("final.h5", s);
-  status.update(s.step, s.cells(), s.elements(), seconds_since(t0), true);
-  return {s.step - first, s.cells(), s.elements(), seconds_since(t0), sim.backend().device_name()};
+  OneDevice run(scene, sim);
+  return drive(run, scene, config, first, &out);
 }
 
 // Every error is collective (docs/engine.md "Failures"): the setup, rank 0's files and the run's own checks
@@ -226,106 +390,19 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
     if (restored && scene.auto_box) std::tie(scene.box_lo[0], scene.box_hi[0]) = std::pair(restored->x_lo, restored->x_hi);
     sim = std::make_unique<DistributedSimulation>(scene, initial, mpi, root ? config.out_dir + "/trace.jsonl" : "", restored);
   });
-  const long first = initial.step, last = std::max(scene.steps, first);
-  // The per-phase columns of a one-device run, each the slowest rank's, and the bytes summed over the ranks.
-  std::string header = "step,time_h,cells,elements,wall_s";
-  const auto& phases = sim->local().phases();
-  for (const auto& p : phases) header += "," + p + "_s";
-  header += ",bytes_h2d,bytes_d2h";
-  std::unique_ptr<RunOutputs> out;  // rank 0 writes every file
+  const long first = initial.step;
+  std::unique_ptr<RunOutputs> out;  // rank 0 writes every file; the per-phase columns are each the slowest rank's
   agree(mpi, [&] {
     if (root)
-      out = std::make_unique<RunOutputs>(scene, config, first, header,
+      out = std::make_unique<RunOutputs>(scene, config, first, run_header(sim->local().phases()),
                                          std::map<std::string, std::string>{{"git_revision", config.git_revision},
                                                                             {"scene", scene.name},
                                                                             {"backend", sim->local().backend().name()},
                                                                             {"ranks", std::to_string(mpi.size())}});
   });
   if (root && !sim->restarted().empty()) std::cerr << "semlb sim: restart: " << sim->restarted() << "\n";
-  StatusLine status(config.quiet || !root, first, last);
-  const auto t0 = std::chrono::steady_clock::now();
-  double wall_before = 0;
-  std::vector<double> phase_before = sim->local().phase_seconds();
-  Traffic bytes_before = sim->local().backend().traffic_total();
-  if (mpi.allreduce_max(root && out->wants_first_snapshot(first) ? 1 : 0) > 0) {
-    const State all = sim->gather();
-    agree(mpi, [&] {
-      if (root) out->save_first(all);
-    });
-  }
-  try {
-    while (sim->step() < last) {
-      const long stop = next_stop(scene, sim->step(), last);
-      sim->advance(stop);
-      const auto [cells, elements] = sim->totals();
-      const bool log = stop % scene.log_every == 0 || stop == last;
-      std::vector<double> slowest(phases.size(), 0.0), bytes(2, 0.0);
-      if (log) {  // collective: every rank takes part
-        std::vector<double> mine = sim->local().phase_seconds();
-        for (size_t p = 0; p < mine.size(); ++p) mine[p] -= phase_before[p];
-        phase_before = sim->local().phase_seconds();
-        const auto all = mpi.allgather(mine);
-        for (size_t i = 0; i < all.size(); ++i) slowest[i % phases.size()] = std::max(slowest[i % phases.size()], all[i]);
-        const Traffic now = sim->local().backend().traffic_total();
-        bytes = {static_cast<double>(now.h2d - bytes_before.h2d), static_cast<double>(now.d2h - bytes_before.d2h)};
-        bytes_before = now;
-        mpi.allreduce_sum(bytes);
-      }
-      // the whole tissue travels to rank 0 only when a file needs it
-      const bool gather = mpi.allreduce_max(root && out->wants_state(stop) ? 1 : 0) > 0;
-      const State all = gather ? sim->gather() : State{};
-      agree(mpi, [&] {
-        if (!root) return;
-        if (log) {
-          std::ostringstream row;
-          const double w = seconds_since(t0);
-          row << stop << "," << format_real(static_cast<double>(stop) * scene.dt) << "," << cells << "," << elements << ","
-              << format_real(w - wall_before);
-          for (double t : slowest) row << "," << format_real(t);
-          row << "," << static_cast<long>(bytes[0]) << "," << static_cast<long>(bytes[1]);
-          out->log(row.str());
-          wall_before = w;
-        }
-        if (gather) {
-          const auto balancer = sim->checkpoint();
-          out->save(all, &balancer);
-          if (scene.record_workload && scene.checkpoint_every > 0 && stop % scene.checkpoint_every == 0)  // a restart continues it
-            sim->write_workload(config.out_dir + "/workload.h5", config.command_line, config.git_revision);
-        }
-      });
-      status.update(stop, cells, elements, seconds_since(t0), false);
-    }
-  } catch (const AgreedError& e) {
-    if (e.failed_step < 0) throw;
-    const State all = failing_state(sim->gather(), e.failed_step, scene.dt);  // every rank is here
-    agree(mpi, [&] {
-      if (root) out->write("failure.h5", all);
-    });
-    throw;
-  }
-  const State all = sim->gather();
-  agree(mpi, [&] {
-    if (!root) return;
-    out->write("final.h5", all);
-    if (scene.record_workload) sim->write_workload(config.out_dir + "/workload.h5", config.command_line, config.git_revision);
-    namespace rt = rank_times;
-    std::string rows;
-    for (const char* c : rt::kColumns) (rows += rows.empty() ? "" : ",") += c;
-    rows += "\n";
-    for (const auto& row : earlier_rows(config.out_dir + "/" + rt::kFile, first)) rows += row + "\n";  // a restart's
-    for (const auto& iv : sim->intervals())
-      for (size_t r = 0; r < iv.times.size(); ++r) {
-        const std::map<std::string_view, std::string> field = {
-            {rt::kStep, std::to_string(iv.step)}, {rt::kRank, std::to_string(r)}, {rt::kComputeS, format_real(iv.times[r])},
-            {rt::kExchangeS, format_real(iv.exchange[r])}, {rt::kMigrateS, format_real(iv.migrate[r])},
-            {rt::kImbalance, format_real(iv.imbalance)}, {rt::kMovedSlices, std::to_string(iv.moved)}};
-        for (size_t c = 0; c < rt::kColumns.size(); ++c) (rows += c ? "," : "") += field.at(rt::kColumns[c]);
-        rows += "\n";
-      }
-    write_file_atomically(config.out_dir + "/" + rt::kFile, rows);
-    status.update(all.step, all.cells(), all.elements(), seconds_since(t0), true);
-  });
-  return {all.step - first, all.cells(), all.elements(), seconds_since(t0), sim->local().backend().device_name()};
+  Decomposed run(scene, config, *sim, mpi, first);
+  return drive(run, scene, config, first, out.get());
 }
 
 }  // namespace semlb::engine
