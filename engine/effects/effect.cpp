@@ -16,7 +16,13 @@ Registry<EffectInfo>& registry() {
 }
 }  // namespace
 
-EffectRegistrar::EffectRegistrar(const std::string& name, EffectInfo info) { registry().add(name, std::move(info)); }
+EffectRegistrar::EffectRegistrar(const std::string& name, EffectInfo info) {
+  // An effect's phase column NAME_s in run.csv must not be one of the driver's own (run_header: wall_s, and the
+  // integrate_s and cells_s phases); a name registered twice is a programming error as well.
+  if (name == "wall" || name == "integrate" || name == "cells" || registry().find(name))
+    throw std::logic_error("effect '" + name + "': the name is taken (run.csv column " + name + "_s or a registered effect)");
+  registry().add(name, std::move(info));
+}
 
 std::vector<std::string> effect_names() { return registry().names(); }
 

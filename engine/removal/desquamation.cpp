@@ -12,7 +12,10 @@ namespace {
 
 // effects.desquamation: {height: um above the membrane at z = 0; required}.
 std::vector<double> read(const Section& s) {
-  if (!s.has("height")) s.fail("height", "is required (um: cells whose centroid is above it are shed)");
+  if (!s.has("height")) {  // a misspelt key is the likelier cause: named first
+    for (const auto& k : s.keys()) s.fail(k, "unknown setting (known: height)");
+    s.fail("height", "is required (um: cells whose centroid is above it are shed)");
+  }
   return {s.real("height", 0, 0, 1e9)};
 }
 

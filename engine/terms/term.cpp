@@ -3,6 +3,7 @@
 
 #include <stdexcept>
 
+#include "common/errors.hpp"
 #include "common/registry.hpp"
 #include "effects/effect.hpp"
 
@@ -18,13 +19,20 @@ Registry<ElementTerm>& registry() {
 // a term of an element's own position needs no ghost).
 class TermEffect final : public Effect {
  public:
-  TermEffect(std::string name, std::vector<double> params) : name_(std::move(name)), params_(std::move(params)) {}
+  TermEffect(std::string name, const Section& s) : name_(std::move(name)), where_(s.where("")) {
+    params_ = element_term(name_).read(s);
+    if (params_.size() > 64) throw std::logic_error("element term '" + name_ + "': more than 64 parameters");
+  }
   std::string name() const override { return name_; }
+  void prepare(State& s) override {  // the initial state, before anything runs
+    if (const auto& check = element_term(name_).check)
+      if (const std::string why = check(s, params_); !why.empty()) throw InputError(where_ + why);
+  }
   bool adds_forces() const override { return true; }
   void forces(Backend& b, const Grid&) override { b.element_term(name_, params_); }
 
  private:
-  std::string name_;
+  std::string name_, where_;
   std::vector<double> params_;
 };
 
@@ -37,9 +45,7 @@ ElementTermRegistrar::ElementTermRegistrar(const std::string& name, ElementTerm 
   registry().add(name, std::move(term));
   const std::string example = registry().find(name)->example;
   EffectRegistrar(name, {order,
-                         [name](const Section& s, const Scene&) {
-                           return std::make_unique<TermEffect>(name, element_term(name).read(s));
-                         },
+                         [name](const Section& s, const Scene&) { return std::make_unique<TermEffect>(name, s); },
                          example});
 }
 

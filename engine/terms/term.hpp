@@ -8,6 +8,7 @@
 
 #include "backends/cpu_physics.hpp"
 #include "model/scene.hpp"
+#include "model/state.hpp"
 
 namespace semlb::engine {
 
@@ -29,6 +30,9 @@ struct ElementTerm {
   TermEvaluator<float> f32 = nullptr;
   // A valid section for it (YAML flow map): what the suites that iterate element_term_names() run it with.
   std::string example = "{}";
+  // Optional: what is wrong with the initial state under these parameters (empty: nothing), e.g. elements behind a
+  // wall; the effect then refuses the state with InputError naming the section.
+  std::function<std::string(const State&, const std::vector<double>&)> check;
 };
 
 // Registers `term` under `name` (a C identifier: it names the OpenCL kernel) as an element term and as an

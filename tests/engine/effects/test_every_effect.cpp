@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
+#include "common/text_io.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/model/tissue.hpp"
 #include "engine/run/simulation.hpp"
@@ -54,7 +56,12 @@ TEST_P(EveryEffect, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
   const std::string args = " --scene " + test::source("scenes/mechanics.yaml") +
                            " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=20"
                            " --set time.cell_update_every=10 --steps 60 --set '" + set() + "'";
-  testing::expect_same_state_on_ranks(args, test::fresh_dir("every_effect_" + GetParam()));
+  const std::string dir = test::fresh_dir("every_effect_" + GetParam());
+  testing::expect_same_state_on_ranks(args, dir);
+  // run.csv's columns stay distinct with the effect's phase column (NAME_s) among them.
+  const auto header = split(split(read_file(dir + "/single/run.csv"), '\n')[0], ',');
+  const std::set<std::string> distinct(header.begin(), header.end());
+  EXPECT_EQ(distinct.size(), header.size()) << read_file(dir + "/single/run.csv").substr(0, 200);
 }
 
 INSTANTIATE_TEST_SUITE_P(Registered, EveryEffect, ::testing::ValuesIn(effect_names()),

@@ -88,6 +88,9 @@ TEST(Desquamation, SceneErrorsNameTheField) {
   EXPECT_NE(message("{height: -1}").find("effects.desquamation.height"), std::string::npos) << message("{height: -1}");
   EXPECT_NE(message("{height: 1e}").find("effects.desquamation.height"), std::string::npos) << message("{height: 1e}");
   EXPECT_NE(message("{height: 5, hieght: 3}").find("hieght"), std::string::npos) << message("{height: 5, hieght: 3}");
+  // A misspelt key alone is named as such, not as a missing height.
+  EXPECT_NE(message("{heigth: 9}").find("'effects.desquamation.heigth': unknown setting (known: height)"), std::string::npos)
+      << message("{heigth: 9}");
 }
 
 }  // namespace

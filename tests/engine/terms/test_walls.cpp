@@ -1,4 +1,4 @@
-// The "wall" element term: the SEM Morse force of its faces by hand, confinement of a spreading tissue, and its
+// The "walls" element term: the SEM Morse force of its faces by hand, confinement of a spreading tissue, and its
 // scene errors.
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 namespace semlb::engine {
 namespace {
 
-std::vector<double> params(const std::string& yaml) { return testing::section_params("wall", yaml, element_term("wall").read); }
+std::vector<double> params(const std::string& yaml) { return testing::section_params("walls", yaml, element_term("walls").read); }
 
 // The force on one element at (x, y, 5) from the walls of `yaml`, on the serial backend (double).
 std::array<double, 3> force_at(double x, double y, const std::string& yaml) {
@@ -26,12 +26,12 @@ std::array<double, 3> force_at(double x, double y, const std::string& yaml) {
   auto b = testing::backend("serial", "double");
   b->upload(s);
   b->zero_forces();
-  b->element_term("wall", params(yaml));
+  b->element_term("walls", params(yaml));
   const auto f = b->fixed_forces();
   return {f[0] * 0x1p-32, f[1] * 0x1p-32, f[2] * 0x1p-32};
 }
 
-TEST(Wall, EachFacePushesInwardWithTheMorseForceOfItsDistance) {
+TEST(Walls, EachFacePushesInwardWithTheMorseForceOfItsDistance) {
   const std::string walls = "{xlo: 0, xhi: 20, ylo: -5, yhi: 5, wall_U: 2, wall_xi: 0.5, adhesion_V: 1, adhesion_xi: 2}";
   auto morse = [](double d) { return 2 / 0.5 * std::exp(-d / 0.5) - 1 / 2.0 * std::exp(-d / 2.0); };
   // 0.3 um inside xlo, 19.7 um inside xhi; 4 um inside ylo, 6 um inside yhi.
@@ -51,7 +51,7 @@ TEST(Wall, EachFacePushesInwardWithTheMorseForceOfItsDistance) {
   EXPECT_EQ(one[1], 0.0);
 }
 
-TEST(Wall, ConfinesASpreadingTissueThatSpreadsWithoutIt) {
+TEST(Walls, ConfinesASpreadingTissueThatSpreadsWithoutIt) {
   // 60 cells of 9 elements packed into a 16 um cube repel each other outward; walls at x = 0 and 16 keep them in.
   const State start = testing::random_state(60, 9, 16.0, 3);
   auto extent = [&](const std::vector<std::string>& extra) {
@@ -66,19 +66,26 @@ TEST(Wall, ConfinesASpreadingTissueThatSpreadsWithoutIt) {
     return std::array<double, 2>{lo, hi};
   };
   const auto free = extent({});
-  const auto walled = extent({"effects.wall={xlo: 0, xhi: 16}"});
+  const auto walled = extent({"effects.walls={xlo: 0, xhi: 16}"});
   EXPECT_TRUE(free[0] < -1 || free[1] > 17) << "the tissue did not spread: " << free[0] << " .. " << free[1];
   EXPECT_GT(walled[0], -0.5);
   EXPECT_LT(walled[1], 16.5);
 }
 
-TEST(Wall, SceneErrorsNameTheField) {
-  auto message = [](const std::string& yaml) { return testing::scene_error({"effects.wall=" + yaml}); };
-  EXPECT_NE(message("{xlo: 5, xhi: 5}").find("effects.wall.xhi': must be above xlo (5 um)"), std::string::npos)
+TEST(Walls, SceneErrorsNameTheField) {
+  auto message = [](const std::string& yaml) { return testing::scene_error({"effects.walls=" + yaml}); };
+  EXPECT_NE(message("{xlo: 5, xhi: 5}").find("effects.walls.xhi': must be above xlo (5 um)"), std::string::npos)
       << message("{xlo: 5, xhi: 5}");
   EXPECT_NE(message("{}").find("names no face"), std::string::npos) << message("{}");
+  // A face inside the starting tissue (random_state: 2 cells in a 5 um box) is refused before the run, naming it,
+  // rather than failing at step 0 on the clamped force; within wall_xi (0.5 um) of the face is allowed.
+  const std::string inside = message("{xhi: 2}");
+  EXPECT_EQ(inside.rfind("--set effects.walls: ", 0), 0u) << inside;  // (a scene file: FILE:LINE: field 'effects.walls': )
+  EXPECT_NE(inside.find("start behind the face xhi = 2 um"), std::string::npos) << inside;
+  EXPECT_EQ(message("{xhi: 5.4}"), "no error");
+  EXPECT_NE(message("{ylo: 4}").find("behind the face ylo = 4 um (y down to"), std::string::npos) << message("{ylo: 4}");
   EXPECT_NE(message("{xlo: 0, xlow: 3}").find("xlow"), std::string::npos) << message("{xlo: 0, xlow: 3}");
-  EXPECT_NE(message("{xlo: abc}").find("effects.wall.xlo"), std::string::npos) << message("{xlo: abc}");
+  EXPECT_NE(message("{xlo: abc}").find("effects.walls.xlo"), std::string::npos) << message("{xlo: abc}");
 }
 
 }  // namespace
