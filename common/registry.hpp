@@ -2,6 +2,7 @@
 #pragma once
 #include <cctype>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -12,7 +13,10 @@ namespace semlb {
 template <class T>
 class Registry {
  public:
-  void add(const std::string& name, T entry) { entries_[name] = std::move(entry); }
+  // std::logic_error when `name` is registered already (two registrars of one name: a programming error).
+  void add(const std::string& name, T entry) {
+    if (!entries_.emplace(name, std::move(entry)).second) throw std::logic_error("'" + name + "' registered twice");
+  }
   // The entry registered under `name`, or nullptr.
   const T* find(const std::string& name) const {
     const auto it = entries_.find(name);
@@ -41,6 +45,22 @@ inline bool is_c_identifier(const std::string& name) {
   for (char c : name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
   return true;
+}
+
+// The most parameters (reals) a plug-in with generated code takes: the size of its parameter buffer on a device.
+inline constexpr size_t kMaxPluginParams = 64;
+
+// The registration checks of such a plug-in (KIND "element term" or "removal rule"): std::logic_error unless `name`
+// is a C identifier.
+inline void check_plugin_name(const std::string& kind, const std::string& name) {
+  if (!is_c_identifier(name)) throw std::logic_error(kind + " '" + name + "': not a C identifier");
+}
+// `params` (a plug-in's parameters read from its scene section), or std::logic_error when there are more than
+// kMaxPluginParams.
+inline std::vector<double> checked_plugin_params(const std::string& kind, const std::string& name, std::vector<double> params) {
+  if (params.size() > kMaxPluginParams)
+    throw std::logic_error(kind + " '" + name + "': more than " + std::to_string(kMaxPluginParams) + " parameters");
+  return params;
 }
 
 }  // namespace semlb

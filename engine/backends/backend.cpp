@@ -56,14 +56,10 @@ void Backend::take_leavers(State& host, const SliceMap& map, const std::vector<i
 long Backend::remove_cells(State& host, const std::string& rule, const std::vector<double>& params) {
   const RemovalEvaluator removes = removal_rule(rule).removes;
   download(host);
-  State kept;
-  kept.step = host.step;
-  kept.time = host.time;
-  for (const auto& [name, f] : host.cell_fields) kept.cell_fields[name];
+  State kept = empty_like(host);
   long removed = 0;
   for (long c = 0; c < host.cells(); ++c) {
-    double ctr[3];
-    cellrules::semlb_cell_centroid(host.position.data(), host.cell_first[c], host.cell_count[c], ctr);
+    const auto ctr = centroid(host, c);
     if (removes(ctr[0], ctr[1], ctr[2], host.cell_type[c], host.cell_count[c], params.data())) ++removed;
     else copy_cell(host, c, kept);
   }

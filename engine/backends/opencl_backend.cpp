@@ -143,7 +143,7 @@ void OpenClBackend<Real>::bands(double below, double above, Ghosts& down, Ghosts
 
 template <class Real>
 void OpenClBackend<Real>::pair_forces_local(const std::vector<double>& table, double cutoff, const Grid& grid) {
-  write_reals(table_, table);
+  write_parameters<Real>(table_, table);
   const Real c2 = static_cast<Real>(cutoff * cutoff);
   if (!binned_) {
     launch("forces_allpairs", owned_, kGroup, pos_.get(), keys_.get(), table_.get(), c2, force_.get(), owned(), cl_int{0},
@@ -161,7 +161,7 @@ template <class Real>
 void OpenClBackend<Real>::pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid& grid) {
   const long ghosts = n_ - owned_;
   if (ghosts == 0) return;
-  write_reals(table_, table);
+  write_parameters<Real>(table_, table);
   const long items = near_valid_ ? near_items_ : owned_;
   const cl_int all = near_valid_ ? 0 : 1;
   if (!binned_) {
@@ -179,11 +179,7 @@ void OpenClBackend<Real>::pair_forces_nonlocal(const std::vector<double>& table,
 template <class Real>
 void OpenClBackend<Real>::element_term(const std::string& name, const std::vector<double>& params) {
   engine::element_term(name);  // std::logic_error for an unregistered name
-  if (params.size() > kTermParams) throw std::logic_error("element term '" + name + "': more than 64 parameters");
-  cl::Mem& p = term_params_[name];
-  if (!p) p = buffer(kTermParams * sizeof(Real));
-  write_reals(p, params);
-  launch(name.c_str(), owned_, kGroup, pos_.get(), p.get(), force_.get(), owned());
+  launch(name.c_str(), owned_, kGroup, pos_.get(), plugin_parameters<Real>(term_params_, name, params), force_.get(), owned());
 }
 
 template <class Real>

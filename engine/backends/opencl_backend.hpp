@@ -11,6 +11,7 @@
 #include <tuple>
 #include "backend.hpp"
 #include "common/errors.hpp"
+#include "common/registry.hpp"
 #include "cpu_physics.hpp"
 #include "model/tissue.hpp"
 #include "neighbour_list.hpp"
@@ -22,7 +23,6 @@ namespace semlb::engine::opencl_impl {
 constexpr size_t kGroup = 128;      // work-group size of the element kernels
 constexpr size_t kScanGroup = 256;  // work-group size of the bin scan
 constexpr size_t kExtentGroups = 64;  // work-groups of the x range reduction
-constexpr size_t kTermParams = 64;    // reals an element term's parameter buffer holds
 
 struct LocalBytes {  // a __local kernel argument
   size_t bytes;
@@ -208,12 +208,25 @@ class OpenClBackend final : public Backend {
     moved(static_cast<long>(bytes), 0);
     return cl::Event(e);
   }
-  void write_reals(const cl::Mem& m, const std::vector<double>& values) {
-    const std::vector<Real> r(values.begin(), values.end());
-    if (r != last_written_[m.get()]) {  // parameters rarely change: write them once
-      write(m, r.data(), r.size() * sizeof(Real));
-      last_written_[m.get()] = r;
-    }
+  // `values` as T (Real for the force tables and element terms, double for the cell stage's rules) into m, written
+  // only when they differ from what m last received this way: parameters rarely change.
+  template <class T>
+  void write_parameters(const cl::Mem& m, const std::vector<double>& values) {
+    const std::vector<T> v(values.begin(), values.end());
+    std::vector<unsigned char>& last = last_written_[m.get()];
+    const auto* bytes = reinterpret_cast<const unsigned char*>(v.data());
+    if (last.size() == v.size() * sizeof(T) && std::equal(last.begin(), last.end(), bytes)) return;
+    write(m, v.data(), v.size() * sizeof(T));
+    last.assign(bytes, bytes + v.size() * sizeof(T));
+  }
+  // The parameter buffer (kMaxPluginParams values of T) of plug-in `name` in `buffers`, holding `params`: what an
+  // element term's or a removal rule's kernel reads.
+  template <class T>
+  cl_mem plugin_parameters(std::map<std::string, cl::Mem>& buffers, const std::string& name, const std::vector<double>& params) {
+    cl::Mem& m = buffers[name];
+    if (!m) m = buffer(kMaxPluginParams * sizeof(T));
+    write_parameters<T>(m, checked_plugin_params("plug-in", name, params));
+    return m.get();
   }
 
   // Room for n elements (owned + ghosts); growing keeps elements [0, n_) and the owned elements' forces (the
@@ -344,10 +357,9 @@ class OpenClBackend final : public Backend {
   cl::Program program_;
   cl::KernelCapture capture_;
   std::map<std::string, cl::Kernel> kernels_;
-  std::map<cl_mem, std::vector<Real>> last_written_;
+  std::map<cl_mem, std::vector<unsigned char>> last_written_;  // write_parameters' last bytes per buffer
   cl::Mem pos_, keys_, force_, fail_, table_;
   std::map<std::string, cl::Mem> term_params_, rule_params_;  // each element term's / removal rule's parameters
-  std::map<std::string, std::vector<double>> last_rule_params_;
   BinSort owned_sort_, ghost_sort_;  // the local forces' bins; the ghosts' own (non-local forces)
   cl::Mem extent_, flags_, band_starts_, band_sums_, band_pos_;
   // The last bands() selection: both bands compacted (lower first) and near_[k] the owned element of slot k

@@ -39,10 +39,9 @@ std::vector<double> OpenClBackend<Real>::slice_work(State& host, const SliceMap&
 template <class Real>
 void OpenClBackend<Real>::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers, std::vector<int>& owner) {
   if (!has_fp64_) return Backend::take_leavers(host, map, boundaries, rank, leavers, owner);
-  leavers = {};
+  leavers = empty_like(host);
   owner.clear();
   near_valid_ = false;
-  for (const auto& [name, f] : host.cell_fields) leavers.cell_fields[name];
   n_ = owned_;  // the ghosts go
   const long n = cells_;
   if (n == 0) return;
@@ -271,14 +270,8 @@ long OpenClBackend<Real>::remove_cells(State& host, const std::string& rule, con
   const long n = cells_;
   if (n == 0) return 0;
   reserve_plan(n);
-  cl::Mem& p = rule_params_[rule];
-  if (!p) p = buffer(64 * sizeof(double));
-  if (params != last_rule_params_[rule]) {
-    write(p, params.data(), params.size() * sizeof(double));
-    last_rule_params_[rule] = params;
-  }
   launch(("remove_" + rule).c_str(), n, kGroup, static_cast<cl_int>(n), pos_.get(), cell_.first.get(), cell_.count.get(),
-         cell_.type.get(), p.get(), births_.get(), divides_.get(), counts2_.get());
+         cell_.type.get(), plugin_parameters<double>(rule_params_, rule, params), births_.get(), divides_.get(), counts2_.get());
   return split_cells(n)[0];
 }
 

@@ -182,8 +182,7 @@ void DistributedSimulation::migrate_cells() {
   for (long c = 0; c < leavers.cells(); ++c) pack_cell(out[owner[c]], leavers, c);
   std::vector<std::vector<char>> parts;
   for (auto& w : out) parts.push_back(std::move(w.bytes));
-  State arrivals;
-  for (const auto& [name, f] : sim_->host_state().cell_fields) arrivals.cell_fields[name];
+  State arrivals = empty_like(sim_->host_state());
   for (const auto& bytes : mpi_->alltoall(parts)) unpack_cells(bytes, arrivals);
   arrivals.reindex();
   if (leavers.cells() > 0 || arrivals.cells() > 0) {  // else the backend holds exactly these cells
@@ -370,10 +369,7 @@ State DistributedSimulation::gather() {
   const State& s = sim_->sync();
   Writer w;
   for (long c = 0; c < s.cells(); ++c) pack_cell(w, s, c);
-  State all;
-  all.step = s.step;
-  all.time = s.time;
-  for (const auto& [name, f] : s.cell_fields) all.cell_fields[name];
+  State all = empty_like(s);
   for (const auto& bytes : mpi_->gather(w.bytes, 0)) unpack_cells(bytes, all);
   all.reindex();
   return all.canonical();

@@ -18,13 +18,6 @@ namespace arith {
 #undef SEMLB_GLOBAL
 }  // namespace arith
 
-namespace {
-std::array<double, 3> centroid_of(const State& s, long c) {  // the cell stage's rule (cells.h)
-  std::array<double, 3> ctr{};
-  cellrules::semlb_cell_centroid(s.position.data(), s.cell_first[c], s.cell_count[c], ctr.data());
-  return ctr;
-}
-}  // namespace
 
 Grid Grid::cover(const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cutoff) {
   Grid g;
@@ -53,15 +46,10 @@ int owner_of(int slice, const std::vector<int>& boundaries) {
 
 void split_by_owner(const State& s, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& stay,
                     State* leave, std::vector<int>* owner) {
-  for (State* to : {&stay, leave}) {
-    if (!to) continue;
-    *to = {};
-    to->step = s.step;
-    to->time = s.time;
-    for (const auto& [name, f] : s.cell_fields) to->cell_fields[name];
-  }
+  stay = empty_like(s);
+  if (leave) *leave = empty_like(s);
   for (long c = 0; c < s.cells(); ++c) {
-    const int o = owner_of(map.slice_of(centroid_of(s, c)[0]), boundaries);
+    const int o = owner_of(map.slice_of(centroid(s, c)[0]), boundaries);
     if (o == rank) {
       copy_cell(s, c, stay);
     } else if (leave) {
@@ -99,7 +87,7 @@ std::vector<int> bin_counts(const State& s, const Grid& g) {
 std::vector<double> cell_work(const State& s, const Grid& g, const std::vector<int>& counts, const SliceMap& d) {
   std::vector<double> w(d.slices, 0.0);
   for (long c = 0; c < s.cells(); ++c) {
-    const auto ctr = centroid_of(s, c);
+    const auto ctr = centroid(s, c);
     const auto b = g.bin_of(ctr.data());
     const long n_near = arith::semlb_near_count(counts.data(), b[0], b[1], b[2], g.dims[0], g.dims[1], g.dims[2]);
     w[d.slice_of(ctr[0])] += static_cast<double>(s.cell_count[c]) * static_cast<double>(n_near);  // w_i = n_i n_N(i)

@@ -1,4 +1,4 @@
-// Effect registry and the centroid of a cell.
+// The effect registry.
 #include "effect.hpp"
 
 #include <algorithm>
@@ -18,9 +18,9 @@ Registry<EffectInfo>& registry() {
 
 EffectRegistrar::EffectRegistrar(const std::string& name, EffectInfo info) {
   // An effect's phase column NAME_s in run.csv must not be one of the driver's own (run_header: wall_s, and the
-  // integrate_s and cells_s phases); a name registered twice is a programming error as well.
-  if (name == "wall" || name == "integrate" || name == "cells" || registry().find(name))
-    throw std::logic_error("effect '" + name + "': the name is taken (run.csv column " + name + "_s or a registered effect)");
+  // integrate_s and cells_s phases). A name registered twice: Registry::add.
+  if (name == "wall" || name == "integrate" || name == "cells")
+    throw std::logic_error("effect '" + name + "': the name is taken (run.csv has a column " + name + "_s of its own)");
   registry().add(name, std::move(info));
 }
 
@@ -44,12 +44,6 @@ std::vector<std::unique_ptr<Effect>> make_effects(const Scene& scene) {
   std::vector<std::unique_ptr<Effect>> out;
   for (auto& [o, e] : made) out.push_back(std::move(e));
   return out;
-}
-
-std::array<double, 3> centroid(const State& s, long cell) {  // the cell stage's rule (cells.h)
-  std::array<double, 3> c{};
-  cellrules::semlb_cell_centroid(s.position.data(), s.cell_first[cell], s.cell_count[cell], c.data());
-  return c;
 }
 
 }  // namespace semlb::engine

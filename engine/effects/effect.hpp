@@ -52,7 +52,4 @@ std::vector<std::string> effect_names();
 // The registered example section of effect `name` (EffectInfo::example); std::logic_error when unregistered.
 const std::string& effect_example(const std::string& name);
 
-// The mean position of a cell's elements (um).
-std::array<double, 3> centroid(const State& s, long cell);
-
 }  // namespace semlb::engine

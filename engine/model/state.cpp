@@ -84,6 +84,14 @@ uint64_t State::hash() const {
   return h;
 }
 
+State empty_like(const State& s) {
+  State out;
+  out.step = s.step;
+  out.time = s.time;
+  for (const auto& [name, f] : s.cell_fields) out.cell_fields[name];
+  return out;
+}
+
 void copy_cell(const State& from, long c, State& to) {
   to.cell_id.push_back(from.cell_id[c]);
   to.cell_type.push_back(from.cell_type[c]);

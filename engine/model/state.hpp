@@ -55,6 +55,10 @@ struct State {
   State canonical() const;
 };
 
+// No cells, with `s`'s step, time and cell-field names (each field empty): where copy_cell gathers a selection of
+// s's cells (the cells one rank keeps, the leavers, those a removal rule spares, a gather).
+State empty_like(const State& s);
+
 // Appends cell c of `from` (id, type, count, positions) to `to`, with the fields `to` lists (0 where `from` lacks
 // one); call to.reindex() afterwards.
 void copy_cell(const State& from, long c, State& to);

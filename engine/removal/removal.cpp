@@ -31,16 +31,13 @@ class RemovalEffect final : public Effect {
 }  // namespace
 
 RemovalRuleRegistrar::RemovalRuleRegistrar(const std::string& name, RemovalRule rule) {
-  if (!is_c_identifier(name)) throw std::logic_error("removal rule '" + name + "': not a C identifier");
-  if (registry().find(name)) throw std::logic_error("removal rule '" + name + "' registered twice");
+  check_plugin_name("removal rule", name);
   const int order = rule.order;
   registry().add(name, std::move(rule));
   const std::string example = registry().find(name)->example;
   EffectRegistrar(name, {order,
                          [name](const Section& s, const Scene&) {
-                           auto p = removal_rule(name).read(s);
-                           if (p.size() > 64) throw std::logic_error("removal rule '" + name + "': more than 64 parameters");
-                           return std::make_unique<RemovalEffect>(name, std::move(p));
+                           return std::make_unique<RemovalEffect>(name, checked_plugin_params("removal rule", name, removal_rule(name).read(s)));
                          },
                          example});
 }

@@ -175,7 +175,9 @@ class Run {
   virtual std::pair<std::vector<double>, std::array<long, 2>> since_last() = 0;
   virtual void mark() = 0;  // since_last counts from now (this rank's own baseline; not collective)
   virtual bool any(bool mine) = 0;  // true when `mine` is true on some rank
-  virtual State whole() = 0;        // the whole tissue (decomposed: on rank 0, gathered)
+  // The whole tissue (decomposed: gathered on rank 0, empty elsewhere), valid until the next call: no copy of a
+  // one-device state.
+  virtual const State& whole() = 0;
   virtual void agreed(const std::function<void()>& f) = 0;  // f, whose errors every rank agrees on
   virtual void save(RunOutputs& out, const State& all, long stop) = 0;  // the snapshot/checkpoint due at `stop`
   // The state to write as failure.h5 when `e` (thrown by advance) is a numerical failure; false to rethrow as is.
@@ -194,12 +196,13 @@ RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long fir
   const auto t0 = std::chrono::steady_clock::now();
   double wall_before = 0;
   if (run.any(root && out->wants_first_snapshot(first))) {
-    const State all = run.whole();
+    const State& all = run.whole();
     run.agreed([&] {
       if (root) out->save_first(all);
     });
   }
   run.mark();  // the first row's bytes are its steps', not the first snapshot's download
+  const State none;  // what `all` is at a stop that writes no state
   try {
     while (run.step() < last) {
       const long stop = next_stop(scene, run.step(), last);
@@ -209,7 +212,7 @@ RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long fir
       std::pair<std::vector<double>, std::array<long, 2>> since;
       if (log) since = run.since_last();
       const bool gather = run.any(root && out->wants_state(stop));
-      const State all = gather ? run.whole() : State{};
+      const State& all = gather ? run.whole() : none;
       run.agreed([&] {
         if (!root) return;
         if (log) {
@@ -234,7 +237,7 @@ RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long fir
     });
     throw;
   }
-  const State all = run.whole();
+  const State& all = run.whole();
   run.agreed([&] {
     if (!root) return;
     out->write("final.h5", all);
@@ -281,7 +284,7 @@ class OneDevice final : public Run {
   std::pair<std::vector<double>, std::array<long, 2>> since_last() override { return deltas_.next(); }
   void mark() override { deltas_.next(); }
   bool any(bool mine) override { return mine; }
-  State whole() override { return sim_.sync(); }
+  const State& whole() override { return sim_.sync(); }
   void agreed(const std::function<void()>& f) override { f(); }
   void save(RunOutputs& out, const State& all, long) override { out.save(all); }
   bool failed(const std::exception& e, State& frozen) override {
@@ -317,7 +320,7 @@ class Decomposed final : public Run {
   }
   void mark() override { deltas_.next(); }
   bool any(bool mine) override { return mpi_.allreduce_max(mine ? 1 : 0) > 0; }
-  State whole() override { return sim_.gather(); }
+  const State& whole() override { return gathered_ = sim_.gather(); }
   void agreed(const std::function<void()>& f) override { agree(mpi_, f); }
   void save(RunOutputs& out, const State& all, long stop) override {
     const auto balancer = sim_.checkpoint();
@@ -358,6 +361,7 @@ class Decomposed final : public Run {
   Mpi& mpi_;
   long first_;
   Deltas deltas_;
+  State gathered_;  // the last whole()
 };
 
 }  // namespace

@@ -19,10 +19,8 @@ Registry<ElementTerm>& registry() {
 // a term of an element's own position needs no ghost).
 class TermEffect final : public Effect {
  public:
-  TermEffect(std::string name, const Section& s) : name_(std::move(name)), where_(s.where("")) {
-    params_ = element_term(name_).read(s);
-    if (params_.size() > 64) throw std::logic_error("element term '" + name_ + "': more than 64 parameters");
-  }
+  TermEffect(std::string name, const Section& s)
+      : name_(std::move(name)), where_(s.where("")), params_(checked_plugin_params("element term", name_, element_term(name_).read(s))) {}
   std::string name() const override { return name_; }
   void prepare(State& s) override {  // the initial state, before anything runs
     if (const auto& check = element_term(name_).check)
@@ -39,8 +37,7 @@ class TermEffect final : public Effect {
 }  // namespace
 
 ElementTermRegistrar::ElementTermRegistrar(const std::string& name, ElementTerm term) {
-  if (!is_c_identifier(name)) throw std::logic_error("element term '" + name + "': not a C identifier");
-  if (registry().find(name)) throw std::logic_error("element term '" + name + "' registered twice");
+  check_plugin_name("element term", name);
   const int order = term.order;
   registry().add(name, std::move(term));
   const std::string example = registry().find(name)->example;

@@ -111,7 +111,9 @@ inline State expect_same_state_on_ranks(const std::string& args, const std::stri
     const std::string out = dir + "/np" + std::to_string(n);
     r = test::run(mpirun_sim(n) + args + " --out " + out);
     EXPECT_EQ(r.rc, 0) << n << " ranks: " << r.out;
-    if (r.rc == 0) EXPECT_EQ(read_state(out + "/final.h5").hash(), single.hash()) << n << " ranks";
+    if (r.rc == 0) {
+      EXPECT_EQ(read_state(out + "/final.h5").hash(), single.hash()) << n << " ranks";
+    }
   }
   return single;
 }

@@ -27,8 +27,7 @@ using test::within;
 const std::string kArgs = " --scene " + source("scenes/epidermis.yaml") +
                           " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=50";
 
-// Every run is bounded (within()): a hang fails the test. `env` holds VAR=VALUE assignments for every rank.
-std::string mpirun(int ranks, const std::string& env = "", int seconds = 300) { return testing::mpirun_sim(ranks, env, seconds); }
+using testing::mpirun_sim;  // every run bounded: a hang fails the test
 
 // W_s = sum of n_i n_N(i) per slice against a brute-force count, on a compact tissue (dense bin counts)
 // and on one whose two halves lie 2e6 um apart (over a million bins).
@@ -64,7 +63,7 @@ TEST(Decomposition, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
     EXPECT_EQ(split(read_file(dir + "/np" + std::to_string(ranks) + "/rank_times.csv"), '\n').size(), 2 + 4u * ranks)
         << "4 events x ranks rows";
   // the blocking exchange (decomposition.overlap: false) moves the same bits
-  auto r = run(mpirun(2) + kArgs + " --steps 200 --set decomposition.overlap=false --out " + dir + "/blocking");
+  auto r = run(mpirun_sim(2) + kArgs + " --steps 200 --set decomposition.overlap=false --out " + dir + "/blocking");
   ASSERT_EQ(r.rc, 0) << r.out;
   EXPECT_EQ(read_state(dir + "/blocking/final.h5").hash(), reference) << "2 ranks, blocking exchange";
 }
@@ -95,7 +94,7 @@ TEST(Decomposition, WorkloadIsTheSameOnOneDeviceAndOnOneTwoAndFourRanks) {
   EXPECT_EQ(split(reference, '\n').size(), 4u) << "3 events and the final newline";
   for (const std::string variant : {"np1", "np2", "np4", "np2_reactive_uniform"}) {
     const std::string extra = variant == "np2_reactive_uniform" ? " --set decomposition.policy=reactive --set decomposition.initial=uniform" : "";
-    r = run(mpirun(variant == "np4" ? 4 : variant == "np1" ? 1 : 2) + args + extra + " --out " + dir + "/" + variant);
+    r = run(mpirun_sim(variant == "np4" ? 4 : variant == "np1" ? 1 : 2) + args + extra + " --out " + dir + "/" + variant);
     ASSERT_EQ(r.rc, 0) << r.out;
     EXPECT_EQ(workload_of(dir + "/" + variant + "/workload.h5"), reference) << variant;
   }
@@ -128,7 +127,7 @@ TEST(Decomposition, OpenClRanksMatchOneOpenClDevice) {
                               : variant == "np2_skin"   ? " --set backend.skin=0.3"  // rebuilt often
                               : variant == "np4_skin"   ? " --set backend.skin=1"
                                                         : "";
-    r = run(mpirun(variant.rfind("np4", 0) == 0 ? 4 : 2) + args + extra + " --out " + dir + "/" + variant);
+    r = run(mpirun_sim(variant.rfind("np4", 0) == 0 ? 4 : 2) + args + extra + " --out " + dir + "/" + variant);
     ASSERT_EQ(r.rc, 0) << r.out;
     EXPECT_EQ(read_state(dir + "/" + variant + "/final.h5").hash(), reference) << variant;
     EXPECT_EQ(workload_of(dir + "/" + variant + "/workload.h5"), workload) << variant << ": W_s on the device, counts summed over ranks";
@@ -145,12 +144,12 @@ TEST(Decomposition, OverlapIsTrueOrFalse) {
 
 TEST(Decomposition, CheckpointOnTwoRanksContinuesIdenticallyOnFour) {
   const auto dir = fresh_dir("decomposition_restart");
-  auto r = run(mpirun(2) + kArgs + " --steps 200 --out " + dir + "/straight");
+  auto r = run(mpirun_sim(2) + kArgs + " --steps 200 --out " + dir + "/straight");
   ASSERT_EQ(r.rc, 0) << r.out;
-  r = run(mpirun(2) + kArgs + " --steps 100 --set output.checkpoint_every=100 --out " + dir + "/first");
+  r = run(mpirun_sim(2) + kArgs + " --steps 100 --set output.checkpoint_every=100 --out " + dir + "/first");
   ASSERT_EQ(r.rc, 0) << r.out;
   EXPECT_EQ(read_state(dir + "/first/checkpoint.h5").step, 100);
-  r = run(mpirun(4) + kArgs + " --steps 200 --restart " + dir + "/first/checkpoint.h5 --out " + dir + "/second");
+  r = run(mpirun_sim(4) + kArgs + " --steps 200 --restart " + dir + "/first/checkpoint.h5 --out " + dir + "/second");
   ASSERT_EQ(r.rc, 0) << r.out;
   EXPECT_EQ(read_state(dir + "/second/final.h5").hash(), read_state(dir + "/straight/final.h5").hash());
   // ... and it simulated steps 100..200 only: a run from step 0 would also log step 100 and time 4 intervals.
@@ -174,12 +173,12 @@ TEST(Decomposition, ARestartContinuesTheBalancerLineForLine) {
   for (const auto& [policy, split_at] : std::vector<std::pair<std::string, int>>{{"holt", 150}, {"gru", 125}}) {
     const auto dir = fresh_dir("decomposition_balancer_" + policy);
     const std::string args = kArgs + " --set decomposition.timing=modelled --set decomposition.policy=" + policy;
-    auto r = run(mpirun(3) + args + " --steps 300 --out " + dir + "/straight");
+    auto r = run(mpirun_sim(3) + args + " --steps 300 --out " + dir + "/straight");
     ASSERT_EQ(r.rc, 0) << r.out;
-    r = run(mpirun(3) + args + " --steps " + std::to_string(split_at) + " --set output.checkpoint_every=" +
+    r = run(mpirun_sim(3) + args + " --steps " + std::to_string(split_at) + " --set output.checkpoint_every=" +
             std::to_string(split_at) + " --out " + dir + "/split");
     ASSERT_EQ(r.rc, 0) << r.out;
-    r = run(mpirun(3) + args + " --steps 300 --restart " + dir + "/split/checkpoint.h5 --out " + dir + "/split");
+    r = run(mpirun_sim(3) + args + " --steps 300 --restart " + dir + "/split/checkpoint.h5 --out " + dir + "/split");
     ASSERT_EQ(r.rc, 0) << r.out;
     EXPECT_EQ(r.out.find("restart:"), std::string::npos) << r.out;  // the balancer continued
     const auto straight = split(read_file(dir + "/straight/trace.jsonl"), '\n');
@@ -199,7 +198,7 @@ TEST(Decomposition, ARestartContinuesTheBalancerLineForLine) {
     };
     EXPECT_EQ(modelled_columns(dir + "/split/rank_times.csv"), modelled_columns(dir + "/straight/rank_times.csv")) << policy;
     // The same run twice gives the same trace: modelled times do not depend on the launch.
-    r = run(mpirun(3) + args + " --steps 300 --out " + dir + "/again");
+    r = run(mpirun_sim(3) + args + " --steps 300 --out " + dir + "/again");
     ASSERT_EQ(r.rc, 0) << r.out;
     EXPECT_EQ(read_file(dir + "/again/trace.jsonl"), read_file(dir + "/straight/trace.jsonl")) << policy;
   }
@@ -207,7 +206,7 @@ TEST(Decomposition, ARestartContinuesTheBalancerLineForLine) {
 
 TEST(Decomposition, ReplayingAnEngineTraceReproducesItsDecisions) {
   const auto dir = fresh_dir("decomposition_trace");
-  auto r = run(mpirun(2) + kArgs + " --steps 200 --set decomposition.params.tau=0.001 --out " + dir);
+  auto r = run(mpirun_sim(2) + kArgs + " --steps 200 --set decomposition.params.tau=0.001 --out " + dir);
   ASSERT_EQ(r.rc, 0) << r.out;
   r = run(semlb_bin() + " replay --policy reactive --param reactive.tau=0.001 --trace " + dir + "/trace.jsonl");
   ASSERT_EQ(r.rc, 0) << r.out;
@@ -219,7 +218,7 @@ TEST(Decomposition, ReplayingAnEngineTraceReproducesItsDecisions) {
 
 TEST(Decomposition, AFailingRankStopsEveryRankNamingRankStepAndCause) {
   const auto dir = fresh_dir("decomposition_fail");
-  const auto r = run(mpirun(2) + kArgs + " --steps 50 --set time.dt=5 --out " + dir);
+  const auto r = run(mpirun_sim(2) + kArgs + " --steps 50 --set time.dt=5 --out " + dir);
   EXPECT_EQ(r.rc, 1) << r.out;
   EXPECT_NE(r.out.find(": rank "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("displacement exceeds time.max_displacement"), std::string::npos) << r.out;
@@ -228,7 +227,7 @@ TEST(Decomposition, AFailingRankStopsEveryRankNamingRankStepAndCause) {
 
 TEST(Decomposition, MechanicsOnlyScenesRebalanceToo) {
   const auto dir = fresh_dir("decomposition_mechanics");
-  const auto r = run(mpirun(2) + " --scene " + source("scenes/mechanics.yaml") +
+  const auto r = run(mpirun_sim(2) + " --scene " + source("scenes/mechanics.yaml") +
                      " --quiet --set tissue.cells=400 --set backend.threads=1 --steps 100 --set decomposition.rebalance_every=50 --out " + dir);
   ASSERT_EQ(r.rc, 0) << r.out;
   EXPECT_EQ(split(read_file(dir + "/rank_times.csv"), '\n').size(), 2 + 2u * 2) << read_file(dir + "/rank_times.csv");
@@ -237,7 +236,7 @@ TEST(Decomposition, MechanicsOnlyScenesRebalanceToo) {
 
 TEST(Decomposition, TooManyRanksForTheDomainIsBadInput) {
   const auto dir = fresh_dir("decomposition_narrow");
-  const auto r = run(mpirun(2) + " --scene " + source("scenes/epidermis.yaml") + " --quiet --set tissue.cells=4 --out " + dir + "/out");
+  const auto r = run(mpirun_sim(2) + " --scene " + source("scenes/epidermis.yaml") + " --quiet --set tissue.cells=4 --out " + dir + "/out");
   EXPECT_EQ(r.rc, 2) << r.out;
   EXPECT_NE(r.out.find("field 'decomposition.min_width'"), std::string::npos) << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
@@ -255,7 +254,7 @@ TEST(Decomposition, SlabsNarrowerThanTheGhostRegionAreRefusedOrExact) {
   const State reference = read_state(dir + "/single/final.h5");
   for (int ranks : {1, 2, 3, 4}) {
     const std::string out = dir + "/np" + std::to_string(ranks);
-    r = run(mpirun(ranks, "", 60) + args + " --out " + out);
+    r = run(mpirun_sim(ranks, "", 60) + args + " --out " + out);
     if (ranks <= 2) {
       ASSERT_EQ(r.rc, 0) << ranks << " ranks: " << r.out;
       const State s = read_state(out + "/final.h5");
@@ -292,7 +291,7 @@ backend: {name: serial}
 decomposition: {initial: uniform, policy: static}
 effects: {mechanics: {}}
 )");
-  const auto r = run(mpirun(3, "", 60) + " --scene " + dir + "/scene.yaml --quiet --out " + dir + "/out");
+  const auto r = run(mpirun_sim(3, "", 60) + " --scene " + dir + "/scene.yaml --quiet --out " + dir + "/out");
   EXPECT_EQ(r.rc, 1) << r.out;
   EXPECT_NE(r.out.find("step 0: ranks 0 and 2 hold elements within the cutoff"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("decomposition.min_width"), std::string::npos) << r.out;
@@ -303,7 +302,7 @@ effects: {mechanics: {}}
 TEST(Decomposition, APolicyTheEngineCannotFeedIsBadInputOnEveryRank) {
   const auto dir = fresh_dir("decomposition_oracle");
   for (const std::string policy : {"oracle", "lazy_oracle"}) {  // the policies that declare PolicyNeeds::true_work
-    const auto r = run(mpirun(2, "", 60) + kArgs + " --steps 100 --set decomposition.policy=" + policy + " --out " + dir + "/out");
+    const auto r = run(mpirun_sim(2, "", 60) + kArgs + " --steps 100 --set decomposition.policy=" + policy + " --out " + dir + "/out");
     EXPECT_EQ(r.rc, 2) << r.out;
     EXPECT_NE(r.out.find("semlb sim: --set decomposition.policy: '" + policy + "' needs the true work"), std::string::npos) << r.out;
     EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
@@ -315,7 +314,7 @@ TEST(Decomposition, APolicyTheEngineCannotFeedIsBadInputOnEveryRank) {
 TEST(Decomposition, AnErrorOnOneRankAloneEndsTheJobNamingTheRank) {
   for (int rank : {0, 2}) {
     const auto dir = fresh_dir("decomposition_fault_" + std::to_string(rank));
-    const auto r = run(mpirun(3, "SEMLB_FAULT_INJECT=" + std::to_string(rank) + ":25", 60) + kArgs +
+    const auto r = run(mpirun_sim(3, "SEMLB_FAULT_INJECT=" + std::to_string(rank) + ":25", 60) + kArgs +
                        " --steps 100 --set output.checkpoint_every=10 --out " + dir);
     EXPECT_LT(r.seconds, 30) << r.out;
     EXPECT_NE(r.rc, 0) << r.out;
@@ -344,7 +343,7 @@ TEST(Decomposition, FailureStateIsTheFailingStepOnAnyRankCount) {
     ASSERT_NE(r.out.find(": step 0: element"), std::string::npos) << r.out;
     states.push_back(read_state(out + "/failure.h5"));
   }
-  const auto r = run(mpirun(2, "", 120) + args + " --set time.steps=100 --out " + dir + "/np2");
+  const auto r = run(mpirun_sim(2, "", 120) + args + " --set time.steps=100 --out " + dir + "/np2");
   ASSERT_EQ(r.rc, 1) << r.out;
   ASSERT_NE(r.out.find(": step 0: element"), std::string::npos) << r.out;
   states.push_back(read_state(dir + "/np2/failure.h5"));

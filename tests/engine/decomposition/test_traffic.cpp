@@ -48,7 +48,7 @@ Totals read_run(const std::string& path) {
   return t;
 }
 
-std::string mpirun(int ranks) { return testing::mpirun_sim(ranks, "", 600); }
+
 
 // The sheet is square: 9x the cells is 9x the elements but 3x its y extent, so 3x the band across the slab
 // boundary. The bytes per step must follow the band (well below the element ratio).
@@ -58,7 +58,7 @@ TEST(Traffic, DecomposedBytesPerStepFollowTheBandNotTheElements) {
   std::map<long, Totals> runs;
   for (long cells : {200L, 1800L}) {
     const std::string out = dir + "/cells" + std::to_string(cells);
-    const auto r = run(mpirun(2) + args(cells, 50) + " --out " + out);
+    const auto r = run(testing::mpirun_sim(2, "", 600) + args(cells, 50) + " --out " + out);
     ASSERT_EQ(r.rc, 0) << r.out;
     runs[cells] = read_run(out + "/run.csv");
     ASSERT_EQ(runs[cells].steps, 50);
