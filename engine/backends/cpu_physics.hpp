@@ -13,6 +13,8 @@
 #define SEMLB_SQRT std::sqrt
 #define SEMLB_LOG std::log
 #define SEMLB_COS std::cos
+#define SEMLB_FMIN std::fmin
+#define SEMLB_FMAX std::fmax
 
 namespace semlb::engine::phys64 {
 #define SEMLB_REAL double

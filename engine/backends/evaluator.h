@@ -1,7 +1,8 @@
 /* The SEM physics written once (C99 subset): included by the C++ backends and by the OpenCL kernels. */
 /* No include guard on purpose: C++ includes it once per precision inside a namespace. The includer
  * defines SEMLB_REAL (float|double), SEMLB_LONG / SEMLB_ULONG (64-bit integers), SEMLB_CONST (the
- * address space of parameter tables), SEMLB_EXP and SEMLB_SQRT, SEMLB_LOG, SEMLB_COS. Optional: SEMLB_PAIR_EXP
+ * address space of parameter tables), SEMLB_EXP and SEMLB_SQRT, SEMLB_LOG, SEMLB_COS, and SEMLB_FMIN / SEMLB_FMAX
+ * (IEEE minNum / maxNum: of a NaN and a number, the number). Optional: SEMLB_PAIR_EXP
  * (the exp of the pair force law; default SEMLB_EXP) and SEMLB_PAIR_RSQRT (then r and 1/r of a pair come from
  * one reciprocal square root instead of a sqrt and a division; coincidence is then r^2 < SEMLB_R_MIN^2): the
  * OpenCL float build uses them for native math.
@@ -33,15 +34,22 @@ static inline int semlb_info_pack(int cell, int type) { return cell << 2 | type;
 static inline int semlb_info_cell(int info) { return info >> 2; }
 static inline int semlb_info_type(int info) { return info & 3; }
 
+/* f clamped to [-SEMLB_FORCE_MAX, SEMLB_FORCE_MAX]; NaN gives +SEMLB_FORCE_MAX (a huge step that integrate
+ * reports). Two min/max instructions: minNum(NaN, M) = M. */
 static inline semlb_real semlb_clamp_force(semlb_real f) {
-  if (f != f) return (semlb_real)SEMLB_FORCE_MAX; /* NaN: a huge step that integrate reports */
-  return f > (semlb_real)SEMLB_FORCE_MAX ? (semlb_real)SEMLB_FORCE_MAX
-         : (f < -(semlb_real)SEMLB_FORCE_MAX ? -(semlb_real)SEMLB_FORCE_MAX : f);
+  return SEMLB_FMAX(SEMLB_FMIN(f, (semlb_real)SEMLB_FORCE_MAX), -(semlb_real)SEMLB_FORCE_MAX);
 }
 
 /* One force component in fixed point (truncation toward zero, identical in C++ and OpenCL C). */
 static inline SEMLB_LONG semlb_to_fixed(semlb_real f) {
   return (SEMLB_LONG)(semlb_clamp_force(f) * (semlb_real)SEMLB_FIXED_SCALE);
+}
+
+/* The same for a component already multiplied by SEMLB_FIXED_SCALE (the pair force law folds the scale into its
+ * magnitude: f * 2^32 is exact, so the result equals semlb_to_fixed(f) whenever f * 2^32 does not overflow). */
+static inline SEMLB_LONG semlb_scaled_to_fixed(semlb_real fs) {
+  const semlb_real m = (semlb_real)(SEMLB_FORCE_MAX * SEMLB_FIXED_SCALE);
+  return (SEMLB_LONG)SEMLB_FMAX(SEMLB_FMIN(fs, m), -m);
 }
 
 /* f(r) = -dV/dr = U0/xi1 exp(-r/xi1) - V0/xi2 exp(-r/xi2) for V(r) = U0 exp(-r/xi1) - V0 exp(-r/xi2);
@@ -89,13 +97,13 @@ static inline int semlb_pair_force(semlb_real dx, semlb_real dy, semlb_real dz, 
 #endif
   int set = info_i == info_j ? SEMLB_MORSE_INTRA : SEMLB_MORSE_INTER(semlb_info_type(info_i), semlb_info_type(info_j));
 #ifdef SEMLB_PAIR_RSQRT
-  semlb_real s = semlb_morse_magnitude(r, table + set) * inv;
+  semlb_real s = semlb_morse_magnitude(r, table + set) * inv * (semlb_real)SEMLB_FIXED_SCALE;
 #else
-  semlb_real s = semlb_morse_magnitude(r, table + set) / r;
+  semlb_real s = semlb_morse_magnitude(r, table + set) / r * (semlb_real)SEMLB_FIXED_SCALE;
 #endif
-  acc[0] += semlb_to_fixed(s * dx);
-  acc[1] += semlb_to_fixed(s * dy);
-  acc[2] += semlb_to_fixed(s * dz);
+  acc[0] += semlb_scaled_to_fixed(s * dx);
+  acc[1] += semlb_scaled_to_fixed(s * dy);
+  acc[2] += semlb_scaled_to_fixed(s * dz);
   return 1;
 }
 

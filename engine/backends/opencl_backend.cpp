@@ -21,7 +21,8 @@ OpenClBackend<Real>::OpenClBackend(const BackendConfig& c, bool binned)
   cl_int err = CL_SUCCESS;
   ctx_ = cl::Context(clCreateContext(nullptr, 1, &dev_.device, nullptr, nullptr, &err));
   cl::check(err, "clCreateContext");
-  profile_ = std::getenv("SEMLB_OPENCL_PROFILE") != nullptr;  // per-kernel device times (semlb bench engine)
+  const char* profile = std::getenv("SEMLB_OPENCL_PROFILE");  // per-kernel device times (bench engine, kernels.csv)
+  profile_ = profile && *profile;
   capture_ = cl::KernelCapture::from_env();                      // one launch written for replay (opencl.hpp)
   queue_ = cl::Queue(clCreateCommandQueue(ctx_.get(), dev_.device, profile_ ? CL_QUEUE_PROFILING_ENABLE : 0, &err));
   cl::check(err, "clCreateCommandQueue");

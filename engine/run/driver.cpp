@@ -292,7 +292,17 @@ class OneDevice final : public Run {
     frozen = failing_state(sim_.host_state(), sim_.backend().failure().step, scene_.dt);
     return true;
   }
-  void finish(RunOutputs&, const State&) override {}
+  // With SEMLB_OPENCL_PROFILE set: kernels.csv, the device seconds and launches of each kernel over the run.
+  void finish(RunOutputs& out, const State&) override {
+    const auto& secs = sim_.backend().kernel_seconds();
+    if (secs.empty()) return;
+    std::string csv = "kernel,launches,device_s\n";
+    for (const auto& [k, t] : secs) {
+      const auto n = sim_.backend().launches().find(k);
+      csv += k + "," + std::to_string(n == sim_.backend().launches().end() ? 0 : n->second) + "," + format_real(t) + "\n";
+    }
+    write_file_atomically(out.dir() + "/kernels.csv", csv);
+  }
   std::string device() override { return sim_.backend().device_name(); }
 
  private:

@@ -4,19 +4,29 @@
 # (SEMLB_OPENCL_PROFILE=1: device ms per kernel), and the paper-size development run (scenes/epidermis_development.yaml,
 # 435,661 cells, Day 0-5, 2,400 steps of 0.05 h, float) as a CSV row of results/gpu/development_1gpu.csv.
 # Usage: bash scripts/gpu/neighbour_list.sh SEMLB OUT [bench|dev|all] [SKINS] [DEV_SKINS]
-#   (defaults: all, SKINS "0 0.5 1 1.5 2", DEV_SKINS "1"; BENCH_CELLS: the bench's --cells, default 11000,435661)
+#   (defaults: all, SKINS "0 0.5 1 1.5 2", DEV_SKINS "1"; BENCH_CELLS: the bench's --cells, default 11000,435661;
+#   PROFILE_SKIN: the skin of the profiled run, default 0.5; DOUBLE_SKINS: default "0 PROFILE_SKIN"; VARIANTS:
+#   ';'-separated PRECISION|BUILD_OPTIONS (e.g. "float|-cl-denorms-are-zero"), each benched at skin 0 and PROFILE_SKIN; DEV_PROFILE_SKINS: the development
+#   runs with SEMLB_OPENCL_PROFILE=1, whose kernels.csv is kept as dev_skinS.kernels.csv)
 set -uo pipefail
 S=$1; OUT=$2; what=${3:-all}; skins=${4:-"0 0.5 1 1.5 2"}; dev_skins=${5:-"1"}
 here=$(cd "$(dirname "$0")/../.." && pwd)
 export OCL_ICD_FILENAMES=${OCL_ICD_FILENAMES:-libnvidia-opencl.so.1}
 mkdir -p "$OUT"
 cells=${BENCH_CELLS:-11000,435661}
+pskin=${PROFILE_SKIN:-0.5}; double_skins=${DOUBLE_SKINS:-"0 $pskin"}
 bench() { "$S" bench engine --platform NVIDIA --backends opencl-binned --cells "$cells" --steps 200 "$@"; }
 if [ "$what" = bench ] || [ "$what" = all ]; then
   for s in $skins; do bench --precision float --set backend.skin="$s"; done > "$OUT/bench_float.txt" 2>&1
-  SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_NL_MASK bench --precision float --set backend.skin=1 > "$OUT/bench_mask.txt" 2>&1
-  for s in 0 1; do bench --precision double --set backend.skin="$s"; done > "$OUT/bench_double.txt" 2>&1
-  SEMLB_OPENCL_PROFILE=1 bench --precision float --set backend.skin=1 > "$OUT/bench_profile.txt" 2>&1
+  for s in $double_skins; do bench --precision double --set backend.skin="$s"; done > "$OUT/bench_double.txt" 2>&1
+  SEMLB_OPENCL_PROFILE=1 bench --precision float --set backend.skin="$pskin" > "$OUT/bench_profile.txt" 2>&1
+  IFS=';' read -ra variants <<< "${VARIANTS:-}"
+  for v in "${variants[@]}"; do  # PRECISION|OPTIONS: kernel build options, timed (and profiled) at skin 0 and the profile skin
+    echo "# ${v%%|*}: SEMLB_OPENCL_BUILD_OPTIONS=${v#*|}"
+    for s in 0 "$pskin"; do
+      SEMLB_OPENCL_BUILD_OPTIONS="${v#*|}" SEMLB_OPENCL_PROFILE=1 bench --precision "${v%%|*}" --set backend.skin="$s"
+    done
+  done > "$OUT/bench_variants.txt" 2>&1
 fi
 if [ "$what" = dev ] || [ "$what" = all ]; then
   machine=$(nvidia-smi --query-gpu=name --format=csv,noheader | head -1)
@@ -24,10 +34,12 @@ if [ "$what" = dev ] || [ "$what" = all ]; then
     echo "cells_start,cells_end,elements_end,steps,precision,loop_s,mechanics_s,machine,skin" > "$OUT/development_1gpu.csv"
   for s in $dev_skins; do
     run=$(mktemp -d)
-    "$S" sim --scene "$here/scenes/epidermis_development.yaml" --out "$run" --steps 2400 --backend opencl-binned \
+    prof=; case " ${DEV_PROFILE_SKINS:-} " in *" $s "*) prof=1;; esac
+    SEMLB_OPENCL_PROFILE=$prof "$S" sim --scene "$here/scenes/epidermis_development.yaml" --out "$run" --steps 2400 --backend opencl-binned \
       --platform NVIDIA --precision float --quiet --set tissue.cells=435661 --set effects.growth.front.speed=24.8 \
       --set output.snapshot_every=0 --set output.checkpoint_every=0 --set backend.skin="$s" > "$OUT/dev_skin$s.log" 2>&1
     cp "$run/run.csv" "$OUT/dev_skin$s.run.csv"
+    [ -f "$run/kernels.csv" ] && cp "$run/kernels.csv" "$OUT/dev_skin$s.kernels.csv"
     # loop_s: the logged wall seconds summed (the time-stepping loop); mechanics_s: the mechanics column summed
     python3 - "$run/run.csv" "$s" "$machine" >> "$OUT/development_1gpu.csv" <<'EOF'
 import csv, sys
