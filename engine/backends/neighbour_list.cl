@@ -4,8 +4,9 @@
    trigger since the last build; the build kernels (nl_bin_count, the bin scan, nl_scatter, nl_build, nl_done) run
    every step but return at once unless gate[0] is set, so the device decides when to rebuild and no count crosses
    to the host; nl_forces evaluates the listed pairs. The list: for sorted slot s, nl_count[s] partners (sorted
-   slots, within cutoff + skin at the build) at nl[s], nl[s + stride], ... (column-major: the lanes of a warp read
-   consecutive words); a slot with more than kmax partners keeps its count and takes the exact 27-bin stencil of
+   slots, within cutoff + skin at the build) at nl[NL_AT(s, 0, kmax)], nl[NL_AT(s, 1, kmax)], ... (column-major per
+   warp of 32 slots: the lanes of a warp read and write consecutive words, and a warp's whole list is one block of
+   kmax x 128 bytes, so that its loads and the build's stores touch one page, not one per partner); a slot with more than kmax partners keeps its count and takes the exact 27-bin stencil of
    the build's bins instead. */
 
 /* Fraction of the skin an element may move before the list is rebuilt: half the skin less 2% for rounding (two
@@ -14,6 +15,10 @@
 #ifndef SEMLB_NL_TRIGGER
 #define SEMLB_NL_TRIGGER 0.49
 #endif
+
+/* Where partner k of sorted slot s is stored (slot s is lane s % 32 of warp block s / 32). */
+#define NL_WARP 32
+#define NL_AT(s, k, kmax) (((long)((s) >> 5) * (kmax) + (k)) * NL_WARP + ((s) & (NL_WARP - 1)))
 
 /* Items of a grid-stride build kernel: the loops below visit [0, n) whatever the launch size. */
 #define NL_FOR(s, n) for (int s = get_global_id(0); s < (n); s += get_global_size(0))
@@ -61,14 +66,14 @@ __kernel void nl_scatter(__global const int* gate, __global const real4* pos, __
    as within, as in semlb_pair_force) among the 27 bins around its own, itself excluded; the first kmax are stored.
    stats[0] = the largest count (atomic_max), read by the host to size kmax. */
 __kernel void nl_build(__global const int* gate, __global const real4* sorted_pos, __global const int* starts,
-                       real4 lo, real4 size, int4 dims, SEMLB_REAL list2, int n, int stride, int kmax,
+                       real4 lo, real4 size, int4 dims, SEMLB_REAL list2, int n, int kmax,
                        __global int* nl_count, __global int* nl, __global int* stats) {
   if (!gate[0]) return;
   NL_FOR(s, n) {
     real4 me = sorted_pos[s];
     int4 b = bin3(me, lo, size, dims);
     int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1), count = 0;
-    __global int* out = nl + s;
+    __global int* out = nl + NL_AT(s, 0, kmax);
     for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
       for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
         int row = (z * dims.y + y) * dims.x;
@@ -77,7 +82,7 @@ __kernel void nl_build(__global const int* gate, __global const real4* sorted_po
           real4 q = sorted_pos[j];
           SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
           if (j == s || dx * dx + dy * dy + dz * dz >= list2) continue;
-          if (count < kmax) out[(long)count * stride] = j;
+          if (count < kmax) out[(long)count * NL_WARP] = j;
           ++count;
         }
       }
@@ -99,7 +104,7 @@ __kernel void nl_done(__global int* gate, __global int* stats) {
    over kmax takes the stencil of the build's bins around its position at the build (bins of edge >= cutoff +
    skin: every partner within the cutoff now was within cutoff + skin then, hence in those bins). */
 __kernel void nl_forces(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
-                        __global const ulong* keys, __global const int* nl_count, __global const int* nl, int stride,
+                        __global const ulong* keys, __global const int* nl_count, __global const int* nl,
                         int kmax, __global const int* starts, real4 lo, real4 size, int4 dims,
                         __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n) {
   int s = get_global_id(0);
@@ -109,28 +114,28 @@ __kernel void nl_forces(__global const real4* sorted_pos, __global const real4* 
   SEMLB_REAL cutoff2 = cutoff * cutoff;
   long acc[3] = {0, 0, 0};
   if (count <= kmax) {
-    __global const int* p = nl + s;
+    __global const int* p = nl + NL_AT(s, 0, kmax);
 #ifdef SEMLB_NL_MASK /* a variant: the listed partners 32 at a time, a mask of those within the cutoff, then the force
                         law on its set bits (as stencil_forces), so the lanes of a warp evaluate together */
-    for (int base = 0; base < count; base += 32, p += 32 * (long)stride) {
+    for (int base = 0; base < count; base += 32, p += 32 * NL_WARP) {
       int m = min(32, count - base);
       uint mask = 0;
       for (int k = 0; k < m; ++k) {
-        real4 q = sorted_pos[p[(long)k * stride]];
+        real4 q = sorted_pos[p[k * NL_WARP]];
         SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
         if (!(dx * dx + dy * dy + dz * dz >= cutoff2)) mask |= 1u << k;
       }
       while (mask) {
         int k = 31 - (int)clz(mask & (0 - mask));
         mask &= mask - 1;
-        int j = p[(long)k * stride];
+        int j = p[k * NL_WARP];
         real4 q = sorted_pos[j];
         if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
           semlb_coincident_force(keys[i], keys[sorted_index[j]], info, INFO(q.w), table, acc);
       }
     }
 #else
-    for (int k = 0; k < count; ++k, p += stride) {
+    for (int k = 0; k < count; ++k, p += NL_WARP) {
       int j = *p;
       real4 q = sorted_pos[j];
       if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)

@@ -67,7 +67,7 @@ class NeighbourList {
     grid_ = lg;
     n_ = n;
     cutoff_ = cutoff;
-    const cl_int ni = static_cast<cl_int>(n), stride = static_cast<cl_int>(capacity_), kmax = static_cast<cl_int>(stored_kmax_);
+    const cl_int ni = static_cast<cl_int>(n), kmax = static_cast<cl_int>(stored_kmax_);
     const Real list = static_cast<Real>(cutoff + stats_.skin);
     if (rebuild) {
       b.fill(gate_, 1, sizeof(cl_int));
@@ -84,10 +84,10 @@ class NeighbourList {
     b.launch("nl_scatter", wide, kGroup, gate_.get(), pos.get(), bin_.get(), cursor_.get(), sorted_pos_.get(),
              ref_.get(), sorted_index_.get(), ni);
     b.launch("nl_build", wide, kGroup, gate_.get(), sorted_pos_.get(), starts_.get(), lo, size, dims,
-             static_cast<Real>(list * list), ni, stride, kmax, count_.get(), list_.get(), stats_buf_.get());
+             static_cast<Real>(list * list), ni, kmax, count_.get(), list_.get(), stats_buf_.get());
     b.launch("nl_done", 1, 1, gate_.get(), stats_buf_.get());
     b.launch("nl_forces", n, kGroup, sorted_pos_.get(), ref_.get(), sorted_index_.get(), keys.get(), count_.get(),
-             list_.get(), stride, kmax, starts_.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), ni);
+             list_.get(), kmax, starts_.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), ni);
     b.launch("nl_overflow", split_ ? n : 1, kGroup, sorted_pos_.get(), ref_.get(), sorted_index_.get(), keys.get(),
              count_.get(), kmax, starts_.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), ni);
     valid_ = true;
@@ -98,10 +98,12 @@ class NeighbourList {
   static constexpr size_t kGroup = 128;           // work-group size of the list kernels
   static constexpr long kStrideItems = 1L << 18;  // work-items of the gated grid-stride kernels
   static constexpr long kReadEvery = 32;          // steps between reads of the largest partner count
+  static constexpr long kWarp = 32;               // slots per block of the list (NL_WARP)
 
   template <class B>
   void allocate(B& b, long capacity) {
-    capacity_ = capacity;
+    capacity_ = (capacity + kWarp - 1) / kWarp * kWarp;  // whole warp blocks (neighbour_list.cl NL_AT)
+    capacity = capacity_;
     const long fits = static_cast<long>(b.max_alloc() / sizeof(cl_int) / static_cast<size_t>(capacity));
     cap_ = std::max(1L, fits);
     kmax_ = std::min(kmax_, cap_);  // one buffer holds the list
