@@ -4,9 +4,10 @@
    trigger since the last build; the build kernels (nl_bin_count, the bin scan, nl_scatter, nl_build, nl_done) run
    every step but return at once unless gate[0] is set, so the device decides when to rebuild and no count crosses
    to the host; nl_forces evaluates the listed pairs. The list: for sorted slot s, nl_count[s] partners (sorted
-   slots, within cutoff + skin at the build) at nl[NL_AT(s, 0, kmax)], nl[NL_AT(s, 1, kmax)], ... (column-major per
-   warp of 32 slots: the lanes of a warp read and write consecutive words, and a warp's whole list is one block of
-   kmax x 128 bytes, so that its loads and the build's stores touch one page, not one per partner); a slot with more than kmax partners keeps its count and takes the exact 27-bin stencil of
+   slots, within cutoff + skin at the build) in chunks of 8 (32 bytes, one memory sector): chunk c of slot s at
+   nl[NL_AT(s, c, kmax)] (column-major per warp of 32 slots: the 32 lanes' chunk c is 1 KB in a row, and a warp's
+   whole list is one block of kmax x 128 bytes, so that its loads and the build's stores touch one page, and the
+   build stores whole sectors (8 partners at a time from registers), not one word per partner); a slot with more than kmax partners keeps its count and takes the exact 27-bin stencil of
    the build's bins instead. */
 
 /* Fraction of the skin an element may move before the list is rebuilt: half the skin less 2% for rounding (two
@@ -16,9 +17,11 @@
 #define SEMLB_NL_TRIGGER 0.49
 #endif
 
-/* Where partner k of sorted slot s is stored (slot s is lane s % 32 of warp block s / 32). */
+/* Where chunk c (partners 8c .. 8c + 7) of sorted slot s is stored: slot s is lane s % 32 of warp block s / 32;
+   kmax is a multiple of 8. */
 #define NL_WARP 32
-#define NL_AT(s, k, kmax) (((long)((s) >> 5) * (kmax) + (k)) * NL_WARP + ((s) & (NL_WARP - 1)))
+#define NL_CHUNK 8
+#define NL_AT(s, c, kmax) ((((long)((s) >> 5) * ((kmax) >> 3) + (c)) * NL_WARP + ((s) & (NL_WARP - 1))) * NL_CHUNK)
 
 /* Items of a grid-stride build kernel: the loops below visit [0, n) whatever the launch size. */
 #define NL_FOR(s, n) for (int s = get_global_id(0); s < (n); s += get_global_size(0))
@@ -63,8 +66,8 @@ __kernel void nl_scatter(__global const int* gate, __global const real4* pos, __
 }
 
 /* Gated build: for each sorted slot, the sorted slots within the list radius (r^2 < list2; a NaN distance counts
-   as within, as in semlb_pair_force) among the 27 bins around its own, itself excluded; the first kmax are stored.
-   stats[0] = the largest count (atomic_max), read by the host to size kmax. */
+   as within, as in semlb_pair_force) among the 27 bins around its own, itself excluded; the first kmax are stored,
+   8 at a time (a chunk gathered in registers, then one 32-byte store). stats[0] = the largest count (atomic_max), read by the host to size kmax. */
 __kernel void nl_build(__global const int* gate, __global const real4* sorted_pos, __global const int* starts,
                        real4 lo, real4 size, int4 dims, SEMLB_REAL list2, int n, int kmax,
                        __global int* nl_count, __global int* nl, __global int* stats) {
@@ -73,7 +76,8 @@ __kernel void nl_build(__global const int* gate, __global const real4* sorted_po
     real4 me = sorted_pos[s];
     int4 b = bin3(me, lo, size, dims);
     int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1), count = 0;
-    __global int* out = nl + NL_AT(s, 0, kmax);
+    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
+    int8 chunk = (int8)(0);
     for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
       for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
         int row = (z * dims.y + y) * dims.x;
@@ -82,10 +86,14 @@ __kernel void nl_build(__global const int* gate, __global const real4* sorted_po
           real4 q = sorted_pos[j];
           SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
           if (j == s || dx * dx + dy * dy + dz * dz >= list2) continue;
-          if (count < kmax) out[(long)count * NL_WARP] = j;
+          if (count < kmax) {
+            chunk = select(chunk, (int8)(j), lane == (int8)(count & 7));
+            if ((count & 7) == 7) vstore8(chunk, 0, nl + NL_AT(s, count >> 3, kmax));
+          }
           ++count;
         }
       }
+    if (count < kmax && (count & 7)) vstore8(chunk, 0, nl + NL_AT(s, count >> 3, kmax));  /* the last, partial chunk */
     nl_count[s] = count;
     if (count > ((volatile __global int*)stats)[0]) atomic_max(&stats[0], count);  /* rarely: one address for all */
   }
@@ -114,34 +122,17 @@ __kernel void nl_forces(__global const real4* sorted_pos, __global const real4* 
   SEMLB_REAL cutoff2 = cutoff * cutoff;
   long acc[3] = {0, 0, 0};
   if (count <= kmax) {
-    __global const int* p = nl + NL_AT(s, 0, kmax);
-#ifdef SEMLB_NL_MASK /* a variant: the listed partners 32 at a time, a mask of those within the cutoff, then the force
-                        law on its set bits (as stencil_forces), so the lanes of a warp evaluate together */
-    for (int base = 0; base < count; base += 32, p += 32 * NL_WARP) {
-      int m = min(32, count - base);
-      uint mask = 0;
+    /* 4 partners per load (an int4 of the slot's chunk), then the force law on each */
+    for (int base = 0; base < count; base += 4) {
+      int4 v = vload4(0, nl + NL_AT(s, base >> 3, kmax) + (base & 7));
+      int m = min(4, count - base);
       for (int k = 0; k < m; ++k) {
-        real4 q = sorted_pos[p[k * NL_WARP]];
-        SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
-        if (!(dx * dx + dy * dy + dz * dz >= cutoff2)) mask |= 1u << k;
-      }
-      while (mask) {
-        int k = 31 - (int)clz(mask & (0 - mask));
-        mask &= mask - 1;
-        int j = p[k * NL_WARP];
+        int j = k == 0 ? v.x : (k == 1 ? v.y : (k == 2 ? v.z : v.w));
         real4 q = sorted_pos[j];
         if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
           semlb_coincident_force(keys[i], keys[sorted_index[j]], info, INFO(q.w), table, acc);
       }
     }
-#else
-    for (int k = 0; k < count; ++k, p += NL_WARP) {
-      int j = *p;
-      real4 q = sorted_pos[j];
-      if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
-        semlb_coincident_force(keys[i], keys[sorted_index[j]], info, INFO(q.w), table, acc);
-    }
-#endif
   } else {
 #ifdef SEMLB_NL_SPLIT
     return;  /* nl_overflow's */

@@ -99,14 +99,15 @@ class NeighbourList {
   static constexpr long kStrideItems = 1L << 18;  // work-items of the gated grid-stride kernels
   static constexpr long kReadEvery = 32;          // steps between reads of the largest partner count
   static constexpr long kWarp = 32;               // slots per block of the list (NL_WARP)
+  static constexpr long kChunk = 8;               // partners per chunk (NL_CHUNK): kmax is a multiple
 
   template <class B>
   void allocate(B& b, long capacity) {
     capacity_ = (capacity + kWarp - 1) / kWarp * kWarp;  // whole warp blocks (neighbour_list.cl NL_AT)
     capacity = capacity_;
     const long fits = static_cast<long>(b.max_alloc() / sizeof(cl_int) / static_cast<size_t>(capacity));
-    cap_ = std::max(1L, fits);
-    kmax_ = std::min(kmax_, cap_);  // one buffer holds the list
+    cap_ = std::max(kChunk, fits / kChunk * kChunk);
+    kmax_ = (std::min(kmax_, cap_) + kChunk - 1) / kChunk * kChunk;  // one buffer holds the list; whole chunks
     stored_kmax_ = kmax_;
     bin_ = b.buffer(capacity * sizeof(cl_int));
     sorted_index_ = b.buffer(capacity * sizeof(cl_int));
