@@ -172,7 +172,7 @@ class OpenClBackend final : public Backend {
 
   void build();
 
-  // Kernel experiments (docs/engine.md): e.g. SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_NL_MASK to time a variant.
+  // Kernel experiments (docs/engine.md): e.g. SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_DOUBLE_RSQRT to time a variant.
   static std::string build_options() {
     const char* extra = std::getenv("SEMLB_OPENCL_BUILD_OPTIONS");
     return extra ? extra : "";
