@@ -1,5 +1,5 @@
-/* Counting sort of elements into bins: bin coordinates, per-bin counts, the 3-kernel exclusive scan, the scatter
-   (kernels.cl includes it). */
+/* Counting sort of elements into bins, the one used by the per-step stencil and the neighbour list's builds: bin
+   coordinates, per-bin counts, the 3-kernel exclusive scan, the scatter (kernels.cl includes it). */
 /* Bin coordinates clamped into the grid (x fastest); clamped as reals first, so NaN lands in bin 0. */
 static inline int bin1(SEMLB_REAL x, SEMLB_REAL lo, SEMLB_REAL size, int dim) {
   return (int)fmin(fmax(floor((x - lo) / size), (SEMLB_REAL)0), (SEMLB_REAL)(dim - 1));
@@ -8,15 +8,20 @@ static inline int4 bin3(real4 p, real4 lo, real4 size, int4 dims) {
   return (int4)(bin1(p.x, lo.x, size.x, dims.x), bin1(p.y, lo.y, size.y, dims.y), bin1(p.z, lo.z, size.z, dims.z), 0);
 }
 
-/* Elements [first, first + n): bin[k] the bin of element first + k; counts[bin] incremented. */
-__kernel void bin_count(__global const real4* pos, int first, int n, real4 lo, real4 size, int4 dims, __global int* bin,
-                        __global int* counts) {
-  int i = get_global_id(0);
-  if (i >= n) return;
-  int4 b = bin3(pos[first + i], lo, size, dims);
-  int k = (b.z * dims.y + b.y) * dims.x + b.x;
-  bin[i] = k;
-  atomic_inc(&counts[k]);
+/* Items of a grid-stride kernel: the loop visits [0, n) whatever the launch size. */
+#define SEMLB_FOR_ITEMS(i, n) for (int i = get_global_id(0); i < (n); i += get_global_size(0))
+
+/* Elements [first, first + n): bin[k] the bin of element first + k; counts[bin] incremented. Gated, as the scan:
+   nothing unless gate[0] is set (the per-step sort passes a buffer that always is; the neighbour list's flag). */
+__kernel void bin_count(__global const int* gate, __global const real4* pos, int first, int n, real4 lo, real4 size,
+                        int4 dims, __global int* bin, __global int* counts) {
+  if (!gate[0]) return;
+  SEMLB_FOR_ITEMS(i, n) {
+    int4 b = bin3(pos[first + i], lo, size, dims);
+    int k = (b.z * dims.y + b.y) * dims.x + b.x;
+    bin[i] = k;
+    atomic_inc(&counts[k]);
+  }
 }
 
 /* Inclusive Hillis-Steele scan of tmp[0..w) in local memory (all items of the group call it). */
@@ -71,12 +76,17 @@ __kernel void scan_add(__global const int* gate, __global int* starts, __global 
 }
 
 /* Elements [first, first + n) into bin order (order within a bin is arbitrary: force sums are order-independent);
-   sorted_index holds the element index (first + k). */
-__kernel void scatter(__global const real4* pos, int first, __global const int* bin, __global int* cursor,
-                      __global real4* sorted_pos, __global int* sorted_index, int n) {
-  int i = get_global_id(0);
-  if (i >= n) return;
-  int s = atomic_inc(&cursor[bin[i]]);
-  sorted_pos[s] = pos[first + i];
-  sorted_index[s] = first + i;
+   sorted_index holds the element index (first + k); ref, unless null, a second copy of the sorted positions (the
+   neighbour list's positions at its build). Gated as bin_count. */
+__kernel void scatter(__global const int* gate, __global const real4* pos, int first, __global const int* bin,
+                      __global int* cursor, __global real4* sorted_pos, __global int* sorted_index,
+                      __global real4* ref, int n) {
+  if (!gate[0]) return;
+  SEMLB_FOR_ITEMS(i, n) {
+    int s = atomic_inc(&cursor[bin[i]]);
+    real4 p = pos[first + i];
+    sorted_pos[s] = p;
+    sorted_index[s] = first + i;
+    if (ref) ref[s] = p;
+  }
 }

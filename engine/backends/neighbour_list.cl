@@ -1,7 +1,7 @@
 /* The neighbour list of opencl-binned (a Verlet list with a skin, reused across steps; docs/engine.md "Neighbour
    list"): pasted into kernels.cl after the pair kernels, whose helpers (bin3, stencil_forces) it uses.
    Per step: nl_check refreshes the sorted positions and raises gate[0] when an element has moved farther than the
-   trigger since the last build; the build kernels (nl_bin_count, the bin scan, nl_scatter, nl_build, nl_done) run
+   trigger since the last build; the build kernels (bins.cl's bin_count, scan and scatter, then nl_build, nl_done) run
    every step but return at once unless gate[0] is set, so the device decides when to rebuild and no count crosses
    to the host; nl_forces evaluates the listed pairs. The list: for sorted slot s, nl_count[s] partners (sorted
    slots, within cutoff + skin at the build) in chunks of 8 (32 bytes, one memory sector): chunk c of slot s at
@@ -23,9 +23,6 @@
 #define NL_CHUNK 8
 #define NL_AT(s, c, kmax) ((((long)((s) >> 5) * ((kmax) >> 3) + (c)) * NL_WARP + ((s) & (NL_WARP - 1))) * NL_CHUNK)
 
-/* Items of a grid-stride build kernel: the loops below visit [0, n) whatever the launch size. */
-#define NL_FOR(s, n) for (int s = get_global_id(0); s < (n); s += get_global_size(0))
-
 /* Sorted slot s of the last build: its position now (pos[sorted_index[s]]) into sorted_pos, and gate[0] = 1 when
    it moved by more than SEMLB_NL_TRIGGER skin since the build (ref[s]) or its displacement is not finite. */
 __kernel void nl_check(__global const real4* pos, __global const int* sorted_index, __global const real4* ref,
@@ -39,32 +36,6 @@ __kernel void nl_check(__global const real4* pos, __global const int* sorted_ind
   if (!(dx * dx + dy * dy + dz * dz < trigger2)) gate[0] = 1;
 }
 
-/* The build's counting sort by bin (bins of edge >= cutoff + skin), gated: bin of each element, counts. */
-__kernel void nl_bin_count(__global const int* gate, __global const real4* pos, int n, real4 lo, real4 size, int4 dims,
-                           __global int* bin, __global int* counts) {
-  if (!gate[0]) return;
-  NL_FOR(i, n) {
-    int4 b = bin3(pos[i], lo, size, dims);
-    int k = (b.z * dims.y + b.y) * dims.x + b.x;
-    bin[i] = k;
-    atomic_inc(&counts[k]);
-  }
-}
-
-/* Gated scatter into bin order; ref (the positions of the build) = sorted_pos. */
-__kernel void nl_scatter(__global const int* gate, __global const real4* pos, __global const int* bin,
-                         __global int* cursor, __global real4* sorted_pos, __global real4* ref,
-                         __global int* sorted_index, int n) {
-  if (!gate[0]) return;
-  NL_FOR(i, n) {
-    int s = atomic_inc(&cursor[bin[i]]);
-    real4 p = pos[i];
-    sorted_pos[s] = p;
-    ref[s] = p;
-    sorted_index[s] = i;
-  }
-}
-
 /* Gated build: for each sorted slot, the sorted slots within the list radius (r^2 < list2; a NaN distance counts
    as within, as in semlb_pair_force) among the 27 bins around its own, itself excluded; the first kmax are stored,
    8 at a time (a chunk gathered in registers, then one 32-byte store). stats[0] = the largest count (atomic_max), read by the host to size kmax. */
@@ -72,7 +43,7 @@ __kernel void nl_build(__global const int* gate, __global const real4* sorted_po
                        real4 lo, real4 size, int4 dims, SEMLB_REAL list2, int n, int kmax,
                        __global int* nl_count, __global int* nl, __global int* stats) {
   if (!gate[0]) return;
-  NL_FOR(s, n) {
+  SEMLB_FOR_ITEMS(s, n) {
     real4 me = sorted_pos[s];
     int4 b = bin3(me, lo, size, dims);
     int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1), count = 0;

@@ -18,7 +18,7 @@ namespace semlb::engine {
 // by the gated build kernels: no host round trip per step), and by the host whenever the owned elements change
 // (upload, cell stage, migration: invalidate()), the grid or the cutoff changes, or kmax must grow. Exact: the pairs
 // within the cutoff are those of all pairs, so forces are the same fixed-point sums bit for bit.
-// B is the backend class (OpenClBackend<Real>): it provides buffer(), launch(), fill(), exclusive_scan().
+// B is the backend class (OpenClBackend<Real>): it provides buffer(), launch(), fill(), sort_into_bins().
 template <class Real>
 class NeighbourList {
  public:
@@ -57,13 +57,6 @@ class NeighbourList {
       allocate(b, std::max(n + n / 4 + 64, capacity_));
       rebuild = true;
     }
-    if (lg.bins() > bins_) {
-      bins_ = lg.bins() + lg.bins() / 4;
-      counts_ = b.buffer(bins_ * sizeof(cl_int));
-      starts_ = b.buffer((bins_ + 1) * sizeof(cl_int));
-      cursor_ = b.buffer(bins_ * sizeof(cl_int));
-      sums_ = b.buffer((bins_ + 255) / 256 * sizeof(cl_int));
-    }
     grid_ = lg;
     n_ = n;
     cutoff_ = cutoff;
@@ -72,24 +65,21 @@ class NeighbourList {
     if (rebuild) {
       b.fill(gate_, 1, sizeof(cl_int));
     } else {
-      b.launch("nl_check", n, kGroup, pos.get(), sorted_index_.get(), ref_.get(), sorted_pos_.get(), ni,
+      b.launch("nl_check", n, kGroup, pos.get(), sort_.sorted_index.get(), ref_.get(), sort_.sorted_pos.get(), ni,
                static_cast<Real>(stats_.skin), gate_.get());
     }
-    b.fill(counts_, 0, lg.bins() * sizeof(cl_int));
-    const long wide = std::min<long>(n, kStrideItems);  // grid-stride: a gated launch that returns costs little
+    // the build, gated: bins of edge >= cutoff + skin (the backend's sort, grid-stride: a gated launch costs little)
+    b.sort_into_bins(lg, 0, n, sort_, &gate_, &ref_, kStrideItems);
+    const long wide = std::min<long>(n, kStrideItems);
     const auto lo = b.real4(lg.lo), size = b.real4(lg.size);
     const auto dims = b.int4(lg.dims);
-    b.launch("nl_bin_count", wide, kGroup, gate_.get(), pos.get(), ni, lo, size, dims, bin_.get(), counts_.get());
-    b.exclusive_scan(counts_, starts_, sums_, cursor_, lg.bins(), &gate_);
-    b.launch("nl_scatter", wide, kGroup, gate_.get(), pos.get(), bin_.get(), cursor_.get(), sorted_pos_.get(),
-             ref_.get(), sorted_index_.get(), ni);
-    b.launch("nl_build", wide, kGroup, gate_.get(), sorted_pos_.get(), starts_.get(), lo, size, dims,
+    b.launch("nl_build", wide, kGroup, gate_.get(), sort_.sorted_pos.get(), sort_.starts.get(), lo, size, dims,
              static_cast<Real>(list * list), ni, kmax, count_.get(), list_.get(), stats_buf_.get());
     b.launch("nl_done", 1, 1, gate_.get(), stats_buf_.get());
-    b.launch("nl_forces", n, kGroup, sorted_pos_.get(), ref_.get(), sorted_index_.get(), keys.get(), count_.get(),
-             list_.get(), kmax, starts_.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), ni);
-    b.launch("nl_overflow", split_ ? n : 1, kGroup, sorted_pos_.get(), ref_.get(), sorted_index_.get(), keys.get(),
-             count_.get(), kmax, starts_.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), ni);
+    b.launch("nl_forces", n, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(), keys.get(), count_.get(),
+             list_.get(), kmax, sort_.starts.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), ni);
+    b.launch("nl_overflow", split_ ? n : 1, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(), keys.get(),
+             count_.get(), kmax, sort_.starts.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), ni);
     valid_ = true;
     if (rebuild || ++since_read_ >= kReadEvery) request(b);  // kmax follows the densest element, a step or more late
   }
@@ -109,10 +99,7 @@ class NeighbourList {
     cap_ = std::max(kChunk, fits / kChunk * kChunk);
     kmax_ = (std::min(kmax_, cap_) + kChunk - 1) / kChunk * kChunk;  // one buffer holds the list; whole chunks
     stored_kmax_ = kmax_;
-    bin_ = b.buffer(capacity * sizeof(cl_int));
-    sorted_index_ = b.buffer(capacity * sizeof(cl_int));
     count_ = b.buffer(capacity * sizeof(cl_int));
-    sorted_pos_ = b.buffer(capacity * sizeof(std::array<Real, 4>));
     ref_ = b.buffer(capacity * sizeof(std::array<Real, 4>));
     list_ = b.buffer(static_cast<size_t>(capacity) * static_cast<size_t>(kmax_) * sizeof(cl_int));
   }
@@ -137,10 +124,11 @@ class NeighbourList {
 
   ListStats stats_;
   bool split_ = false, valid_ = false;
-  long n_ = -1, capacity_ = 0, bins_ = 0, kmax_ = 64, stored_kmax_ = -1, cap_ = 1L << 40, since_read_ = 0;
+  long n_ = -1, capacity_ = 0, kmax_ = 64, stored_kmax_ = -1, cap_ = 1L << 40, since_read_ = 0;
   double cutoff_ = -1;
   Grid grid_;
-  cl::Mem gate_, stats_buf_, counts_, starts_, cursor_, sums_, bin_, sorted_index_, count_, sorted_pos_, ref_, list_;
+  cl::BinSort sort_;  // the build's counting sort (its sorted_pos: the positions now, in the build's order)
+  cl::Mem gate_, stats_buf_, count_, ref_, list_;
   cl::Event pending_;
   std::array<cl_int, 2> host_stats_{};
 };

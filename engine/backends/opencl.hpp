@@ -115,4 +115,12 @@ class KernelCapture {
   bool done_ = false;
 };
 
+// The device buffers of one counting sort by bin (OpenClBackend::sort_into_bins): per-bin counts, starts (bins + 1),
+// scatter cursor and scan block sums; per element its bin, its sorted position and its element index. Capacities:
+// `bins` bins, `elements` elements.
+struct BinSort {
+  Mem counts, starts, cursor, sums, bin, sorted_pos, sorted_index;
+  long bins = 0, elements = 0;
+};
+
 }  // namespace semlb::engine::cl

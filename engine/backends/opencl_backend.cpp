@@ -228,7 +228,7 @@ void OpenClBackend<Real>::build() {
   }
   for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned",
                         "forces_nonlocal", "forces_allpairs", "integrate", "noise", "x_extent", "band_flags", "band_gather", "bounds",
-                        "nl_check", "nl_bin_count", "nl_scatter", "nl_build", "nl_done", "nl_forces", "nl_overflow"}) {
+                        "nl_check", "nl_build", "nl_done", "nl_forces", "nl_overflow"}) {
     kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
     cl::check(err, k);
   }
@@ -274,14 +274,15 @@ void OpenClBackend<Real>::allocate(long capacity) {
 }
 
 template <class Real>
-void OpenClBackend<Real>::sort_into_bins(const Grid& g, long first, long count, BinSort& s) {
+void OpenClBackend<Real>::sort_into_bins(const Grid& g, long first, long count, BinSort& s, const cl::Mem* gate,
+                                         const cl::Mem* ref, long items) {
   const long bins = g.bins();
   if (bins > s.bins) {
-    s.bins = bins;
-    s.counts = buffer(bins * sizeof(cl_int));
-    s.starts = buffer((bins + 1) * sizeof(cl_int));
-    s.cursor = buffer(bins * sizeof(cl_int));
-    s.sums = buffer(round_up(bins, kScanGroup) / kScanGroup * sizeof(cl_int));
+    s.bins = bins + (gate ? bins / 4 : 0);  // the list's grid follows the tissue's extent: room to grow
+    s.counts = buffer(s.bins * sizeof(cl_int));
+    s.starts = buffer((s.bins + 1) * sizeof(cl_int));
+    s.cursor = buffer(s.bins * sizeof(cl_int));
+    s.sums = buffer(round_up(s.bins, kScanGroup) / kScanGroup * sizeof(cl_int));
   }
   if (count > s.elements) {
     s.elements = count + count / 4 + 64;
@@ -289,11 +290,13 @@ void OpenClBackend<Real>::sort_into_bins(const Grid& g, long first, long count, 
     s.sorted_pos = buffer(s.elements * sizeof(Real4));
     s.sorted_index = buffer(s.elements * sizeof(cl_int));
   }
-  const cl_int zero = 0, n = static_cast<cl_int>(count), from = static_cast<cl_int>(first);
-  cl::check(clEnqueueFillBuffer(queue_.get(), s.counts.get(), &zero, sizeof zero, 0, bins * sizeof(cl_int), 0, nullptr, nullptr), "zero bins");
-  launch("bin_count", count, kGroup, pos_.get(), from, n, real4(g.lo), real4(g.size), int4(g.dims), s.bin.get(), s.counts.get());
-  exclusive_scan(s.counts, s.starts, s.sums, s.cursor, bins);
-  launch("scatter", count, kGroup, pos_.get(), from, s.bin.get(), s.cursor.get(), s.sorted_pos.get(), s.sorted_index.get(), n);
+  const cl_int n = static_cast<cl_int>(count), from = static_cast<cl_int>(first);
+  const cl_mem go = (gate ? *gate : always_).get(), copy = ref ? ref->get() : nullptr;
+  const long wide = items > 0 ? std::min(items, count) : count;
+  fill(s.counts, 0, bins * sizeof(cl_int));
+  launch("bin_count", wide, kGroup, go, pos_.get(), from, n, real4(g.lo), real4(g.size), int4(g.dims), s.bin.get(), s.counts.get());
+  exclusive_scan(s.counts, s.starts, s.sums, s.cursor, bins, gate);
+  launch("scatter", wide, kGroup, go, pos_.get(), from, s.bin.get(), s.cursor.get(), s.sorted_pos.get(), s.sorted_index.get(), copy, n);
 }
 
 template class OpenClBackend<float>;

@@ -267,13 +267,14 @@ class OpenClBackend final : public Backend {
 
   // A counting sort by bin with its own buffers (the owned elements' and the ghosts'): per bin the count, the
   // first sorted slot (starts, bins + 1) and the scatter cursor; per sorted slot the position and element index.
-  struct BinSort {
-    cl::Mem counts, starts, cursor, sums, bin, sorted_pos, sorted_index;
-    long bins = 0, elements = 0;  // capacities
-  };
+  using BinSort = cl::BinSort;
 
-  // Counting sort of elements [first, first + count) by bin: count (atomics), exclusive scan, scatter.
-  void sort_into_bins(const Grid& g, long first, long count, BinSort& s);
+  // Counting sort of elements [first, first + count) of pos_ by bin: count (atomics), exclusive scan, scatter (bins.cl),
+  // growing s's buffers when the grid or the count outgrows them. The neighbour list's builds pass `gate` (the kernels
+  // do nothing unless its first int is set), `ref` (a second copy of the sorted positions) and `items` (work-items of
+  // the grid-stride kernels, at most count; 0: one per element).
+  void sort_into_bins(const Grid& g, long first, long count, BinSort& s, const cl::Mem* gate = nullptr,
+                      const cl::Mem* ref = nullptr, long items = 0);
 
   template <class T>
   void set_arg(cl_kernel k, cl_uint i, const T& v, const char* name) {
