@@ -2,6 +2,7 @@
 #include <omp.h>
 
 #include "cpu_backend.hpp"
+#include "decomposition/stencil.h"
 
 namespace semlb::engine {
 namespace {
@@ -88,16 +89,13 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
     const int bx = static_cast<int>(b % g.dims[0]), by = static_cast<int>(b / g.dims[0] % g.dims[1]),
               bz = static_cast<int>(b / (static_cast<long>(g.dims[0]) * g.dims[1]));
     int64_t acc[3] = {0, 0, 0};
-    for (int z = std::max(bz - 1, 0); z <= std::min(bz + 1, g.dims[2] - 1); ++z)
-      for (int y = std::max(by - 1, 0); y <= std::min(by + 1, g.dims[1] - 1); ++y) {
-        const long row = (static_cast<long>(z) * g.dims[1] + y) * g.dims[0];
-        const long first = other.start[row + std::max(bx - 1, 0)], last = other.start[row + std::min(bx + 1, g.dims[0] - 1) + 1];
-        for (long o = first; o < last; ++o) {
-          if (o == self) continue;
-          const Packed& q = other.packed[o];
-          Physics<Real>::pair(me.x - q.x, me.y - q.y, me.z - q.z, me.info, q.info, me.key, q.key, t, c2, acc);
-        }
+    SEMLB_STENCIL_ROWS(bx, by, bz, g.dims[0], g.dims[1], g.dims[2], first_bin, last_bin) {
+      for (long o = other.start[first_bin], last = other.start[last_bin + 1]; o < last; ++o) {
+        if (o == self) continue;
+        const Packed& q = other.packed[o];
+        Physics<Real>::pair(me.x - q.x, me.y - q.y, me.z - q.z, me.info, q.info, me.key, q.key, t, c2, acc);
       }
+    }
     for (int c = 0; c < 3; ++c) this->force_[3 * i + c] += acc[c];
   }
 

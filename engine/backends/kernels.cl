@@ -29,6 +29,8 @@ typedef float4 real4;
 
 #define NO_FAILURE 0x7fffffff
 
+#include "stencil.h"
+
 #include "bins.cl"
 #include "pair_forces.cl"
 #include "neighbour_list.cl"

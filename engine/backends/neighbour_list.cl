@@ -46,24 +46,22 @@ __kernel void nl_build(__global const int* gate, __global const real4* sorted_po
   SEMLB_FOR_ITEMS(s, n) {
     real4 me = sorted_pos[s];
     int4 b = bin3(me, lo, size, dims);
-    int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1), count = 0;
+    int count = 0;
     const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
     int8 chunk = (int8)(0);
-    for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
-      for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
-        int row = (z * dims.y + y) * dims.x;
-        int last = starts[row + x1 + 1];
-        for (int j = starts[row + x0]; j < last; ++j) {
-          real4 q = sorted_pos[j];
-          SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
-          if (j == s || dx * dx + dy * dy + dz * dz >= list2) continue;
-          if (count < kmax) {
-            chunk = select(chunk, (int8)(j), lane == (int8)(count & 7));
-            if ((count & 7) == 7) vstore8(chunk, 0, nl + NL_AT(s, count >> 3, kmax));
-          }
-          ++count;
+    SEMLB_STENCIL_ROWS(b.x, b.y, b.z, dims.x, dims.y, dims.z, first_bin, last_bin) {
+      int last = starts[last_bin + 1];
+      for (int j = starts[first_bin]; j < last; ++j) {
+        real4 q = sorted_pos[j];
+        SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
+        if (j == s || dx * dx + dy * dy + dz * dz >= list2) continue;
+        if (count < kmax) {
+          chunk = select(chunk, (int8)(j), lane == (int8)(count & 7));
+          if ((count & 7) == 7) vstore8(chunk, 0, nl + NL_AT(s, count >> 3, kmax));
         }
+        ++count;
       }
+    }
     if (count < kmax && (count & 7)) vstore8(chunk, 0, nl + NL_AT(s, count >> 3, kmax));  /* the last, partial chunk */
     nl_count[s] = count;
     if (count > ((volatile __global int*)stats)[0]) atomic_max(&stats[0], count);  /* rarely: one address for all */

@@ -14,29 +14,26 @@ static inline void stencil_forces(real4 me, int i, int self, int4 b, int4 dims, 
                                   __global const ulong* keys, __constant const SEMLB_REAL* table,
                                   SEMLB_REAL cutoff2, long* acc) {
   int info = INFO(me.w);
-  int x0 = max(b.x - 1, 0), x1 = min(b.x + 1, dims.x - 1);
-  for (int z = max(b.z - 1, 0); z <= min(b.z + 1, dims.z - 1); ++z)
-    for (int y = max(b.y - 1, 0); y <= min(b.y + 1, dims.y - 1); ++y) {
-      int row = (z * dims.y + y) * dims.x;
-      int last = starts[row + x1 + 1];
-      for (int base = starts[row + x0]; base < last; base += SEMLB_CHUNK) {
-        int m = min(SEMLB_CHUNK, last - base);
-        ulong mask = 0;
-        for (int k = 0; k < m; ++k) {
-          real4 q = sorted_pos[base + k];
-          SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
-          if (!(dx * dx + dy * dy + dz * dz >= cutoff2)) mask |= (ulong)1 << k;
-        }
-        if (self >= base && self < base + m) mask &= ~((ulong)1 << (self - base));
-        while (mask) {
-          int k = 63 - (int)clz(mask & (0 - mask));  /* the lowest set bit */
-          mask &= mask - 1;
-          real4 q = sorted_pos[base + k];
-          if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
-            semlb_coincident_force(keys[i], keys[sorted_index[base + k]], info, INFO(q.w), table, acc);
-        }
+  SEMLB_STENCIL_ROWS(b.x, b.y, b.z, dims.x, dims.y, dims.z, first_bin, last_bin) {
+    int last = starts[last_bin + 1];
+    for (int base = starts[first_bin]; base < last; base += SEMLB_CHUNK) {
+      int m = min(SEMLB_CHUNK, last - base);
+      ulong mask = 0;
+      for (int k = 0; k < m; ++k) {
+        real4 q = sorted_pos[base + k];
+        SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
+        if (!(dx * dx + dy * dy + dz * dz >= cutoff2)) mask |= (ulong)1 << k;
+      }
+      if (self >= base && self < base + m) mask &= ~((ulong)1 << (self - base));
+      while (mask) {
+        int k = 63 - (int)clz(mask & (0 - mask));  /* the lowest set bit */
+        mask &= mask - 1;
+        real4 q = sorted_pos[base + k];
+        if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
+          semlb_coincident_force(keys[i], keys[sorted_index[base + k]], info, INFO(q.w), table, acc);
       }
     }
+  }
 }
 
 /* Local pair forces (owned on owned): one item per sorted owned element, over the owned elements' bins. */

@@ -26,10 +26,10 @@ static inline int semlb_owner_of(int slice, SEMLB_GLOBAL const int* bounds, int 
 
 /* Elements in the bins around bin (bx, by, bz) (3 x 3 x 3, clipped at the grid's faces) of a grid of nx x ny x nz
  * bins whose counts are stored z-major, x fastest. */
+#include "stencil.h"
 static inline long semlb_near_count(SEMLB_GLOBAL const int* counts, int bx, int by, int bz, int nx, int ny, int nz) {
   long near = 0;
-  for (int z = bz > 0 ? bz - 1 : 0; z <= (bz + 1 < nz ? bz + 1 : nz - 1); ++z)
-    for (int y = by > 0 ? by - 1 : 0; y <= (by + 1 < ny ? by + 1 : ny - 1); ++y)
-      for (int x = bx > 0 ? bx - 1 : 0; x <= (bx + 1 < nx ? bx + 1 : nx - 1); ++x) near += counts[((long)z * ny + y) * nx + x];
+  SEMLB_STENCIL_ROWS(bx, by, bz, nx, ny, nz, first, last)
+  for (long b = first; b <= last; ++b) near += counts[b];
   return near;
 }

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "common/errors.hpp"
+#include "decomposition/stencil.h"
 #include "simulation.hpp"
 #include "model/tissue.hpp"
 
@@ -27,9 +28,8 @@ TissueStats tissue_stats(const State& s, const Grid& g, double cutoff, long samp
               bz = static_cast<int>(b / (static_cast<long>(g.dims[0]) * g.dims[1]));
     t.per_cutoff_cube += static_cast<double>(count[b]) * cube;
     long candidates = 0;
-    for (int z = std::max(bz - 1, 0); z <= std::min(bz + 1, g.dims[2] - 1); ++z)
-      for (int y = std::max(by - 1, 0); y <= std::min(by + 1, g.dims[1] - 1); ++y)
-        for (int x = std::max(bx - 1, 0); x <= std::min(bx + 1, g.dims[0] - 1); ++x) candidates += count[index(x, y, z)];
+    SEMLB_STENCIL_ROWS(bx, by, bz, g.dims[0], g.dims[1], g.dims[2], first_bin, last_bin)
+    for (long k = first_bin; k <= last_bin; ++k) candidates += count[k];
     t.candidates += static_cast<double>(candidates - 1);
   }
   long sampled = 0;  // brute force over a sample: independent of the binning under test
