@@ -56,15 +56,8 @@ std::vector<std::string> split(const std::string& text, char separator) {
   return fields;
 }
 
-namespace {
-
-std::string range_text(double min, double max) {
-  return "[" + format_real(min) + ", " + format_real(max) + "]";
-}
-
-}  // namespace
-
-double parse_real(std::string_view text, const std::string& where, double min, double max) {
+double parse_real(std::string_view text, const std::string& where, double min, double max, bool min_open,
+                  bool max_open) {
   const std::string quoted = "'" + std::string(text) + "'";
   double v = 0;
   const char *first = text.data(), *last = text.data() + text.size();
@@ -74,7 +67,9 @@ double parse_real(std::string_view text, const std::string& where, double min, d
     throw InputError(where + quoted + " is not a number");
   if (ec == std::errc::result_out_of_range || !std::isfinite(v))
     throw InputError(where + quoted + " is not a finite number in the range of a double");
-  if (v < min || v > max) throw InputError(where + quoted + " is outside " + range_text(min, max));
+  if (v < min || v > max || (min_open && v == min) || (max_open && v == max))
+    throw InputError(where + quoted + " is outside " + (min_open ? "(" : "[") + format_real(min) + ", " + format_real(max) +
+                     (max_open ? ")" : "]"));
   return v;
 }
 

@@ -18,10 +18,12 @@ std::vector<std::string> split(const std::string& text, char separator);
 // Strict number parsing, used wherever a number is read from text. The whole token must be the number:
 // no surrounding spaces, no units ("0.15mm"), no hex ("0x10"), no leading '+', no "inf"/"nan"; a real is
 // finite (1e400 is refused) and an integer is written as an integer ("2.0", "1e3" are refused) that fits a
-// long. The value must lie in [min, max]. `where` prefixes the message (e.g. semlb::where(file, line,
-// field), or "--set KEY: "); errors throw InputError("<where>'<text>' is not a number", ... "outside [a, b]").
+// long. The value must lie in [min, max] (for a real, an end is open when min_open / max_open). `where` prefixes
+// the message (e.g. semlb::where(file, line, field), or "--set KEY: "); errors throw
+// InputError("<where>'<text>' is not a number", ... "is outside [a, b]", "is outside (a, b]").
 double parse_real(std::string_view text, const std::string& where,
-                  double min = -std::numeric_limits<double>::max(), double max = std::numeric_limits<double>::max());
+                  double min = -std::numeric_limits<double>::max(), double max = std::numeric_limits<double>::max(),
+                  bool min_open = false, bool max_open = false);
 long parse_integer(std::string_view text, const std::string& where,
                    long min = std::numeric_limits<long>::min(), long max = std::numeric_limits<long>::max());
 

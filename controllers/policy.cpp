@@ -1,9 +1,10 @@
 // Policy registry and PolicyParams parsing.
 #include "policy.hpp"
 
+#include <algorithm>
+
 #include "common/errors.hpp"
 #include "common/registry.hpp"
-#include "common/text_io.hpp"
 
 namespace semlb {
 namespace {
@@ -26,33 +27,14 @@ const Entry& entry(const std::string& name) {
 
 }  // namespace
 
-double PolicyParams::real(const std::string& key, double fallback, double min, double max, bool min_open, bool max_open) {
-  used_.insert(key);
-  auto it = values_.find(key);
-  if (it == values_.end()) return fallback;
-  const std::string at = "policy parameter '" + key + "': ";
-  const double v = parse_real(it->second, at);
-  if (v < min || v > max || (min_open && v == min) || (max_open && v == max))
-    throw InputError(at + "'" + it->second + "' is outside " + (min_open ? "(" : "[") + format_real(min) + ", " +
-                     format_real(max) + (max_open ? ")" : "]"));
-  return v;
-}
-
-long PolicyParams::integer(const std::string& key, long fallback, long min, long max) {
-  used_.insert(key);
-  auto it = values_.find(key);
-  return it == values_.end() ? fallback : parse_integer(it->second, "policy parameter '" + key + "': ", min, max);
-}
-
-std::string PolicyParams::text(const std::string& key, const std::string& fallback) {
-  used_.insert(key);
-  auto it = values_.find(key);
-  return it == values_.end() ? fallback : it->second;
+void PolicyParams::set(const std::string& key, const std::string& value) {
+  values_.set(key, value, Origin{"", 0, "policy parameter '" + key + "'", ""});
 }
 
 void PolicyParams::expect_all_used(const std::string& policy) const {
-  for (const auto& [k, v] : values_)
-    if (!used_.count(k)) throw InputError("policy '" + policy + "' has no parameter '" + k + "'");
+  const auto unread = values_.unread();
+  if (!unread.empty())
+    throw InputError("policy '" + policy + "' has no parameter '" + *std::min_element(unread.begin(), unread.end()) + "'");
 }
 
 void Policy::load_state(const PolicyState& s) {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/settings.hpp"
 #include "observation.hpp"
 
 namespace semlb {
@@ -32,32 +33,38 @@ struct PolicyNeeds {
   bool true_work = false;   // the noise-free work of the next interval (Observation::oracle_work)
 };
 
-// key=value options of one policy (e.g. tau=0.02). Reading a key marks it used; unused keys are errors.
 // Largest imbalance threshold (tau) a policy accepts: I_t <= 2 and I_global <= P, so tau above this means
 // "never rebalance" for any run semlb can make (ranges: docs/controllers.md "Input rules").
 inline constexpr double kMaxThreshold = 100.0;
 
+// key=value options of one policy (e.g. tau=0.02), read through semlb::Settings (common/settings.hpp): each value
+// is blamed on "policy parameter 'KEY': ". Reading a key marks it used; unused keys are errors.
 class PolicyParams {
  public:
   PolicyParams() = default;
-  explicit PolicyParams(std::map<std::string, std::string> values) : values_(std::move(values)) {}
+  explicit PolicyParams(const std::map<std::string, std::string>& values) {
+    for (const auto& [k, v] : values) set(k, v);
+  }
 
   // KEY's value parsed strictly (parse_real), in [min, max] (an open end when min_open / max_open);
   // FALLBACK when absent. Throws InputError "policy parameter 'KEY': ...".
   double real(const std::string& key, double fallback, double min, double max, bool min_open = false,
-              bool max_open = false);
+              bool max_open = false) {
+    return values_.real(key, fallback, min, max, min_open, max_open);
+  }
   // KEY's value parsed strictly as an integer (parse_integer: "2.0" is refused), in [min, max]; FALLBACK when
   // absent. Throws InputError "policy parameter 'KEY': ...".
-  long integer(const std::string& key, long fallback, long min, long max);
-  std::string text(const std::string& key, const std::string& fallback);
-  void set(const std::string& key, const std::string& value) { values_[key] = value; }
-  bool has(const std::string& key) const { return values_.count(key) != 0; }
-  // Throws InputError naming the first key no policy code read.
+  long integer(const std::string& key, long fallback, long min, long max) {
+    return values_.integer(key, fallback, min, max);
+  }
+  std::string text(const std::string& key, const std::string& fallback) { return values_.text(key, fallback); }
+  void set(const std::string& key, const std::string& value);
+  bool has(const std::string& key) const { return values_.has(key); }
+  // Throws InputError "policy 'POLICY' has no parameter 'KEY'" for the first key (in name order) no policy code read.
   void expect_all_used(const std::string& policy) const;
 
  private:
-  std::map<std::string, std::string> values_;
-  std::set<std::string> used_;
+  Settings values_;
 };
 
 using PolicyFactory = std::function<std::unique_ptr<Policy>(PolicyParams&)>;

@@ -120,18 +120,27 @@ void read_block(const YAML::Node& block, Manifest& m, const std::string& where_n
 
 }  // namespace
 
+Origin origin_of(const Setting& s, const std::string& manifest) {
+  return s.source.empty() ? Origin{manifest, s.line, "", ""} : Origin{"", 0, s.source, ""};
+}
+
 std::string where_of(const Setting& s, const std::string& manifest, const std::string& key) {
-  return s.source.empty() ? semlb::where(manifest, s.line, key) : s.source + ": ";
+  return semlb::where(origin_of(s, manifest), key);
+}
+
+Settings Job::reader(const std::string& manifest) const {
+  Settings r("", Origin{manifest, 0, "", ""});
+  for (const auto& [k, s] : settings)
+    if (!r.has(k)) r.set(k, s.value, origin_of(s, manifest));  // the first, as find() gives
+  return r;
 }
 
 long Job::integer(const std::string& key, long fallback, long min, long max, const std::string& manifest) const {
-  const Setting* s = find(key);
-  return s ? parse_integer(s->value, where_of(*s, manifest, key), min, max) : fallback;
+  return reader(manifest).integer(key, fallback, min, max);
 }
 
 double Job::real(const std::string& key, double fallback, double min, double max, const std::string& manifest) const {
-  const Setting* s = find(key);
-  return s ? parse_real(s->value, where_of(*s, manifest, key), min, max) : fallback;
+  return reader(manifest).real(key, fallback, min, max);
 }
 
 const Setting* Job::find(const std::string& key) const {

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "common/settings.hpp"
+
 namespace semlb::experiments {
 
 // One value with the manifest line it came from, or (line 0) the command-line flag that gave it ("--set ranks",
@@ -16,16 +18,20 @@ struct Setting {
   std::string source;  // non-empty for values from the command line
 };
 
-// "SOURCE: " for a command-line value, else "MANIFEST:LINE: field 'KEY': ".
+// Where S came from, as semlb::Origin (common/settings.hpp): MANIFEST's line, or the flag.
+Origin origin_of(const Setting& s, const std::string& manifest);
+// "SOURCE: " for a command-line value, else "MANIFEST:LINE: field 'KEY': " (semlb::where(origin_of(s), key)).
 std::string where_of(const Setting& s, const std::string& manifest, const std::string& key);
 
 // One row of a sweep: key -> value, in a fixed key order.
 struct Job {
   std::vector<std::pair<std::string, Setting>> settings;
   const Setting* find(const std::string& key) const;
+  // The row as a semlb::Settings, in key order, each value blamed on its manifest line or flag.
+  Settings reader(const std::string& manifest) const;
   // KEY's value as written, or FALLBACK when the job does not set KEY.
   std::string text(const std::string& key, const std::string& fallback) const;
-  // KEY parsed strictly (common/text_io.hpp) in [min, max]; FALLBACK when absent. Errors name the source.
+  // KEY parsed strictly (Settings::integer / real) in [min, max]; FALLBACK when absent. Errors name the source.
   long integer(const std::string& key, long fallback, long min, long max, const std::string& manifest) const;
   double real(const std::string& key, double fallback, double min, double max, const std::string& manifest) const;
 };

@@ -53,9 +53,10 @@ std::string job_key(const Job& job) {
 
 void check_settings(const Job& job, const std::string& manifest, const std::vector<std::string>& known,
                     const std::function<bool(const std::string&)>& also, const std::string& runner) {
-  for (const auto& [k, s] : job.settings)
-    if (std::find(known.begin(), known.end(), k) == known.end() && !(also && also(k)))
-      throw InputError(where_of(s, manifest, k) + "unknown setting for " + runner);
+  const Settings row = job.reader(manifest);
+  for (const auto& k : row.keys())
+    if (std::find(known.begin(), known.end(), k) != known.end() || (also && also(k))) row.mark_read(k);
+  row.finish("unknown setting for " + runner);
 }
 
 bool is_scenario_key(const std::string& key) { return key.rfind("scenario.", 0) == 0; }

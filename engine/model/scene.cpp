@@ -9,87 +9,52 @@
 
 namespace semlb::engine {
 
-Section::Section(YAML::Node node, std::string path, std::string file, std::shared_ptr<const std::set<std::string>> overridden)
-    : node_(std::move(node)), path_(std::move(path)), file_(std::move(file)), overridden_(std::move(overridden)) {}
+namespace {
 
-std::string Section::where(const std::string& key) const {
-  const std::string full = path_.empty() ? key : (key.empty() ? path_ : path_ + "." + key);
-  if (overridden_) {  // a key set by --set, or inside a map given by --set (effects.noise={...}), is blamed on it
+// Where FIELD's value N came from: the --set that gave it or a map holding it, else N's line of FILE.
+Origin origin_of(const std::string& field, const YAML::Node& n, const std::string& file,
+                 const std::set<std::string>* overridden) {
+  if (overridden) {  // a key set by --set, or inside a map given by --set (effects.noise={...}), is blamed on it
     std::string prefix;
-    for (const auto& part : split(full, '.')) {
+    for (const auto& part : split(field, '.')) {
       prefix += (prefix.empty() ? "" : ".") + part;
-      if (overridden_->count(prefix)) return "--set " + prefix + ": " + (prefix == full ? "" : "field '" + full + "': ");
+      if (overridden->count(prefix)) return {"", 0, "--set " + prefix, prefix};
     }
   }
-  long line = 0;
-  if (node_.IsMap() && at(key)) line = at(key).Mark().line + 1;
-  else if (node_.IsDefined() && !node_.IsNull()) line = node_.Mark().line + 1;
-  return semlb::where(file_, line, full);
+  return {file, n.IsDefined() ? n.Mark().line + 1 : 0, "", ""};
 }
 
-void Section::fail(const std::string& key, const std::string& why) const { throw InputError(where(key) + why); }
+}  // namespace
 
-YAML::Node Section::at(const std::string& key) const {
-  const YAML::Node& n = node_;  // const access: a missing key must not be inserted
-  return n[key];
-}
-
-bool Section::has(const std::string& key) const { return node_.IsMap() && at(key); }
-
-double Section::real(const std::string& key, double fallback, double min, double max) const {
-  read_.insert(key);
-  if (!has(key)) return fallback;
-  if (!at(key).IsScalar()) fail(key, "must be a number");
-  return parse_real(at(key).Scalar(), where(key), min, max);
-}
-
-long Section::integer(const std::string& key, long fallback, long min, long max) const {
-  read_.insert(key);
-  if (!has(key)) return fallback;
-  if (!at(key).IsScalar()) fail(key, "must be an integer");
-  return parse_integer(at(key).Scalar(), where(key), min, max);
-}
-
-std::string Section::text(const std::string& key, const std::string& fallback) const {
-  read_.insert(key);
-  if (!has(key)) return fallback;
-  if (!at(key).IsScalar()) fail(key, "must be a single value");
-  return at(key).as<std::string>();
-}
-
-bool Section::boolean(const std::string& key, bool fallback) const {
-  const std::string v = text(key, fallback ? "true" : "false");
-  if (v != "true" && v != "false") fail(key, "must be true or false, got '" + v + "'");
-  return v == "true";
-}
-
-std::vector<std::string> Section::texts(const std::string& key, const std::vector<std::string>& fallback) const {
-  read_.insert(key);
-  if (!has(key)) return fallback;
-  if (at(key).IsScalar()) return {at(key).as<std::string>()};
-  if (!at(key).IsSequence()) fail(key, "must be a list");
-  std::vector<std::string> out;
-  for (const auto& v : at(key)) out.push_back(v.as<std::string>());
-  return out;
+Section::Section(YAML::Node node, std::string path, std::string file, std::shared_ptr<const std::set<std::string>> overridden)
+    : Settings(path, origin_of(path, node.IsDefined() && !node.IsNull() ? node : YAML::Node(), file, overridden.get())),
+      node_(std::move(node)), file_(std::move(file)), overridden_(std::move(overridden)) {
+  if (!node_.IsMap()) return;
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.as<std::string>();
+    Value v;
+    v.origin = origin_of(field(key), kv.second, file_, overridden_.get());
+    if (kv.second.IsScalar()) {
+      v.text = kv.second.Scalar();
+    } else if (kv.second.IsSequence()) {
+      v.kind = Kind::list;
+      for (const auto& item : kv.second) {
+        if (!item.IsScalar() && !item.IsNull()) v.kind = Kind::map;  // texts(): "must be a list" (of single values)
+        else v.items.push_back(item.as<std::string>());
+      }
+    } else {
+      v.kind = kv.second.IsMap() ? Kind::map : Kind::none;
+    }
+    set(key, std::move(v));
+  }
 }
 
 Section Section::child(const std::string& key) const {
-  read_.insert(key);
-  YAML::Node n = has(key) ? at(key) : YAML::Node(YAML::NodeType::Map);
+  mark_read(key);
+  const YAML::Node& map = node_;  // const access: a missing key must not be inserted
+  YAML::Node n = has(key) ? map[key] : YAML::Node(YAML::NodeType::Map);
   if (!n.IsMap() && !n.IsNull()) fail(key, "must be a map of settings");
-  return Section(n.IsNull() ? YAML::Node(YAML::NodeType::Map) : n, path_.empty() ? key : path_ + "." + key, file_, overridden_);
-}
-
-std::vector<std::string> Section::keys() const {
-  std::vector<std::string> out;
-  if (node_.IsMap())
-    for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
-  return out;
-}
-
-void Section::finish() const {
-  for (const auto& k : keys())
-    if (!read_.count(k)) fail(k, "unknown setting");
+  return Section(n.IsNull() ? YAML::Node(YAML::NodeType::Map) : n, field(key), file_, overridden_);
 }
 
 namespace {

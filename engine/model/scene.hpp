@@ -9,31 +9,27 @@
 #include <string>
 #include <vector>
 
+#include "common/settings.hpp"
+
 namespace semlb::engine {
 
-// Typed, checked access to one YAML map of a scene; finish() refuses keys nobody read.
-class Section {
+// Typed, checked access to one YAML map of a scene: a semlb::Settings (common/settings.hpp: strict typed reads
+// real / integer / text / boolean / texts with ranges, "FILE:LINE: field 'a.b': " errors, finish() refusing keys
+// nobody read) over the map's keys, plus its child maps. A key set by --set, or inside a map --set gave, is
+// blamed on that flag ("--set a.b: ", "--set a: field 'a.b': ").
+class Section : public Settings {
  public:
+  // `node`: a YAML map (or null: empty); `path`: its dotted path ("" at the top); `file`: the scene file;
+  // `overridden`: the dotted keys --set gave (may be null).
   Section(YAML::Node node, std::string path, std::string file, std::shared_ptr<const std::set<std::string>> overridden);
-  bool has(const std::string& key) const;
-  double real(const std::string& key, double fallback, double min, double max) const;
-  long integer(const std::string& key, long fallback, long min, long max) const;
-  std::string text(const std::string& key, const std::string& fallback) const;
-  bool boolean(const std::string& key, bool fallback) const;  // exactly true or false
-  std::vector<std::string> texts(const std::string& key, const std::vector<std::string>& fallback) const;
-  Section child(const std::string& key) const;  // an empty section when absent
-  std::vector<std::string> keys() const;
-  void finish() const;                                   // throws on a key that was never read
-  std::string where(const std::string& key) const;       // "FILE:LINE: field 'a.b': "
-  [[noreturn]] void fail(const std::string& key, const std::string& why) const;
+  // KEY's map as a Section (marks KEY read); an empty section when absent; "must be a map of settings" otherwise.
+  Section child(const std::string& key) const;
   const std::string& file() const { return file_; }
 
  private:
-  YAML::Node at(const std::string& key) const;
   YAML::Node node_;
-  std::string path_, file_;
+  std::string file_;
   std::shared_ptr<const std::set<std::string>> overridden_;
-  mutable std::set<std::string> read_;
 };
 
 struct BackendConfig {

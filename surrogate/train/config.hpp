@@ -51,7 +51,9 @@ struct TrainConfig {
   double trace_jitter_max = 0.03;
 };
 
-// Loads FILE (may be empty: defaults) then KEY=VALUE overrides; errors name the file, line and field.
+// Loads FILE (may be empty: defaults) then KEY=VALUE overrides, read by semlb::Settings (common/settings.hpp): a
+// value outside its range, an unknown key or a bad combination is an InputError naming the file, line and field
+// ("bad.yaml:2: field 'batch': '0' is outside [1, ...]") or the flag ("--set batch: ...").
 TrainConfig load_train_config(const std::string& path, const std::vector<std::string>& overrides);
 // Every key as "key: value" lines (stored in the weights file and checked on resume).
 std::string to_yaml(const TrainConfig& c);

@@ -42,6 +42,13 @@ TEST(TextIo, ParseRealRefusesEverythingButAWholeFiniteNumber) {
   EXPECT_EQ(parse_real("1E3", ""), 1000.0);
   EXPECT_THROW(parse_real("1.5", "", 0.0, 1.0), InputError);
   EXPECT_EQ(parse_real("1", "", 0.0, 1.0), 1.0);
+  try {  // an open end refuses the end itself and says so
+    parse_real("0", "w: ", 0.0, 2.0, true, true);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "w: '0' is outside (0, 2)");
+  }
+  EXPECT_EQ(parse_real("2", "", 0.0, 2.0, true), 2.0);
 }
 
 TEST(TextIo, ParseIntegerRefusesRealsOverflowAndTrailingText) {

@@ -62,6 +62,22 @@ TEST(TrainConfig, DefaultsFileAndErrors) {
   EXPECT_THROW(load_train_config("", {"lr=fast"}), InputError);
   EXPECT_THROW(load_train_config("", {"validation_seeds=9000-9001"}), InputError);  // evaluation seeds refused
   EXPECT_THROW(load_train_config("", {"ranks_min=1"}), InputError);
+  auto message = [](const std::string& path, const std::vector<std::string>& sets) {
+    try {
+      load_train_config(path, sets);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  // Ranges, flags and unknown keys read like a scene's (common/settings.hpp): the line or the flag, then the field.
+  test::write(dir + "/range.yaml", "steps: 10\nbatch: 0\n");
+  EXPECT_EQ(message(dir + "/range.yaml", {}).rfind(dir + "/range.yaml:2: field 'batch': '0' is outside [1, ", 0), 0u);
+  EXPECT_EQ(message("", {"ranks_min=1"}), "--set ranks_min: '1' is outside [2, 64]");
+  EXPECT_EQ(message("", {"lr=0"}).rfind("--set lr: '0' is outside (0, ", 0), 0u);
+  EXPECT_EQ(message("", {"batchsize=3"}), "--set batchsize: unknown training setting");
+  EXPECT_EQ(message(dir + "/range.yaml", {"batch=2", "ranks_min=8", "ranks_max=4"}),
+            "--set ranks_max: must be >= ranks_min (8)");
 }
 
 TEST(Episodes, UseTrainingSeedsOnlyAndAreReproducible) {
