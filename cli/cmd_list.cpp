@@ -8,6 +8,7 @@
 #include "controllers/policy.hpp"
 #include "engine/backends/backend.hpp"
 #include "engine/decomposition/decomposition.hpp"
+#include "engine/effects/cell_fields.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/model/state.hpp"
 #include "experiments/runner.hpp"
@@ -45,7 +46,7 @@ struct Kind {
 const Kind kKinds[] = {{"policies", policy_names},          {"engine-policies", engine_policies},
                        {"effects", engine::effect_names},    {"backends", engine::backend_names},
                        {"cell-types", cell_types},           {"runners", experiments::runner_names},
-                       {"launchers", experiments::launcher_names}};
+                       {"launchers", experiments::launcher_names}, {"cell-fields", engine::cell_field_names}};
 
 }  // namespace
 
@@ -72,7 +73,7 @@ Action add_list(CLI::App& app) {
   auto* sub = app.add_subcommand("list", "List what the registries hold, one name per line (or a JSON array)");
   sub->add_option("what", o->what,
                   "policies, engine-policies (those a simulation can run: no true work needed), effects, backends, "
-                  "cell-types (by type index), runners or launchers")
+                  "cell-types (by type index), runners, launchers or cell-fields (the per-cell fields effects declare)")
       ->required()
       ->check(CLI::IsMember(kinds));
   sub->add_flag("--json", o->json, "Print a JSON array of the names");

@@ -19,7 +19,7 @@ Action add_train(CLI::App& app);
 Action add_sim(CLI::App& app);
 Action add_list(CLI::App& app);
 
-// The names a registry holds (policies, engine-policies, effects, backends, cell-types, runners, launchers), as
+// The names a registry holds (policies, engine-policies, effects, backends, cell-types, runners, launchers, cell-fields), as
 // `semlb list WHAT` prints them, and as "a, b, c" for --help texts; std::logic_error for another WHAT.
 std::vector<std::string> registered(const std::string& what);
 std::string registered_list(const std::string& what);

@@ -21,7 +21,8 @@ using CellRules = cellrules::semlb_cell_rules;
 
 // The cell stage on the host State (cells.cpp): the reference. Growth, division, differentiation of every
 // cell in stored order; new cells (daughters) after the existing ones in their mothers' order. Uses and updates
-// the cell fields "growth.clock", "division.depth", "differentiation.age" of the effects that are on.
+// the per-cell fields of `s` as the record the rules index (cells.h: rules.fields = s.cell_fields.size(), each rule's
+// field at its index); a daughter inherits its mother's fields. std::logic_error when the record disagrees with `s`.
 // Returns true when elements were added or cells divided. Throws std::runtime_error when a cell would
 // divide more than kMaxDivisionDepth times.
 bool run_cell_stage(State& s, const CellRules& rules, uint64_t seed, double elapsed_h, long step);
@@ -69,7 +70,7 @@ class Backend {
   // added so far stay: a decomposed step sets the ghosts between the local and the non-local forces.
   virtual void set_ghosts(const Ghosts& ghosts) = 0;
   // The owned elements' positions; after a cell stage on the device also the cells (ids, types, counts)
-  // and the cell fields the state lists ("growth.clock", "division.depth", "differentiation.age").
+  // and the per-cell fields `state` lists (of those uploaded: the device keeps the uploaded state's fields).
   virtual void download(State& state) = 0;
   // One cell stage (run_cell_stage's rules, `step` keys the newborns); the ghosts stay. C++ backends run the host reference
   // on `host` (positions downloaded first) and upload; OpenCL runs it on the device and leaves `host` stale

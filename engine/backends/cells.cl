@@ -16,26 +16,34 @@
   ((out)[e] = (real4)((SEMLB_REAL)(x), (SEMLB_REAL)(y), (SEMLB_REAL)(z), CELL_INFO(info)), (keys)[e] = (key))
 #include "cells.h"
 
-/* Per cell: growth (clock, births), the division decision and its split plan. counts[c] = the cell's
+/* Cell c's field record: r.fields doubles (cells.h), cell-major. Field k (-1: absent) of a record, 0 when absent. */
+#define CELL_RECORD(fields, nf, c) ((fields) + (long)(c) * (nf))
+static inline double cell_field(__global const double* rec, int k) { return k >= 0 ? rec[k] : 0.0; }
+static inline void copy_record(__global const double* from, __global double* to, int nf) {
+  for (int k = 0; k < nf; ++k) to[k] = from[k];
+}
+
+/* Per cell: growth (its clock field, births), the division decision and its split plan. counts[c] = the cell's
    elements after the stage, counts[n + c] = its daughter's (0 if none); divides[c] = 0 or 1; a cell that
    would divide past the id depth records its index in fail[0] (atomic_min). */
 __kernel void cells_plan(int n, semlb_cell_rules r, ulong seed, ulong step, double elapsed, __global const real4* pos,
                          __global const ulong* id, __global const int* type, __global const int* first,
-                         __global const int* count, __global double* clock, __global const double* depth,
-                         __global int* births, __global double* old_centroid, __global semlb_cell_split* split,
-                         __global int* counts, __global int* divides, __global volatile int* fail) {
+                         __global const int* count, __global double* fields, __global int* births,
+                         __global double* old_centroid, __global semlb_cell_split* split, __global int* counts,
+                         __global int* divides, __global volatile int* fail) {
   int c = get_global_id(0);
   if (c >= n) return;
-  double clk = clock[c], ctr[3];
+  __global double* rec = CELL_RECORD(fields, r.fields, c);
+  double clk = cell_field(rec, r.clock_field), ctr[3];
   int t = type[c], cnt = count[c];
   semlb_cell_centroid(pos, first[c], cnt, ctr);
   int b = semlb_cell_births(&r, t, cnt, ctr[0], elapsed, &clk);
-  clock[c] = clk;
+  if (r.clock_field >= 0) rec[r.clock_field] = clk;
   births[c] = b;
   for (int d = 0; d < 3; ++d) old_centroid[3 * c + d] = ctr[d];
   int grown = cnt + b;
   int div = r.division && ((r.division_types >> t) & 1) && grown >= r.at_elements;
-  if (div && (int)depth[c] >= SEMLB_CELL_MAX_DEPTH) {
+  if (div && (int)cell_field(rec, r.depth_field) >= SEMLB_CELL_MAX_DEPTH) {
     atomic_min(&fail[0], c);
     div = 0;
   }
@@ -52,29 +60,30 @@ __kernel void cells_plan(int n, semlb_cell_rules r, ulong seed, ulong step, doub
 }
 
 /* Per cell: writes the mother (index c) and its daughter (index n + dstarts[c]) into the new arrays:
-   elements at estarts[c] / estarts[n + c] (exclusive scans of counts and divides). */
+   elements at estarts[c] / estarts[n + c] (exclusive scans of counts and divides); the daughter inherits the
+   mother's field record, and both count the division in the depth field. */
 __kernel void cells_rewrite(int n, semlb_cell_rules r, ulong seed, ulong step, __global const real4* pos,
                             __global const ulong* id, __global const int* type, __global const int* first,
-                            __global const int* count, __global const double* clock, __global const double* depth,
-                            __global const double* age, __global const int* births, __global const double* old_centroid,
-                            __global const semlb_cell_split* split, __global const int* counts,
-                            __global const int* divides, __global const int* estarts, __global const int* dstarts,
-                            __global real4* out_pos, __global ulong* out_keys, __global ulong* out_id,
-                            __global int* out_type, __global int* out_first, __global int* out_count,
-                            __global double* out_clock, __global double* out_depth, __global double* out_age) {
+                            __global const int* count, __global const double* fields, __global const int* births,
+                            __global const double* old_centroid, __global const semlb_cell_split* split,
+                            __global const int* counts, __global const int* divides, __global const int* estarts,
+                            __global const int* dstarts, __global real4* out_pos, __global ulong* out_keys,
+                            __global ulong* out_id, __global int* out_type, __global int* out_first,
+                            __global int* out_count, __global double* out_fields) {
   int c = get_global_id(0);
   if (c >= n) return;
-  int div = divides[c], t = type[c];
-  double dep = depth[c] + div, ctr[3] = {old_centroid[3 * c], old_centroid[3 * c + 1], old_centroid[3 * c + 2]};
-  ulong me = id[c], daughter = div ? me | ((ulong)1 << (SEMLB_CELL_ROOT_ID_BITS + (int)depth[c])) : 0;
+  int div = divides[c], t = type[c], nf = r.fields;
+  __global const double* rec = CELL_RECORD(fields, nf, c);
+  double depth = cell_field(rec, r.depth_field), dep = depth + div;
+  double ctr[3] = {old_centroid[3 * c], old_centroid[3 * c + 1], old_centroid[3 * c + 2]};
+  ulong me = id[c], daughter = div ? me | ((ulong)1 << (SEMLB_CELL_ROOT_ID_BITS + (int)depth)) : 0;
   int dc = n + dstarts[c];
   out_id[c] = me;
   out_type[c] = t;
   out_first[c] = estarts[c];
   out_count[c] = counts[c];
-  out_clock[c] = clock[c];
-  out_depth[c] = dep;
-  out_age[c] = age[c];
+  copy_record(rec, CELL_RECORD(out_fields, nf, c), nf);
+  if (r.depth_field >= 0) CELL_RECORD(out_fields, nf, c)[r.depth_field] = dep;
   semlb_cell_split s;
   if (div) {
     s = split[c];
@@ -82,25 +91,26 @@ __kernel void cells_rewrite(int n, semlb_cell_rules r, ulong seed, ulong step, _
     out_type[dc] = t;
     out_first[dc] = estarts[n + c];
     out_count[dc] = counts[n + c];
-    out_clock[dc] = clock[c];
-    out_depth[dc] = dep;
-    out_age[dc] = age[c];
+    copy_record(rec, CELL_RECORD(out_fields, nf, dc), nf);
+    if (r.depth_field >= 0) CELL_RECORD(out_fields, nf, dc)[r.depth_field] = dep;
   }
   semlb_cell_rewrite(pos, first[c], count[c], births[c], ctr, &r, seed, step, me, t, estarts[c], c, div ? &s : 0,
                      daughter, estarts[n + c], dc, out_pos, out_keys);
 }
 
-/* Per cell of the new state: differentiation on its own centroid; a new type is written into its elements. */
+/* Per cell of the new state: differentiation on its own centroid (its age field); a new type is written into its
+   elements. */
 __kernel void cells_differentiate(int n, semlb_cell_rules r, double elapsed, __global real4* pos,
                                   __global const int* first, __global const int* count, __global int* type,
-                                  __global double* age) {
+                                  __global double* fields) {
   int c = get_global_id(0);
   if (c >= n) return;
-  double ctr[3], a = age[c];
+  __global double* rec = CELL_RECORD(fields, r.fields, c);
+  double ctr[3], a = cell_field(rec, r.age_field);
   int t = type[c];
   semlb_cell_centroid(pos, first[c], count[c], ctr);
   int changed = semlb_cell_differentiate(&r, ctr[2], elapsed, &t, &a);
-  age[c] = a;
+  if (r.age_field >= 0) rec[r.age_field] = a;
   if (!changed) return;
   type[c] = t;
   for (int k = 0; k < count[c]; ++k) pos[first[c] + k].w = CELL_INFO(semlb_info_pack(c, t));
@@ -158,17 +168,15 @@ __kernel void cells_owner(int n, __global const real4* pos, __global const int* 
 
 /* Per cell: a leaver goes to slot lstarts[c] of the l_ arrays (l_first holds its new owner), its elements at
    estarts[c]; a stayer to slot c - lstarts[c] of the out_ arrays, its elements at estarts[n + c] - estarts[n],
-   their info renumbered to the new cell index. */
-__kernel void cells_split(int n, __global const real4* pos, __global const ulong* keys, __global const ulong* id,
+   their info renumbered to the new cell index. Each cell's field record (nf doubles) goes with it. */
+__kernel void cells_split(int n, int nf, __global const real4* pos, __global const ulong* keys, __global const ulong* id,
                           __global const int* type, __global const int* first, __global const int* count,
-                          __global const double* clock, __global const double* depth, __global const double* age,
-                          __global const int* leave, __global const int* owner, __global const int* lstarts,
-                          __global const int* estarts, __global real4* out_pos, __global ulong* out_keys,
-                          __global ulong* out_id, __global int* out_type, __global int* out_first,
-                          __global int* out_count, __global double* out_clock, __global double* out_depth,
-                          __global double* out_age, __global real4* l_pos, __global ulong* l_id, __global int* l_type,
-                          __global int* l_first, __global int* l_count, __global double* l_clock,
-                          __global double* l_depth, __global double* l_age) {
+                          __global const double* fields, __global const int* leave, __global const int* owner,
+                          __global const int* lstarts, __global const int* estarts, __global real4* out_pos,
+                          __global ulong* out_keys, __global ulong* out_id, __global int* out_type,
+                          __global int* out_first, __global int* out_count, __global double* out_fields,
+                          __global real4* l_pos, __global ulong* l_id, __global int* l_type, __global int* l_first,
+                          __global int* l_count, __global double* l_fields) {
   int c = get_global_id(0);
   if (c >= n) return;
   int f = first[c], m = count[c], t = type[c];
@@ -178,9 +186,7 @@ __kernel void cells_split(int n, __global const real4* pos, __global const ulong
     l_type[j] = t;
     l_first[j] = owner[c];
     l_count[j] = m;
-    l_clock[j] = clock[c];
-    l_depth[j] = depth[c];
-    l_age[j] = age[c];
+    copy_record(CELL_RECORD(fields, nf, c), CELL_RECORD(l_fields, nf, j), nf);
     for (int k = 0; k < m; ++k) l_pos[at + k] = pos[f + k];
     return;
   }
@@ -189,9 +195,7 @@ __kernel void cells_split(int n, __global const real4* pos, __global const ulong
   out_type[j] = t;
   out_first[j] = at;
   out_count[j] = m;
-  out_clock[j] = clock[c];
-  out_depth[j] = depth[c];
-  out_age[j] = age[c];
+  copy_record(CELL_RECORD(fields, nf, c), CELL_RECORD(out_fields, nf, j), nf);
   for (int k = 0; k < m; ++k) {
     real4 p = pos[f + k];
     p.w = CELL_INFO(semlb_info_pack(j, t));

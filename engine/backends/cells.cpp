@@ -10,20 +10,32 @@ static_assert(SEMLB_CELL_SLOT_BITS == kSlotBits && SEMLB_CELL_ROOT_ID_BITS == kR
               SEMLB_CELL_MAX_DEPTH == kMaxDivisionDepth, "cells.h and state.hpp disagree on the id layout");
 
 namespace {
-std::vector<double>* field(State& s, bool on, const char* name) {
-  if (!on) return nullptr;
-  auto& f = s.cell_fields[name];
-  f.resize(s.cell_id.size(), 0.0);
-  return &f;
+// The columns of s's field record (cell_fields in name order, cells.h): column k is field k of every cell.
+std::vector<std::vector<double>*> record(State& s, const CellRules& r) {
+  std::vector<std::vector<double>*> out;
+  for (auto& [name, f] : s.cell_fields) {
+    if (f.size() != s.cell_id.size()) throw std::logic_error("cell field '" + name + "' has " + std::to_string(f.size()) + " values, not one per cell");
+    out.push_back(&f);
+  }
+  if (static_cast<int>(out.size()) != r.fields)
+    throw std::logic_error("the cell rules are for " + std::to_string(r.fields) + " cell fields, the state has " + std::to_string(out.size()));
+  return out;
+}
+// Column `k` of the record, or nullptr when k is -1 (the field is absent); std::logic_error when `on` needs it.
+std::vector<double>* column(const std::vector<std::vector<double>*>& rec, int k, bool on, const char* rule) {
+  if (k < -1 || k >= static_cast<int>(rec.size()) || (on && k < 0))
+    throw std::logic_error(std::string("the cell rules' ") + rule + " field index " + std::to_string(k) + " is not in the record");
+  return k < 0 ? nullptr : rec[k];
 }
 }  // namespace
 
 bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_h, long step) {
   using namespace cellrules;
   const long n = s.cells();
-  std::vector<double>* clock = field(s, r.growth != 0, "growth.clock");
-  std::vector<double>* depth = field(s, r.division != 0, "division.depth");
-  field(s, r.differentiation != 0, "differentiation.age");
+  const auto rec = record(s, r);
+  std::vector<double>* clock = column(rec, r.clock_field, r.growth != 0, "growth");
+  std::vector<double>* depth = column(rec, r.depth_field, r.division != 0, "division");
+  column(rec, r.age_field, r.differentiation != 0, "differentiation");
   std::vector<int> births(n, 0);
   std::vector<std::array<double, 3>> old_centroid(n);
   std::vector<semlb_cell_split> split(n);
@@ -64,6 +76,7 @@ bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_
         for (auto& [name, f] : s.cell_fields) out.cell_fields[name].push_back(f[c]);  // daughters inherit
       }
     out.reindex();
+    std::vector<double>* out_depth = r.division ? record(out, r)[r.depth_field] : nullptr;
     long daughter = n;
     for (long c = 0; c < n; ++c) {
       const long dc = divides[c] ? daughter++ : -1;
@@ -71,12 +84,12 @@ bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_
                          key_step, s.cell_id[c], s.cell_type[c], out.cell_first[c], static_cast<int>(c),
                          divides[c] ? &split[c] : nullptr, dc < 0 ? 0 : out.cell_id[dc], dc < 0 ? 0 : out.cell_first[dc],
                          static_cast<int>(dc), out.position.data(), nullptr);
-      if (dc >= 0) out.cell_fields.at("division.depth")[c] = out.cell_fields.at("division.depth")[dc] += 1;
+      if (dc >= 0) (*out_depth)[c] = (*out_depth)[dc] += 1;
     }
     s = std::move(out);
   }
   if (r.differentiation) {
-    auto& age = s.cell_fields.at("differentiation.age");
+    auto& age = *record(s, r)[r.age_field];
     for (long c = 0; c < s.cells(); ++c) {
       double centroid[3];
       semlb_cell_centroid(s.position.data(), s.cell_first[c], s.cell_count[c], centroid);

@@ -1,6 +1,6 @@
 /* The cell stage's per-cell rules written once (C99 subset): growth, division, differentiation; used by
  * engine/backends/cells.cpp (the host reference) and by the cell section of kernels.cl (the device). */
-/* Included once per program, after evaluator.h. Per-cell bookkeeping (clock, age, centroid, gyration, axis) is
+/* Included once per program, after evaluator.h. Per-cell bookkeeping (the field record, centroid, gyration, axis) is
  * double on every backend; positions are the backend's real (rules.single: newborns rounded to float). The
  * includer defines:
  *   SEMLB_CELL_IN               the parameter type of the input element positions
@@ -34,6 +34,13 @@ typedef struct {
   int division, division_types, at_elements;
   int differentiation;
   int single; /* 1: positions are float (newborns rounded to float before division sees them) */
+  /* The per-cell fields (effects/cell_fields.hpp) as one record of `fields` doubles per cell, the State's
+   * cell_fields in name order; each rule reads the fields its effect owns at their record index (-1: absent,
+   * read as 0 and not written). A new field needs no edit here unless a rule of this file reads it. */
+  int fields;
+  int clock_field; /* growth.clock (h) */
+  int depth_field; /* division.depth (divisions so far) */
+  int age_field;   /* differentiation.age (h) */
 } semlb_cell_rules;
 
 /* Sets the front's position for a stage at time `time` (h); the caller (the host) does it before each stage,

@@ -321,20 +321,29 @@ class OpenClBackend final : public Backend {
   }
 
   // Per-cell arrays on the device (cell index order, as the host State): the cell stage reads one set and
-  // writes the other, then swaps them.
+  // writes the other, then swaps them. `fields` holds each cell's field record (cells.h): nf doubles per cell,
+  // cell-major, the fields of the uploaded state (field_names_) in that order, whatever effects declared them.
   struct Cells {
-    cl::Mem id, type, first, count, clock, depth, age;
+    cl::Mem id, type, first, count, fields;
     long capacity = 0;
-    void allocate(OpenClBackend& b, long cap) {
+    int nf = 0;
+    void allocate(OpenClBackend& b, long cap, int n_fields) {
       capacity = cap;
+      nf = n_fields;
       id = b.buffer(cap * sizeof(uint64_t));
       for (cl::Mem* m : {&type, &first, &count}) *m = b.buffer(cap * sizeof(cl_int));
-      for (cl::Mem* m : {&clock, &depth, &age}) *m = b.buffer(cap * sizeof(double));
+      fields = b.buffer(std::max(1L, cap * nf) * sizeof(double));  // a zero-size buffer is an OpenCL error
     }
-    std::vector<std::pair<const char*, const cl::Mem*>> fields() const {
-      return {{"growth.clock", &clock}, {"division.depth", &depth}, {"differentiation.age", &age}};
+    // Room for n cells of the current record (reallocated with slack, contents lost, when there is none).
+    void reserve(OpenClBackend& b, long n) {
+      if (n > capacity || nf != b.nf()) allocate(b, n + n / 4 + 64, b.nf());
     }
   };
+  int nf() const { return static_cast<int>(field_names_.size()); }
+  // `m` cells' records of `s`'s fields (0 for a field `s` lacks), cell-major, for a write into Cells::fields.
+  std::vector<double> records_of(const State& s, long m) const;
+  // Reads `m` records from `from` into the fields of `s` that the record holds (others stay as they are).
+  void read_records(const cl::Mem& from, long m, State& s);
 
   void upload_cells(const State& s);
   // After a flags kernel (cells_owner, remove_NAME) set leave[c] in births_, owner[c] in divides_ and the element
@@ -347,6 +356,7 @@ class OpenClBackend final : public Backend {
   NeighbourList<Real> list_;  // opencl-binned's local pairs when backend.skin > 0
   cl::Mem always_;            // an int 1: the gate of ungated scans
   Cells cell_, back_, leave_;  // leave_: the migration's leavers (leave_.first holds each one's new owner)
+  std::vector<std::string> field_names_;  // the record's fields: the uploaded state's cell_fields, in name order
   long cells_ = 0, plan_capacity_ = 0, work_bins_capacity_ = 0, work_capacity_ = 0, bounds_capacity_ = 0;
   cl::Mem work_counts_, work_, owner_bounds_;  // W_s: elements per bin, per-slice sums; the interior boundaries
   std::vector<int> last_boundaries_;

@@ -70,11 +70,7 @@ void OpenClBackend<Real>::take_leavers(State& host, const SliceMap& map, const s
   read(leave_.type, leavers.cell_type.data(), m * sizeof(cl_int));
   read(leave_.first, owner.data(), m * sizeof(cl_int));
   read(leave_.count, leavers.cell_count.data(), m * sizeof(cl_int));
-  for (const auto& [name, mem] : leave_.fields())
-    if (auto f = leavers.cell_fields.find(name); f != leavers.cell_fields.end()) {
-      f->second.resize(m);
-      read(*mem, f->second.data(), m * sizeof(double));
-    }
+  read_records(leave_.fields, m, leavers);
   to_positions(read_packed(band_pos_, leaver_elements), leavers.position);
   leavers.reindex();
 }
@@ -90,12 +86,11 @@ void OpenClBackend<Real>::append_cells(State& host, const State& arrivals) {
   reserve_elements(owned_ + e);
   if (cells_ + m > cell_.capacity) {  // grow on the device: copy the owned cells into larger arrays
     Cells grown;
-    grown.allocate(*this, cells_ + m + (cells_ + m) / 4 + 64);
+    grown.allocate(*this, cells_ + m + (cells_ + m) / 4 + 64, nf());
     copy(cell_.id, grown.id, cells_ * sizeof(uint64_t));
     for (auto [from, to] : std::initializer_list<std::pair<cl::Mem*, cl::Mem*>>{{&cell_.type, &grown.type}, {&cell_.first, &grown.first}, {&cell_.count, &grown.count}})
       copy(*from, *to, cells_ * sizeof(cl_int));
-    for (auto [from, to] : std::initializer_list<std::pair<cl::Mem*, cl::Mem*>>{{&cell_.clock, &grown.clock}, {&cell_.depth, &grown.depth}, {&cell_.age, &grown.age}})
-      copy(*from, *to, cells_ * sizeof(double));
+    copy(cell_.fields, grown.fields, cells_ * nf() * sizeof(double));
     cell_ = std::move(grown);
   }
   std::vector<int> info = arrivals.element_info();
@@ -107,11 +102,8 @@ void OpenClBackend<Real>::append_cells(State& host, const State& arrivals) {
   write(cell_.type, arrivals.cell_type.data(), m * sizeof(cl_int), cells_ * sizeof(cl_int));
   write(cell_.first, first.data(), m * sizeof(cl_int), cells_ * sizeof(cl_int));
   write(cell_.count, arrivals.cell_count.data(), m * sizeof(cl_int), cells_ * sizeof(cl_int));
-  const std::vector<double> zeros(m, 0.0);
-  for (const auto& [name, mem] : cell_.fields()) {
-    const auto f = arrivals.cell_fields.find(name);
-    write(*mem, f == arrivals.cell_fields.end() ? zeros.data() : f->second.data(), m * sizeof(double), cells_ * sizeof(double));
-  }
+  const std::vector<double> records = records_of(arrivals, m);
+  write(cell_.fields, records.data(), records.size() * sizeof(double), cells_ * nf() * sizeof(double));
   cells_ += m;
   n_ = owned_ = owned_ + e;
   cells_stale_ = true;
@@ -128,11 +120,7 @@ void OpenClBackend<Real>::download(State& s) {
   read(cell_.id, s.cell_id.data(), m * sizeof(uint64_t));
   read(cell_.type, s.cell_type.data(), m * sizeof(cl_int));
   read(cell_.count, s.cell_count.data(), m * sizeof(cl_int));
-  for (const auto& [name, mem] : cell_.fields())
-    if (auto f = s.cell_fields.find(name); f != s.cell_fields.end()) {
-      f->second.resize(m);
-      read(*mem, f->second.data(), m * sizeof(double));
-    }
+  read_records(cell_.fields, m, s);
   s.reindex();
   cells_stale_ = false;
 }
@@ -140,6 +128,8 @@ void OpenClBackend<Real>::download(State& s) {
 template <class Real>
 bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t seed, double elapsed_h, long step) {
   require_cells();
+  if (rules.fields != nf())
+    throw std::logic_error("the cell rules are for " + std::to_string(rules.fields) + " cell fields, the device holds " + std::to_string(nf()));
   near_valid_ = false;
   const long n = cells_;
   if (n == 0) return false;
@@ -148,8 +138,8 @@ bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t 
   write(cell_fail_, &none, sizeof none);
   const cl_ulong seed_ = seed, step_ = static_cast<cl_ulong>(step);
   launch("cells_plan", n, kGroup, nc, rules, seed_, step_, elapsed_h, pos_.get(), cell_.id.get(), cell_.type.get(),
-         cell_.first.get(), cell_.count.get(), cell_.clock.get(), cell_.depth.get(), births_.get(), old_centroid_.get(),
-         split_.get(), counts2_.get(), divides_.get(), cell_fail_.get());
+         cell_.first.get(), cell_.count.get(), cell_.fields.get(), births_.get(), old_centroid_.get(), split_.get(),
+         counts2_.get(), divides_.get(), cell_fail_.get());
   exclusive_scan(counts2_, estarts_, esums_, estarts_, 2 * n);
   exclusive_scan(divides_, dstarts_, dsums_, dstarts_, n);
   cl_int total = 0, daughters = 0, failed = INT_MAX;
@@ -160,12 +150,12 @@ bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t 
     cl_ulong id = 0;
     double depth = 0;
     read(cell_.id, &id, sizeof id, failed * sizeof id);
-    read(cell_.depth, &depth, sizeof depth, failed * sizeof depth);
+    if (rules.depth_field >= 0) read(cell_.fields, &depth, sizeof depth, (static_cast<long>(failed) * nf() + rules.depth_field) * sizeof depth);
     throw std::runtime_error("cell " + std::to_string(id) + " divided " + std::to_string(static_cast<int>(depth)) +
                              " times: cell ids are exhausted");
   }
   const long m = n + daughters, ghosts = n_ - owned_;  // the ghosts are copied behind the new owned elements
-  if (m > back_.capacity) back_.allocate(*this, m + m / 4 + 64);
+  back_.reserve(*this, m);
   cl::Mem in_pos = std::move(pos_), in_keys = std::move(keys_);
   const bool grow = total + ghosts > capacity_;
   if (grow) {  // grow on the device: the rewrite reads the old buffers and writes the new ones
@@ -175,10 +165,9 @@ bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t 
     keys_ = std::move(keys_back_);
   }
   launch("cells_rewrite", n, kGroup, nc, rules, seed_, step_, in_pos.get(), cell_.id.get(), cell_.type.get(),
-         cell_.first.get(), cell_.count.get(), cell_.clock.get(), cell_.depth.get(), cell_.age.get(), births_.get(),
-         old_centroid_.get(), split_.get(), counts2_.get(), divides_.get(), estarts_.get(), dstarts_.get(), pos_.get(),
-         keys_.get(), back_.id.get(), back_.type.get(), back_.first.get(), back_.count.get(), back_.clock.get(),
-         back_.depth.get(), back_.age.get());
+         cell_.first.get(), cell_.count.get(), cell_.fields.get(), births_.get(), old_centroid_.get(), split_.get(),
+         counts2_.get(), divides_.get(), estarts_.get(), dstarts_.get(), pos_.get(), keys_.get(), back_.id.get(),
+         back_.type.get(), back_.first.get(), back_.count.get(), back_.fields.get());
   copy(in_pos, pos_, ghosts * sizeof(Real4), owned_ * sizeof(Real4), total * sizeof(Real4));
   copy(in_keys, keys_, ghosts * sizeof(uint64_t), owned_ * sizeof(uint64_t), total * sizeof(uint64_t));
   if (!grow) {  // the old pair is the spare for the next stage (allocate() made a fresh spare when growing)
@@ -188,7 +177,7 @@ bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t 
   std::swap(cell_, back_);
   if (rules.differentiation)
     launch("cells_differentiate", m, kGroup, static_cast<cl_int>(m), rules, elapsed_h, pos_.get(), cell_.first.get(),
-           cell_.count.get(), cell_.type.get(), cell_.age.get());
+           cell_.count.get(), cell_.type.get(), cell_.fields.get());
   const bool changed = total != owned_ || daughters > 0;
   if (changed) list_.invalidate();  // else the same elements in the same order
   owned_ = total;
@@ -219,17 +208,38 @@ void OpenClBackend<Real>::upload_cells(const State& s) {
   const long m = s.cells();
   cells_ = m;
   cells_stale_ = false;
-  if (m > cell_.capacity) cell_.allocate(*this, m + m / 4 + 64);
+  field_names_.clear();
+  for (const auto& [name, f] : s.cell_fields) field_names_.push_back(name);
+  cell_.reserve(*this, m);
   std::vector<cl_int> first(s.cell_first.begin(), s.cell_first.end());
   write(cell_.id, s.cell_id.data(), m * sizeof(uint64_t));
   write(cell_.type, s.cell_type.data(), m * sizeof(cl_int));
   write(cell_.first, first.data(), m * sizeof(cl_int));
   write(cell_.count, s.cell_count.data(), m * sizeof(cl_int));
-  const std::vector<double> zeros(m, 0.0);
-  for (const auto& [name, mem] : cell_.fields()) {
-    const auto f = s.cell_fields.find(name);
-    write(*mem, f == s.cell_fields.end() ? zeros.data() : f->second.data(), m * sizeof(double));
-  }
+  const std::vector<double> records = records_of(s, m);
+  write(cell_.fields, records.data(), records.size() * sizeof(double));
+}
+
+template <class Real>
+std::vector<double> OpenClBackend<Real>::records_of(const State& s, long m) const {
+  const int nf = this->nf();
+  std::vector<double> out(static_cast<size_t>(m) * nf, 0.0);
+  for (int k = 0; k < nf; ++k)
+    if (const auto f = s.cell_fields.find(field_names_[k]); f != s.cell_fields.end())
+      for (long c = 0; c < m; ++c) out[c * nf + k] = f->second[c];
+  return out;
+}
+
+template <class Real>
+void OpenClBackend<Real>::read_records(const cl::Mem& from, long m, State& s) {
+  const int nf = this->nf();
+  std::vector<double> records(static_cast<size_t>(m) * nf);
+  if (!records.empty()) read(from, records.data(), records.size() * sizeof(double));
+  for (int k = 0; k < nf; ++k)
+    if (auto f = s.cell_fields.find(field_names_[k]); f != s.cell_fields.end()) {
+      f->second.resize(m);
+      for (long c = 0; c < m; ++c) f->second[c] = records[c * nf + k];
+    }
 }
 
 template <class Real>
@@ -244,14 +254,13 @@ std::array<long, 2> OpenClBackend<Real>::split_cells(long n) {
   cl_int ends[2] = {0, 0};  // leavers' elements, leavers' + stayers'
   read(estarts_, &ends[0], sizeof(cl_int), n * sizeof(cl_int));
   read(estarts_, &ends[1], sizeof(cl_int), 2 * n * sizeof(cl_int));
-  if (n > back_.capacity) back_.allocate(*this, n + n / 4 + 64);
-  if (leaving > leave_.capacity) leave_.allocate(*this, leaving + leaving / 4 + 64);
-  launch("cells_split", n, kGroup, nc, pos_.get(), keys_.get(), cell_.id.get(), cell_.type.get(), cell_.first.get(),
-         cell_.count.get(), cell_.clock.get(), cell_.depth.get(), cell_.age.get(), births_.get(), divides_.get(),
-         dstarts_.get(), estarts_.get(), pos_back_.get(), keys_back_.get(), back_.id.get(), back_.type.get(),
-         back_.first.get(), back_.count.get(), back_.clock.get(), back_.depth.get(), back_.age.get(), band_pos_.get(),
-         leave_.id.get(), leave_.type.get(), leave_.first.get(), leave_.count.get(), leave_.clock.get(),
-         leave_.depth.get(), leave_.age.get());
+  back_.reserve(*this, n);
+  leave_.reserve(*this, leaving);
+  launch("cells_split", n, kGroup, nc, static_cast<cl_int>(nf()), pos_.get(), keys_.get(), cell_.id.get(), cell_.type.get(),
+         cell_.first.get(), cell_.count.get(), cell_.fields.get(), births_.get(), divides_.get(), dstarts_.get(),
+         estarts_.get(), pos_back_.get(), keys_back_.get(), back_.id.get(), back_.type.get(), back_.first.get(),
+         back_.count.get(), back_.fields.get(), band_pos_.get(), leave_.id.get(), leave_.type.get(), leave_.first.get(),
+         leave_.count.get(), leave_.fields.get());
   std::swap(pos_, pos_back_);
   std::swap(keys_, keys_back_);
   std::swap(cell_, back_);
@@ -284,7 +293,9 @@ long OpenClBackend<Real>::remove_cells(State& host, const std::string& rule, con
   template void OpenClBackend<Real>::download(State& s); \
   template bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t seed, double elapsed_h, long step); \
   template void OpenClBackend<Real>::reserve_plan(long n); \
-  template void OpenClBackend<Real>::upload_cells(const State& s);
+  template void OpenClBackend<Real>::upload_cells(const State& s); \
+  template std::vector<double> OpenClBackend<Real>::records_of(const State& s, long m) const; \
+  template void OpenClBackend<Real>::read_records(const cl::Mem& from, long m, State& s);
 SEMLB_OPENCL_CELLS_INSTANCES(float)
 SEMLB_OPENCL_CELLS_INSTANCES(double)
 #undef SEMLB_OPENCL_CELLS_INSTANCES

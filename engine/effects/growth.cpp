@@ -5,6 +5,7 @@
 
 #include "backends/cpu_physics.hpp"
 #include "effect.hpp"
+#include "cell_fields.hpp"
 #include "cell_types.hpp"
 
 namespace semlb::engine {
@@ -40,8 +41,9 @@ class Growth final : public Effect {
     for (long c = 0; c < s.cells(); ++c) clock[c] = period() * uniform01(SEMLB_GROWTH_STREAM, s.cell_id[c], 0, 0);
   }
 
-  void cell_rules(CellRules& r) const override {
+  void cell_rules(CellRules& r, const State& s) const override {
     r.growth = 1;
+    r.clock_field = cell_field_index(s, "growth.clock");
     r.growth_types = type_mask(types_);
     r.max_elements = max_;
     r.period = period();
@@ -62,6 +64,7 @@ class Growth final : public Effect {
   std::array<bool, kCellTypes> types_;
 };
 
+const CellFieldRegistrar clock("growth.clock", {"growth", 0.0, "h since the cell last added an element (starts at a random phase)"});
 const EffectRegistrar registrar("growth", {40, [](const Section& s, const Scene&) { return std::make_unique<Growth>(s); }});
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "common/errors.hpp"
 #include "common/h5.hpp"
 #include "common/text_io.hpp"
+#include "effects/cell_fields.hpp"
 
 namespace semlb::engine {
 
@@ -208,21 +209,18 @@ State read_state(const std::string& path) {
   s.time = H5Aexists(f.id(), "time") > 0 ? f.read_real_attr("time") : 0.0;
   if (s.step < 0) throw InputError(path + ": attribute 'step' is " + std::to_string(s.step) + ", must be >= 0");
   if (s.time < 0) throw InputError(path + ": attribute 'time' is " + format_real(s.time) + " h, must be >= 0");
-  // The cell fields the effects use, and the only ones a backend carries (the OpenCL device holds these three):
-  // another would be dropped silently by the cell stage and the migration, so it is refused here.
-  for (const auto& name : f.list("/cells/fields"))
-    if (name != "growth.clock" && name != "differentiation.age" && name != "division.depth")
-      throw InputError(path + ": dataset /cells/fields/" + name + ": unknown cell field (known: division.depth, "
-                       "differentiation.age, growth.clock)");
-  for (const char* name : {"growth.clock", "differentiation.age", "division.depth"})
-    if (f.has(std::string("/cells/fields/") + name)) {
-      const std::string set = std::string("/cells/fields/") + name;
-      s.cell_fields[name] = f.read(set, dims);
-      need_length(path, set, dims, ids.size(), "cell");
-      for (size_t c = 0; c < ids.size(); ++c)
-        if (!std::isfinite(s.cell_fields[name][c]))
-          throw InputError(path + ": dataset " + set + ": value at " + std::to_string(c) + " is not finite");
-    }
+  // The per-cell fields the effects declare (effects/cell_fields.hpp), each one value per cell; another name is
+  // refused here (no effect would own it: a misspelling or a file of another program), not carried unread.
+  for (const auto& name : f.list("/cells/fields")) {
+    const std::string set = "/cells/fields/" + name;
+    if (!find_cell_field(name))
+      throw InputError(path + ": dataset " + set + ": unknown cell field (known: " + known_cell_fields() + ")");
+    s.cell_fields[name] = f.read(set, dims);
+    need_length(path, set, dims, ids.size(), "cell");
+    for (size_t c = 0; c < ids.size(); ++c)
+      if (!std::isfinite(s.cell_fields[name][c]))
+        throw InputError(path + ": dataset " + set + ": value at " + std::to_string(c) + " is not finite");
+  }
   const auto depth = s.cell_fields.find("division.depth");
   check_ids(path, ids, depth == s.cell_fields.end() ? nullptr : &depth->second);
   s.reindex();

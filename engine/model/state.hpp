@@ -35,7 +35,9 @@ struct State {
   std::vector<int> cell_type;
   std::vector<long> cell_first;
   std::vector<int> cell_count;
-  // Per-cell fields owned by effects ("growth.clock", "differentiation.age"): absent unless listed.
+  // Per-cell fields (one double per cell each) that effects declare (effects/cell_fields.hpp: "growth.clock",
+  // "differentiation.age", ...): absent unless their effect is listed or a state file holds them. Every backend keeps
+  // them in this (name) order as one record per cell (backends/cells.h).
   std::map<std::string, std::vector<double>> cell_fields;
 
   // Elements (index e), 3 doubles each.

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <sstream>
 
+#include "effects/cell_fields.hpp"
 #include "model/tissue.hpp"
 
 namespace semlb::engine {
@@ -12,19 +13,18 @@ namespace semlb::engine {
 Simulation::Simulation(const Scene& scene, State state)
     : scene_(&scene), state_(std::move(state)), backend_(make_backend(scene.backend)), effects_(make_effects(scene)) {
   grid_ = Grid::cover(scene.box_lo, scene.box_hi, scene.cutoff);
+  std::vector<std::string> listed;
   for (const auto& e : effects_) {
     e->prepare(state_);
+    listed.push_back(e->name());
     if (e->adds_forces()) phases_.push_back(e->name());
   }
+  declare_cell_fields(state_, listed);  // the per-cell fields the listed effects declare (cell_fields.hpp)
   phases_.push_back("integrate");
   for (const auto& e : effects_)
     if (e->moves_after_integration()) phases_.push_back(e->name());
-  for (const auto& e : effects_)
-    if (e->changes_cells()) {
-      has_cell_effects_ = true;
-      e->cell_rules(rules_);  // in the registered order: growth, division, differentiation
-    }
-  rules_.single = scene.backend.precision == "float";
+  for (const auto& e : effects_) has_cell_effects_ = has_cell_effects_ || e->changes_cells();
+  rules_ = cell_rules_of(effects_, state_, scene.backend.precision == "float");  // in the registered order
   if (has_cell_effects_) {
     phases_.push_back("cells");
     backend_->require_cells();

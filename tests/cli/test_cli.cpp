@@ -178,6 +178,9 @@ TEST(Cli, ListPrintsTheRegistries) {
   const auto types = run(semlb_bin() + " list cell-types --json");
   ASSERT_EQ(types.rc, 0) << types.out;
   EXPECT_EQ(types.out, "[\"basal\",\"spinous\",\"granular\"]\n");  // by type index, as the state files store them
+  const auto fields = run(semlb_bin() + " list cell-fields --json");  // what the effects declare, in name order
+  ASSERT_EQ(fields.rc, 0) << fields.out;
+  EXPECT_EQ(fields.out, "[\"differentiation.age\",\"division.depth\",\"growth.clock\"]\n");
   const auto policies = run(semlb_bin() + " list policies");
   ASSERT_EQ(policies.rc, 0) << policies.out;
   for (const char* p : {"static\n", "reactive\n", "persistence\n", "holt\n", "gru\n", "oracle\n", "lazy_oracle\n",

@@ -70,10 +70,14 @@ TEST(Cells, CoincidentElementsSplitInHalvesBySlot) {
   s.cell_count = {21};
   s.position.assign(3 * 21, 2.5);
   s.reindex();
+  s.cell_fields["division.depth"] = {0};  // the record: one field, the division's depth at index 0
   CellRules r{};
   r.division = 1;
   r.division_types = 1;
   r.at_elements = 20;
+  r.fields = 1;
+  r.clock_field = r.age_field = -1;
+  r.depth_field = 0;
   ASSERT_TRUE(run_cell_stage(s, r, 1, 0.1, 0));
   EXPECT_EQ(s.cell_count, (std::vector<int>{10, 11}));  // n / 2 stay, the rest leave
   EXPECT_EQ(s.cell_id, (std::vector<uint64_t>{3, daughter_id(3, 0)}));

@@ -8,6 +8,7 @@
 #include <set>
 #include <thread>
 
+#include "engine/effects/cell_fields.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/run/simulation.hpp"
 #include "engine/model/tissue.hpp"
@@ -36,12 +37,14 @@ State line_cell(int n, int axis, double z, int type = kBasal) {
 // The cell rules of the listed cell effects (their fields prepared on `s`), and one stage of them.
 CellRules rules_of(const std::string& yaml, State& s) {
   auto scene = scene_from(std::string(testing::kMechanicsYaml) + yaml);
-  CellRules r{};
-  for (auto& e : make_effects(scene)) {
+  const auto effects = make_effects(scene);
+  std::vector<std::string> listed;
+  for (auto& e : effects) {
     e->prepare(s);
-    e->cell_rules(r);
+    listed.push_back(e->name());
   }
-  return r;
+  declare_cell_fields(s, listed);
+  return cell_rules_of(effects, s, false);
 }
 bool stage(State& s, const CellRules& r, double elapsed) { return run_cell_stage(s, r, 1, elapsed, s.step); }
 

@@ -55,7 +55,7 @@ TEST(Io, BadStateFilesAreRefusedNamingFileAndDataset) {
 
 // The balancer part of a decomposed run's checkpoint: written and read back exactly; every field checked on
 // reading (a corrupt dataset is bad input naming the file and dataset, never an internal error).
-// The device carries three cell fields; a file with another is refused when read, not dropped later.
+// A file with a cell field no effect declares (effects/cell_fields.hpp) is refused when read, not carried unread.
 TEST(Io, UnknownCellFieldsAreRefused) {
   const auto dir = fresh_dir("io_unknown_field");
   State s = testing::random_state(3, 4, 10.0, 1);
