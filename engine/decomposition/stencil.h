@@ -1,5 +1,5 @@
 /* The 27-bin neighbourhood of a bin, written once (C99 subset) for every loop over it: the pair-force stencils and
- * the neighbour list's build (backends/*.cl), cpu-binned's pair loop, W_s's near count (slices.h) and the bench's
+ * the neighbour list's build (the OpenCL kernels), cpu-binned's pair loop, W_s's near count (slices.h) and the bench's
  * density statistics. */
 #ifndef SEMLB_STENCIL_H
 #define SEMLB_STENCIL_H
