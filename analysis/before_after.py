@@ -17,7 +17,7 @@ def parse(path):
         f = line.split()
         if what == "engine" and len(f) > 7 and f[0].startswith("opencl") and f[1] in ("float", "double"):
             precision = f"{f[1]} skin {f[7]}"
-            out[(what, precision, "ms/step")] = float(f[6]) if re.match(r"^[0-9.]+$", f[6]) else 1e3 * float(f[4]) / 200
+            out[(what, precision, "ms/step")] = float(f[6])
         elif what == "engine" and len(f) == 4 and f[0] == "kernel":
             out[(what, precision, f[1])] = float(f[2])
         elif what == "cells" and f and f[0].startswith("opencl"):

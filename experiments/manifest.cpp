@@ -135,12 +135,21 @@ Settings Job::reader(const std::string& manifest) const {
   return r;
 }
 
+namespace {
+// KEY of `job` alone as a semlb::Settings (a typed read of one key need not copy the row).
+Settings one(const Job& job, const std::string& key, const std::string& manifest) {
+  Settings r("", Origin{manifest, 0, "", ""});
+  if (const Setting* s = job.find(key)) r.set(key, s->value, origin_of(*s, manifest));
+  return r;
+}
+}  // namespace
+
 long Job::integer(const std::string& key, long fallback, long min, long max, const std::string& manifest) const {
-  return reader(manifest).integer(key, fallback, min, max);
+  return one(*this, key, manifest).integer(key, fallback, min, max);
 }
 
 double Job::real(const std::string& key, double fallback, double min, double max, const std::string& manifest) const {
-  return reader(manifest).real(key, fallback, min, max);
+  return one(*this, key, manifest).real(key, fallback, min, max);
 }
 
 const Setting* Job::find(const std::string& key) const {

@@ -40,17 +40,16 @@ static inline semlb_real semlb_clamp_force(semlb_real f) {
   return SEMLB_FMAX(SEMLB_FMIN(f, (semlb_real)SEMLB_FORCE_MAX), -(semlb_real)SEMLB_FORCE_MAX);
 }
 
-/* One force component in fixed point (truncation toward zero, identical in C++ and OpenCL C). */
-static inline SEMLB_LONG semlb_to_fixed(semlb_real f) {
-  return (SEMLB_LONG)(semlb_clamp_force(f) * (semlb_real)SEMLB_FIXED_SCALE);
-}
-
-/* The same for a component already multiplied by SEMLB_FIXED_SCALE (the pair force law folds the scale into its
- * magnitude: f * 2^32 is exact, so the result equals semlb_to_fixed(f) whenever f * 2^32 does not overflow). */
+/* A force component already multiplied by SEMLB_FIXED_SCALE, clamped to +-SEMLB_FORCE_MAX (scaled; NaN gives
+ * +max), in fixed point (truncation toward zero, identical in C++ and OpenCL C). The pair force law folds the
+ * scale into its magnitude; scaling by 2^32 is exact, so clamping before or after it gives the same value. */
 static inline SEMLB_LONG semlb_scaled_to_fixed(semlb_real fs) {
   const semlb_real m = (semlb_real)(SEMLB_FORCE_MAX * SEMLB_FIXED_SCALE);
   return (SEMLB_LONG)SEMLB_FMAX(SEMLB_FMIN(fs, m), -m);
 }
+
+/* One force component in fixed point. */
+static inline SEMLB_LONG semlb_to_fixed(semlb_real f) { return semlb_scaled_to_fixed(f * (semlb_real)SEMLB_FIXED_SCALE); }
 
 /* f(r) = -dV/dr = U0/xi1 exp(-r/xi1) - V0/xi2 exp(-r/xi2) for V(r) = U0 exp(-r/xi1) - V0 exp(-r/xi2);
  * positive is repulsive. */

@@ -38,10 +38,10 @@ class NeighbourList {
     return stats_;
   }
 
-  // Adds the local pair forces (owned elements [0, n) of pos on each other) to force, as opencl-binned's stencil does.
+  // Adds the local pair forces (the backend's owned elements [0, n), its pos_, on each other) to force, as
+  // opencl-binned's stencil does.
   template <class B>
-  void forces(B& b, const Grid& g, double cutoff, const cl::Mem& table, const cl::Mem& pos, const cl::Mem& keys,
-              const cl::Mem& force, long n) {
+  void forces(B& b, const Grid& g, double cutoff, const cl::Mem& table, const cl::Mem& keys, const cl::Mem& force, long n) {
     if (n <= 0) return;
     std::array<double, 3> hi{};
     for (int d = 0; d < 3; ++d) hi[d] = g.lo[d] + g.size[d] * g.dims[d];
@@ -65,7 +65,7 @@ class NeighbourList {
     if (rebuild) {
       b.fill(gate_, 1, sizeof(cl_int));
     } else {
-      b.launch("nl_check", n, kGroup, pos.get(), sort_.sorted_index.get(), ref_.get(), sort_.sorted_pos.get(), ni,
+      b.launch("nl_check", n, kGroup, b.pos_.get(), sort_.sorted_index.get(), ref_.get(), sort_.sorted_pos.get(), ni,
                static_cast<Real>(stats_.skin), gate_.get());
     }
     // the build, gated: bins of edge >= cutoff + skin (the backend's sort, grid-stride: a gated launch costs little)

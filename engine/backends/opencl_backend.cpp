@@ -151,7 +151,7 @@ void OpenClBackend<Real>::pair_forces_local(const std::vector<double>& table, do
            LocalBytes{kGroup * sizeof(Real4)}, near_.get(), owned(), cl_int{1});
     return;
   }
-  if (list_.on()) return list_.forces(*this, grid, cutoff, table_, pos_, keys_, force_, owned_);
+  if (list_.on()) return list_.forces(*this, grid, cutoff, table_, keys_, force_, owned_);
   sort_into_bins(grid, 0, owned_, owned_sort_);
   launch("forces_binned", owned_, kGroup, owned_sort_.sorted_pos.get(), owned_sort_.sorted_index.get(), keys_.get(),
          owned_sort_.starts.get(), real4(grid.lo), real4(grid.size), int4(grid.dims), table_.get(),
@@ -278,7 +278,7 @@ void OpenClBackend<Real>::sort_into_bins(const Grid& g, long first, long count, 
                                          const cl::Mem* ref, long items) {
   const long bins = g.bins();
   if (bins > s.bins) {
-    s.bins = bins + (gate ? bins / 4 : 0);  // the list's grid follows the tissue's extent: room to grow
+    s.bins = bins + bins / 4;  // the grid follows the tissue's extent: room to grow
     s.counts = buffer(s.bins * sizeof(cl_int));
     s.starts = buffer((s.bins + 1) * sizeof(cl_int));
     s.cursor = buffer(s.bins * sizeof(cl_int));
