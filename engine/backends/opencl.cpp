@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "common/errors.hpp"
+#include "common/text_io.hpp"
 
 namespace semlb::engine::cl {
 
@@ -148,9 +149,14 @@ KernelCapture KernelCapture::from_env() {
   const std::string s = v;
   const size_t colon = s.find(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 == s.size())
-    throw InputError("SEMLB_OPENCL_CAPTURE: '" + s + "' is not KERNEL:DIR");
+    throw InputError("SEMLB_OPENCL_CAPTURE: '" + s + "' is not KERNEL[@N]:DIR");
   c.kernel_ = s.substr(0, colon);
   c.dir_ = s.substr(colon + 1);
+  if (const size_t at = c.kernel_.find('@'); at != std::string::npos) {  // KERNEL@N: the N-th launch
+    c.launch_ = parse_integer(c.kernel_.substr(at + 1), "SEMLB_OPENCL_CAPTURE: launch ", 1);
+    c.kernel_ = c.kernel_.substr(0, at);
+  }
+  if (c.kernel_.empty()) throw InputError("SEMLB_OPENCL_CAPTURE: '" + s + "' names no kernel");
   std::error_code ec;
   std::filesystem::create_directories(c.dir_, ec);
   if (ec || !std::filesystem::is_directory(c.dir_))

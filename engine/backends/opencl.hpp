@@ -85,12 +85,13 @@ DeviceInfo choose_device(const std::string& platform, int index, int local_rank 
 
 // One launch of a named kernel written to a folder, so that tools which cannot profile OpenCL (Nsight
 // Compute) can replay it through the CUDA driver (scripts/gpu/ncu_replay.cpp; docs/engine.md "Profiling the
-// force kernel"). Switched on by `SEMLB_OPENCL_CAPTURE=KERNEL:DIR`; the first launch of KERNEL writes
+// force kernel"). Switched on by `SEMLB_OPENCL_CAPTURE=KERNEL[@N]:DIR`; the N-th launch of KERNEL (default 1;
+// a later one shows the steady state: the neighbour list's first launch runs before kmax has grown) writes
 //   DIR/program.bin   the program binary (PTX text on NVIDIA's platform),
 //   DIR/launch.txt    "kernel NAME", "global N", "group N", then per argument "arg I buffer BYTES", "arg I value
 //                     BYTES" or "arg I local BYTES",
 //   DIR/argI.bin      each buffer before the launch (a value: its bytes), DIR/argI.after.bin each buffer after it.
-// Later launches are not captured. Errors (InputError naming the variable): a malformed value, a DIR that cannot be
+// Other launches are not captured. Errors (InputError naming the variable): a malformed value, a DIR that cannot be
 // created; the backend refuses a KERNEL it does not have.
 class KernelCapture {
  public:
@@ -104,7 +105,8 @@ class KernelCapture {
   // cannot).
   static KernelCapture from_env();
   const std::string& kernel() const { return kernel_; }  // empty: capturing nothing
-  bool wants(const std::string& kernel) const { return !done_ && !kernel_.empty() && kernel == kernel_; }
+  // Counts the launches of `kernel`; true for the one to capture.
+  bool wants(const std::string& kernel) { return !done_ && !kernel_.empty() && kernel == kernel_ && ++seen_ == launch_; }
   // Before the launch is enqueued (reads the buffers: blocking) and after it (waits for the queue).
   void before(cl_command_queue q, cl_program program, size_t global, size_t group,
               const std::vector<Arg>& args) const;
@@ -112,6 +114,7 @@ class KernelCapture {
 
  private:
   std::string kernel_, dir_;
+  long launch_ = 1, seen_ = 0;
   bool done_ = false;
 };
 

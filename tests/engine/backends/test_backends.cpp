@@ -422,10 +422,10 @@ TEST(Backends, CellEffectsLaunchTheCellStage) {
   }
 }
 
-// SEMLB_OPENCL_CAPTURE writes the first launch of the named kernel for replay under Nsight Compute
-// (scripts/gpu/ncu_replay.cpp): the program binary, the NDRange, every argument in order with its kind, each
-// buffer before and after the launch; later launches are not captured; a malformed value, an unknown kernel and
-// a folder that cannot be made are refused naming the variable.
+// SEMLB_OPENCL_CAPTURE writes the first launch of the named kernel (KERNEL@N: the N-th) for replay under Nsight
+// Compute (scripts/gpu/ncu_replay.cpp): the program binary, the NDRange, every argument in order with its kind, each
+// buffer before and after the launch; other launches are not captured; a malformed value or launch number, an
+// unknown kernel and a folder that cannot be made are refused naming the variable.
 TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
   const auto backends = available_backends();
   if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end()) GTEST_SKIP() << "no OpenCL platform";
@@ -460,7 +460,17 @@ TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
   EXPECT_TRUE(std::all_of(before.begin(), before.begin() + 3 * n * 8, [](char c) { return c == 0; }));
   EXPECT_NE(before, after);
   EXPECT_EQ(bytes("arg0.bin"), bytes("arg0.after.bin"));
-  for (const std::string& bad : std::vector<std::string>{"forces_binned", "no_such_kernel:" + dir + "/x", "forces_binned:/proc/no/such"}) {
+  // KERNEL@N captures the N-th launch instead: the third step's positions, not the first's.
+  const std::string third = test::fresh_dir("kernel_capture_3");
+  setenv("SEMLB_OPENCL_CAPTURE", ("forces_binned@3:" + third).c_str(), 1);
+  run("opencl-binned", "float", s, 3, 0, 40, "0");
+  unsetenv("SEMLB_OPENCL_CAPTURE");
+  std::ifstream third_pos(third + "/arg0.bin", std::ios::binary);
+  const std::vector<char> pos3((std::istreambuf_iterator<char>(third_pos)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(pos3.size(), bytes("arg0.bin").size());
+  EXPECT_NE(pos3, bytes("arg0.bin"));
+  for (const std::string& bad : std::vector<std::string>{"forces_binned", "no_such_kernel:" + dir + "/x", "forces_binned:/proc/no/such",
+                                                         "forces_binned@0:" + dir, "forces_binned@2x:" + dir, "@2:" + dir}) {
     setenv("SEMLB_OPENCL_CAPTURE", bad.c_str(), 1);
     try {
       run("opencl-binned", "float", s, 1);
