@@ -50,6 +50,14 @@ struct Traffic {
   long h2d = 0, d2h = 0;
 };
 
+// One pair term's forces (Backend::pair_forces_local/nonlocal): the registered term's name (pairs/pair_term.hpp),
+// its derived parameters (at most kMaxPluginParams reals, PairTerm::read) and the cutoff in um.
+struct PairForces {
+  std::string term;
+  std::vector<double> params;
+  double cutoff = 0;
+};
+
 // What opencl-binned's neighbour list did since construction (Backend::list_stats; semlb bench engine prints it).
 struct ListStats {
   double skin = 0;        // um; 0: no list (backends without one, or the stencil over fresh bins every step)
@@ -116,19 +124,20 @@ class Backend {
   // Pair forces in two parts, as GROMACS splits them: the local part (owned elements on owned elements) needs no
   // ghost, so a decomposed run computes it while the ghost bands travel; the non-local part (ghosts on owned
   // elements; nothing without ghosts, no launch) after they arrived. Each pair's force is a fixed-point integer,
-  // so local + non-local equals the full sum bit for bit, in any order. `table`: SEMLB_TABLE_SIZE derived Morse
-  // constants (mechanics.cpp); `cutoff` in um; `grid` bins both parts (binned backends: the ghosts in bins of
+  // so local + non-local equals the full sum bit for bit, in any order. `f`: the registered pair term's name, its
+  // derived parameters and the cutoff in um (pairs/pair_term.hpp; std::logic_error for an unregistered term; OpenCL
+  // rebuilds its program when the term is not the one it was built for); `grid` bins both parts (binned backends: the ghosts in bins of
   // their own). The non-local part visits only the owned elements of the last bands() selection when one is
   // current (kernel "forces_nonlocal"; OpenCL items = the two bands' sizes, an element in both idling in its
   // second slot; C++ the union), else every owned element. The selection is exact when every ghost lies at
   // x <= below - cutoff or x >= above + cutoff (the decomposed run's bands reach beyond the cutoff): an owned
   // element outside both bands then has no ghost within the cutoff.
-  virtual void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;
-  virtual void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid& grid) = 0;
+  virtual void pair_forces_local(const PairForces& f, const Grid& grid) = 0;
+  virtual void pair_forces_nonlocal(const PairForces& f, const Grid& grid) = 0;
   // Both parts: every pair within the cutoff (one device, tests and benches).
-  void pair_forces(const std::vector<double>& table, double cutoff, const Grid& grid) {
-    pair_forces_local(table, cutoff, grid);
-    pair_forces_nonlocal(table, cutoff, grid);
+  void pair_forces(const PairForces& f, const Grid& grid) {
+    pair_forces_local(f, grid);
+    pair_forces_nonlocal(f, grid);
   }
   // Adds the registered element term `name`'s force (terms/term.hpp) on every owned element, in fixed point;
   // `params` its derived parameters (ElementTerm::read). C++ backends call the term's evaluator in their

@@ -6,6 +6,7 @@
 
 #include "backend.hpp"
 #include "cpu_physics.hpp"
+#include "pairs/pair_term.hpp"
 #include "terms/term.hpp"
 
 namespace semlb::engine {
@@ -86,6 +87,21 @@ class CpuBackend : public Backend {
   std::vector<int64_t> fixed_forces() override { return {force_.begin(), force_.begin() + 3 * owned_}; }
   long owned() const { return owned_; }  // forces, integration and noise apply to elements [0, owned)
   long total() const { return static_cast<long>(info_.size()); }
+
+  // Pair term f.term in this precision (std::logic_error when unregistered): its evaluator, its parameters in Real,
+  // the squared cutoff in Real; `add` calls the evaluator unless r^2 >= cutoff2 (its own first test, done inline so
+  // that the candidates beyond the cutoff cost no call; a NaN distance goes on to the evaluator).
+  struct PairLoop {
+    PairEvaluator<Real> law;
+    std::vector<Real> p;
+    Real c2;
+    explicit PairLoop(const PairForces& f) : p(f.params.begin(), f.params.end()), c2(static_cast<Real>(f.cutoff * f.cutoff)) {
+      if constexpr (std::is_same_v<Real, double>) law = pair_term(f.term).f64; else law = pair_term(f.term).f32;
+    }
+    void add(Real dx, Real dy, Real dz, int ii, int ij, uint64_t ki, uint64_t kj, int64_t* acc) const {
+      if (!(dx * dx + dy * dy + dz * dz >= c2)) law(dx, dy, dz, ii, ij, ki, kj, p.data(), c2, acc);
+    }
+  };
 
   void element_term(const std::string& name, const std::vector<double>& params) override {
     const ElementTerm& term = engine::element_term(name);

@@ -13,39 +13,38 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
   explicit CpuBinnedBackend(int threads) : CpuBackend<Real>(threads > 0 ? threads : omp_get_max_threads()) {}
   std::string name() const override { return "cpu-binned"; }
 
-  void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid& grid) override {
+  void pair_forces_local(const PairForces& f, const Grid& grid) override {
     sort_into_bins(grid, 0, this->owned(), owned_bins_);
     this->count("forces_binned", this->owned());
-    const std::vector<Real> t(table.begin(), table.end());
-    const Real c2 = static_cast<Real>(cutoff * cutoff);
+    const Loop loop(f);
     const long n = this->owned();
 #pragma omp parallel for schedule(dynamic, 256) num_threads(this->threads())
     for (long s = 0; s < n; ++s) {
       const long i = owned_bins_.order[s];
-      accumulate(i, owned_bins_.packed[s], owned_bins_.bin[s], owned_bins_, s, grid, t.data(), c2);
+      accumulate(i, owned_bins_.packed[s], owned_bins_.bin[s], owned_bins_, s, grid, loop);
     }
   }
 
   // The ghosts in their own bins (they are few); each owned element of the non-local items (the bands' selection,
   // else all) visits those in its 27-bin stencil.
-  void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid& grid) override {
+  void pair_forces_nonlocal(const PairForces& f, const Grid& grid) override {
     const long owned = this->owned(), ghosts = this->total() - owned;
     if (ghosts == 0) return;
     sort_into_bins(grid, owned, ghosts, ghost_bins_);
     const std::vector<long> items = this->nonlocal_items();
     const long n = static_cast<long>(items.size());
     this->count("forces_nonlocal", n);
-    const std::vector<Real> t(table.begin(), table.end());
-    const Real c2 = static_cast<Real>(cutoff * cutoff);
+    const Loop loop(f);
 #pragma omp parallel for schedule(dynamic, 256) num_threads(this->threads())
     for (long k = 0; k < n; ++k) {
       const long i = items[k];
       const Packed me{this->pos_[3 * i], this->pos_[3 * i + 1], this->pos_[3 * i + 2], this->info_[i], this->key_[i]};
-      accumulate(i, me, bin_index(grid, i), ghost_bins_, -1, grid, t.data(), c2);
+      accumulate(i, me, bin_index(grid, i), ghost_bins_, -1, grid, loop);
     }
   }
 
  private:
+  using Loop = typename CpuBackend<Real>::PairLoop;
   struct Packed {
     Real x, y, z;
     int info;
@@ -85,7 +84,7 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
 
   // Adds to owned element i (at `me`, in bin b) the forces of the elements of `other` in the 27-bin stencil:
   // 9 rows of 3 bins that are contiguous in bin order; slot `self` of `other` (i itself) is skipped.
-  void accumulate(long i, const Packed& me, long b, const Sorted& other, long self, const Grid& g, const Real* t, Real c2) {
+  void accumulate(long i, const Packed& me, long b, const Sorted& other, long self, const Grid& g, const Loop& loop) {
     const int bx = static_cast<int>(b % g.dims[0]), by = static_cast<int>(b / g.dims[0] % g.dims[1]),
               bz = static_cast<int>(b / (static_cast<long>(g.dims[0]) * g.dims[1]));
     int64_t acc[3] = {0, 0, 0};
@@ -93,7 +92,7 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
       for (long o = other.start[first_bin], last = other.start[last_bin + 1]; o < last; ++o) {
         if (o == self) continue;
         const Packed& q = other.packed[o];
-        Physics<Real>::pair(me.x - q.x, me.y - q.y, me.z - q.z, me.info, q.info, me.key, q.key, t, c2, acc);
+        loop.add(me.x - q.x, me.y - q.y, me.z - q.z, me.info, q.info, me.key, q.key, acc);
       }
     }
     for (int c = 0; c < 3; ++c) this->force_[3 * i + c] += acc[c];

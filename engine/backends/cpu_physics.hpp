@@ -49,11 +49,6 @@ struct Physics;
 #define SEMLB_PHYSICS(REAL, NS)                                                                         \
   template <>                                                                                           \
   struct Physics<REAL> {                                                                                \
-    static void pair(REAL dx, REAL dy, REAL dz, int ii, int ij, uint64_t ki, uint64_t kj, const REAL* t, \
-                     REAL c2, int64_t* acc) {                                                           \
-      if (NS::semlb_pair_force(dx, dy, dz, ii, ij, t, c2, acc) < 0)                                     \
-        NS::semlb_coincident_force(ki, kj, ii, ij, t, acc);                                             \
-    }                                                                                                   \
     static int64_t fixed(REAL f) { return NS::semlb_to_fixed(f); }                                      \
     static REAL step(int64_t f, REAL dt_eta) { return NS::semlb_displacement(f, dt_eta); }              \
     static REAL gauss(uint64_t s, uint64_t k, uint64_t t, uint64_t c) { return NS::semlb_gauss(s, k, t, c); } \

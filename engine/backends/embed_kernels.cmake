@@ -1,6 +1,7 @@
 # Writes OUT: a C++ string holding KERNELS with each `#include "PART"` replaced by that file of PARTS
-# ('|'-separated: the .cl parts of backends/), then `#include "evaluator.h"` and `#include "cells.h"` by EVALUATOR
-# and CELLS, and the plug-ins' markers by their code: `#include "element_terms.cl"` by, for each header
+# ('|'-separated: the .cl parts of backends/ and the headers they include), then `#include "evaluator.h"` and
+# `#include "cells.h"` by EVALUATOR and CELLS, and the plug-ins' markers by their code: `#include "pair_terms.cl"` by
+# every header pairs/NAME.h of PAIRS ('|'-separated; no template); `#include "element_terms.cl"` by, for each header
 # terms/NAME.h of TERMS ('|'-separated), the header and then TERM_TEMPLATE with NAME for @TERM@ (terms/term.hpp);
 # `#include "removal_rules.cl"` likewise from RULES and RULE_TEMPLATE with @RULE@ (removal/removal.hpp).
 file(READ ${KERNELS} source)
@@ -17,7 +18,10 @@ string(REPLACE "#include \"cells.h\"" "${cells}" source "${source}")
 
 # Each header of the '|'-separated HEADERS followed by TEMPLATE with its stem for PLACEHOLDER, in place of MARKER.
 function(expand_plugins marker headers template placeholder)
-  file(READ ${template} text)
+  set(text "")
+  if(template)
+    file(READ ${template} text)
+  endif()
   string(REPLACE "|" ";" list "${headers}")
   set(code "")
   foreach(header IN LISTS list)
@@ -29,9 +33,10 @@ function(expand_plugins marker headers template placeholder)
   string(REPLACE "#include \"${marker}\"" "${code}" out "${source}")
   set(source "${out}" PARENT_SCOPE)
 endfunction()
+expand_plugins(pair_terms.cl "${PAIRS}" "" @PAIR@)
 expand_plugins(element_terms.cl "${TERMS}" ${TERM_TEMPLATE} @TERM@)
 expand_plugins(removal_rules.cl "${RULES}" ${RULE_TEMPLATE} @RULE@)
 
-file(WRITE ${OUT} "// Generated from engine/backends/*.cl, evaluator.h, cells.h, engine/terms and engine/removal: do not edit.\n"
+file(WRITE ${OUT} "// Generated from engine/backends/*.cl, evaluator.h, cells.h, engine/pairs, engine/terms and engine/removal: do not edit.\n"
   "namespace semlb::engine {\nextern const char* const kKernelSource;\n"
   "const char* const kKernelSource = R\"SEMLBCL(${source})SEMLBCL\";\n}\n")

@@ -27,6 +27,15 @@ typedef float4 real4;
 #endif
 #include "evaluator.h"
 
+/* The pair terms' laws (pairs/NAME.h, every registered one); the program is built for one,
+   -DSEMLB_PAIR_TERM=semlb_pair_NAME (pairs/pair_term.hpp), whose law the pair loop's body calls. */
+#include "pair_terms.cl"
+#ifndef SEMLB_PAIR_TERM
+#error "build with -DSEMLB_PAIR_TERM=semlb_pair_NAME (pairs/pair_term.hpp)"
+#endif
+#define SEMLB_PAIR_LAW SEMLB_PAIR_TERM
+#include "pair_force.h"
+
 #define NO_FAILURE 0x7fffffff
 
 #include "stencil.h"

@@ -1,6 +1,7 @@
 // "opencl-allpairs" and "opencl-binned": the device, its program and the element kernels (forces, terms,
 // integration, noise, bands) of the OpenCL backends (opencl_backend.hpp), and their registration.
 #include "opencl_backend.hpp"
+#include "pairs/pair_term.hpp"
 #include "removal/removal.hpp"
 
 namespace semlb::engine {
@@ -26,7 +27,7 @@ OpenClBackend<Real>::OpenClBackend(const BackendConfig& c, bool binned)
   capture_ = cl::KernelCapture::from_env();                      // one launch written for replay (opencl.hpp)
   queue_ = cl::Queue(clCreateCommandQueue(ctx_.get(), dev_.device, profile_ ? CL_QUEUE_PROFILING_ENABLE : 0, &err));
   cl::check(err, "clCreateCommandQueue");
-  build();
+  build(c.pair_term);
   if (!capture_.kernel().empty() && !kernels_.count(capture_.kernel())) {
     std::string known;
     for (const auto& k : kernels_) known += (known.empty() ? "" : ", ") + k.first;
@@ -143,30 +144,40 @@ void OpenClBackend<Real>::bands(double below, double above, Ghosts& down, Ghosts
 }
 
 template <class Real>
-void OpenClBackend<Real>::pair_forces_local(const std::vector<double>& table, double cutoff, const Grid& grid) {
-  write_parameters<Real>(table_, table);
-  const Real c2 = static_cast<Real>(cutoff * cutoff);
+void OpenClBackend<Real>::use_pair_term(const PairForces& f) {
+  if (f.term != pair_term_) {
+    (void)engine::pair_term(f.term);  // std::logic_error for an unregistered term, before any rebuild
+    finish();
+    build(f.term);
+  }
+  write_parameters<Real>(table_, f.params);
+}
+
+template <class Real>
+void OpenClBackend<Real>::pair_forces_local(const PairForces& f, const Grid& grid) {
+  use_pair_term(f);
+  const Real c2 = static_cast<Real>(f.cutoff * f.cutoff);
   if (!binned_) {
     launch("forces_allpairs", owned_, kGroup, pos_.get(), keys_.get(), table_.get(), c2, force_.get(), owned(), cl_int{0},
            LocalBytes{kGroup * sizeof(Real4)}, near_.get(), owned(), cl_int{1});
     return;
   }
-  if (list_.on()) return list_.forces(*this, grid, cutoff, table_, keys_, force_, owned_);
+  if (list_.on()) return list_.forces(*this, grid, f.cutoff, table_, keys_, force_, owned_);
   sort_into_bins(grid, 0, owned_, owned_sort_);
   launch("forces_binned", owned_, kGroup, owned_sort_.sorted_pos.get(), owned_sort_.sorted_index.get(), keys_.get(),
          owned_sort_.starts.get(), real4(grid.lo), real4(grid.size), int4(grid.dims), table_.get(),
-         static_cast<Real>(cutoff), force_.get(), owned(), owned());
+         static_cast<Real>(f.cutoff), force_.get(), owned(), owned());
 }
 
 template <class Real>
-void OpenClBackend<Real>::pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid& grid) {
+void OpenClBackend<Real>::pair_forces_nonlocal(const PairForces& f, const Grid& grid) {
   const long ghosts = n_ - owned_;
   if (ghosts == 0) return;
-  write_parameters<Real>(table_, table);
+  use_pair_term(f);
   const long items = near_valid_ ? near_items_ : owned_;
   const cl_int all = near_valid_ ? 0 : 1;
   if (!binned_) {
-    launch("forces_allpairs", items, kGroup, pos_.get(), keys_.get(), table_.get(), static_cast<Real>(cutoff * cutoff),
+    launch("forces_allpairs", items, kGroup, pos_.get(), keys_.get(), table_.get(), static_cast<Real>(f.cutoff * f.cutoff),
            force_.get(), static_cast<cl_int>(n_), owned(), LocalBytes{kGroup * sizeof(Real4)}, near_.get(),
            static_cast<cl_int>(items), all);
     return;
@@ -174,7 +185,7 @@ void OpenClBackend<Real>::pair_forces_nonlocal(const std::vector<double>& table,
   sort_into_bins(grid, owned_, ghosts, ghost_sort_);
   launch("forces_nonlocal", items, kGroup, pos_.get(), keys_.get(), near_.get(), static_cast<cl_int>(items), all,
          ghost_sort_.sorted_pos.get(), ghost_sort_.sorted_index.get(), ghost_sort_.starts.get(), real4(grid.lo),
-         real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(cutoff), force_.get());
+         real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(f.cutoff), force_.get());
 }
 
 template <class Real>
@@ -211,14 +222,17 @@ void OpenClBackend<Real>::finish_while(const std::function<void()>& progress) {
 }
 
 template <class Real>
-void OpenClBackend<Real>::build() {
+void OpenClBackend<Real>::build(const std::string& pair_term) {
   cl_int err = CL_SUCCESS;
+  kernels_.clear();
+  pair_term_ = pair_term;
   const std::string source = kKernelSource;
   const char* text = source.c_str();
   program_ = cl::Program(clCreateProgramWithSource(ctx_.get(), 1, &text, nullptr, &err));
   cl::check(err, "clCreateProgramWithSource");
   const std::string options = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") +
-                              (has_fp64_ ? " -DSEMLB_CELLS" : "") + " " + build_options();
+                              (has_fp64_ ? " -DSEMLB_CELLS" : "") + " -DSEMLB_PAIR_TERM=semlb_pair_" + pair_term + " " +
+                              build_options();
   if (clBuildProgram(program_.get(), 1, &dev_.device, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
     size_t n = 0;
     clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);

@@ -82,11 +82,11 @@ class OpenClBackend final : public Backend {
     if (owned_) cl::check(clEnqueueFillBuffer(queue_.get(), force_.get(), &zero, sizeof zero, 0, 3 * owned_ * sizeof(cl_long), 0, nullptr, nullptr), "zero forces");
   }
 
-  void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid& grid) override;
+  void pair_forces_local(const PairForces& f, const Grid& grid) override;
 
   // The ghosts sorted into bins of their own on the device (the same counting sort, its own buffers), then one
   // item per owned element of the bands' selection (or every owned element without one).
-  void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid& grid) override;
+  void pair_forces_nonlocal(const PairForces& f, const Grid& grid) override;
 
   void element_term(const std::string& name, const std::vector<double>& params) override;
 
@@ -170,7 +170,12 @@ class OpenClBackend final : public Backend {
   }
   static std::array<cl_int, 4> int4(const std::array<int, 3>& v) { return {v[0], v[1], v[2], 0}; }
 
-  void build();
+  // Builds the program for pair term `pair_term` (-DSEMLB_PAIR_TERM=semlb_pair_NAME: the pair kernels' law) and
+  // creates every kernel; a rebuild replaces them.
+  void build(const std::string& pair_term);
+  // Rebuilds the program when f.term is not the term it was built for (std::logic_error for an unregistered one),
+  // then writes f's parameters into the pair kernels' table.
+  void use_pair_term(const PairForces& f);
 
   // Kernel experiments (docs/engine.md): e.g. SEMLB_OPENCL_BUILD_OPTIONS=-DSEMLB_DOUBLE_RSQRT to time a variant.
   static std::string build_options() {
@@ -366,6 +371,7 @@ class OpenClBackend final : public Backend {
   cl::Context ctx_;
   cl::Queue queue_;
   cl::Program program_;
+  std::string pair_term_;  // the pair term the program was built for
   cl::KernelCapture capture_;
   std::map<std::string, cl::Kernel> kernels_;
   std::map<cl_mem, std::vector<unsigned char>> last_written_;  // write_parameters' last bytes per buffer

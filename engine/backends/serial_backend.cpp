@@ -10,29 +10,28 @@ class SerialBackend final : public CpuBackend<Real> {
   SerialBackend() : CpuBackend<Real>(1) {}
   std::string name() const override { return "serial"; }
 
-  void pair_forces_local(const std::vector<double>& table, double cutoff, const Grid&) override {
+  void pair_forces_local(const PairForces& f, const Grid&) override {
     this->count("forces_allpairs", this->owned());
-    pairs(table, cutoff, this->owned_indices(), 0, this->owned());
+    pairs(f, this->owned_indices(), 0, this->owned());
   }
-  void pair_forces_nonlocal(const std::vector<double>& table, double cutoff, const Grid&) override {
+  void pair_forces_nonlocal(const PairForces& f, const Grid&) override {
     if (this->total() == this->owned()) return;  // no ghosts
     const std::vector<long> items = this->nonlocal_items();
     this->count("forces_nonlocal", static_cast<long>(items.size()));
-    pairs(table, cutoff, items, this->owned(), this->total());
+    pairs(f, items, this->owned(), this->total());
   }
 
  private:
   // Adds the forces of elements [from, to) on the owned elements `items`.
-  void pairs(const std::vector<double>& table, double cutoff, const std::vector<long>& items, long from, long to) {
-    const std::vector<Real> t(table.begin(), table.end());
-    const Real c2 = static_cast<Real>(cutoff * cutoff);
+  void pairs(const PairForces& f, const std::vector<long>& items, long from, long to) {
+    const typename CpuBackend<Real>::PairLoop loop(f);
     const Real* p = this->pos_.data();
     for (const long i : items) {
       int64_t acc[3] = {0, 0, 0};
       for (long j = from; j < to; ++j)
         if (j != i)
-          Physics<Real>::pair(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2],
-                              this->info_[i], this->info_[j], this->key_[i], this->key_[j], t.data(), c2, acc);
+          loop.add(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2], this->info_[i],
+                   this->info_[j], this->key_[i], this->key_[j], acc);
       for (int c = 0; c < 3; ++c) this->force_[3 * i + c] += acc[c];
     }
   }

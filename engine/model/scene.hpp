@@ -40,6 +40,9 @@ struct BackendConfig {
   int device = 0;                     // device index within the chosen platform
   int local_rank = 0;                 // added to `device` (one device per local MPI rank)
   double skin = 0.0;                  // um, opencl-binned's neighbour list (docs/engine.md); 0: none, bins every step
+  // Not a scene key: the pair term the scene lists (pairs/pair_term.hpp scene_pair_term, set by Simulation), which
+  // the OpenCL backends build their program for; another term asked for later rebuilds it.
+  std::string pair_term = "mechanics";
 };
 
 struct Scene {

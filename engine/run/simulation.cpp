@@ -6,12 +6,21 @@
 #include <sstream>
 
 #include "effects/cell_fields.hpp"
+#include "pairs/pair_term.hpp"
 #include "model/tissue.hpp"
 
 namespace semlb::engine {
+namespace {
+// The scene's backend settings with the pair term it lists (the OpenCL program is built for it).
+BackendConfig backend_config(const Scene& scene) {
+  BackendConfig c = scene.backend;
+  if (const std::string term = scene_pair_term(scene); !term.empty()) c.pair_term = term;
+  return c;
+}
+}  // namespace
 
 Simulation::Simulation(const Scene& scene, State state)
-    : scene_(&scene), state_(std::move(state)), backend_(make_backend(scene.backend)), effects_(make_effects(scene)) {
+    : scene_(&scene), state_(std::move(state)), backend_(make_backend(backend_config(scene))), effects_(make_effects(scene)) {
   grid_ = Grid::cover(scene.box_lo, scene.box_hi, scene.cutoff);
   std::vector<std::string> listed;
   for (const auto& e : effects_) {

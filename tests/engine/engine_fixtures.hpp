@@ -10,6 +10,7 @@
 #include "engine/backends/opencl.hpp"
 #include "engine/model/scene.hpp"
 #include "engine/model/state.hpp"
+#include "engine/pairs/pair_term.hpp"
 #include "engine/io/io.hpp"
 #include "engine/run/simulation.hpp"
 #include "../run_command.hpp"
@@ -79,6 +80,14 @@ std::vector<double> section_params(const std::string& name, const std::string& y
   s.finish();
   return p;
 }
+// The forces of the registered pair term `name` with the YAML map `yaml` read as its section effects.NAME (every key
+// read), at `cutoff` um.
+inline PairForces pair_forces(const std::string& name, const std::string& yaml, double cutoff) {
+  return {name, section_params(name, yaml, [&](const Section& s) { return pair_term(name).read(s, cutoff); }), cutoff};
+}
+// mechanics with inter-cell sets that differ per type pair (V0 0.3 + 0.1 (ta + tb)): type-dependent tables.
+inline const char* kTypedMorse = "{pairs: {basal-basal: {V0: 0.3}, basal-spinous: {V0: 0.4}, basal-granular: {V0: 0.5}, "
+                                 "spinous-spinous: {V0: 0.5}, spinous-granular: {V0: 0.6}, granular-granular: {V0: 0.7}}}";
 // The InputError message of kMechanicsYaml with `overrides`, constructed as a Simulation does (the effects' sections
 // read), or "no error".
 inline std::string scene_error(const std::vector<std::string>& overrides) {

@@ -180,14 +180,8 @@ TEST(Backends, LocalPlusNonLocalEqualsTheFullPairForcesBitForBit) {
                                                   phys64::semlb_info_type(info)));
   auto scene = scene_from(testing::kMechanicsYaml, {});
   const Grid grid = Grid::cover({0, 0, 0}, {60, 60, 60}, scene.cutoff);
-  std::vector<double> table(SEMLB_TABLE_SIZE);  // derived Morse constants (mechanics.cpp): intra apart from inter
-  const auto put = [&](int at, double U0, double V0, double xi1, double xi2) {
-    table[at] = U0 / xi1, table[at + 1] = 1 / xi1, table[at + 2] = V0 / xi2, table[at + 3] = 1 / xi2;
-  };
-  put(SEMLB_MORSE_INTRA, 4.0, 1.0, 0.8, 1.1);
-  for (int ta = 0; ta < kCellTypes; ++ta)
-    for (int tb = 0; tb < kCellTypes; ++tb) put(SEMLB_MORSE_INTER(ta, tb), 4.0, 0.3 + 0.1 * (ta + tb), 0.8, 1.1);
-  ASSERT_FALSE(table.empty());
+  const PairForces table = testing::pair_forces("mechanics", testing::kTypedMorse, scene.cutoff);  // intra apart from inter
+  ASSERT_FALSE(table.params.empty());
   const long n = owned.elements();
   for (const auto& name : available_backends())
     for (const char* precision : {"double", "float"}) {
@@ -202,11 +196,11 @@ TEST(Backends, LocalPlusNonLocalEqualsTheFullPairForcesBitForBit) {
         b->upload(out);
         if (how >= 2) b->set_ghosts(ghosts);
         b->zero_forces();
-        if (how == 0) b->pair_forces(table, scene.cutoff, grid);
-        if (how == 1 || how == 3) b->pair_forces_local(table, scene.cutoff, grid);
+        if (how == 0) b->pair_forces(table, grid);
+        if (how == 1 || how == 3) b->pair_forces_local(table, grid);
         if (how == 1) b->set_ghosts(ghosts);
-        if (how == 1 || how == 2) b->pair_forces_nonlocal(table, scene.cutoff, grid);
-        if (how == 2) b->pair_forces_local(table, scene.cutoff, grid);
+        if (how == 1 || how == 2) b->pair_forces_nonlocal(table, grid);
+        if (how == 2) b->pair_forces_local(table, grid);
         b->integrate(0.01, 100.0, 0);
         b->download(out);
         std::vector<double> mine;  // the owned cells' elements, in the owned state's order
@@ -247,13 +241,7 @@ TEST(Backends, NonLocalForcesVisitOnlyTheBandsAndStayExact) {
   struct Layout {
     double owned_lo, owned_hi, ghost_below, ghost_above;  // ghosts in [ghost_below, owned_lo), [owned_hi, ghost_above)
   };
-  std::vector<double> table(SEMLB_TABLE_SIZE);  // derived Morse constants (mechanics.cpp), as in the split test
-  const auto put = [&](int at, double U0, double V0, double xi1, double xi2) {
-    table[at] = U0 / xi1, table[at + 1] = 1 / xi1, table[at + 2] = V0 / xi2, table[at + 3] = 1 / xi2;
-  };
-  put(SEMLB_MORSE_INTRA, 4.0, 1.0, 0.8, 1.1);
-  for (int ta = 0; ta < kCellTypes; ++ta)
-    for (int tb = 0; tb < kCellTypes; ++tb) put(SEMLB_MORSE_INTER(ta, tb), 4.0, 0.3 + 0.1 * (ta + tb), 0.8, 1.1);
+  const PairForces table = testing::pair_forces("mechanics", testing::kTypedMorse, cutoff);  // as in the split test
   for (const Layout l : {Layout{0, 40, 0, 60}, Layout{20, 35, 5, 50}}) {
     const State owned = slab_cells(300, l.owned_lo, l.owned_hi, 31, 0);
     State ghost_cells, tissue = owned;  // the whole tissue: the owned cells first, as the ghosts are numbered
@@ -302,12 +290,12 @@ TEST(Backends, NonLocalForcesVisitOnlyTheBandsAndStayExact) {
             EXPECT_EQ(down.elements() + up.elements(), want_items) << name << " " << precision;
           }
           b->zero_forces();
-          if (how == 0) b->pair_forces(table, cutoff, grid);
+          if (how == 0) b->pair_forces(table, grid);
           if (how != 0) {
-            b->pair_forces_local(table, cutoff, grid);
+            b->pair_forces_local(table, grid);
             b->set_ghosts(ghosts);
             const auto before = b->launch_items().count(kernel) ? b->launch_items().at(kernel) : 0L;
-            b->pair_forces_nonlocal(table, cutoff, grid);
+            b->pair_forces_nonlocal(table, grid);
             *items = b->launch_items().at(kernel) - before;
           }
           b->integrate(0.01, 100.0, 0);

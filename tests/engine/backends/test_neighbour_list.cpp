@@ -59,15 +59,8 @@ State pair_sites(uint64_t seed) {
   return s;
 }
 
-// Derived Morse constants (U0/xi1, 1/xi1, V0/xi2, 1/xi2) for every set, slightly different per set.
-std::vector<double> table() {
-  std::vector<double> t(SEMLB_TABLE_SIZE);
-  for (size_t i = 0; i < t.size(); i += 4) {
-    const double U0 = 4.0, V0 = 0.5 + 0.01 * static_cast<double>(i), xi1 = 0.8, xi2 = 1.1;
-    t[i] = U0 / xi1, t[i + 1] = 1 / xi1, t[i + 2] = V0 / xi2, t[i + 3] = 1 / xi2;
-  }
-  return t;
-}
+// mechanics with an inter-cell set per type pair (testing::kTypedMorse).
+PairForces table() { return testing::pair_forces("mechanics", testing::kTypedMorse, kCutoff); }
 
 struct Walk {
   std::vector<std::vector<int64_t>> forces;  // per step
@@ -88,7 +81,7 @@ Walk walk(const std::string& backend, const std::string& precision, double skin,
   Walk w;
   for (long step = 0; step < steps; ++step) {
     b->zero_forces();
-    b->pair_forces(table(), kCutoff, g);
+    b->pair_forces(table(), g);
     w.forces.push_back(b->fixed_forces());
     b->download(s);
     long within = 0;

@@ -1,6 +1,6 @@
-// Every registered effect, each with its registered example section beside mechanics: the same state on every
-// backend this machine runs (bit for bit between the C++ backends and between the OpenCL ones, within the stated
-// 1e-9 um between the two kinds), and on 1, 2 and 4 ranks as on one device. A new effect is tested by being
+// Every registered effect, each with its registered example section beside mechanics (a pair term: instead of it):
+// the same state on every backend this machine runs (bit for bit between the C++ backends and between the OpenCL
+// ones, within the stated 1e-9 um between the two kinds), and on 1, 2 and 4 ranks as on one device. A new effect is tested by being
 // registered (Cabana's harness: one test body over every backend and rank count).
 #include <gtest/gtest.h>
 
@@ -11,22 +11,41 @@
 #include "common/text_io.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/model/tissue.hpp"
+#include "engine/pairs/pair_term.hpp"
 #include "engine/run/simulation.hpp"
 #include "../engine_fixtures.hpp"
 
 namespace semlb::engine {
 namespace {
 
+// The effect beside mechanics, through --set on scenes/mechanics.yaml; a pair term instead of mechanics (a scene lists
+// one), in a copy of that scene whose effects are the term's example alone.
 class EveryEffect : public ::testing::TestWithParam<std::string> {
  protected:
-  std::string set() const { return "effects." + GetParam() + "=" + effect_example(GetParam()); }
+  bool pair() const {
+    const auto names = pair_term_names();
+    return std::find(names.begin(), names.end(), GetParam()) != names.end();
+  }
+  std::string scene() const {
+    const std::string shipped = test::source("scenes/mechanics.yaml");
+    if (!pair()) return shipped;
+    const std::string text = read_file(shipped), path = test::fresh_dir("every_effect_scene_" + GetParam()) + "/scene.yaml";
+    write_file_atomically(path, text.substr(0, text.find("\neffects:")) + "\neffects:\n  " + GetParam() + ": " + effect_example(GetParam()) + "\n");
+    return path;
+  }
+  std::vector<std::string> set() const {
+    if (pair()) return {};
+    return {"effects." + GetParam() + "=" + effect_example(GetParam())};
+  }
 };
 
 // 20 steps (two cell stages) of the mechanics scene's sheet of 60 cells with the effect, on `backend`.
-State run(const std::string& backend, const std::string& precision, const std::string& effect) {
-  auto scene = load_scene(test::source("scenes/mechanics.yaml"),
-                          {"backend.name=" + backend, "backend.precision=" + precision, "tissue.cells=60", "time.steps=20",
-                           "time.cell_update_every=10", effect});
+State run(const std::string& scene_file, const std::string& backend, const std::string& precision,
+          const std::vector<std::string>& effect) {
+  std::vector<std::string> overrides = {"backend.name=" + backend, "backend.precision=" + precision, "tissue.cells=60",
+                                        "time.steps=20", "time.cell_update_every=10"};
+  overrides.insert(overrides.end(), effect.begin(), effect.end());
+  auto scene = load_scene(scene_file, overrides);
   Simulation sim(scene, make_tissue(scene));
   sim.advance(20);
   return sim.sync().canonical();
@@ -40,22 +59,25 @@ double max_difference(const State& a, const State& b) {
 }
 
 TEST_P(EveryEffect, SameStateOnEveryBackend) {
-  const State ref = run("serial", "double", set());
-  EXPECT_EQ(run("cpu-binned", "double", set()).hash(), ref.hash()) << "cpu-binned";
+  const std::string file = scene();
+  const auto on = [&](const std::string& backend, const std::string& precision) { return run(file, backend, precision, set()); };
+  const State ref = on("serial", "double");
+  EXPECT_EQ(on("cpu-binned", "double").hash(), ref.hash()) << "cpu-binned";
   const auto backends = testing::available_backends();
   if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end()) GTEST_SKIP() << "no OpenCL platform";
-  const State binned = run("opencl-binned", "double", set());
-  EXPECT_EQ(run("opencl-allpairs", "double", set()).hash(), binned.hash()) << "opencl-allpairs";
+  const State binned = on("opencl-binned", "double");
+  EXPECT_EQ(on("opencl-allpairs", "double").hash(), binned.hash()) << "opencl-allpairs";
   EXPECT_EQ(binned.cell_id, ref.cell_id);
   EXPECT_LT(max_difference(binned, ref), 1e-9);
-  EXPECT_EQ(run("opencl-allpairs", "float", set()).hash(), run("opencl-binned", "float", set()).hash()) << "float";
+  EXPECT_EQ(on("opencl-allpairs", "float").hash(), on("opencl-binned", "float").hash()) << "float";
 }
 
 TEST_P(EveryEffect, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
   // 400 cells over ~140 um in x: room for 4 slabs; rebalanced every 20 steps, so cells migrate.
-  const std::string args = " --scene " + test::source("scenes/mechanics.yaml") +
-                           " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=20"
-                           " --set time.cell_update_every=10 --steps 60 --set '" + set() + "'";
+  std::string args = " --scene " + scene() +
+                     " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=20"
+                     " --set time.cell_update_every=10 --steps 60";
+  for (const auto& s : set()) args += " --set '" + s + "'";
   const std::string dir = test::fresh_dir("every_effect_" + GetParam());
   testing::expect_same_state_on_ranks(args, dir);
   // run.csv's columns stay distinct with the effect's phase column (NAME_s) among them.

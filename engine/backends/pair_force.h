@@ -1,0 +1,41 @@
+/* The pair loop's force on element i from element j, written once over one pair term's law (C99 subset, no include
+ * guard: included once per pair term in C++, pairs/instantiate.hpp, and once in the OpenCL program, kernels.cl).
+ * The includer defines SEMLB_PAIR_LAW, the term's evaluator `semlb_real semlb_pair_NAME(semlb_real r, int info_i,
+ * int info_j, SEMLB_CONST const semlb_real* p)` (pairs/pair_term.hpp), after evaluator.h. */
+
+/* Force on element i from element j, added to acc[0..2] in fixed point; d = Y_i - Y_j (eq. 1: the force along d
+ * is the law's f(r) = -dV/dr, positive repulsive). Returns 0 outside the cutoff, 1 when added, and -1 for coincident
+ * elements (r < SEMLB_R_MIN), whose direction is undefined: the caller then calls semlb_coincident_force. A NaN
+ * distance counts as within the cutoff (it reaches the force and the integrator reports it). */
+static inline int semlb_pair_force(semlb_real dx, semlb_real dy, semlb_real dz, int info_i, int info_j,
+                                   SEMLB_CONST const semlb_real* p, semlb_real cutoff2, SEMLB_LONG* acc) {
+  semlb_real r2 = dx * dx + dy * dy + dz * dz;
+  if (r2 >= cutoff2) return 0;
+#ifdef SEMLB_PAIR_RSQRT
+  if (r2 < (semlb_real)SEMLB_R_MIN2) return -1;
+  semlb_real inv = SEMLB_PAIR_RSQRT(r2), r = r2 * inv;
+  semlb_real s = SEMLB_PAIR_LAW(r, info_i, info_j, p) * inv * (semlb_real)SEMLB_FIXED_SCALE;
+#else
+  semlb_real r = SEMLB_SQRT(r2);
+  if (r < (semlb_real)SEMLB_R_MIN) return -1;
+  semlb_real s = SEMLB_PAIR_LAW(r, info_i, info_j, p) / r * (semlb_real)SEMLB_FIXED_SCALE;
+#endif
+  acc[0] += semlb_scaled_to_fixed(s * dx);
+  acc[1] += semlb_scaled_to_fixed(s * dy);
+  acc[2] += semlb_scaled_to_fixed(s * dz);
+  return 1;
+}
+
+/* Coincident elements are pushed apart with f(0) along a unit vector hashed from the two keys, with
+ * opposite signs for i and j, so that F_ij = -F_ji exactly and the result is order-independent. */
+static inline void semlb_coincident_force(SEMLB_ULONG key_i, SEMLB_ULONG key_j, int info_i, int info_j,
+                                          SEMLB_CONST const semlb_real* p, SEMLB_LONG* acc) {
+  semlb_real f = SEMLB_PAIR_LAW((semlb_real)0.0, info_i, info_j, p);
+  SEMLB_ULONG lo = key_i < key_j ? key_i : key_j, hi = key_i < key_j ? key_j : key_i;
+  semlb_real sign = key_i < key_j ? (semlb_real)-1.0 : (semlb_real)1.0;
+  semlb_real ux = semlb_gauss(lo, hi, 0, 0), uy = semlb_gauss(lo, hi, 0, 1), uz = semlb_gauss(lo, hi, 0, 2);
+  semlb_real s = sign * f / (SEMLB_SQRT(ux * ux + uy * uy + uz * uz) + (semlb_real)1e-30);
+  acc[0] += semlb_to_fixed(s * ux);
+  acc[1] += semlb_to_fixed(s * uy);
+  acc[2] += semlb_to_fixed(s * uz);
+}

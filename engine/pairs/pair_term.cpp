@@ -1,0 +1,62 @@
+// The pair-term registry, and each term as an effect that adds the pair forces through Backend::pair_forces_local/nonlocal.
+#include "pair_term.hpp"
+
+#include <stdexcept>
+
+#include "common/errors.hpp"
+#include "common/registry.hpp"
+#include "effects/effect.hpp"
+
+namespace semlb::engine {
+namespace {
+
+Registry<PairTerm>& registry() {
+  static Registry<PairTerm> r;
+  return r;
+}
+
+// A pair term listed in the scene: its parameters read once; each step the local part (owned on owned) while the
+// ghosts travel, the non-local part (ghosts on owned) after they arrived.
+class PairTermEffect final : public Effect {
+ public:
+  PairTermEffect(const std::string& name, const Section& s, const Scene& scene)
+      : forces_{name, checked_plugin_params("pair term", name, pair_term(name).read(s, scene.cutoff)), scene.cutoff} {
+    for (const auto& [other, section] : scene.effects)
+      if (other != name && registry().find(other))
+        throw InputError(s.where("") + "a scene lists one pair term, and '" + other + "' is listed too");
+  }
+  std::string name() const override { return forces_.term; }
+  bool adds_forces() const override { return true; }
+  void forces(Backend& b, const Grid& g) override { b.pair_forces_local(forces_, g); }
+  void nonlocal_forces(Backend& b, const Grid& g) override { b.pair_forces_nonlocal(forces_, g); }
+
+ private:
+  PairForces forces_;
+};
+
+}  // namespace
+
+PairTermRegistrar::PairTermRegistrar(const std::string& name, PairTerm term) {
+  check_plugin_name("pair term", name);
+  const int order = term.order;
+  registry().add(name, std::move(term));
+  EffectRegistrar(name, {order,
+                         [name](const Section& s, const Scene& scene) { return std::make_unique<PairTermEffect>(name, s, scene); },
+                         registry().find(name)->example});
+}
+
+const PairTerm& pair_term(const std::string& name) {
+  const PairTerm* t = registry().find(name);
+  if (!t) throw std::logic_error("no pair term '" + name + "' (known: " + registry().known() + ")");
+  return *t;
+}
+
+std::vector<std::string> pair_term_names() { return registry().names(); }
+
+std::string scene_pair_term(const Scene& scene) {
+  for (const auto& [name, section] : scene.effects)
+    if (registry().find(name)) return name;
+  return "";
+}
+
+}  // namespace semlb::engine

@@ -1,0 +1,51 @@
+// Pair terms: the force between two elements within the cutoff (V_ele of the paper's eq. 1), each written once as
+// a C99 evaluator header (pairs/NAME.h) and registered by name; the pair loops around it are written once per
+// backend (serial, cpu-binned, and the OpenCL program built for the scene's term: pair_forces.cl, neighbour_list.cl).
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "model/scene.hpp"
+
+namespace semlb::engine {
+
+// The force on element i from element j added to acc[0..2] in fixed point (backends/pair_force.h: semlb_pair_force,
+// with the coincident fallback): d = Y_i - Y_j (um), the elements' packed infos and keys, `p` the term's derived
+// parameters, cutoff2 the squared cutoff (um^2). The C++ instantiation of one term in one precision
+// (pairs/instantiate.hpp).
+template <class Real>
+using PairEvaluator = void (*)(Real dx, Real dy, Real dz, int info_i, int info_j, uint64_t key_i, uint64_t key_j,
+                               const Real* p, Real cutoff2, int64_t* acc);
+
+// A registered pair term. Its name is its scene key (`effects.NAME`) and the stem of its evaluator header
+// pairs/NAME.h, whose `semlb_real semlb_pair_NAME(semlb_real r, int info_i, int info_j, SEMLB_CONST const
+// semlb_real* p)` gives f(r) = -dV/dr (force units, positive repulsive) for 0 <= r < cutoff um. pairs/NAME.cpp
+// compiles it in both precisions (#define SEMLB_PAIR_HEADER "pairs/NAME.h" and SEMLB_PAIR_NAME NAME, then
+// #include "pairs/instantiate.hpp") and registers phys64::NAME::pair and phys32::NAME::pair as f64 and f32.
+struct PairTerm {
+  int order = 10;  // its place among the effects (effect.hpp EffectInfo::order)
+  // The derived parameters (reals, at most kMaxPluginParams) from the scene's section and the scene's cutoff (um);
+  // the section's errors name file, line and field.
+  std::function<std::vector<double>(const Section&, double cutoff)> read;
+  PairEvaluator<double> f64 = nullptr;
+  PairEvaluator<float> f32 = nullptr;
+  // A valid section for it (YAML flow map): what the suites that iterate pair_term_names() run it with.
+  std::string example = "{}";
+};
+
+// Registers `term` under `name` (a C identifier: the OpenCL program is built with -DSEMLB_PAIR_TERM=semlb_pair_NAME)
+// as a pair term and as an effect that adds the pair forces (both parts: local and non-local). A scene lists one
+// pair term at most (InputError naming the second). std::logic_error on a name that is not a C identifier or is
+// registered twice.
+struct PairTermRegistrar {
+  PairTermRegistrar(const std::string& name, PairTerm term);
+};
+// The term registered under `name`; std::logic_error when there is none (the effect registry checks scene names).
+const PairTerm& pair_term(const std::string& name);
+std::vector<std::string> pair_term_names();
+// The pair term `scene` lists ("" when none): what the OpenCL backends build their program for (BackendConfig::pair_term).
+std::string scene_pair_term(const Scene& scene);
+
+}  // namespace semlb::engine
