@@ -1,8 +1,9 @@
-// The backend registry and the host versions of the backend operations that move cells (W_s, migration, removal).
+// The backend registry and the host versions of the backend operations on cells (W_s, migration, removal, fates).
 #include "backend.hpp"
 
 #include "common/errors.hpp"
 #include "common/registry.hpp"
+#include "fates/fate.hpp"
 #include "removal/removal.hpp"
 
 namespace semlb::engine {
@@ -68,6 +69,23 @@ long Backend::remove_cells(State& host, const std::string& rule, const std::vect
   host = std::move(kept);
   upload(host);
   return removed;
+}
+
+void Backend::cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field, double elapsed_h) {
+  const FateEvaluator decides = fate_rule(rule).decides;
+  download(host);
+  std::vector<double>* column = nullptr;  // the field's values, one per cell (cell_fields in name order)
+  int k = 0;
+  for (auto& [name, values] : host.cell_fields)
+    if (k++ == field) column = &values;
+  if (field >= 0 && !column) throw std::logic_error("fate rule '" + rule + "': field index " + std::to_string(field) + " is not in the state");
+  for (long c = 0; c < host.cells(); ++c) {
+    const auto ctr = centroid(host, c);
+    double f = column ? (*column)[c] : 0.0;
+    decides(ctr[0], ctr[1], ctr[2], host.cell_count[c], elapsed_h, params.data(), &host.cell_type[c], &f);
+    if (column) (*column)[c] = f;
+  }
+  upload(host);
 }
 
 void Backend::append_cells(State& host, const State& arrivals) {

@@ -16,10 +16,10 @@
 
 namespace semlb::engine {
 
-// The scene's cell effects as one set of rules (backends/cells.h): growth, division, differentiation.
+// The scene's cell effects as one set of rules (backends/cells.h): growth and division (fate rules: fates/fate.hpp).
 using CellRules = cellrules::semlb_cell_rules;
 
-// The cell stage on the host State (cells.cpp): the reference. Growth, division, differentiation of every
+// The cell stage on the host State (cells.cpp): the reference. Growth and division of every
 // cell in stored order; new cells (daughters) after the existing ones in their mothers' order. Uses and updates
 // the per-cell fields of `s` as the record the rules index (cells.h: rules.fields = s.cell_fields.size(), each rule's
 // field at its index); a daughter inherits its mother's fields. std::logic_error when the record disagrees with `s`.
@@ -117,6 +117,12 @@ class Backend {
   // migration's compaction on the device (4 bytes back). Others: on `host` (downloaded first), then uploaded.
   // std::logic_error for an unregistered rule.
   virtual long remove_cells(State& host, const std::string& rule, const std::vector<double>& params);
+  // Applies the fate rule `rule` (fates/fate.hpp) to every owned cell: its type and its per-cell field (record index
+  // `field` of host's cell_fields in name order, -1: none) from its centroid, element count and `elapsed_h` h, with
+  // `params` its derived parameters; elements keep their order and positions. OpenCL with fp64: the rule's kernel
+  // `fate_NAME` on the device (nothing comes back). Others: on `host` (downloaded first), then uploaded (the ghosts
+  // go). std::logic_error for an unregistered rule.
+  virtual void cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field, double elapsed_h);
   // Appends `arrivals`' cells after the owned ones (their fields by name; missing ones are 0). Drops the ghosts.
   virtual void append_cells(State& host, const State& arrivals);
   // Forces start at zero each step; the pair forces and element_term add to them (fixed point).

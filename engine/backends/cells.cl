@@ -1,4 +1,4 @@
-/* The cell stage (growth, division, differentiation) on the device, rules from cells.h; W_s, owners and the
+/* The cell stage (growth, division; fate rules from engine/fates) on the device, rules from cells.h; W_s, owners and the
    migration split (kernels.cl includes it). */
 #ifdef SEMLB_CELLS /* built when the device has fp64: the cell bookkeeping is double on every backend */
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
@@ -98,24 +98,6 @@ __kernel void cells_rewrite(int n, semlb_cell_rules r, ulong seed, ulong step, _
                      daughter, estarts[n + c], dc, out_pos, out_keys);
 }
 
-/* Per cell of the new state: differentiation on its own centroid (its age field); a new type is written into its
-   elements. */
-__kernel void cells_differentiate(int n, semlb_cell_rules r, double elapsed, __global real4* pos,
-                                  __global const int* first, __global const int* count, __global int* type,
-                                  __global double* fields) {
-  int c = get_global_id(0);
-  if (c >= n) return;
-  __global double* rec = CELL_RECORD(fields, r.fields, c);
-  double ctr[3], a = cell_field(rec, r.age_field);
-  int t = type[c];
-  semlb_cell_centroid(pos, first[c], count[c], ctr);
-  int changed = semlb_cell_differentiate(&r, ctr[2], elapsed, &t, &a);
-  if (r.age_field >= 0) rec[r.age_field] = a;
-  if (!changed) return;
-  type[c] = t;
-  for (int k = 0; k < count[c]; ++k) pos[first[c] + k].w = CELL_INFO(semlb_info_pack(c, t));
-}
-
 /* ---- The decomposition on the device: W_s (a reduction) and migration (owners, packing, compaction). ---- */
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 /* Grid::bin_of, SliceMap::slice_of, owner_of and the 27-bin count of W_s (decomposition/slices.hpp) in double. */
@@ -205,4 +187,6 @@ __kernel void cells_split(int n, int nf, __global const real4* pos, __global con
 }
 /* The removal rules (removal/NAME.h), each followed by its flags kernel from removal/removal_rule.cl. */
 #include "removal_rules.cl"
+/* The fate rules (fates/NAME.h), each followed by its kernel from fates/fate_rule.cl. */
+#include "fate_rules.cl"
 #endif

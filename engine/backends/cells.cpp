@@ -35,7 +35,6 @@ bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_
   const auto rec = record(s, r);
   std::vector<double>* clock = column(rec, r.clock_field, r.growth != 0, "growth");
   std::vector<double>* depth = column(rec, r.depth_field, r.division != 0, "division");
-  column(rec, r.age_field, r.differentiation != 0, "differentiation");
   std::vector<int> births(n, 0);
   std::vector<std::array<double, 3>> old_centroid(n);
   std::vector<semlb_cell_split> split(n);
@@ -87,14 +86,6 @@ bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_
       if (dc >= 0) (*out_depth)[c] = (*out_depth)[dc] += 1;
     }
     s = std::move(out);
-  }
-  if (r.differentiation) {
-    auto& age = *record(s, r)[r.age_field];
-    for (long c = 0; c < s.cells(); ++c) {
-      double centroid[3];
-      semlb_cell_centroid(s.position.data(), s.cell_first[c], s.cell_count[c], centroid);
-      semlb_cell_differentiate(&r, centroid[2], elapsed_h, &s.cell_type[c], &age[c]);
-    }
   }
   return changed;
 }

@@ -1,4 +1,5 @@
-/* The cell stage's per-cell rules written once (C99 subset): growth, division, differentiation; used by
+/* The cell stage's per-cell rules written once (C99 subset): growth and division (a cell's fate, differentiation,
+ * is a plug-in: engine/fates); used by
  * engine/backends/cells.cpp (the host reference) and by the cell section of kernels.cl (the device). */
 /* Included once per program, after evaluator.h. Per-cell bookkeeping (the field record, centroid, gyration, axis) is
  * double on every backend; positions are the backend's real (rules.single: newborns rounded to float). The
@@ -24,15 +25,12 @@ SEMLB_DEFINE_RANDOM(double, semlb_uniform64, semlb_gauss64)
 typedef struct {
   double period;         /* h per added element: cycle_time / (max_elements - min_elements) */
   double offset;         /* um from the centroid to a newborn element */
-  double basal_height;   /* um: a basal cell whose centroid rises above it becomes spinous */
-  double granular_after; /* h a cell stays spinous before it becomes granular */
   double front_x0;       /* um: the proliferative front's position at t = 0 (when front) */
   double front_speed;    /* um/h: its speed along +x */
   double front_x;        /* um: its position at this stage, front_x0 + front_speed * t (semlb_cell_front_at) */
   int growth, growth_types, max_elements;
   int front;             /* 1: only cells whose centroid x <= front_x grow (a proliferative wave along x) */
   int division, division_types, at_elements;
-  int differentiation;
   int single; /* 1: positions are float (newborns rounded to float before division sees them) */
   /* The per-cell fields (effects/cell_fields.hpp) as one record of `fields` doubles per cell, the State's
    * cell_fields in name order; each rule reads the fields its effect owns at their record index (-1: absent,
@@ -40,7 +38,6 @@ typedef struct {
   int fields;
   int clock_field; /* growth.clock (h) */
   int depth_field; /* division.depth (divisions so far) */
-  int age_field;   /* differentiation.age (h) */
 } semlb_cell_rules;
 
 /* Sets the front's position for a stage at time `time` (h); the caller (the host) does it before each stage,
@@ -233,20 +230,4 @@ static inline void semlb_cell_rewrite(SEMLB_CELL_IN in, long first, int count, i
       SEMLB_CELL_PUT(out, keys, mother_first + slot, p[0], p[1], p[2], semlb_info_pack(mother_cell, type),
                      (id << SEMLB_CELL_SLOT_BITS) | (SEMLB_ULONG)slot);
   }
-}
-
-/* Differentiation of one cell after growth and division (daughters too): its age advances by `elapsed`
- * h; basal -> spinous when the centroid's z > basal_height, spinous -> granular at age >= granular_after;
- * a change resets the age. Returns 1 when the type changed. */
-static inline int semlb_cell_differentiate(const semlb_cell_rules* r, double centroid_z, double elapsed, int* type,
-                                           double* age) {
-  if (!r->differentiation) return 0;
-  *age += elapsed;
-  int next = *type;
-  if (next == 0 && centroid_z > r->basal_height) next = 1;
-  else if (next == 1 && *age >= r->granular_after) next = 2;
-  if (next == *type) return 0;
-  *type = next;
-  *age = 0;
-  return 1;
 }

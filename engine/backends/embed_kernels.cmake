@@ -3,7 +3,8 @@
 # `#include "cells.h"` by EVALUATOR and CELLS, and the plug-ins' markers by their code: `#include "pair_terms.cl"` by
 # every header pairs/NAME.h of PAIRS ('|'-separated; no template); `#include "element_terms.cl"` by, for each header
 # terms/NAME.h of TERMS ('|'-separated), the header and then TERM_TEMPLATE with NAME for @TERM@ (terms/term.hpp);
-# `#include "removal_rules.cl"` likewise from RULES and RULE_TEMPLATE with @RULE@ (removal/removal.hpp).
+# `#include "removal_rules.cl"` likewise from RULES and RULE_TEMPLATE with @RULE@ (removal/removal.hpp), and
+# `#include "fate_rules.cl"` from FATES and FATE_TEMPLATE with @FATE@ (fates/fate.hpp).
 file(READ ${KERNELS} source)
 string(REPLACE "|" ";" parts "${PARTS}")
 foreach(part IN LISTS parts)
@@ -36,7 +37,8 @@ endfunction()
 expand_plugins(pair_terms.cl "${PAIRS}" "" @PAIR@)
 expand_plugins(element_terms.cl "${TERMS}" ${TERM_TEMPLATE} @TERM@)
 expand_plugins(removal_rules.cl "${RULES}" ${RULE_TEMPLATE} @RULE@)
+expand_plugins(fate_rules.cl "${FATES}" ${FATE_TEMPLATE} @FATE@)
 
-file(WRITE ${OUT} "// Generated from engine/backends/*.cl, evaluator.h, cells.h, engine/pairs, engine/terms and engine/removal: do not edit.\n"
+file(WRITE ${OUT} "// Generated from engine/backends/*.cl, evaluator.h, cells.h, engine/pairs, engine/terms, engine/removal and engine/fates: do not edit.\n"
   "namespace semlb::engine {\nextern const char* const kKernelSource;\n"
   "const char* const kKernelSource = R\"SEMLBCL(${source})SEMLBCL\";\n}\n")

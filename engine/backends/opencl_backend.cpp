@@ -1,6 +1,7 @@
 // "opencl-allpairs" and "opencl-binned": the device, its program and the element kernels (forces, terms,
 // integration, noise, bands) of the OpenCL backends (opencl_backend.hpp), and their registration.
 #include "opencl_backend.hpp"
+#include "fates/fate.hpp"
 #include "pairs/pair_term.hpp"
 #include "removal/removal.hpp"
 
@@ -251,13 +252,19 @@ void OpenClBackend<Real>::build(const std::string& pair_term) {
     cl::check(err, k.c_str());
   }
   if (has_fp64_)
+    for (const std::string& r : fate_rule_names()) {  // one kernel per fate rule (fates/fate_rule.cl)
+      const std::string k = "fate_" + r;
+      kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k.c_str(), &err));
+      cl::check(err, k.c_str());
+    }
+  if (has_fp64_)
     for (const std::string& r : removal_rule_names()) {  // one kernel per removal rule (removal/removal_rule.cl)
       const std::string k = "remove_" + r;
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k.c_str(), &err));
       cl::check(err, k.c_str());
     }
   if (has_fp64_)
-    for (const char* k : {"cells_plan", "cells_rewrite", "cells_differentiate", "work_bins", "work_cells", "cells_owner", "cells_split"}) {
+    for (const char* k : {"cells_plan", "cells_rewrite", "work_bins", "work_cells", "cells_owner", "cells_split"}) {
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
       cl::check(err, k);
     }

@@ -53,6 +53,7 @@ class OpenClBackend final : public Backend {
   void take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers, std::vector<int>& owner) override;
 
   long remove_cells(State& host, const std::string& rule, const std::vector<double>& params) override;
+  void cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field, double elapsed_h) override;
   void append_cells(State& host, const State& arrivals) override;
 
   void download(State& s) override;

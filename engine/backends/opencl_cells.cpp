@@ -1,6 +1,7 @@
 // The cell stage, W_s and the migration of the OpenCL backends on the device (opencl_backend.hpp): growth,
-// division and differentiation (kernels cells_*), per-slice work, leavers and arrivals, the cells up and down.
+// division (kernels cells_*), fate rules (fate_NAME), per-slice work, leavers and arrivals, the cells up and down.
 #include "opencl_backend.hpp"
+#include "fates/fate.hpp"
 #include "removal/removal.hpp"
 
 namespace semlb::engine::opencl_impl {
@@ -175,9 +176,6 @@ bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t 
     keys_back_ = std::move(in_keys);
   }
   std::swap(cell_, back_);
-  if (rules.differentiation)
-    launch("cells_differentiate", m, kGroup, static_cast<cl_int>(m), rules, elapsed_h, pos_.get(), cell_.first.get(),
-           cell_.count.get(), cell_.type.get(), cell_.fields.get());
   const bool changed = total != owned_ || daughters > 0;
   if (changed) list_.invalidate();  // else the same elements in the same order
   owned_ = total;
@@ -284,9 +282,23 @@ long OpenClBackend<Real>::remove_cells(State& host, const std::string& rule, con
   return split_cells(n)[0];
 }
 
+template <class Real>
+void OpenClBackend<Real>::cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field,
+                                    double elapsed_h) {
+  if (!has_fp64_) return Backend::cell_fate(host, rule, params, field, elapsed_h);
+  fate_rule(rule);  // std::logic_error for an unregistered rule
+  const long n = cells_;
+  if (n == 0) return;
+  launch(("fate_" + rule).c_str(), n, kGroup, static_cast<cl_int>(n), elapsed_h, plugin_parameters<double>(rule_params_, rule, params),
+         static_cast<cl_int>(field), static_cast<cl_int>(nf()), pos_.get(), cell_.first.get(),
+         cell_.count.get(), cell_.type.get(), cell_.fields.get());
+  cells_stale_ = true;
+}
+
 #define SEMLB_OPENCL_CELLS_INSTANCES(Real) \
   template std::array<long, 2> OpenClBackend<Real>::split_cells(long n); \
   template long OpenClBackend<Real>::remove_cells(State& host, const std::string& rule, const std::vector<double>& params); \
+  template void OpenClBackend<Real>::cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field, double elapsed_h); \
   template std::vector<double> OpenClBackend<Real>::slice_work(State& host, const SliceMap& map, const Grid& g, const CountReduce& reduce); \
   template void OpenClBackend<Real>::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers, std::vector<int>& owner); \
   template void OpenClBackend<Real>::append_cells(State& host, const State& arrivals); \

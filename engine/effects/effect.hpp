@@ -28,7 +28,7 @@ class Effect {
   virtual bool moves_after_integration() const { return false; }  // element stage, after integration
   virtual void after_integration(Backend&, long /*step*/) {}
   virtual bool changes_cells() const { return false; }           // cell stage, every cell update
-  // Sets this effect's part of the cell stage's rules (growth, division or differentiation), with the record index
+  // Sets this effect's part of the cell stage's rules (growth or division), with the record index
   // of each field it owns in `s` (cell_field_index: s's cell_fields in name order, the record every backend keeps).
   virtual void cell_rules(CellRules&, const State& /*s*/) const {}
   // Cell stage, after the backend ran the rules: changes the backend's cells itself (a removal rule: `host` is the

@@ -21,9 +21,10 @@ class PairTermEffect final : public Effect {
  public:
   PairTermEffect(const std::string& name, const Section& s, const Scene& scene)
       : forces_{name, checked_plugin_params("pair term", name, pair_term(name).read(s, scene.cutoff)), scene.cutoff} {
-    for (const auto& [other, section] : scene.effects)
-      if (other != name && registry().find(other))
-        throw InputError(s.where("") + "a scene lists one pair term, and '" + other + "' is listed too");
+    for (const auto& [other, section] : scene.effects) {  // the later-listed term is the one refused
+      if (other == name) break;
+      if (registry().find(other)) throw InputError(s.where("") + "a scene lists one pair term, and '" + other + "' is listed already");
+    }
   }
   std::string name() const override { return forces_.term; }
   bool adds_forces() const override { return true; }

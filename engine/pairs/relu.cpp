@@ -13,12 +13,13 @@ namespace {
 // One set {k_rep, k_adh (force units per um), r0 (um, the equilibrium distance), r_max (um, where the force lets
 // go)}: r0 < r_max <= the scene's cutoff, since a pair beyond the cutoff is never seen.
 void read_set(const Section& s, double cutoff, const std::vector<double>& fallback, std::vector<double>& p) {
-  const double k_rep = s.real("k_rep", fallback[0], 0, 1e9), k_adh = s.real("k_adh", fallback[1], 0, 1e9);
-  const double r0 = s.real("r0", fallback[2], 0, 1e9, true), r_max = s.real("r_max", std::min(fallback[3], cutoff), 0, 1e9, true);
+  // k_rep > 0: coincident elements are pushed apart by f(0) = k_rep r0
+  const double k_rep = s.real("k_rep", fallback[0], 0, 1e9, true), k_adh = s.real("k_adh", fallback[1], 0, 1e9);
+  const double r0 = s.real("r0", fallback[2], 0, 1e9, true), r_max = s.real("r_max", fallback[3], 0, 1e9, true);
   if (!(r0 < r_max)) s.fail(s.has("r_max") ? "r_max" : "r0", "r0 (" + format_real(r0) + " um) must be below r_max (" + format_real(r_max) + " um)");
   if (r_max > cutoff)
-    s.fail("r_max", format_real(r_max) + " um is beyond the scene's cutoff (" + format_real(cutoff) +
-                        " um): pairs beyond the cutoff are never seen; raise `cutoff` or lower r_max");
+    s.fail("r_max", format_real(r_max) + " um" + (s.has("r_max") ? "" : " (the default)") + " is beyond the scene's cutoff (" +
+                        format_real(cutoff) + " um): pairs beyond the cutoff are never seen; raise `cutoff` or lower r_max");
   s.finish();
   p.insert(p.end(), {k_rep, k_adh, r0, r_max});
 }

@@ -375,10 +375,10 @@ TEST(Backends, UnlistedEffectsLaunchNothing) {
 }
 
 // A scene with cell effects runs the cell stage every cell update: on OpenCL as device kernels (differentiation's
-// only when it is listed), on the C++ backends as the host reference; a scene without them launches none
+// fate kernel only when it is listed), on the C++ backends as the host reference; a scene without them launches none
 // (UnlistedEffectsLaunchNothing compares the whole map).
 TEST(Backends, CellEffectsLaunchTheCellStage) {
-  const std::vector<std::string> cell_kernels = {"cells_plan", "cells_rewrite", "cells_differentiate", "cell_stage"};
+  const std::vector<std::string> cell_kernels = {"cells_plan", "cells_rewrite", "fate_differentiation", "cell_stage"};
   for (const auto& backend : available_backends())
     for (const bool differentiation : {false, true}) {
       std::vector<std::string> sets = {"backend.name=" + backend, "effects.growth={}", "effects.division={}"};
@@ -393,7 +393,7 @@ TEST(Backends, CellEffectsLaunchTheCellStage) {
       const bool device = backend.rfind("opencl", 0) == 0;
       EXPECT_EQ(n("cells_plan"), device ? 3 : 0) << backend;
       EXPECT_EQ(n("cells_rewrite"), device ? 3 : 0) << backend;
-      EXPECT_EQ(n("cells_differentiate"), device && differentiation ? 3 : 0) << backend;
+      EXPECT_EQ(n("fate_differentiation"), device && differentiation ? 3 : 0) << backend;
       EXPECT_EQ(n("cell_stage"), device ? 0 : 3) << backend;
       double stage = 0;
       for (const auto& [part, seconds] : sim.cell_stage_seconds()) stage += seconds;

@@ -76,7 +76,7 @@ TEST(Cells, CoincidentElementsSplitInHalvesBySlot) {
   r.division_types = 1;
   r.at_elements = 20;
   r.fields = 1;
-  r.clock_field = r.age_field = -1;
+  r.clock_field = -1;
   r.depth_field = 0;
   ASSERT_TRUE(run_cell_stage(s, r, 1, 0.1, 0));
   EXPECT_EQ(s.cell_count, (std::vector<int>{10, 11}));  // n / 2 stay, the rest leave

@@ -10,6 +10,7 @@
 
 #include "engine/effects/cell_fields.hpp"
 #include "engine/effects/effect.hpp"
+#include "engine/fates/fate.hpp"
 #include "engine/run/simulation.hpp"
 #include "engine/model/tissue.hpp"
 #include "../engine_fixtures.hpp"
@@ -158,19 +159,33 @@ TEST(Effects, DivisionOfACoincidentClumpStillHalvesIt) {
   EXPECT_EQ(s.cell_count[1], 10);
 }
 
+// The fate rule on every backend: `stages` cell stages of `elapsed` h each (Backend::cell_fate) of state s.
+void fates(State& s, const std::string& yaml, double elapsed, int stages, const std::string& backend) {
+  if (!s.cell_fields.count("differentiation.age")) rules_of(yaml, s);  // declares differentiation.age (0 h)
+  const auto params = testing::section_params("differentiation", yaml.substr(yaml.find('{')), fate_rule("differentiation").read);
+  auto b = testing::backend(backend, "double");
+  b->upload(s);
+  for (int k = 0; k < stages; ++k) b->cell_fate(s, "differentiation", params, cell_field_index(s, "differentiation.age"), elapsed);
+  b->download(s);
+}
+
 TEST(Effects, DifferentiationFollowsHeightThenAge) {
-  State s = line_cell(10, 0, 12);  // centroid above basal_height = 8
-  const auto r = rules_of("  differentiation: {basal_height: 8, granular_after: 5}\n", s);
-  stage(s, r, 1.0);
-  EXPECT_EQ(s.cell_type[0], kSpinous);
-  for (int k = 0; k < 4; ++k) stage(s, r, 1.0);
-  EXPECT_EQ(s.cell_type[0], kSpinous);
-  stage(s, r, 1.0);
-  EXPECT_EQ(s.cell_type[0], kGranular);
-  State low = line_cell(10, 0, 4);
-  const auto r2 = rules_of("  differentiation: {basal_height: 8}\n", low);
-  stage(low, r2, 1.0);
-  EXPECT_EQ(low.cell_type[0], kBasal);
+  for (const auto& backend : testing::available_backends()) {
+    const std::string rule = "  differentiation: {basal_height: 8, granular_after: 5}\n";
+    State s = line_cell(10, 0, 12);  // centroid above basal_height = 8
+    fates(s, rule, 1.0, 1, backend);
+    EXPECT_EQ(s.cell_type[0], kSpinous) << backend;
+    EXPECT_EQ(s.cell_fields.at("differentiation.age")[0], 0.0) << backend;  // a change resets the age
+    fates(s, rule, 1.0, 4, backend);
+    EXPECT_EQ(s.cell_type[0], kSpinous) << backend;
+    EXPECT_EQ(s.cell_fields.at("differentiation.age")[0], 4.0) << backend;
+    fates(s, rule, 1.0, 1, backend);
+    EXPECT_EQ(s.cell_type[0], kGranular) << backend;
+    State low = line_cell(10, 0, 4);
+    fates(low, "  differentiation: {basal_height: 8}\n", 1.0, 1, backend);
+    EXPECT_EQ(low.cell_type[0], kBasal) << backend;
+    EXPECT_EQ(low.cell_fields.at("differentiation.age")[0], 1.0) << backend;
+  }
 }
 
 TEST(Effects, UnknownEffectAndUnknownParameterAreRefusedWithTheirLine) {

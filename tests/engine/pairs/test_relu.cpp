@@ -43,8 +43,8 @@ TEST(Relu, PiecewiseLinearForceByHand) {
 }
 
 // A scene with relu as its pair term and `set` overriding its section.
-std::string relu_error(const std::string& set) {
-  return testing::scene_error({"effects=" + std::string("{relu: ") + set + "}"});
+std::string relu_error(const std::string& set, const std::string& cutoff = "8.75") {
+  return testing::scene_error({"cutoff=" + cutoff, "effects=" + std::string("{relu: ") + set + "}"});
 }
 
 TEST(Relu, BadSectionsNameTheFieldAndTheCutoff) {
@@ -61,6 +61,11 @@ TEST(Relu, BadSectionsNameTheFieldAndTheCutoff) {
   m = relu_error("{intra: {k_spring: 1}}");
   EXPECT_NE(m.find("effects.relu.intra.k_spring"), std::string::npos) << m;
   EXPECT_EQ(relu_error("{intra: {r_max: 8.75}}"), "no error");  // at the cutoff itself: allowed
+  m = relu_error("{intra: {k_rep: 0}}");  // coincident elements would never part
+  EXPECT_NE(m.find("effects.relu.intra.k_rep"), std::string::npos) << m;
+  m = relu_error("{}", "6");  // the default r_max (7 um) beyond a cutoff of 6 um: refused, not shortened
+  EXPECT_NE(m.find("effects.relu.intra.r_max"), std::string::npos) << m;
+  EXPECT_NE(m.find("7 um (the default) is beyond the scene's cutoff (6 um)"), std::string::npos) << m;
 }
 
 }  // namespace

@@ -1,0 +1,61 @@
+// The fate-rule registry, and each rule as a cell effect that decides cell types through Backend::cell_fate.
+#include "fate.hpp"
+
+#include <stdexcept>
+
+#include "common/registry.hpp"
+#include "effects/cell_fields.hpp"
+#include "effects/effect.hpp"
+
+namespace semlb::engine {
+namespace {
+
+Registry<FateRule>& registry() {
+  static Registry<FateRule> r;
+  return r;
+}
+
+// A fate rule listed in the scene: its parameters read once; after each cell stage's growth and division the backend
+// applies it to every cell, with the time one stage covers (time.dt x time.cell_update_every, as the stage's rules).
+class FateEffect final : public Effect {
+ public:
+  FateEffect(std::string name, std::vector<double> params, double elapsed_h)
+      : name_(std::move(name)), params_(std::move(params)), elapsed_h_(elapsed_h) {}
+  std::string name() const override { return name_; }
+  bool changes_cells() const override { return true; }
+  bool after_cell_stage(Backend& b, State& host) override {
+    const std::string& field = fate_rule(name_).field;
+    b.cell_fate(host, name_, params_, field.empty() ? -1 : cell_field_index(host, field), elapsed_h_);
+    return false;  // types and fields only: no element moved, none was added
+  }
+
+ private:
+  std::string name_;
+  std::vector<double> params_;
+  double elapsed_h_;
+};
+
+}  // namespace
+
+FateRuleRegistrar::FateRuleRegistrar(const std::string& name, FateRule rule) {
+  check_plugin_name("fate rule", name);
+  const int order = rule.order;
+  registry().add(name, std::move(rule));
+  const std::string example = registry().find(name)->example;
+  EffectRegistrar(name, {order,
+                         [name](const Section& s, const Scene& scene) {
+                           return std::make_unique<FateEffect>(name, checked_plugin_params("fate rule", name, fate_rule(name).read(s)),
+                                                               scene.dt * static_cast<double>(scene.cell_update_every));
+                         },
+                         example});
+}
+
+const FateRule& fate_rule(const std::string& name) {
+  const FateRule* r = registry().find(name);
+  if (!r) throw std::logic_error("no fate rule '" + name + "' (known: " + registry().known() + ")");
+  return *r;
+}
+
+std::vector<std::string> fate_rule_names() { return registry().names(); }
+
+}  // namespace semlb::engine

@@ -1,0 +1,44 @@
+// Cell fate rules: at every cell stage, after growth and division, a cell may change its type from its centroid,
+// element count, its own per-cell field and the time since the last stage (differentiation: basal -> spinous ->
+// granular), each written once as a C99 evaluator header (fates/NAME.h) and registered by name; the loop over the
+// cells is written once per backend kind (Backend::cell_fate: on the host for the C++ backends, the OpenCL kernel
+// template fate_rule.cl on the device).
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "model/scene.hpp"
+
+namespace semlb::engine {
+
+// The fate of one cell: centroid (cx, cy, cz) um, `count` elements, `elapsed` h since the last stage, `p` the rule's
+// derived parameters (FateRule::read); `type` (in/out) its cell type, `field` (in/out) its per-cell field (0 and
+// discarded when the rule has none). Returns 1 when the type changed. The C++ instantiation of `semlb_fate_NAME` of
+// fates/NAME.h (double: the cell stage's bookkeeping is double on every backend, cells.h).
+using FateEvaluator = int (*)(double cx, double cy, double cz, int count, double elapsed, const double* p, int* type,
+                              double* field);
+
+// A registered fate rule. Its name is its scene key (`effects.NAME`), the stem of its evaluator header fates/NAME.h
+// and, prefixed `fate_`, its OpenCL kernel's name in launches(). fates/NAME.cpp includes fates/NAME.h inside
+// namespace cellrules (cpu_physics.hpp), registers its field (if any) with CellFieldRegistrar and the rule.
+struct FateRule {
+  int order = 60;  // its place among the effects (effect.hpp EffectInfo::order): after growth and division
+  // The derived parameters (at most 64 doubles) from the scene's section; its errors name file, line and field.
+  std::function<std::vector<double>(const Section&)> read;
+  FateEvaluator decides = nullptr;
+  std::string field;  // the per-cell field it keeps ("NAME.FIELD", effects/cell_fields.hpp), or "" for none
+  // A valid section for it (YAML flow map): what the suites that iterate fate_rule_names() run it with.
+  std::string example = "{}";
+};
+
+// Registers `rule` under `name` (a C identifier) as a fate rule and as an effect (effect.hpp: a cell effect whose
+// after_cell_stage calls Backend::cell_fate). std::logic_error on a bad or repeated name.
+struct FateRuleRegistrar {
+  FateRuleRegistrar(const std::string& name, FateRule rule);
+};
+// The rule registered under `name`; std::logic_error when there is none.
+const FateRule& fate_rule(const std::string& name);
+std::vector<std::string> fate_rule_names();
+
+}  // namespace semlb::engine
