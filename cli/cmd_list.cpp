@@ -1,5 +1,5 @@
-// `semlb list WHAT [--json]`: what the registries hold (policies, the policies a simulation can run, effects,
-// backends, cell types, runners, launchers).
+// `semlb list WHAT [--json]`: what the registries hold (policies, the policies a simulation can run, effects and
+// the plug-in kinds among them, backends, cell types, runners, launchers, cell fields).
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -10,6 +10,10 @@
 #include "engine/decomposition/decomposition.hpp"
 #include "engine/effects/cell_fields.hpp"
 #include "engine/effects/effect.hpp"
+#include "engine/fates/fate.hpp"
+#include "engine/pairs/pair_term.hpp"
+#include "engine/removal/removal.hpp"
+#include "engine/terms/term.hpp"
 #include "engine/model/state.hpp"
 #include "experiments/runner.hpp"
 #include "experiments/sweep.hpp"
@@ -46,7 +50,9 @@ struct Kind {
 const Kind kKinds[] = {{"policies", policy_names},          {"engine-policies", engine_policies},
                        {"effects", engine::effect_names},    {"backends", engine::backend_names},
                        {"cell-types", cell_types},           {"runners", experiments::runner_names},
-                       {"launchers", experiments::launcher_names}, {"cell-fields", engine::cell_field_names}};
+                       {"launchers", experiments::launcher_names}, {"cell-fields", engine::cell_field_names},
+                       {"pair-terms", engine::pair_term_names},   {"element-terms", engine::element_term_names},
+                       {"fate-rules", engine::fate_rule_names},   {"removal-rules", engine::removal_rule_names}};
 
 }  // namespace
 
@@ -73,7 +79,8 @@ Action add_list(CLI::App& app) {
   auto* sub = app.add_subcommand("list", "List what the registries hold, one name per line (or a JSON array)");
   sub->add_option("what", o->what,
                   "policies, engine-policies (those a simulation can run: no true work needed), effects, backends, "
-                  "cell-types (by type index), runners, launchers or cell-fields (the per-cell fields effects declare)")
+                  "cell-types (by type index), runners, launchers, cell-fields (the per-cell fields effects declare), "
+                  "or the effects of one plug-in kind: pair-terms (a scene lists one), element-terms, fate-rules, removal-rules")
       ->required()
       ->check(CLI::IsMember(kinds));
   sub->add_flag("--json", o->json, "Print a JSON array of the names");

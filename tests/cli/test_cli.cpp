@@ -6,6 +6,7 @@
 #include <sstream>
 #include <vector>
 
+#include "common/text_io.hpp"
 #include "../run_command.hpp"
 
 using namespace semlb::test;
@@ -181,6 +182,18 @@ TEST(Cli, ListPrintsTheRegistries) {
   const auto fields = run(semlb_bin() + " list cell-fields --json");  // what the effects declare, in name order
   ASSERT_EQ(fields.rc, 0) << fields.out;
   EXPECT_EQ(fields.out, "[\"differentiation.age\",\"division.depth\",\"growth.clock\"]\n");
+  // the plug-in kinds among the effects: each a registry of its own, each name an effect
+  const auto effects = run(semlb_bin() + " list effects").out;
+  for (const auto& [what, want] : std::vector<std::pair<std::string, std::string>>{
+           {"pair-terms", "[\"mechanics\",\"relu\"]\n"}, {"element-terms", "[\"membrane\",\"walls\"]\n"},
+           {"fate-rules", "[\"differentiation\"]\n"}, {"removal-rules", "[\"desquamation\"]\n"}}) {
+    const auto r = run(semlb_bin() + " list " + what + " --json");
+    ASSERT_EQ(r.rc, 0) << r.out;
+    EXPECT_EQ(r.out, want) << what;
+    for (const auto& name : semlb::split(run(semlb_bin() + " list " + what).out, '\n')) {
+      if (!name.empty()) EXPECT_NE(effects.find(name + "\n"), std::string::npos) << name << " is not an effect";
+    }
+  }
   const auto policies = run(semlb_bin() + " list policies");
   ASSERT_EQ(policies.rc, 0) << policies.out;
   for (const char* p : {"static\n", "reactive\n", "persistence\n", "holt\n", "gru\n", "oracle\n", "lazy_oracle\n",
