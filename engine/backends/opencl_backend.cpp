@@ -28,6 +28,7 @@ OpenClBackend<Real>::OpenClBackend(const BackendConfig& c, bool binned)
   capture_ = cl::KernelCapture::from_env();                      // one launch written for replay (opencl.hpp)
   queue_ = cl::Queue(clCreateCommandQueue(ctx_.get(), dev_.device, profile_ ? CL_QUEUE_PROFILING_ENABLE : 0, &err));
   cl::check(err, "clCreateCommandQueue");
+  (void)engine::pair_term(c.pair_term);  // std::logic_error for an unregistered term, not a program that fails to build
   build(c.pair_term);
   if (!capture_.kernel().empty() && !kernels_.count(capture_.kernel())) {
     std::string known;
