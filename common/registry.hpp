@@ -22,6 +22,12 @@ class Registry {
     const auto it = entries_.find(name);
     return it == entries_.end() ? nullptr : &it->second;
   }
+  // The entry registered under `name`; std::logic_error "no KIND 'NAME' (known: ...)" when there is none (the callers
+  // whose names were checked already, e.g. a plug-in the effect registry found).
+  const T& at(const std::string& kind, const std::string& name) const {
+    if (const T* t = find(name)) return *t;
+    throw std::logic_error("no " + kind + " '" + name + "' (known: " + known() + ")");
+  }
   std::vector<std::string> names() const {
     std::vector<std::string> out;
     for (const auto& [name, entry] : entries_) out.push_back(name);

@@ -1,8 +1,6 @@
 // The backend registry and the host versions of the backend operations on cells (W_s, migration, removal, fates).
 #include "backend.hpp"
 
-#include <iterator>
-
 #include "common/errors.hpp"
 #include "common/registry.hpp"
 #include "fates/fate.hpp"
@@ -76,10 +74,7 @@ long Backend::remove_cells(State& host, const std::string& rule, const std::vect
 void Backend::cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field, double elapsed_h) {
   const FateEvaluator decides = fate_rule(rule).decides;
   download(host);
-  if (field < -1 || field >= static_cast<int>(host.cell_fields.size()))
-    throw std::logic_error("fate rule '" + rule + "': field index " + std::to_string(field) + " is not in the state");
-  // the field's values, one per cell (cell_fields in name order: the record index)
-  std::vector<double>* column = field < 0 ? nullptr : &std::next(host.cell_fields.begin(), field)->second;
+  std::vector<double>* column = host.cell_field_at(field);
   for (long c = 0; c < host.cells(); ++c) {
     const auto ctr = centroid(host, c);
     double f = column ? (*column)[c] : 0.0;

@@ -287,6 +287,7 @@ void OpenClBackend<Real>::cell_fate(State& host, const std::string& rule, const 
                                     double elapsed_h) {
   if (!has_fp64_) return Backend::cell_fate(host, rule, params, field, elapsed_h);
   fate_rule(rule);  // std::logic_error for an unregistered rule
+  host.cell_field_at(field);  // std::logic_error for an index outside the record (the device holds the same fields)
   const long n = cells_;
   if (n == 0) return;
   launch(("fate_" + rule).c_str(), n, kGroup, static_cast<cl_int>(n), elapsed_h, plugin_parameters<double>(rule_params_, rule, params),

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "backends/backend.hpp"
+#include "common/registry.hpp"
 #include "model/scene.hpp"
 #include "model/state.hpp"
 
@@ -49,6 +50,19 @@ struct EffectInfo {
 struct EffectRegistrar {
   EffectRegistrar(const std::string& name, EffectInfo info);
 };
+// Registers the plug-in `entry` (an element term, pair term, fate or removal rule: a struct with `order` and `example`)
+// in `registry` under `name`, which names its generated code and so must be a C identifier, and as the effect `name`
+// that `make` constructs. std::logic_error on a name that is not a C identifier or is registered twice.
+template <class T>
+void register_plugin(Registry<T>& registry, const std::string& kind, const std::string& name, T entry,
+                     std::function<std::unique_ptr<Effect>(const Section&, const Scene&)> make) {
+  check_plugin_name(kind, name);
+  const int order = entry.order;
+  std::string example = entry.example;
+  registry.add(name, std::move(entry));
+  EffectRegistrar(name, {order, std::move(make), std::move(example)});
+}
+
 // The scene's effects, constructed (parameters checked) and sorted by their registered order.
 std::vector<std::unique_ptr<Effect>> make_effects(const Scene& scene);
 std::vector<std::string> effect_names();

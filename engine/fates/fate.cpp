@@ -1,8 +1,6 @@
 // The fate-rule registry, and each rule as a cell effect that decides cell types through Backend::cell_fate.
 #include "fate.hpp"
 
-#include <stdexcept>
-
 #include "common/registry.hpp"
 #include "effects/cell_fields.hpp"
 #include "effects/effect.hpp"
@@ -16,7 +14,7 @@ Registry<FateRule>& registry() {
 }
 
 // A fate rule listed in the scene: its parameters read once; after each cell stage's growth and division the backend
-// applies it to every cell, with the time one stage covers (time.dt x time.cell_update_every, as the stage's rules).
+// applies it to every cell, with the time one stage covers (Scene::cell_stage_h, as the stage's rules).
 class FateEffect final : public Effect {
  public:
   FateEffect(std::string name, std::vector<double> params, double elapsed_h)
@@ -38,23 +36,12 @@ class FateEffect final : public Effect {
 }  // namespace
 
 FateRuleRegistrar::FateRuleRegistrar(const std::string& name, FateRule rule) {
-  check_plugin_name("fate rule", name);
-  const int order = rule.order;
-  registry().add(name, std::move(rule));
-  const std::string example = registry().find(name)->example;
-  EffectRegistrar(name, {order,
-                         [name](const Section& s, const Scene& scene) {
-                           return std::make_unique<FateEffect>(name, checked_plugin_params("fate rule", name, fate_rule(name).read(s)),
-                                                               scene.dt * static_cast<double>(scene.cell_update_every));
-                         },
-                         example});
+  register_plugin(registry(), "fate rule", name, std::move(rule), [name](const Section& s, const Scene& scene) {
+    return std::make_unique<FateEffect>(name, checked_plugin_params("fate rule", name, fate_rule(name).read(s)), scene.cell_stage_h());
+  });
 }
 
-const FateRule& fate_rule(const std::string& name) {
-  const FateRule* r = registry().find(name);
-  if (!r) throw std::logic_error("no fate rule '" + name + "' (known: " + registry().known() + ")");
-  return *r;
-}
+const FateRule& fate_rule(const std::string& name) { return registry().at("fate rule", name); }
 
 std::vector<std::string> fate_rule_names() { return registry().names(); }
 

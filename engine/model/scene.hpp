@@ -56,6 +56,8 @@ struct Scene {
   double friction = 1.0;          // eta
   double max_displacement = 1.0;  // um per step; larger stops the run
   long cell_update_every = 10;
+  // h one cell stage covers (dt x cell_update_every): the elapsed time every cell rule advances by.
+  double cell_stage_h() const { return dt * static_cast<double>(cell_update_every); }
   long snapshot_every = 0, log_every = 100, checkpoint_every = 0;  // 0 = never (log: every 100)
   bool record_workload = false;  // output.workload: DIR/workload.h5, the per-event workload (controllers/workload.hpp)
   BackendConfig backend;

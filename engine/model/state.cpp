@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 #include <stdexcept>
 
 #include "backends/cpu_physics.hpp"
@@ -102,6 +103,14 @@ void copy_cell(const State& from, long c, State& to) {
   }
   to.position.insert(to.position.end(), from.position.begin() + 3 * from.cell_first[c],
                      from.position.begin() + 3 * (from.cell_first[c] + from.cell_count[c]));
+}
+
+std::vector<double>* State::cell_field_at(int index) {
+  if (index == -1) return nullptr;
+  if (index < 0 || index >= static_cast<int>(cell_fields.size()))
+    throw std::logic_error("cell field index " + std::to_string(index) + " is not in the record of " +
+                           std::to_string(cell_fields.size()) + " fields");
+  return &std::next(cell_fields.begin(), index)->second;
 }
 
 }  // namespace semlb::engine

@@ -39,6 +39,9 @@ struct State {
   // "differentiation.age", ...): absent unless their effect is listed or a state file holds them. Every backend keeps
   // them in this (name) order as one record per cell (backends/cells.h).
   std::map<std::string, std::vector<double>> cell_fields;
+  // The values of the per-cell field at record index `index` (cell_fields in name order: the index a cell rule reads),
+  // or nullptr for -1 (a rule without one); std::logic_error for any other index outside the record.
+  std::vector<double>* cell_field_at(int index);
 
   // Elements (index e), 3 doubles each.
   std::vector<double> position;

@@ -1,8 +1,6 @@
 // The pair-term registry, and each term as an effect that adds the pair forces through Backend::pair_forces_local/nonlocal.
 #include "pair_term.hpp"
 
-#include <stdexcept>
-
 #include "common/errors.hpp"
 #include "common/registry.hpp"
 #include "effects/effect.hpp"
@@ -38,19 +36,11 @@ class PairTermEffect final : public Effect {
 }  // namespace
 
 PairTermRegistrar::PairTermRegistrar(const std::string& name, PairTerm term) {
-  check_plugin_name("pair term", name);
-  const int order = term.order;
-  registry().add(name, std::move(term));
-  EffectRegistrar(name, {order,
-                         [name](const Section& s, const Scene& scene) { return std::make_unique<PairTermEffect>(name, s, scene); },
-                         registry().find(name)->example});
+  register_plugin(registry(), "pair term", name, std::move(term),
+                  [name](const Section& s, const Scene& scene) { return std::make_unique<PairTermEffect>(name, s, scene); });
 }
 
-const PairTerm& pair_term(const std::string& name) {
-  const PairTerm* t = registry().find(name);
-  if (!t) throw std::logic_error("no pair term '" + name + "' (known: " + registry().known() + ")");
-  return *t;
-}
+const PairTerm& pair_term(const std::string& name) { return registry().at("pair term", name); }
 
 std::vector<std::string> pair_term_names() { return registry().names(); }
 

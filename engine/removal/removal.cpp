@@ -1,8 +1,6 @@
 // The removal-rule registry, and each rule as a cell effect that removes cells through Backend::remove_cells.
 #include "removal.hpp"
 
-#include <stdexcept>
-
 #include "common/registry.hpp"
 #include "effects/effect.hpp"
 
@@ -31,22 +29,12 @@ class RemovalEffect final : public Effect {
 }  // namespace
 
 RemovalRuleRegistrar::RemovalRuleRegistrar(const std::string& name, RemovalRule rule) {
-  check_plugin_name("removal rule", name);
-  const int order = rule.order;
-  registry().add(name, std::move(rule));
-  const std::string example = registry().find(name)->example;
-  EffectRegistrar(name, {order,
-                         [name](const Section& s, const Scene&) {
-                           return std::make_unique<RemovalEffect>(name, checked_plugin_params("removal rule", name, removal_rule(name).read(s)));
-                         },
-                         example});
+  register_plugin(registry(), "removal rule", name, std::move(rule), [name](const Section& s, const Scene&) {
+    return std::make_unique<RemovalEffect>(name, checked_plugin_params("removal rule", name, removal_rule(name).read(s)));
+  });
 }
 
-const RemovalRule& removal_rule(const std::string& name) {
-  const RemovalRule* r = registry().find(name);
-  if (!r) throw std::logic_error("no removal rule '" + name + "' (known: " + registry().known() + ")");
-  return *r;
-}
+const RemovalRule& removal_rule(const std::string& name) { return registry().at("removal rule", name); }
 
 std::vector<std::string> removal_rule_names() { return registry().names(); }
 

@@ -130,7 +130,7 @@ void Simulation::update_cells() {
     cell_parts_[part].second += seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
   };
-  const double elapsed = scene_->dt * static_cast<double>(scene_->cell_update_every);
+  const double elapsed = scene_->cell_stage_h();
   cellrules::semlb_cell_front_at(&rules_, state_.time);
   bool changed = backend_->update_cells(state_, rules_, scene_->seed, elapsed, state_.step);
   for (const auto& e : effects_)

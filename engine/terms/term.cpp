@@ -1,8 +1,6 @@
 // The element-term registry, and each term as an effect that adds its forces through Backend::element_term.
 #include "term.hpp"
 
-#include <stdexcept>
-
 #include "common/errors.hpp"
 #include "common/registry.hpp"
 #include "effects/effect.hpp"
@@ -37,20 +35,11 @@ class TermEffect final : public Effect {
 }  // namespace
 
 ElementTermRegistrar::ElementTermRegistrar(const std::string& name, ElementTerm term) {
-  check_plugin_name("element term", name);
-  const int order = term.order;
-  registry().add(name, std::move(term));
-  const std::string example = registry().find(name)->example;
-  EffectRegistrar(name, {order,
-                         [name](const Section& s, const Scene&) { return std::make_unique<TermEffect>(name, s); },
-                         example});
+  register_plugin(registry(), "element term", name, std::move(term),
+                  [name](const Section& s, const Scene&) { return std::make_unique<TermEffect>(name, s); });
 }
 
-const ElementTerm& element_term(const std::string& name) {
-  const ElementTerm* t = registry().find(name);
-  if (!t) throw std::logic_error("no element term '" + name + "' (known: " + registry().known() + ")");
-  return *t;
-}
+const ElementTerm& element_term(const std::string& name) { return registry().at("element term", name); }
 
 std::vector<std::string> element_term_names() { return registry().names(); }
 

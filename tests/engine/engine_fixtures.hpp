@@ -1,5 +1,8 @@
 // Helpers for the engine tests: small scenes from text, random tissues, backend lists and the rank-count harness.
 #pragma once
+#include <gtest/gtest.h>
+
+#include <cmath>
 #include <memory>
 #include <random>
 #include <string>
@@ -85,6 +88,26 @@ std::vector<double> section_params(const std::string& name, const std::string& y
 inline PairForces pair_forces(const std::string& name, const std::string& yaml, double cutoff) {
   return {name, section_params(name, yaml, [&](const Section& s) { return pair_term(name).read(s, cutoff); }), cutoff};
 }
+// The force (force units) of pair term f.term on element i (info_i) from element j (info_j) at distance r um along
+// +x (double), its fixed-point sum read back: its x component (the others must be 0).
+inline double pair_force_x(const PairForces& f, double r, int info_i, int info_j) {
+  int64_t acc[3] = {0, 0, 0};
+  pair_term(f.term).f64(r, 0, 0, info_i, info_j, 1, 2, f.params.data(), f.cutoff * f.cutoff, acc);
+  EXPECT_EQ(acc[1], 0);
+  EXPECT_EQ(acc[2], 0);
+  return static_cast<double>(acc[0]) * SEMLB_FIXED_INV;
+}
+// The force on element i (key key_i) from element j (key key_j) of the same cell at the same place: the added
+// fixed-point components (pairs/pair_force.h's coincident kick) in `out` and their length (force units) returned.
+template <class Real>
+double coincident_kick(PairEvaluator<Real> law, const std::vector<Real>& p, Real cutoff2, int info, uint64_t key_i,
+                       uint64_t key_j, int64_t* out) {
+  out[0] = out[1] = out[2] = 0;
+  law(0, 0, 0, info, info, key_i, key_j, p.data(), cutoff2, out);
+  double norm = 0;
+  for (int c = 0; c < 3; ++c) norm += std::pow(static_cast<double>(out[c]) * SEMLB_FIXED_INV, 2);
+  return std::sqrt(norm);
+}
 // mechanics with inter-cell sets that differ per type pair (V0 0.3 + 0.1 (ta + tb)): type-dependent tables.
 inline const char* kTypedMorse = "{pairs: {basal-basal: {V0: 0.3}, basal-spinous: {V0: 0.4}, basal-granular: {V0: 0.5}, "
                                  "spinous-spinous: {V0: 0.5}, spinous-granular: {V0: 0.6}, granular-granular: {V0: 0.7}}}";
@@ -98,6 +121,13 @@ inline std::string scene_error(const std::vector<std::string>& overrides) {
     return e.what();
   }
   return "no error";
+}
+// Each {--set override of kMechanicsYaml, field}: the scene is refused with a message naming the field.
+inline void expect_errors_name_fields(const std::vector<std::pair<std::string, std::string>>& cases) {
+  for (const auto& [set, field] : cases) {
+    const std::string message = scene_error({set});
+    EXPECT_NE(message.find(field), std::string::npos) << set << ": " << message;
+  }
 }
 
 // `semlb sim` under mpirun on `ranks` ranks, bounded by `seconds` (a hang fails the test); `env` holds VAR=VALUE

@@ -17,10 +17,7 @@ namespace {
 
 // `s` after rule `name` with `params`, field index `field`, `elapsed` h: the reference.
 State decided_by(const std::string& name, State s, const std::vector<double>& params, int field, double elapsed) {
-  std::vector<double>* column = nullptr;
-  int k = 0;
-  for (auto& [n, values] : s.cell_fields)
-    if (k++ == field) column = &values;
+  std::vector<double>* column = s.cell_field_at(field);
   for (long c = 0; c < s.cells(); ++c) {
     const auto ctr = centroid(s, c);
     double f = column ? (*column)[c] : 0.0;
@@ -81,13 +78,9 @@ TEST(FateRules, EveryRuleOnEveryBackendDecidesWhatItsEvaluatorDecides) {
 }
 
 TEST(FateRules, DifferentiationSettingsAreChecked) {
-  for (const auto& [set, field] : std::vector<std::pair<std::string, std::string>>{
-           {"effects.differentiation={basal_height: -1}", "effects.differentiation.basal_height"},
-           {"effects.differentiation={granular_after: x}", "effects.differentiation.granular_after"},
-           {"effects.differentiation={basal: 3}", "effects.differentiation.basal"}}) {
-    const std::string message = testing::scene_error({set});
-    EXPECT_NE(message.find(field), std::string::npos) << set << ": " << message;
-  }
+  testing::expect_errors_name_fields({{"effects.differentiation={basal_height: -1}", "effects.differentiation.basal_height"},
+                                      {"effects.differentiation={granular_after: x}", "effects.differentiation.granular_after"},
+                                      {"effects.differentiation={basal: 3}", "effects.differentiation.basal"}});
 }
 
 }  // namespace

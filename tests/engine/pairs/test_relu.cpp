@@ -9,37 +9,28 @@
 namespace semlb::engine {
 namespace {
 
-double force_x(const PairForces& f, double r, int info_i, int info_j) {
-  int64_t acc[3] = {0, 0, 0};
-  pair_term("relu").f64(r, 0, 0, info_i, info_j, 1, 2, f.params.data(), f.cutoff * f.cutoff, acc);
-  EXPECT_EQ(acc[1], 0);
-  EXPECT_EQ(acc[2], 0);
-  return static_cast<double>(acc[0]) * SEMLB_FIXED_INV;
-}
+using testing::pair_force_x;
 
 TEST(Relu, PiecewiseLinearForceByHand) {
   const PairForces f = testing::pair_forces("relu", "{intra: {k_rep: 2, k_adh: 0.5, r0: 4, r_max: 6}, inter: {k_adh: 0.1}}", 8.75);
   const int a = phys64::semlb_info_pack(0, 0), b = phys64::semlb_info_pack(1, 1);
   // intra: f = 2 max(4 - r, 0) - 0.5 max(r - 4, 0) for r < 6
-  EXPECT_NEAR(force_x(f, 1.0, a, a), 6.0, 1e-9);
-  EXPECT_NEAR(force_x(f, 4.0, a, a), 0.0, 1e-9);
-  EXPECT_NEAR(force_x(f, 5.5, a, a), -0.75, 1e-9);
-  EXPECT_EQ(force_x(f, 6.0, a, a), 0.0);  // lets go at r_max
-  EXPECT_EQ(force_x(f, 7.0, a, a), 0.0);
+  EXPECT_NEAR(pair_force_x(f, 1.0, a, a), 6.0, 1e-9);
+  EXPECT_NEAR(pair_force_x(f, 4.0, a, a), 0.0, 1e-9);
+  EXPECT_NEAR(pair_force_x(f, 5.5, a, a), -0.75, 1e-9);
+  EXPECT_EQ(pair_force_x(f, 6.0, a, a), 0.0);  // lets go at r_max
+  EXPECT_EQ(pair_force_x(f, 7.0, a, a), 0.0);
   // inter: the defaults k_rep 1, r0 5, r_max 7 with k_adh 0.1
-  EXPECT_NEAR(force_x(f, 3.0, a, b), 2.0, 1e-9);
-  EXPECT_NEAR(force_x(f, 6.5, a, b), -0.15, 1e-9);
-  EXPECT_EQ(force_x(f, 7.0, a, b), 0.0);
+  EXPECT_NEAR(pair_force_x(f, 3.0, a, b), 2.0, 1e-9);
+  EXPECT_NEAR(pair_force_x(f, 6.5, a, b), -0.15, 1e-9);
+  EXPECT_EQ(pair_force_x(f, 7.0, a, b), 0.0);
   // the force is along d = Y_i - Y_j: repulsion pushes i away from j, in any direction
   int64_t acc[3] = {0, 0, 0};
   pair_term("relu").f64(0, -3.0, 0, a, a, 1, 2, f.params.data(), f.cutoff * f.cutoff, acc);
   EXPECT_NEAR(static_cast<double>(acc[1]) * SEMLB_FIXED_INV, -2.0, 1e-9);
   // coincident: |F| = f(0) = k_rep r0 = 8
-  int64_t c[3] = {0, 0, 0};
-  pair_term("relu").f64(0, 0, 0, a, a, 100, 101, f.params.data(), f.cutoff * f.cutoff, c);
-  double norm = 0;
-  for (int k = 0; k < 3; ++k) norm += std::pow(static_cast<double>(c[k]) * SEMLB_FIXED_INV, 2);
-  EXPECT_NEAR(std::sqrt(norm), 8.0, 1e-6);
+  int64_t c[3];
+  EXPECT_NEAR(testing::coincident_kick(pair_term("relu").f64, f.params, f.cutoff * f.cutoff, a, 100, 101, c), 8.0, 1e-6);
 }
 
 // A scene with relu as its pair term and `set` overriding its section.
