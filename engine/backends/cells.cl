@@ -1,5 +1,5 @@
-/* The cell stage (growth, division; fate rules from engine/fates) on the device, rules from cells.h; W_s, owners and the
-   migration split (kernels.cl includes it). */
+/* The cell stage on the device: the core of cells.h around the scene's growth law (engine/growth) and division rule
+   (engine/division), then fate rules (engine/fates); W_s, owners and the migration split (kernels.cl includes it). */
 #ifdef SEMLB_CELLS /* built when the device has fp64: the cell bookkeeping is double on every backend */
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #pragma OPENCL FP_CONTRACT OFF
@@ -15,6 +15,11 @@
 #define SEMLB_CELL_PUT(out, keys, e, x, y, z, info, key) \
   ((out)[e] = (real4)((SEMLB_REAL)(x), (SEMLB_REAL)(y), (SEMLB_REAL)(z), CELL_INFO(info)), (keys)[e] = (key))
 #include "cells.h"
+/* Every growth law (growth/NAME.h) and the dispatch semlb_growth_law(law, ...) over them in name order, from
+   growth/growth_law.cl; every division rule (division/NAME.h) and the dispatches semlb_divides(rule, ...) and
+   semlb_division_axis(rule, ...), from division/division_rule.cl. */
+#include "growth_laws.cl"
+#include "division_rules.cl"
 
 /* Cell c's field record: r.fields doubles (cells.h), cell-major. Field k (-1: absent) of a record, 0 when absent. */
 #define CELL_RECORD(fields, nf, c) ((fields) + (long)(c) * (nf))
@@ -23,9 +28,10 @@ static inline void copy_record(__global const double* from, __global double* to,
   for (int k = 0; k < nf; ++k) to[k] = from[k];
 }
 
-/* Per cell: growth (its clock field, births), the division decision and its split plan. counts[c] = the cell's
-   elements after the stage, counts[n + c] = its daughter's (0 if none); divides[c] = 0 or 1; a cell that
-   would divide past the id depth records its index in fail[0] (atomic_min). */
+/* Per cell: growth (the law's field, births), the division decision and its split plan. counts[c] = the cell's
+   elements after the stage, counts[n + c] = its daughter's (0 if none); divides[c] = 0 or 1. A cell that would divide
+   past the id depth records its index in fail[0], one whose law returns births < 0 or beyond kMaxSlots - 1 elements
+   in fail[1] (atomic_min). */
 __kernel void cells_plan(int n, semlb_cell_rules r, ulong seed, ulong step, double elapsed, __global const real4* pos,
                          __global const ulong* id, __global const int* type, __global const int* first,
                          __global const int* count, __global double* fields, __global int* births,
@@ -34,15 +40,19 @@ __kernel void cells_plan(int n, semlb_cell_rules r, ulong seed, ulong step, doub
   int c = get_global_id(0);
   if (c >= n) return;
   __global double* rec = CELL_RECORD(fields, r.fields, c);
-  double clk = cell_field(rec, r.clock_field), ctr[3];
+  double clk = cell_field(rec, r.growth_field), ctr[3];
   int t = type[c], cnt = count[c];
   semlb_cell_centroid(pos, first[c], cnt, ctr);
-  int b = semlb_cell_births(&r, t, cnt, ctr[0], elapsed, &clk);
-  if (r.clock_field >= 0) rec[r.clock_field] = clk;
+  int b = r.growth >= 0 ? semlb_growth_law(r.growth, t, cnt, ctr, r.time, elapsed, r.growth_p, &clk) : 0;
+  if (b < 0 || cnt + b > SEMLB_CELL_MAX_ELEMENTS) {
+    atomic_min(&fail[1], c);
+    b = 0;
+  }
+  if (r.growth_field >= 0) rec[r.growth_field] = clk;
   births[c] = b;
   for (int d = 0; d < 3; ++d) old_centroid[3 * c + d] = ctr[d];
   int grown = cnt + b;
-  int div = r.division && ((r.division_types >> t) & 1) && grown >= r.at_elements;
+  int div = r.division >= 0 && semlb_divides(r.division, t, grown, ctr, r.division_p);
   if (div && (int)cell_field(rec, r.depth_field) >= SEMLB_CELL_MAX_DEPTH) {
     atomic_min(&fail[0], c);
     div = 0;
@@ -50,7 +60,10 @@ __kernel void cells_plan(int n, semlb_cell_rules r, ulong seed, ulong step, doub
   int leave = 0;
   if (div) {
     semlb_cell_split s;
-    semlb_cell_plan_split(pos, first[c], cnt, b, ctr, &r, seed, id[c], step, &s);
+    double g[6];
+    semlb_cell_gyration(pos, first[c], cnt, b, ctr, &r, seed, id[c], step, &s, g);
+    semlb_division_axis(r.division, g, s.centroid, r.division_p, s.axis);
+    semlb_cell_plan_halves(pos, first[c], cnt, ctr, &r, seed, id[c], step, &s);
     split[c] = s;
     leave = s.leave;
   }

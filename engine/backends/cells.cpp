@@ -1,13 +1,17 @@
-// The cell stage on the host State with the rules of cells.h: the reference of every backend.
+// The cell stage on the host State with the core of cells.h around the scene's growth law and division rule: the
+// reference of every backend.
 #include <stdexcept>
 #include <string>
 
 #include "backend.hpp"
+#include "division/division_rule.hpp"
+#include "growth/growth_law.hpp"
 
 namespace semlb::engine {
 
 static_assert(SEMLB_CELL_SLOT_BITS == kSlotBits && SEMLB_CELL_ROOT_ID_BITS == kRootIdBits &&
-              SEMLB_CELL_MAX_DEPTH == kMaxDivisionDepth, "cells.h and state.hpp disagree on the id layout");
+              SEMLB_CELL_MAX_DEPTH == kMaxDivisionDepth && SEMLB_CELL_MAX_ELEMENTS == kMaxSlots - 1,
+              "cells.h and state.hpp disagree on the id layout");
 
 namespace {
 // The columns of s's field record (cell_fields in name order, cells.h): column k is field k of every cell.
@@ -27,14 +31,24 @@ std::vector<double>* column(const std::vector<std::vector<double>*>& rec, int k,
     throw std::logic_error(std::string("the cell rules' ") + rule + " field index " + std::to_string(k) + " is not in the record");
   return k < 0 ? nullptr : rec[k];
 }
+// The plug-in at `index` of `names` (the rules' index of the scene's law or rule), or nullptr for -1.
+template <class T, class Lookup>
+const T* plugin_at(int index, const std::vector<std::string>& names, Lookup lookup, const char* kind) {
+  if (index == -1) return nullptr;
+  if (index < 0 || index >= static_cast<int>(names.size()))
+    throw std::logic_error(std::string("the cell rules' ") + kind + " index " + std::to_string(index) + " is not registered");
+  return &lookup(names[index]);
+}
 }  // namespace
 
 bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_h, long step) {
   using namespace cellrules;
   const long n = s.cells();
   const auto rec = record(s, r);
-  std::vector<double>* clock = column(rec, r.clock_field, r.growth != 0, "growth");
-  std::vector<double>* depth = column(rec, r.depth_field, r.division != 0, "division");
+  const GrowthLaw* law = plugin_at<GrowthLaw>(r.growth, growth_law_names(), growth_law, "growth law");
+  const DivisionRule* rule = plugin_at<DivisionRule>(r.division, division_rule_names(), division_rule, "division rule");
+  std::vector<double>* field = column(rec, r.growth_field, law && !law->field.empty(), "growth");
+  std::vector<double>* depth = column(rec, r.depth_field, rule != nullptr, "division");
   std::vector<int> births(n, 0);
   std::vector<std::array<double, 3>> old_centroid(n);
   std::vector<semlb_cell_split> split(n);
@@ -43,18 +57,26 @@ bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_
   bool changed = false;
   const uint64_t key_step = static_cast<uint64_t>(step);
   for (long c = 0; c < n; ++c) {
-    double clk = clock ? (*clock)[c] : 0.0;
+    double f = field ? (*field)[c] : 0.0;
+    const double* ctr = old_centroid[c].data();
     semlb_cell_centroid(s.position.data(), s.cell_first[c], s.cell_count[c], old_centroid[c].data());
-    births[c] = semlb_cell_births(&r, s.cell_type[c], s.cell_count[c], old_centroid[c][0], elapsed_h, &clk);
-    if (clock) (*clock)[c] = clk;
+    if (law) births[c] = law->births(s.cell_type[c], s.cell_count[c], ctr, r.time, elapsed_h, r.growth_p, &f);
+    if (births[c] < 0 || s.cell_count[c] + births[c] > kMaxSlots - 1)
+      throw std::runtime_error("cell " + std::to_string(s.cell_id[c]) + ": growth law '" + growth_law_names()[r.growth] +
+                               "' gave births outside 0 to " + std::to_string(kMaxSlots - 1 - s.cell_count[c]) + " to its " +
+                               std::to_string(s.cell_count[c]) + " elements (a cell holds at most " + std::to_string(kMaxSlots - 1) + ")");
+    if (field) (*field)[c] = f;
     const int grown = s.cell_count[c] + births[c];
-    divides[c] = r.division && ((r.division_types >> s.cell_type[c]) & 1) && grown >= r.at_elements;
+    divides[c] = rule && rule->divides(s.cell_type[c], grown, ctr, r.division_p);
     if (divides[c]) {
       const int d = static_cast<int>((*depth)[c]);
       if (d >= kMaxDivisionDepth)
         throw std::runtime_error("cell " + std::to_string(s.cell_id[c]) + " divided " + std::to_string(d) + " times: cell ids are exhausted");
-      semlb_cell_plan_split(s.position.data(), s.cell_first[c], s.cell_count[c], births[c], old_centroid[c].data(), &r, seed,
-                            s.cell_id[c], key_step, &split[c]);
+      double g[6];
+      semlb_cell_gyration(s.position.data(), s.cell_first[c], s.cell_count[c], births[c], ctr, &r, seed, s.cell_id[c],
+                          key_step, &split[c], g);
+      rule->axis(g, split[c].centroid, r.division_p, split[c].axis);
+      semlb_cell_plan_halves(s.position.data(), s.cell_first[c], s.cell_count[c], ctr, &r, seed, s.cell_id[c], key_step, &split[c]);
       ++daughters;
     }
     total += grown;
@@ -75,7 +97,7 @@ bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_
         for (auto& [name, f] : s.cell_fields) out.cell_fields[name].push_back(f[c]);  // daughters inherit
       }
     out.reindex();
-    std::vector<double>* out_depth = r.division ? record(out, r)[r.depth_field] : nullptr;
+    std::vector<double>* out_depth = rule ? record(out, r)[r.depth_field] : nullptr;
     long daughter = n;
     for (long c = 0; c < n; ++c) {
       const long dc = divides[c] ? daughter++ : -1;

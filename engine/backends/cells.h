@@ -1,5 +1,5 @@
-/* The cell stage's per-cell rules written once (C99 subset): growth and division (a cell's fate, differentiation,
- * is a plug-in: engine/fates); used by
+/* The cell stage's core written once (C99 subset): newborn placement, the division's split and the rewrite; what
+ * grows and what divides are plug-ins (engine/growth, engine/division), as a cell's fate is (engine/fates); used by
  * engine/backends/cells.cpp (the host reference) and by the cell section of kernels.cl (the device). */
 /* Included once per program, after evaluator.h. Per-cell bookkeeping (the field record, centroid, gyration, axis) is
  * double on every backend; positions are the backend's real (rules.single: newborns rounded to float). The
@@ -15,50 +15,43 @@
 #define SEMLB_CELL_SLOT_BITS 8
 #define SEMLB_CELL_ROOT_ID_BITS 20
 #define SEMLB_CELL_MAX_DEPTH 36
+#define SEMLB_CELL_MAX_ELEMENTS 255 /* kMaxSlots - 1: the most elements a cell holds (growth stops the run beyond) */
 #define SEMLB_GROWTH_STREAM 0x67726f77UL /* separates growth draws from the noise stream */
 #define SEMLB_JACOBI_SWEEPS 16           /* cyclic sweeps at most; stops early once the off-diagonal is 0 */
 
 SEMLB_DEFINE_RANDOM(double, semlb_uniform64, semlb_gauss64)
 
-/* The scene's cell effects as one set of rules (doubles first: the same layout in C++ and OpenCL C).
- * A type t takes part in growth / division when bit t of growth_types / division_types is set. */
+/* The most derived parameters (doubles) of a growth law or division rule: the size of its part of the rules. */
+#define SEMLB_CELL_RULE_PARAMS 16
+
+/* The cell stage's rules (doubles first: the same layout in C++ and OpenCL C): the scene's growth law and division
+ * rule, plug-ins (growth/NAME.h, division/NAME.h) picked by their index in name order; the core here only sums,
+ * places newborns, splits and rewrites. */
 typedef struct {
-  double period;         /* h per added element: cycle_time / (max_elements - min_elements) */
+  double growth_p[SEMLB_CELL_RULE_PARAMS];   /* the growth law's derived parameters (growth/growth_law.hpp) */
+  double division_p[SEMLB_CELL_RULE_PARAMS]; /* the division rule's (division/division_rule.hpp) */
   double offset;         /* um from the centroid to a newborn element */
-  double front_x0;       /* um: the proliferative front's position at t = 0 (when front) */
-  double front_speed;    /* um/h: its speed along +x */
-  double front_x;        /* um: its position at this stage, front_x0 + front_speed * t (semlb_cell_front_at) */
-  int growth, growth_types, max_elements;
-  int front;             /* 1: only cells whose centroid x <= front_x grow (a proliferative wave along x) */
-  int division, division_types, at_elements;
+  double time;           /* h: the stage's time, what a law may read (semlb_cell_stage_at) */
+  int growth;            /* the growth law's index in growth_law_names(), -1: no growth */
+  int division;          /* the division rule's index in division_rule_names(), -1: no division */
   int single; /* 1: positions are float (newborns rounded to float before division sees them) */
   /* The per-cell fields (effects/cell_fields.hpp) as one record of `fields` doubles per cell, the State's
-   * cell_fields in name order; each rule reads the fields its effect owns at their record index (-1: absent,
-   * read as 0 and not written). A new field needs no edit here unless a rule of this file reads it. */
+   * cell_fields in name order; the core reads two at their record index (-1: absent, read as 0 and not written).
+   * A new field needs no edit here. */
   int fields;
-  int clock_field; /* growth.clock (h) */
-  int depth_field; /* division.depth (divisions so far) */
+  int growth_field; /* the growth law's field (growth.clock: h), -1: none */
+  int depth_field;  /* division.depth (divisions so far: the id scheme's, state.hpp) */
 } semlb_cell_rules;
 
-/* Sets the front's position for a stage at time `time` (h); the caller (the host) does it before each stage,
- * so that every backend compares centroids against the same double. */
-static inline void semlb_cell_front_at(semlb_cell_rules* r, double time) {
-  r->front_x = r->front ? r->front_x0 + r->front_speed * time : 0.0;
-}
+/* Sets the stage's time (h); the caller (the host) does it before each stage, so every backend's laws read the same
+ * double. */
+static inline void semlb_cell_stage_at(semlb_cell_rules* r, double time) { r->time = time; }
 
-/* Advances the growth clock (h) of a cell of `type` with `count` elements and centroid x `centroid_x` (um) by
- * `elapsed` h; returns the elements it adds now (one per whole period, up to max_elements; a full cell's clock
- * runs on). A cell of a type that does not grow, or (with a front) ahead of the front (centroid_x > front_x),
- * is quiescent: its clock stands. */
-static inline int semlb_cell_births(const semlb_cell_rules* r, int type, int count, double centroid_x, double elapsed,
-                                    double* clock) {
-  if (!r->growth || !((r->growth_types >> type) & 1)) return 0;
-  if (r->front && !(centroid_x <= r->front_x)) return 0;
-  int births = 0;
-  *clock += elapsed;
-  for (; *clock >= r->period; *clock -= r->period)
-    if (count + births < r->max_elements) ++births;
-  return births;
+/* Whether a cell of `type` with `count` elements after growth divides by size: bit `type` of p[0] (a type mask) is
+ * set and count >= p[1]. The trigger the shipped division rules share (division/division_rule.hpp
+ * read_size_trigger). */
+static inline int semlb_cell_divides_by_size(int type, int count, const double* p) {
+  return (((long)p[0] >> type) & 1) && count >= (int)p[1];
 }
 
 /* The mean of elements [first, first + n) (in slot order, then divided by max(n, 1)). */
@@ -149,16 +142,17 @@ static inline double semlb_cell_projection(const double* p, const semlb_cell_spl
   return (p[0] - s->centroid[0]) * s->axis[0] + (p[1] - s->centroid[1]) * s->axis[1] + (p[2] - s->centroid[2]) * s->axis[2];
 }
 
-/* Plans the division of a cell of `count` stored elements + `births` newborns: centroid, gyration tensor
- * (mean of d d^T), its long axis; the daughter takes the elements with projection > 0 (in slot order), the
- * mother the rest; when one side is empty, the stable order by projection: the first n/2 stay. */
-static inline void semlb_cell_plan_split(SEMLB_CELL_IN in, long first, int count, int births, const double* old_centroid,
-                                         const semlb_cell_rules* r, SEMLB_ULONG seed, SEMLB_ULONG id, SEMLB_ULONG step,
-                                         semlb_cell_split* s) {
+/* The division's first half: the centroid (into s->centroid) and the gyration tensor g = (g00, g01, g02, g11, g12,
+ * g22), the mean of d d^T, of a cell of `count` stored elements + `births` newborns. The rule then sets s->axis from
+ * them (its semlb_division_axis_NAME) before semlb_cell_plan_halves. */
+static inline void semlb_cell_gyration(SEMLB_CELL_IN in, long first, int count, int births, const double* old_centroid,
+                                       const semlb_cell_rules* r, SEMLB_ULONG seed, SEMLB_ULONG id, SEMLB_ULONG step,
+                                       semlb_cell_split* s, double* g) {
   int n = count + births;
-  double p[3], g[6] = {0, 0, 0, 0, 0, 0};
+  double p[3];
   s->n = n;
   s->centroid[0] = s->centroid[1] = s->centroid[2] = 0;
+  for (int i = 0; i < 6; ++i) g[i] = 0;
   for (int k = 0; k < n; ++k) {
     semlb_cell_element(in, first, count, old_centroid, r, seed, id, step, k, p);
     for (int d = 0; d < 3; ++d) s->centroid[d] += p[d];
@@ -175,7 +169,15 @@ static inline void semlb_cell_plan_split(SEMLB_CELL_IN in, long first, int count
     g[5] += z * z;
   }
   for (int i = 0; i < 6; ++i) g[i] /= (double)n;
-  semlb_cell_long_axis(g, s->axis);
+}
+
+/* The division's second half, with s->axis set: the daughter takes the elements with projection > 0 (in slot order),
+ * the mother the rest; when one side is empty, the stable order by projection: the first n/2 stay. */
+static inline void semlb_cell_plan_halves(SEMLB_CELL_IN in, long first, int count, const double* old_centroid,
+                                          const semlb_cell_rules* r, SEMLB_ULONG seed, SEMLB_ULONG id, SEMLB_ULONG step,
+                                          semlb_cell_split* s) {
+  int n = s->n;
+  double p[3];
   s->leave = 0;
   for (int k = 0; k < n; ++k) {
     semlb_cell_element(in, first, count, old_centroid, r, seed, id, step, k, p);

@@ -1,7 +1,8 @@
-// The cell stage, W_s and the migration of the OpenCL backends on the device (opencl_backend.hpp): growth,
-// division (kernels cells_*), fate rules (fate_NAME), per-slice work, leavers and arrivals, the cells up and down.
+// The cell stage, W_s and the migration of the OpenCL backends on the device (opencl_backend.hpp): growth laws and
+// division rules (kernels cells_*), fate rules (fate_NAME), per-slice work, leavers and arrivals, the cells up and down.
 #include "opencl_backend.hpp"
 #include "fates/fate.hpp"
+#include "growth/growth_law.hpp"
 #include "removal/removal.hpp"
 
 namespace semlb::engine::opencl_impl {
@@ -135,25 +136,33 @@ bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t 
   const long n = cells_;
   if (n == 0) return false;
   reserve_plan(n);
-  const cl_int none = INT_MAX, nc = static_cast<cl_int>(n);
-  write(cell_fail_, &none, sizeof none);
+  const cl_int none[2] = {INT_MAX, INT_MAX}, nc = static_cast<cl_int>(n);
+  write(cell_fail_, none, sizeof none);
   const cl_ulong seed_ = seed, step_ = static_cast<cl_ulong>(step);
   launch("cells_plan", n, kGroup, nc, rules, seed_, step_, elapsed_h, pos_.get(), cell_.id.get(), cell_.type.get(),
          cell_.first.get(), cell_.count.get(), cell_.fields.get(), births_.get(), old_centroid_.get(), split_.get(),
          counts2_.get(), divides_.get(), cell_fail_.get());
   exclusive_scan(counts2_, estarts_, esums_, estarts_, 2 * n);
   exclusive_scan(divides_, dstarts_, dsums_, dstarts_, n);
-  cl_int total = 0, daughters = 0, failed = INT_MAX;
+  cl_int total = 0, daughters = 0, failed[2] = {INT_MAX, INT_MAX};
   read(estarts_, &total, sizeof total, 2 * n * sizeof(cl_int));
   read(dstarts_, &daughters, sizeof daughters, n * sizeof(cl_int));
-  read(cell_fail_, &failed, sizeof failed);
-  if (failed != INT_MAX) {
+  read(cell_fail_, failed, sizeof failed);
+  if (failed[0] != INT_MAX || failed[1] != INT_MAX) {  // the host reference's messages (cells.cpp)
+    const bool ids = failed[0] != INT_MAX;
+    const long c = ids ? failed[0] : failed[1];
     cl_ulong id = 0;
+    cl_int count = 0;
     double depth = 0;
-    read(cell_.id, &id, sizeof id, failed * sizeof id);
-    if (rules.depth_field >= 0) read(cell_.fields, &depth, sizeof depth, (static_cast<long>(failed) * nf() + rules.depth_field) * sizeof depth);
-    throw std::runtime_error("cell " + std::to_string(id) + " divided " + std::to_string(static_cast<int>(depth)) +
-                             " times: cell ids are exhausted");
+    read(cell_.id, &id, sizeof id, c * sizeof id);
+    read(cell_.count, &count, sizeof count, c * sizeof count);
+    if (rules.depth_field >= 0) read(cell_.fields, &depth, sizeof depth, (c * nf() + rules.depth_field) * sizeof depth);
+    if (ids)
+      throw std::runtime_error("cell " + std::to_string(id) + " divided " + std::to_string(static_cast<int>(depth)) +
+                               " times: cell ids are exhausted");
+    throw std::runtime_error("cell " + std::to_string(id) + ": growth law '" + growth_law_names().at(rules.growth) +
+                             "' gave births outside 0 to " + std::to_string(kMaxSlots - 1 - count) + " to its " +
+                             std::to_string(count) + " elements (a cell holds at most " + std::to_string(kMaxSlots - 1) + ")");
   }
   const long m = n + daughters, ghosts = n_ - owned_;  // the ghosts are copied behind the new owned elements
   back_.reserve(*this, m);

@@ -49,7 +49,7 @@ std::vector<std::unique_ptr<Effect>> make_effects(const Scene& scene) {
 CellRules cell_rules_of(const std::vector<std::unique_ptr<Effect>>& effects, const State& s, bool single) {
   CellRules r{};
   r.fields = static_cast<int>(s.cell_fields.size());
-  r.clock_field = r.depth_field = -1;
+  r.growth = r.division = r.growth_field = r.depth_field = -1;
   for (const auto& e : effects)
     if (e->changes_cells()) e->cell_rules(r, s);
   r.single = single ? 1 : 0;

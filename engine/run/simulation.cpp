@@ -131,7 +131,7 @@ void Simulation::update_cells() {
     t0 = std::chrono::steady_clock::now();
   };
   const double elapsed = scene_->cell_stage_h();
-  cellrules::semlb_cell_front_at(&rules_, state_.time);
+  cellrules::semlb_cell_stage_at(&rules_, state_.time);
   bool changed = backend_->update_cells(state_, rules_, scene_->seed, elapsed, state_.step);
   for (const auto& e : effects_)
     if (e->changes_cells()) changed = e->after_cell_stage(*backend_, state_) || changed;

@@ -11,6 +11,8 @@
 #include "common/errors.hpp"
 #include "engine/backends/backend.hpp"
 #include "engine/backends/opencl.hpp"
+#include "engine/effects/cell_fields.hpp"
+#include "engine/effects/effect.hpp"
 #include "engine/model/scene.hpp"
 #include "engine/model/state.hpp"
 #include "engine/pairs/pair_term.hpp"
@@ -34,6 +36,20 @@ backend: {name: serial}
 effects:
   mechanics: {}
 )";
+
+// The cell stage's rules of the cell effects `yaml` lists (lines under kMechanicsYaml's `effects:`), their fields
+// prepared on and declared in `s`.
+inline CellRules rules_of(const std::string& yaml, State& s) {
+  auto scene = scene_from(std::string(kMechanicsYaml) + yaml);
+  const auto effects = make_effects(scene);
+  std::vector<std::string> listed;
+  for (auto& e : effects) {
+    e->prepare(s);
+    listed.push_back(e->name());
+  }
+  declare_cell_fields(s, listed);
+  return cell_rules_of(effects, s, false);
+}
 
 // Cells of `per_cell` elements scattered uniformly in a box (types cycle through the three).
 inline State random_state(long cells, int per_cell, double side, uint64_t seed) {

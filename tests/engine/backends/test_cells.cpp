@@ -1,4 +1,4 @@
-// The cell stage's rules (backends/cells.h) piece by piece, and the device cell stage (OpenCL on PoCL)
+// The cell stage's core (backends/cells.h) piece by piece, and the device cell stage (OpenCL on PoCL)
 // against the host reference (serial) over a run in which cells grow, divide and differentiate.
 #include <gtest/gtest.h>
 
@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "engine/backends/backend.hpp"
+#include "engine/division/division_rule.hpp"
 #include "engine/model/tissue.hpp"
 #include "engine/run/simulation.hpp"
 #include "../engine_fixtures.hpp"
@@ -45,23 +46,6 @@ TEST(Cells, JacobiFindsTheLongAxisOfHandMadeEllipsoids) {
   EXPECT_NEAR(a[2], 0, 1e-14);
 }
 
-TEST(Cells, BirthsFollowTheClockAndStopAtTheMaximum) {
-  semlb_cell_rules r{};
-  r.growth = 1;
-  r.growth_types = 1;  // basal only
-  r.period = 2;
-  r.max_elements = 20;
-  double clock = 1.5;
-  EXPECT_EQ(semlb_cell_births(&r, 0, 10, 0.0, 5.0, &clock), 3);  // 6.5 h: three periods, 0.5 h left
-  EXPECT_EQ(clock, 0.5);
-  clock = 1.5;
-  EXPECT_EQ(semlb_cell_births(&r, 0, 19, 0.0, 5.0, &clock), 1);  // a full cell waits; its clock wraps all the same
-  EXPECT_EQ(clock, 0.5);
-  clock = 1.5;
-  EXPECT_EQ(semlb_cell_births(&r, 1, 10, 0.0, 5.0, &clock), 0);  // spinous cells do not grow: the clock stands
-  EXPECT_EQ(clock, 1.5);
-}
-
 // Coincident elements have no axis: the halves follow the stable order by projection (all 0), i.e. slot order.
 TEST(Cells, CoincidentElementsSplitInHalvesBySlot) {
   State s;
@@ -72,11 +56,12 @@ TEST(Cells, CoincidentElementsSplitInHalvesBySlot) {
   s.reindex();
   s.cell_fields["division.depth"] = {0};  // the record: one field, the division's depth at index 0
   CellRules r{};
-  r.division = 1;
-  r.division_types = 1;
-  r.at_elements = 20;
+  const auto rules = division_rule_names();
+  r.growth = r.growth_field = -1;
+  r.division = static_cast<int>(std::find(rules.begin(), rules.end(), "long_axis") - rules.begin());
+  r.division_p[0] = 1;   // basal only
+  r.division_p[1] = 20;  // at 20 elements
   r.fields = 1;
-  r.clock_field = -1;
   r.depth_field = 0;
   ASSERT_TRUE(run_cell_stage(s, r, 1, 0.1, 0));
   EXPECT_EQ(s.cell_count, (std::vector<int>{10, 11}));  // n / 2 stay, the rest leave

@@ -35,18 +35,8 @@ State line_cell(int n, int axis, double z, int type = kBasal) {
   return s;
 }
 
-// The cell rules of the listed cell effects (their fields prepared on `s`), and one stage of them.
-CellRules rules_of(const std::string& yaml, State& s) {
-  auto scene = scene_from(std::string(testing::kMechanicsYaml) + yaml);
-  const auto effects = make_effects(scene);
-  std::vector<std::string> listed;
-  for (auto& e : effects) {
-    e->prepare(s);
-    listed.push_back(e->name());
-  }
-  declare_cell_fields(s, listed);
-  return cell_rules_of(effects, s, false);
-}
+using testing::rules_of;
+// One cell stage of rules `r` on the host reference.
 bool stage(State& s, const CellRules& r, double elapsed) { return run_cell_stage(s, r, 1, elapsed, s.step); }
 
 TEST(Effects, GrowthAddsOneElementPerPeriodUpToTheMaximum) {
@@ -74,15 +64,14 @@ TEST(Effects, GrowthSkipsTypesItIsNotFor) {
 TEST(Effects, GrowthOnlyBehindTheProliferativeFront) {
   State s = line_cell(10, 0, 5);  // centroid x = 20 um
   const auto r0 = rules_of("  growth: {cycle_time: 20, front: {x0: 0.0, speed: 2.0}}\n", s);
-  ASSERT_EQ(r0.front, 1);
+  ASSERT_EQ(r0.growth_p[3], 1);  // clock.h: the front's flag
   s.cell_fields["growth.clock"] = {0.0};
   CellRules r = r0;
-  semlb_cell_front_at(&r, 9.0);  // front at 18 um: the cell is ahead of it
+  semlb_cell_stage_at(&r, 9.0);  // front at 18 um: the cell is ahead of it
   EXPECT_FALSE(stage(s, r, 2.0));
   EXPECT_EQ(s.elements(), 10);
   EXPECT_EQ(s.cell_fields["growth.clock"][0], 0.0);  // quiescent: the clock stands
-  semlb_cell_front_at(&r, 10.0);  // front at 20 um = the centroid: behind (<=) counts
-  EXPECT_EQ(r.front_x, 20.0);
+  semlb_cell_stage_at(&r, 10.0);  // front at 20 um = the centroid: behind (<=) counts
   EXPECT_TRUE(stage(s, r, 2.0));
   EXPECT_EQ(s.elements(), 11);
 }
@@ -91,7 +80,7 @@ TEST(Effects, GrowthOnlyBehindTheProliferativeFront) {
 // with its field.
 TEST(Effects, GrowthFrontNeedsBothSettings) {
   State s = line_cell(10, 0, 5);
-  EXPECT_EQ(rules_of("  growth: {cycle_time: 20}\n", s).front, 0);
+  EXPECT_EQ(rules_of("  growth: {cycle_time: 20}\n", s).growth_p[3], 0);
   for (const char* bad : {"front: {x0: 1.0}", "front: {speed: 1.0}", "front: {x0: 1, speed: 1, width: 3}", "front: {x0: 1, speed: fast}"}) {
     try {
       rules_of(std::string("  growth: {") + bad + "}\n", s);

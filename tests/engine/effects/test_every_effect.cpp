@@ -1,4 +1,5 @@
-// Every registered effect, each with its registered example section beside mechanics (a pair term: instead of it):
+// Every registered effect, each with its registered example section beside mechanics (a pair term: instead of it;
+// growth and division once per registered growth law and division rule, with its example):
 // the same state on every backend this machine runs (bit for bit between the C++ backends and between the OpenCL
 // ones, within the stated 1e-9 um between the two kinds), and on 1, 2 and 4 ranks as on one device. A new effect is tested by being
 // registered (Cabana's harness: one test body over every backend and rank count).
@@ -9,7 +10,9 @@
 #include <set>
 
 #include "common/text_io.hpp"
+#include "engine/division/division_rule.hpp"
 #include "engine/effects/effect.hpp"
+#include "engine/growth/growth_law.hpp"
 #include "engine/model/tissue.hpp"
 #include "engine/pairs/pair_term.hpp"
 #include "engine/run/simulation.hpp"
@@ -18,24 +21,42 @@
 namespace semlb::engine {
 namespace {
 
+// One case: an effect and its section (the effect's example, or a growth law's or division rule's), named NAME or
+// growth_LAW / division_RULE.
+struct Case {
+  std::string effect, section, name;
+};
+std::vector<Case> cases() {
+  std::vector<Case> out;
+  for (const auto& name : effect_names())
+    if (name == "growth")
+      for (const auto& law : growth_law_names()) out.push_back({name, growth_law(law).example, name + "_" + law});
+    else if (name == "division")
+      for (const auto& rule : division_rule_names()) out.push_back({name, division_rule(rule).example, name + "_" + rule});
+    else
+      out.push_back({name, effect_example(name), name});
+  return out;
+}
+
 // The effect beside mechanics, through --set on scenes/mechanics.yaml; a pair term instead of mechanics (a scene lists
 // one), in a copy of that scene whose effects are the term's example alone.
-class EveryEffect : public ::testing::TestWithParam<std::string> {
+class EveryEffect : public ::testing::TestWithParam<Case> {
  protected:
+  const std::string& effect() const { return GetParam().effect; }
   bool pair() const {
     const auto names = pair_term_names();
-    return std::find(names.begin(), names.end(), GetParam()) != names.end();
+    return std::find(names.begin(), names.end(), effect()) != names.end();
   }
   std::string scene() const {
     const std::string shipped = test::source("scenes/mechanics.yaml");
     if (!pair()) return shipped;
-    const std::string text = read_file(shipped), path = test::fresh_dir("every_effect_scene_" + GetParam()) + "/scene.yaml";
-    write_file_atomically(path, text.substr(0, text.find("\neffects:")) + "\neffects:\n  " + GetParam() + ": " + effect_example(GetParam()) + "\n");
+    const std::string text = read_file(shipped), path = test::fresh_dir("every_effect_scene_" + GetParam().name) + "/scene.yaml";
+    write_file_atomically(path, text.substr(0, text.find("\neffects:")) + "\neffects:\n  " + effect() + ": " + GetParam().section + "\n");
     return path;
   }
   std::vector<std::string> set() const {
     if (pair()) return {};
-    return {"effects." + GetParam() + "=" + effect_example(GetParam())};
+    return {"effects." + effect() + "=" + GetParam().section};
   }
 };
 
@@ -78,7 +99,7 @@ TEST_P(EveryEffect, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
                      " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=20"
                      " --set time.cell_update_every=10 --steps 60";
   for (const auto& s : set()) args += " --set '" + s + "'";
-  const std::string dir = test::fresh_dir("every_effect_" + GetParam());
+  const std::string dir = test::fresh_dir("every_effect_" + GetParam().name);
   testing::expect_same_state_on_ranks(args, dir);
   // run.csv's columns stay distinct with the effect's phase column (NAME_s) among them.
   const auto header = split(split(read_file(dir + "/single/run.csv"), '\n')[0], ',');
@@ -86,8 +107,7 @@ TEST_P(EveryEffect, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
   EXPECT_EQ(distinct.size(), header.size()) << read_file(dir + "/single/run.csv").substr(0, 200);
 }
 
-INSTANTIATE_TEST_SUITE_P(Registered, EveryEffect, ::testing::ValuesIn(effect_names()),
-                         [](const auto& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Registered, EveryEffect, ::testing::ValuesIn(cases()), [](const auto& info) { return info.param.name; });
 
 }  // namespace
 }  // namespace semlb::engine

@@ -1,0 +1,63 @@
+// The division-rule registry, and the division effect that runs the scene's rule through the cell stage's rules.
+#include "division_rule.hpp"
+
+#include <algorithm>
+
+#include "backends/cpu_physics.hpp"
+#include "common/registry.hpp"
+#include "effects/cell_fields.hpp"
+#include "effects/cell_types.hpp"
+#include "effects/effect.hpp"
+
+namespace semlb::engine {
+namespace {
+
+Registry<DivisionRule>& registry() {
+  static Registry<DivisionRule> r;
+  return r;
+}
+
+// effects.division: {rule: NAME (default long_axis), the rule's keys}.
+class Division final : public Effect {
+ public:
+  explicit Division(const Section& s) : rule_(s.text("rule", "long_axis")) {
+    if (!registry().find(rule_)) s.fail("rule", "'" + rule_ + "' is not a division rule (known: " + registry().known() + ")");
+    params_ = division_rule(rule_).read(s);
+    if (params_.size() > SEMLB_CELL_RULE_PARAMS)
+      throw std::logic_error("division rule '" + rule_ + "': more than " + std::to_string(SEMLB_CELL_RULE_PARAMS) + " parameters");
+  }
+  std::string name() const override { return "division"; }
+  bool changes_cells() const override { return true; }
+
+  void cell_rules(CellRules& r, const State& s) const override {
+    const auto names = division_rule_names();
+    r.division = static_cast<int>(std::find(names.begin(), names.end(), rule_) - names.begin());
+    r.depth_field = cell_field_index(s, "division.depth");
+    std::copy(params_.begin(), params_.end(), r.division_p);
+  }
+
+ private:
+  std::string rule_;
+  std::vector<double> params_;
+};
+
+const CellFieldRegistrar depth("division.depth", {"division", 0.0, "divisions of the cell's lineage so far (an integer: the daughter id's bit)"});
+const EffectRegistrar effect("division", {50, [](const Section& s, const Scene&) { return std::make_unique<Division>(s); }});
+
+}  // namespace
+
+DivisionRuleRegistrar::DivisionRuleRegistrar(const std::string& name, DivisionRule rule) {
+  check_plugin_name("division rule", name);
+  registry().add(name, std::move(rule));
+}
+
+const DivisionRule& division_rule(const std::string& name) { return registry().at("division rule", name); }
+
+std::vector<std::string> division_rule_names() { return registry().names(); }
+
+std::vector<double> read_size_trigger(const Section& s) {
+  const long at = s.integer("at_elements", 20, 2, kMaxSlots - 1);
+  return {static_cast<double>(type_mask(read_types(s, "types", {"basal"}))), static_cast<double>(at)};
+}
+
+}  // namespace semlb::engine

@@ -1,0 +1,76 @@
+// The growth-law registry, and the growth effect that runs the scene's law through the cell stage's rules.
+#include "growth_law.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "backends/cpu_physics.hpp"
+#include "common/registry.hpp"
+#include "effects/cell_fields.hpp"
+#include "effects/effect.hpp"
+
+namespace semlb::engine {
+namespace {
+
+Registry<GrowthLaw>& registry() {
+  static Registry<GrowthLaw> r;
+  return r;
+}
+
+// effects.growth: {law: NAME (default clock), offset: um (1), the law's keys}.
+class Growth final : public Effect {
+ public:
+  explicit Growth(const Section& s)
+      : law_(s.text("law", "clock")), offset_(s.real("offset", 1.0, 0, 1e6)) {
+    if (!registry().find(law_)) s.fail("law", "'" + law_ + "' is not a growth law (known: " + registry().known() + ")");
+    params_ = growth_law(law_).read(s);
+    if (params_.size() > SEMLB_CELL_RULE_PARAMS)
+      throw std::logic_error("growth law '" + law_ + "': more than " + std::to_string(SEMLB_CELL_RULE_PARAMS) + " parameters");
+  }
+  std::string name() const override { return "growth"; }
+  bool changes_cells() const override { return true; }
+  std::optional<double> growth_phase(double time) const override {
+    const auto& cycle = growth_law(law_).cycle;
+    if (!cycle) return std::nullopt;
+    const double t = cycle(params_);
+    return std::fmod(time, t) / t;
+  }
+
+  void prepare(State& s) override {  // the law's field at its initial value per cell (e.g. a random phase)
+    const GrowthLaw& law = growth_law(law_);
+    if (law.field.empty() || !law.initial) return;
+    auto& f = s.cell_fields[law.field];
+    if (f.size() == s.cell_id.size()) return;  // restored from a file
+    f.resize(s.cell_id.size());
+    for (long c = 0; c < s.cells(); ++c) f[c] = law.initial(params_, uniform01(SEMLB_GROWTH_STREAM, s.cell_id[c], 0, 0));
+  }
+
+  void cell_rules(CellRules& r, const State& s) const override {
+    const auto names = growth_law_names();
+    r.growth = static_cast<int>(std::find(names.begin(), names.end(), law_) - names.begin());
+    const std::string& field = growth_law(law_).field;
+    r.growth_field = field.empty() ? -1 : cell_field_index(s, field);
+    std::copy(params_.begin(), params_.end(), r.growth_p);
+    r.offset = offset_;
+  }
+
+ private:
+  std::string law_;
+  double offset_;
+  std::vector<double> params_;
+};
+
+const EffectRegistrar effect("growth", {40, [](const Section& s, const Scene&) { return std::make_unique<Growth>(s); }});
+
+}  // namespace
+
+GrowthLawRegistrar::GrowthLawRegistrar(const std::string& name, GrowthLaw law) {
+  check_plugin_name("growth law", name);
+  registry().add(name, std::move(law));
+}
+
+const GrowthLaw& growth_law(const std::string& name) { return registry().at("growth law", name); }
+
+std::vector<std::string> growth_law_names() { return registry().names(); }
+
+}  // namespace semlb::engine
