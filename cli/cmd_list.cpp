@@ -9,8 +9,10 @@
 #include "engine/backends/backend.hpp"
 #include "engine/decomposition/decomposition.hpp"
 #include "engine/effects/cell_fields.hpp"
+#include "engine/division/division_rule.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/fates/fate.hpp"
+#include "engine/growth/growth_law.hpp"
 #include "engine/pairs/pair_term.hpp"
 #include "engine/removal/removal.hpp"
 #include "engine/terms/term.hpp"
@@ -52,7 +54,8 @@ const Kind kKinds[] = {{"policies", policy_names},          {"engine-policies", 
                        {"cell-types", cell_types},           {"runners", experiments::runner_names},
                        {"launchers", experiments::launcher_names}, {"cell-fields", engine::cell_field_names},
                        {"pair-terms", engine::pair_term_names},   {"element-terms", engine::element_term_names},
-                       {"fate-rules", engine::fate_rule_names},   {"removal-rules", engine::removal_rule_names}};
+                       {"fate-rules", engine::fate_rule_names},   {"removal-rules", engine::removal_rule_names},
+                       {"growth-laws", engine::growth_law_names}, {"division-rules", engine::division_rule_names}};
 
 }  // namespace
 
@@ -80,7 +83,8 @@ Action add_list(CLI::App& app) {
   sub->add_option("what", o->what,
                   "policies, engine-policies (those a simulation can run: no true work needed), effects, backends, "
                   "cell-types (by type index), runners, launchers, cell-fields (the per-cell fields effects declare), "
-                  "or the effects of one plug-in kind: pair-terms (a scene lists one), element-terms, fate-rules, removal-rules")
+                  "the effects of one plug-in kind: pair-terms (a scene lists one), element-terms, fate-rules, removal-rules, "
+                  "or the values of effects.growth.law (growth-laws) and effects.division.rule (division-rules)")
       ->required()
       ->check(CLI::IsMember(kinds));
   sub->add_flag("--json", o->json, "Print a JSON array of the names");

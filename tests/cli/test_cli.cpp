@@ -194,6 +194,9 @@ TEST(Cli, ListPrintsTheRegistries) {
       if (!name.empty()) EXPECT_NE(effects.find(name + "\n"), std::string::npos) << name << " is not an effect";
     }
   }
+  // the values of effects.growth.law and effects.division.rule
+  EXPECT_EQ(run(semlb_bin() + " list growth-laws --json").out, "[\"clock\"]\n");
+  EXPECT_EQ(run(semlb_bin() + " list division-rules --json").out, "[\"long_axis\",\"oriented\"]\n");
   const auto policies = run(semlb_bin() + " list policies");
   ASSERT_EQ(policies.rc, 0) << policies.out;
   for (const char* p : {"static\n", "reactive\n", "persistence\n", "holt\n", "gru\n", "oracle\n", "lazy_oracle\n",

@@ -26,6 +26,7 @@ namespace {
 struct Case {
   std::string effect, section, name;
 };
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name << ": " << c.section; }  // gtest's name for the case
 std::vector<Case> cases() {
   std::vector<Case> out;
   for (const auto& name : effect_names())

@@ -59,23 +59,24 @@ TEST(GrowthLaws, EveryLawOnEveryBackendGrowsWhatItsEvaluatorGives) {
   }
 }
 
-// clock.h by hand: p = (period 2 h, basal only, max 20, front, x0, speed, cycle).
+// clock.h by hand (its C++ instantiation, as registered): p = (period 2 h, basal only, max 20, front, x0, speed, cycle).
 TEST(GrowthLaws, ClockFollowsTheClockStopsAtTheMaximumAndWaitsForTheFront) {
+  const GrowthEvaluator clock_law = growth_law("clock").births;
   const double p[7] = {2, 1, 20, 0, 0, 0, 20}, centre[3] = {20, 0, 0};
   double clock = 1.5;
-  EXPECT_EQ(cellrules::semlb_growth_clock(0, 10, centre, 0, 5.0, p, &clock), 3);  // 6.5 h: three periods, 0.5 h left
+  EXPECT_EQ(clock_law(0, 10, centre, 0, 5.0, p, &clock), 3);  // 6.5 h: three periods, 0.5 h left
   EXPECT_EQ(clock, 0.5);
   clock = 1.5;
-  EXPECT_EQ(cellrules::semlb_growth_clock(0, 19, centre, 0, 5.0, p, &clock), 1);  // a full cell waits; its clock wraps
+  EXPECT_EQ(clock_law(0, 19, centre, 0, 5.0, p, &clock), 1);  // a full cell waits; its clock wraps
   EXPECT_EQ(clock, 0.5);
   clock = 1.5;
-  EXPECT_EQ(cellrules::semlb_growth_clock(1, 10, centre, 0, 5.0, p, &clock), 0);  // spinous cells do not grow
+  EXPECT_EQ(clock_law(1, 10, centre, 0, 5.0, p, &clock), 0);  // spinous cells do not grow
   EXPECT_EQ(clock, 1.5);
   const double front[7] = {2, 1, 20, 1, 0, 2, 20};  // a front at 2 t um
   clock = 1.5;
-  EXPECT_EQ(cellrules::semlb_growth_clock(0, 10, centre, 9.0, 5.0, front, &clock), 0);  // at 18 um: ahead, clock stands
+  EXPECT_EQ(clock_law(0, 10, centre, 9.0, 5.0, front, &clock), 0);  // at 18 um: ahead, clock stands
   EXPECT_EQ(clock, 1.5);
-  EXPECT_EQ(cellrules::semlb_growth_clock(0, 10, centre, 10.0, 5.0, front, &clock), 3);  // at 20 um: behind (<=) counts
+  EXPECT_EQ(clock_law(0, 10, centre, 10.0, 5.0, front, &clock), 3);  // at 20 um: behind (<=) counts
 }
 
 TEST(GrowthLaws, GrowthSettingsAreChecked) {
