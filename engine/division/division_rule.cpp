@@ -7,6 +7,7 @@
 #include "common/registry.hpp"
 #include "effects/cell_fields.hpp"
 #include "effects/cell_types.hpp"
+#include "effects/chosen_rule.hpp"
 #include "effects/effect.hpp"
 
 namespace semlb::engine {
@@ -20,25 +21,19 @@ Registry<DivisionRule>& registry() {
 // effects.division: {rule: NAME (default long_axis), the rule's keys}.
 class Division final : public Effect {
  public:
-  explicit Division(const Section& s) : rule_(s.text("rule", "long_axis")) {
-    if (!registry().find(rule_)) s.fail("rule", "'" + rule_ + "' is not a division rule (known: " + registry().known() + ")");
-    params_ = division_rule(rule_).read(s);
-    if (params_.size() > SEMLB_CELL_RULE_PARAMS)
-      throw std::logic_error("division rule '" + rule_ + "': more than " + std::to_string(SEMLB_CELL_RULE_PARAMS) + " parameters");
-  }
+  explicit Division(const Section& s)
+      : rule_(ChosenRule::read(registry(), s, "rule", "long_axis", "division rule", SEMLB_CELL_RULE_PARAMS)) {}
   std::string name() const override { return "division"; }
   bool changes_cells() const override { return true; }
 
   void cell_rules(CellRules& r, const State& s) const override {
-    const auto names = division_rule_names();
-    r.division = static_cast<int>(std::find(names.begin(), names.end(), rule_) - names.begin());
+    r.division = rule_.index;
     r.depth_field = cell_field_index(s, "division.depth");
-    std::copy(params_.begin(), params_.end(), r.division_p);
+    std::copy(rule_.params.begin(), rule_.params.end(), r.division_p);
   }
 
  private:
-  std::string rule_;
-  std::vector<double> params_;
+  ChosenRule rule_;
 };
 
 const CellFieldRegistrar depth("division.depth", {"division", 0.0, "divisions of the cell's lineage so far (an integer: the daughter id's bit)"});

@@ -7,6 +7,7 @@
 #include "backends/cpu_physics.hpp"
 #include "common/registry.hpp"
 #include "effects/cell_fields.hpp"
+#include "effects/chosen_rule.hpp"
 #include "effects/effect.hpp"
 
 namespace semlb::engine {
@@ -21,43 +22,37 @@ Registry<GrowthLaw>& registry() {
 class Growth final : public Effect {
  public:
   explicit Growth(const Section& s)
-      : law_(s.text("law", "clock")), offset_(s.real("offset", 1.0, 0, 1e6)) {
-    if (!registry().find(law_)) s.fail("law", "'" + law_ + "' is not a growth law (known: " + registry().known() + ")");
-    params_ = growth_law(law_).read(s);
-    if (params_.size() > SEMLB_CELL_RULE_PARAMS)
-      throw std::logic_error("growth law '" + law_ + "': more than " + std::to_string(SEMLB_CELL_RULE_PARAMS) + " parameters");
-  }
+      : law_(ChosenRule::read(registry(), s, "law", "clock", "growth law", SEMLB_CELL_RULE_PARAMS)),
+        offset_(s.real("offset", 1.0, 0, 1e6)) {}
   std::string name() const override { return "growth"; }
   bool changes_cells() const override { return true; }
   std::optional<double> growth_phase(double time) const override {
-    const auto& cycle = growth_law(law_).cycle;
+    const auto& cycle = growth_law(law_.name).cycle;
     if (!cycle) return std::nullopt;
-    const double t = cycle(params_);
+    const double t = cycle(law_.params);
     return std::fmod(time, t) / t;
   }
 
   void prepare(State& s) override {  // the law's field at its initial value per cell (e.g. a random phase)
-    const GrowthLaw& law = growth_law(law_);
+    const GrowthLaw& law = growth_law(law_.name);
     if (law.field.empty() || !law.initial) return;
     auto& f = s.cell_fields[law.field];
     if (f.size() == s.cell_id.size()) return;  // restored from a file
     f.resize(s.cell_id.size());
-    for (long c = 0; c < s.cells(); ++c) f[c] = law.initial(params_, uniform01(SEMLB_GROWTH_STREAM, s.cell_id[c], 0, 0));
+    for (long c = 0; c < s.cells(); ++c) f[c] = law.initial(law_.params, uniform01(SEMLB_GROWTH_STREAM, s.cell_id[c], 0, 0));
   }
 
   void cell_rules(CellRules& r, const State& s) const override {
-    const auto names = growth_law_names();
-    r.growth = static_cast<int>(std::find(names.begin(), names.end(), law_) - names.begin());
-    const std::string& field = growth_law(law_).field;
+    r.growth = law_.index;
+    const std::string& field = growth_law(law_.name).field;
     r.growth_field = field.empty() ? -1 : cell_field_index(s, field);
-    std::copy(params_.begin(), params_.end(), r.growth_p);
+    std::copy(law_.params.begin(), law_.params.end(), r.growth_p);
     r.offset = offset_;
   }
 
  private:
-  std::string law_;
+  ChosenRule law_;
   double offset_;
-  std::vector<double> params_;
 };
 
 const EffectRegistrar effect("growth", {40, [](const Section& s, const Scene&) { return std::make_unique<Growth>(s); }});
