@@ -36,6 +36,13 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
   if (w.rebalance_every < 1) fail(file, "rebalance_every", "must be >= 1");
   if (w.ranks < 1) fail(file, "ranks", "must be >= 1");
   if (w.events.empty()) fail(file, "events", "the workload has no events");
+  if (w.cost_regions < 0 || w.cost_regions > w.slices)
+    fail(file, "cost_regions", "must be in [0, slices], got " + std::to_string(w.cost_regions));
+  const bool measured = !w.events.front().slice_seconds.empty();
+  if (measured && w.cost_regions < 1) fail(file, "cost_regions", "must be >= 1 when the events carry slice_seconds");
+  for (const auto& e : w.events)
+    if (e.slice_seconds.empty() == measured)
+      fail(file, "slice_seconds", "present at some events and not at others");
   const size_t S = static_cast<size_t>(w.slices);
   for (size_t t = 0; t < w.events.size(); ++t) {
     const WorkloadEvent& e = w.events[t];
@@ -50,6 +57,14 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
     check_counts(e.slice_elements, S, file, "slice_elements", i);
     check_counts(e.band_below, S - 1, file, "band_below", i);
     check_counts(e.band_above, S - 1, file, "band_above", i);
+    if (!e.slice_seconds.empty() || w.cost_regions > 0) {
+      if (e.slice_seconds.size() != S)
+        fail(file, "slice_seconds", "event " + std::to_string(i) + " has " + std::to_string(e.slice_seconds.size()) +
+                                        " entries, expected " + std::to_string(S));
+      for (double x : e.slice_seconds)
+        if (!(x >= 0) || !std::isfinite(x))
+          fail(file, "slice_seconds", "event " + std::to_string(i) + ": " + format_real(x) + " is not a finite non-negative number");
+    }
     double n = 0;
     for (double x : e.slice_elements) n += x;
     if (n != static_cast<double>(e.elements))
@@ -65,7 +80,9 @@ void write_workload(const std::string& path, const EngineWorkload& w) {
     auto f = h5::File::create_in_memory(path);  // built in memory, then one checked atomic write (a full disk: one line)
     f.set_deflate(6);
     f.write_attr("format", std::string(kFormat));
-    f.write_attr("version", EngineWorkload::kVersion);
+    const bool measured = has_measured_cost(w);
+    f.write_attr("version", measured ? EngineWorkload::kVersion : 1L);
+    if (measured) f.write_attr("cost_regions", static_cast<long>(w.cost_regions));
     f.write_attr("slices", static_cast<long>(w.slices));
     f.write_attr("min_width", static_cast<long>(w.min_width));
     f.write_attr("x0_um", w.x0_um);
@@ -106,6 +123,11 @@ void write_workload(const std::string& path, const EngineWorkload& w) {
     f.write("events/slice_elements", {E, S}, slice_elements);
     f.write("events/band_below", {E, S - 1}, below);
     f.write("events/band_above", {E, S - 1}, above);
+    if (measured) {
+      std::vector<double> seconds;
+      for (const auto& e : w.events) seconds.insert(seconds.end(), e.slice_seconds.begin(), e.slice_seconds.end());
+      f.write("events/slice_seconds", {E, S}, seconds);
+    }
     image = f.image();
   }
   write_file_atomically(path, image);
@@ -121,8 +143,7 @@ EngineWorkload read_workload(const std::string& path) {
   }
   if (format != kFormat) fail(path, "format", "is '" + format + "', expected '" + kFormat + "'");
   const long version = f.read_int_attr("version");
-  if (version != EngineWorkload::kVersion)
-    fail(path, "version", std::to_string(version) + " (this semlb reads version " + std::to_string(EngineWorkload::kVersion) + ")");
+  if (version != 1 && version != 2) fail(path, "version", std::to_string(version) + " (this semlb reads versions 1 and 2)");
   EngineWorkload w;
   auto integer_attr = [&](const char* name, long lo, long hi) {
     const long v = f.read_int_attr(name);
@@ -172,6 +193,13 @@ EngineWorkload read_workload(const std::string& path) {
   const auto phase = column("growth_phase", false), event = column("growth_event", true), interval = column("interval_s", false);
   const auto work = matrix("slice_work", S), slice_elements = matrix("slice_elements", S);
   const auto below = matrix("band_below", S - 1), above = matrix("band_above", S - 1);
+  std::vector<double> seconds;
+  if (version == 2) {
+    w.cost_regions = static_cast<int>(integer_attr("cost_regions", 1, w.slices));
+    seconds = series("slice_seconds", false);
+    if (dims.size() != 2 || dims[0] != E || dims[1] != S)
+      fail(path, "slice_seconds", "must be events x " + std::to_string(S) + " (" + std::to_string(E) + " x " + std::to_string(S) + ")");
+  }
   for (size_t t = 0; t < E; ++t) {
     WorkloadEvent e;
     e.step = static_cast<long>(step[t]);
@@ -186,10 +214,15 @@ EngineWorkload read_workload(const std::string& path) {
     e.slice_elements.assign(slice_elements.begin() + t * S, slice_elements.begin() + (t + 1) * S);
     e.band_below.assign(below.begin() + t * (S - 1), below.begin() + (t + 1) * (S - 1));
     e.band_above.assign(above.begin() + t * (S - 1), above.begin() + (t + 1) * (S - 1));
+    if (!seconds.empty()) e.slice_seconds.assign(seconds.begin() + t * S, seconds.begin() + (t + 1) * S);
     w.events.push_back(std::move(e));
   }
   validate_workload(w, path);
   return w;
+}
+
+bool has_measured_cost(const EngineWorkload& w) {
+  return !w.events.empty() && std::all_of(w.events.begin(), w.events.end(), [](const WorkloadEvent& e) { return !e.slice_seconds.empty(); });
 }
 
 void add_edge_bands(const std::vector<double>& x, double x0, double width, int slices, double reach, std::vector<double>& below,

@@ -20,10 +20,17 @@ struct WorkloadEvent {
   // below it ([x_k - reach, x_k)) and above it ([x_k, x_k + reach)): the ghost bands a rank boundary at slice k
   // sends up and down (docs/engine.md "Decomposition").
   std::vector<double> band_below, band_above;
+  // [slices] or empty: the measured device seconds of the interval ending here, per slice (version 2 files;
+  // docs/measured_time.md "Measured workloads"): the step kernels' device time of every rank, the local pair forces
+  // split over regions of the tissue by timed launches, each region's share over its slices by W_s, the rest of the
+  // step kernels by elements. Sums to the interval's device seconds.
+  std::vector<double> slice_seconds;
 };
 
 struct EngineWorkload {
-  static constexpr long kVersion = 1;
+  // 1: W_s only; 2: with the measured slice_seconds of every event (and cost_regions). Both are read.
+  static constexpr long kVersion = 2;
+  int cost_regions = 0;  // version 2: the regions the pair forces were timed over (0: no measured cost)
   int slices = 0, min_width = 1;
   double x0_um = 0, slice_width_um = 1, cutoff_um = 0, ghost_reach_um = 0;
   long rebalance_every = 0;  // steps per event
@@ -32,12 +39,15 @@ struct EngineWorkload {
   std::vector<WorkloadEvent> events;
 };
 
+// Whether every event carries measured slice_seconds (the replay's truth is then measured, not W_s).
+bool has_measured_cost(const EngineWorkload& w);
 // Checks every invariant read_workload checks (shapes, integers, ranges, increasing steps); throws InputError
 // "FILE: field 'NAME': reason" (FILE = `file`).
 void validate_workload(const EngineWorkload& w, const std::string& file);
 // Writes `w` to `path` atomically (built in memory, then write_file_atomically), deflate-compressed; validates first.
+// Version 2 (with /events/slice_seconds and the cost_regions attribute) when the events carry measured seconds, else 1.
 void write_workload(const std::string& path, const EngineWorkload& w);
-// Reads a workload file strictly: format "semlb-workload", version kVersion (a newer one is refused by name), every
+// Reads a workload file strictly: format "semlb-workload", version 1 or 2 (another is refused by name), every
 // dataset present with its shape and type, then validate_workload. InputError "FILE: field 'NAME': reason".
 EngineWorkload read_workload(const std::string& path);
 

@@ -175,6 +175,33 @@ class Backend {
   const std::map<std::string, long>& launch_items() const { return launch_items_; }
   // Device time per kernel when the backend profiles (OpenCL with SEMLB_OPENCL_PROFILE set); else empty.
   const std::map<std::string, double>& kernel_seconds() const { return kernel_seconds_; }
+  // Device timers (BackendConfig::device_timing; docs/measured_time.md): the device execution seconds of the kernels
+  // and fills enqueued while the phase is one of the step's (is_step_phase: forces, terms, integration, list builds,
+  // the cell stage), from profiling events (nanosecond resolution), summed since construction; by kernel name in
+  // step_kernel_seconds(). Events are read at finish() (or here, waiting for them). A backend without device timers
+  // (the C++ backends: has_device_timers() false) reports 0 and an empty map.
+  virtual bool has_device_timers() const { return false; }
+  double step_device_seconds() {
+    settle_timers();
+    return step_device_s_;
+  }
+  const std::map<std::string, double>& step_kernel_seconds() {
+    settle_timers();
+    return step_kernel_s_;
+  }
+  static bool is_step_phase(const std::string& phase) { return phase == "step" || phase == "cells"; }
+  // The measured device cost of regions of the tissue (docs/measured_time.md "Measured workloads"): `group[i]` is
+  // owned element i's region (0 .. groups-1; -1: none). Returns [groups] the device seconds of the last step's local
+  // pair forces (the same kernel, bins or neighbour list) restricted to each region's elements, one timed launch per
+  // region into a scratch buffer: the state and its forces are unchanged. Empty when the backend has no device timers
+  // or has not computed pair forces yet. std::invalid_argument when group.size() is not the owned element count.
+  virtual std::vector<double> pair_force_seconds(const std::vector<int>& group, int groups) {
+    (void)group, (void)groups;
+    return {};
+  }
+  // Where the backend's device is, for ranks that take turns on it (run/device_turns.hpp): "PLATFORM#INDEX" for an
+  // OpenCL device; empty for the C++ backends (no device to share).
+  virtual std::string device_key() const { return ""; }
   // Bytes moved host<->device since construction, per phase (set_phase names it; "other" before the first).
   // OpenCL: every clEnqueueRead/WriteBuffer it does. The C++ backends hold the state in host memory: they
   // count nothing (their upload/download are copies between two host arrays).
@@ -185,6 +212,9 @@ class Backend {
 
  protected:
   std::map<std::string, double> kernel_seconds_;
+  virtual void settle_timers() {}  // reads the device timers' pending events into the sums below
+  double step_device_s_ = 0;
+  std::map<std::string, double> step_kernel_s_;
   void count(const std::string& kernel, long items = 0) {
     ++launches_[kernel];
     if (items) launch_items_[kernel] += items;

@@ -75,17 +75,16 @@ __kernel void nl_done(__global int* gate, __global int* stats) {
   ++stats[1];
 }
 
-/* Local pair forces (owned on owned) over the list: one item per sorted slot of the build. Every listed pair goes
+/* Local pair forces (owned on owned) over the list on sorted slot s of the build. Every listed pair goes
    through semlb_pair_force, which keeps those within the cutoff now: the same pairs and the same fixed-point sums
    as the stencil and as all pairs, as long as no element moved by more than the trigger since the build. A slot
    over kmax takes the stencil of the build's bins around its position at the build (bins of edge >= cutoff +
    skin: every partner within the cutoff now was within cutoff + skin then, hence in those bins). */
-__kernel void nl_forces(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
-                        __global const ulong* keys, __global const int* nl_count, __global const int* nl,
-                        int kmax, __global const int* starts, real4 lo, real4 size, int4 dims,
-                        __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n) {
-  int s = get_global_id(0);
-  if (s >= n) return;
+static inline void nl_slot_forces(int s, __global const real4* sorted_pos, __global const real4* ref,
+                                  __global const int* sorted_index, __global const ulong* keys,
+                                  __global const int* nl_count, __global const int* nl, int kmax,
+                                  __global const int* starts, real4 lo, real4 size, int4 dims,
+                                  __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force) {
   real4 me = sorted_pos[s];
   int i = sorted_index[s], info = INFO(me.w), count = nl_count[s];
   SEMLB_REAL cutoff2 = cutoff * cutoff;
@@ -113,6 +112,29 @@ __kernel void nl_forces(__global const real4* sorted_pos, __global const real4* 
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
+}
+
+/* The local pair forces over the list: one item per sorted slot of the build. */
+__kernel void nl_forces(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
+                        __global const ulong* keys, __global const int* nl_count, __global const int* nl,
+                        int kmax, __global const int* starts, real4 lo, real4 size, int4 dims,
+                        __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n) {
+  int s = get_global_id(0);
+  if (s >= n) return;
+  nl_slot_forces(s, sorted_pos, ref, sorted_index, keys, nl_count, nl, kmax, starts, lo, size, dims, table, cutoff, force);
+}
+
+/* The same for the sorted slots items[first .. first + n) alone (the measured cost of a region of the tissue,
+   docs/measured_time.md; `force` is a scratch buffer there). */
+__kernel void nl_forces_items(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
+                              __global const ulong* keys, __global const int* nl_count, __global const int* nl,
+                              int kmax, __global const int* starts, real4 lo, real4 size, int4 dims,
+                              __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force,
+                              __global const int* items, int first, int n) {
+  int k = get_global_id(0);
+  if (k >= n) return;
+  nl_slot_forces(items[first + k], sorted_pos, ref, sorted_index, keys, nl_count, nl, kmax, starts, lo, size, dims,
+                 table, cutoff, force);
 }
 
 /* A variant (-DSEMLB_NL_SPLIT, to measure): the slots over kmax in a kernel of their own, so that nl_forces holds

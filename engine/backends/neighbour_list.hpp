@@ -84,6 +84,20 @@ class NeighbourList {
     if (rebuild || ++since_read_ >= kReadEvery) request(b);  // kmax follows the densest element, a step or more late
   }
 
+  // The list's sort as of its last build (sorted_index: slot -> element); meaningful once forces() ran (valid()).
+  const cl::BinSort& sort() const { return sort_; }
+  bool valid() const { return valid_; }
+  // nl_forces over the sorted slots items[first, first + n) into `force` (a region's measured cost).
+  template <class B>
+  void forces_items(B& b, const cl::Mem& table, const cl::Mem& keys, const cl::Mem& force, const cl::Mem& items, long first,
+                    long n) {
+    const auto lo = b.real4(grid_.lo), size = b.real4(grid_.size);
+    const auto dims = b.int4(grid_.dims);
+    b.launch("nl_forces_items", n, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(), keys.get(),
+             count_.get(), list_.get(), static_cast<cl_int>(stored_kmax_), sort_.starts.get(), lo, size, dims, table.get(),
+             static_cast<Real>(cutoff_), force.get(), items.get(), static_cast<cl_int>(first), static_cast<cl_int>(n));
+  }
+
  private:
   static constexpr size_t kGroup = 128;           // work-group size of the list kernels
   static constexpr long kStrideItems = 1L << 18;  // work-items of the gated grid-stride kernels

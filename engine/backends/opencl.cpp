@@ -124,7 +124,10 @@ DeviceInfo choose_device(const std::string& platform, int index, int local_rank)
   if (index < 0 || index >= static_cast<int>(devices.size()))
     throw InputError("backend.device: index " + std::to_string(index) + " but platform '" + chosen + "' has " +
                      std::to_string(devices.size()) + " device(s)");
-  return devices[(index + local_rank) % devices.size()];
+  const int chosen_index = static_cast<int>((index + local_rank) % devices.size());
+  DeviceInfo d = devices[chosen_index];
+  d.index = chosen_index;
+  return d;
 }
 
 namespace {

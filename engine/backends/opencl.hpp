@@ -74,6 +74,7 @@ struct DeviceInfo {
   cl_device_id device;
   std::string platform_name, device_name;
   bool gpu;
+  int index = 0;  // within its platform (choose_device sets it)
 };
 
 // Every platform with its devices, as "platform: device" lines (for errors and `semlb sim --list-devices`).

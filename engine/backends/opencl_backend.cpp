@@ -33,8 +33,9 @@ OpenClBackend<Real>::OpenClBackend(const BackendConfig& c, bool binned)
   cl::check(err, "clCreateContext");
   const char* profile = std::getenv("SEMLB_OPENCL_PROFILE");  // per-kernel device times (bench engine, kernels.csv)
   profile_ = profile && *profile;
+  device_timing_ = c.device_timing;
   capture_ = cl::KernelCapture::from_env();                      // one launch written for replay (opencl.hpp)
-  queue_ = cl::Queue(clCreateCommandQueue(ctx_.get(), dev_.device, profile_ ? CL_QUEUE_PROFILING_ENABLE : 0, &err));
+  queue_ = cl::Queue(clCreateCommandQueue(ctx_.get(), dev_.device, profile_ || device_timing_ ? CL_QUEUE_PROFILING_ENABLE : 0, &err));
   cl::check(err, "clCreateCommandQueue");
   (void)engine::pair_term(c.pair_term);  // std::logic_error for an unregistered term, not a program that fails to build
   build(c.pair_term);
@@ -172,6 +173,9 @@ void OpenClBackend<Real>::pair_forces_local(const PairForces& f, const Grid& gri
            LocalBytes{kGroup * sizeof(Real4)}, near_.get(), owned(), cl_int{1});
     return;
   }
+  sort_grid_ = grid;
+  sorted_ = true;
+  last_cutoff_ = f.cutoff;
   if (list_.on()) return list_.forces(*this, grid, f.cutoff, table_, keys_, force_, owned_);
   sort_into_bins(grid, 0, owned_, owned_sort_);
   launch("forces_binned", owned_, kGroup, owned_sort_.sorted_pos.get(), owned_sort_.sorted_index.get(), keys_.get(),
@@ -196,6 +200,67 @@ void OpenClBackend<Real>::pair_forces_nonlocal(const PairForces& f, const Grid& 
   launch("forces_nonlocal", items, kGroup, pos_.get(), keys_.get(), near_.get(), static_cast<cl_int>(items), all,
          ghost_sort_.sorted_pos.get(), ghost_sort_.sorted_index.get(), ghost_sort_.starts.get(), real4(grid.lo),
          real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(f.cutoff), force_.get());
+}
+
+template <class Real>
+std::vector<double> OpenClBackend<Real>::pair_force_seconds(const std::vector<int>& group, int groups) {
+  if (static_cast<long>(group.size()) != owned_)
+    throw std::invalid_argument("pair_force_seconds: " + std::to_string(group.size()) + " groups for " + std::to_string(owned_) +
+                                " owned elements");
+  if (!device_timing_ || !sorted_ || !binned_ || groups <= 0) return {};
+  std::vector<double> seconds(groups, 0.0);
+  if (!owned_) return seconds;
+  if (scratch_capacity_ < owned_) {  // the forces of the timed launches go here, never into force_
+    scratch_capacity_ = owned_ + owned_ / 4 + 64;
+    scratch_force_ = buffer(3 * scratch_capacity_ * sizeof(cl_long));
+    items_ = buffer(scratch_capacity_ * sizeof(cl_int));
+  }
+  // The sort the kernel reads, for the elements as they are now: the list's (rebuilt if a cell stage or a migration
+  // invalidated it; its forces go to scratch) or the bins' of the last local forces' grid.
+  if (list_.on()) list_.forces(*this, sort_grid_, last_cutoff_, table_, keys_, scratch_force_, owned_);
+  else sort_into_bins(sort_grid_, 0, owned_, owned_sort_);
+  const cl::BinSort& sort = list_.on() ? list_.sort() : owned_sort_;
+  std::vector<cl_int> slot_element(owned_);
+  read(sort.sorted_index, slot_element.data(), owned_ * sizeof(cl_int));
+  std::vector<long> first(groups + 1, 0);
+  for (long s = 0; s < owned_; ++s) {
+    const int e = slot_element[s];
+    if (e >= 0 && e < owned_ && group[e] >= 0 && group[e] < groups) ++first[group[e] + 1];
+  }
+  for (int g = 0; g < groups; ++g) first[g + 1] += first[g];
+  std::vector<cl_int> items(first[groups]);
+  std::vector<long> at(first.begin(), first.end() - 1);
+  for (long s = 0; s < owned_; ++s) {
+    const int e = slot_element[s];
+    if (e >= 0 && e < owned_ && group[e] >= 0 && group[e] < groups) items[at[group[e]]++] = static_cast<cl_int>(s);
+  }
+  write(items_, items.data(), items.size() * sizeof(cl_int));
+  measured_.clear();
+  measuring_ = true;
+  std::vector<int> launched;
+  try {
+    for (int g = 0; g < groups; ++g) {
+      const long n = first[g + 1] - first[g];
+      if (n == 0) continue;
+      launched.push_back(g);
+      if (list_.on()) {
+        list_.forces_items(*this, table_, keys_, scratch_force_, items_, first[g], n);
+      } else {
+        launch("forces_binned_items", n, kGroup, owned_sort_.sorted_pos.get(), owned_sort_.sorted_index.get(), keys_.get(),
+               owned_sort_.starts.get(), real4(sort_grid_.lo), real4(sort_grid_.size), int4(sort_grid_.dims), table_.get(),
+               static_cast<Real>(last_cutoff_), scratch_force_.get(), owned(), items_.get(), static_cast<cl_int>(first[g]),
+               static_cast<cl_int>(n));
+      }
+    }
+  } catch (...) {
+    measuring_ = false;
+    throw;
+  }
+  measuring_ = false;
+  cl::check(clFinish(queue_.get()), "clFinish");
+  for (size_t k = 0; k < launched.size(); ++k) seconds[launched[k]] = seconds_of(measured_[k].get());
+  measured_.clear();
+  return seconds;
 }
 
 template <class Real>
@@ -260,9 +325,9 @@ void OpenClBackend<Real>::build(const std::string& pair_term) {
     clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, n, log.data(), nullptr);
     throw std::runtime_error("OpenCL: kernels failed to build on " + device_name() + ":\n" + log);
   }
-  for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned",
+  for (const char* k : {"bin_count", "scan_blocks", "scan_sums", "scan_add", "scatter", "forces_binned", "forces_binned_items",
                         "forces_nonlocal", "forces_allpairs", "integrate", "noise", "x_extent", "band_flags", "band_gather", "bounds",
-                        "nl_check", "nl_build", "nl_done", "nl_forces", "nl_overflow"}) {
+                        "nl_check", "nl_build", "nl_done", "nl_forces", "nl_forces_items", "nl_overflow"}) {
     kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
     cl::check(err, k);
   }

@@ -80,7 +80,12 @@ class OpenClBackend final : public Backend {
   void zero_forces() override {
     count("zero_forces");
     const cl_long zero = 0;
-    if (owned_) cl::check(clEnqueueFillBuffer(queue_.get(), force_.get(), &zero, sizeof zero, 0, 3 * owned_ * sizeof(cl_long), 0, nullptr, nullptr), "zero forces");
+    cl_event raw = nullptr;
+    if (owned_)
+      cl::check(clEnqueueFillBuffer(queue_.get(), force_.get(), &zero, sizeof zero, 0, 3 * owned_ * sizeof(cl_long), 0, nullptr,
+                                    timing() ? &raw : nullptr),
+                "zero forces");
+    if (raw) pending_.emplace_back("zero_forces", cl::Event(raw));
   }
 
   void pair_forces_local(const PairForces& f, const Grid& grid) override;
@@ -105,7 +110,13 @@ class OpenClBackend final : public Backend {
 
   Failure failure() override;
 
-  void finish() override { cl::check(clFinish(queue_.get()), "clFinish"); }
+  void finish() override {
+    cl::check(clFinish(queue_.get()), "clFinish");
+    settle_timers();
+  }
+  bool has_device_timers() const override { return device_timing_; }
+  std::vector<double> pair_force_seconds(const std::vector<int>& group, int groups) override;
+  std::string device_key() const override { return dev_.platform_name + "#" + std::to_string(dev_.index); }
   ListStats list_stats() override { return list_.stats(*this); }
   std::vector<int64_t> fixed_forces() override {
     std::vector<int64_t> f(3 * owned_);
@@ -313,17 +324,48 @@ class OpenClBackend final : public Backend {
       capture_.before(queue_.get(), program_.get(), global, group, capture);
     }
     cl_event raw = nullptr;
-    cl::check(clEnqueueNDRangeKernel(queue_.get(), k, 1, nullptr, &global, &group, 0, nullptr, profile_ ? &raw : nullptr), name);
+    const bool step_timer = timing();
+    cl::check(clEnqueueNDRangeKernel(queue_.get(), k, 1, nullptr, &global, &group, 0, nullptr,
+                                     profile_ || step_timer || measuring_ ? &raw : nullptr),
+              name);
     if (!capture.empty()) capture_.after(queue_.get(), capture);
-    if (raw) {
-      const cl::Event event(raw);
-      cl_event e = event.get();
-      cl::check(clWaitForEvents(1, &e), "clWaitForEvents");
-      cl_ulong t0 = 0, t1 = 0;
-      clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_START, sizeof t0, &t0, nullptr);
-      clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_END, sizeof t1, &t1, nullptr);
-      kernel_seconds_[name] += 1e-9 * static_cast<double>(t1 - t0);
+    if (!raw) return;
+    cl::Event event(raw);
+    if (measuring_) {
+      measured_.push_back(std::move(event));  // pair_force_seconds reads them
+      return;
     }
+    if (!profile_) {
+      pending_.emplace_back(name, std::move(event));  // read at the next finish(): the host does not wait here
+      return;
+    }
+    cl_event e = event.get();
+    cl::check(clWaitForEvents(1, &e), "clWaitForEvents");
+    const double t = seconds_of(e);
+    kernel_seconds_[name] += t;
+    if (step_timer) add_step_time(name, t);
+  }
+
+  // Whether the work enqueued now is timed by the device timers (Backend::step_device_seconds).
+  bool timing() const { return device_timing_ && is_step_phase(phase()); }
+  // A completed event's device execution seconds (profiling END - START).
+  static double seconds_of(cl_event e) {
+    cl_ulong t0 = 0, t1 = 0;
+    cl::check(clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_START, sizeof t0, &t0, nullptr), "profiling start");
+    cl::check(clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_END, sizeof t1, &t1, nullptr), "profiling end");
+    return t1 > t0 ? 1e-9 * static_cast<double>(t1 - t0) : 0.0;
+  }
+  void add_step_time(const std::string& name, double t) {
+    step_device_s_ += t;
+    step_kernel_s_[name] += t;
+  }
+  void settle_timers() override {
+    if (pending_.empty()) return;
+    std::vector<cl_event> events;
+    for (const auto& p : pending_) events.push_back(p.second.get());
+    cl::check(clWaitForEvents(static_cast<cl_uint>(events.size()), events.data()), "clWaitForEvents (device timers)");
+    for (const auto& [name, event] : pending_) add_step_time(name, seconds_of(event.get()));
+    pending_.clear();
   }
 
   // Per-cell arrays on the device (cell index order, as the host State): the cell stage reads one set and
@@ -359,6 +401,15 @@ class OpenClBackend final : public Backend {
 
   template <class> friend class semlb::engine::NeighbourList;
   bool binned_, profile_ = false, has_fp64_ = false, cells_stale_ = false;
+  bool device_timing_ = false;                               // BackendConfig::device_timing
+  bool measuring_ = false;                                   // pair_force_seconds' launches: each one's event kept
+  std::vector<cl::Event> measured_;
+  cl::Mem scratch_force_, items_;                            // pair_force_seconds' forces (discarded) and slot lists
+  long scratch_capacity_ = 0, items_capacity_ = 0;
+  bool sorted_ = false;                                      // owned_sort_ holds the last local forces' sort
+  Grid sort_grid_;                                           // its grid
+  double last_cutoff_ = 0;                                   // and cutoff (um)
+  std::vector<std::pair<std::string, cl::Event>> pending_;  // the device timers' events not yet read
   NeighbourList<Real> list_;  // opencl-binned's local pairs when backend.skin > 0
   cl::Mem always_;            // an int 1: the gate of ungated scans
   Cells cell_, back_, leave_;  // leave_: the migration's leavers (leave_.first holds each one's new owner)

@@ -36,13 +36,12 @@ static inline void stencil_forces(real4 me, int i, int self, int4 b, int4 dims, 
   }
 }
 
-/* Local pair forces (owned on owned): one item per sorted owned element, over the owned elements' bins. */
-__kernel void forces_binned(__global const real4* sorted_pos, __global const int* sorted_index,
-                            __global const ulong* keys, __global const int* starts, real4 lo, real4 size, int4 dims,
-                            __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n,
-                            int owned) {
-  int s = get_global_id(0);
-  if (s >= n || sorted_index[s] >= owned) return;  /* ghosts exert forces but receive none */
+/* Local pair forces (owned on owned) on sorted slot s, over the owned elements' bins. */
+static inline void binned_slot_forces(int s, __global const real4* sorted_pos, __global const int* sorted_index,
+                                      __global const ulong* keys, __global const int* starts, real4 lo, real4 size,
+                                      int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff,
+                                      __global long* force, int owned) {
+  if (sorted_index[s] >= owned) return;  /* ghosts exert forces but receive none */
   real4 me = sorted_pos[s];
   int i = sorted_index[s];
   long acc[3] = {0, 0, 0};
@@ -51,6 +50,28 @@ __kernel void forces_binned(__global const real4* sorted_pos, __global const int
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
+}
+
+/* Local pair forces: one item per sorted owned element. */
+__kernel void forces_binned(__global const real4* sorted_pos, __global const int* sorted_index,
+                            __global const ulong* keys, __global const int* starts, real4 lo, real4 size, int4 dims,
+                            __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n,
+                            int owned) {
+  int s = get_global_id(0);
+  if (s >= n) return;
+  binned_slot_forces(s, sorted_pos, sorted_index, keys, starts, lo, size, dims, table, cutoff, force, owned);
+}
+
+/* The same for the sorted slots items[first .. first + n) alone (the measured cost of a region of the tissue,
+   docs/measured_time.md; `force` is a scratch buffer there). */
+__kernel void forces_binned_items(__global const real4* sorted_pos, __global const int* sorted_index,
+                                  __global const ulong* keys, __global const int* starts, real4 lo, real4 size,
+                                  int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff,
+                                  __global long* force, int owned, __global const int* items, int first, int n) {
+  int k = get_global_id(0);
+  if (k >= n) return;
+  binned_slot_forces(items[first + k], sorted_pos, sorted_index, keys, starts, lo, size, dims, table, cutoff, force,
+                     owned);
 }
 
 /* Non-local pair forces (ghosts on owned): one item per owned element near a slab boundary, near[k] its index

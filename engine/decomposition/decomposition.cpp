@@ -28,7 +28,22 @@ Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
   if (d.initial != "workload" && d.initial != "uniform") s.fail("initial", "must be workload or uniform");
   d.rebalance_every = s.integer("rebalance_every", d.rebalance_every, 1, 1L << 40);
   d.timing = s.text("timing", d.timing);
-  if (d.timing != "measured" && d.timing != "modelled") s.fail("timing", "must be measured or modelled");
+  if (d.timing != "measured" && d.timing != "modelled" && d.timing != "device")
+    s.fail("timing", "must be measured, modelled or device");
+  const bool opencl = scene.backend.name.rfind("opencl", 0) == 0;
+  if (d.timing == "device" && !opencl)
+    s.fail("timing", "device timers need an OpenCL backend (profiling events); backend.name is '" + scene.backend.name + "'");
+  d.device_sharing = s.text("device_sharing", d.device_sharing);
+  if (d.device_sharing != "none" && d.device_sharing != "turns") s.fail("device_sharing", "must be none or turns");
+  if (d.device_sharing == "turns" && !opencl)
+    s.fail("device_sharing", "turns share an OpenCL device; backend.name is '" + scene.backend.name + "'");
+  // Under turns a rank's bands travel before its forces: a rank waiting for its neighbour's bands inside its turn
+  // would keep the device from the neighbour that has to send them.
+  if (d.device_sharing == "turns") {
+    if (s.has("overlap") && s.boolean("overlap", false))
+      s.fail("overlap", "true cannot be combined with device_sharing: turns (the bands travel before the forces)");
+    d.overlap = false;
+  }
   d.overlap = s.boolean("overlap", d.overlap);
   const Section p = s.child("params");
   for (const auto& k : p.keys()) {

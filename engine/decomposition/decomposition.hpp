@@ -17,8 +17,12 @@ struct Decomposition : SliceMap {
   int min_width = 1;  // slices, x0, width: SliceMap (backends/backend.hpp)
   std::string policy = "reactive", initial = "workload";
   // measured: each rank's computation time from its clock; modelled: its share of the workload W_s (work
-  // units), so that decisions are the same in every launch (tests, studies that need reproducible decisions)
+  // units), so that decisions are the same in every launch (tests, studies that need reproducible decisions);
+  // device: the device execution time of its step kernels (Backend::step_device_seconds; OpenCL backends only)
   std::string timing = "measured";
+  // none: each rank has its device; turns: ranks on one device take turns for their device work (run/device_turns.hpp),
+  // so that device timers measure each rank as if it had the device alone (OpenCL backends; overlap off)
+  std::string device_sharing = "none";
   long rebalance_every = 100;
   // true: the ghost bands travel while the device computes the local forces (MPI_Isend/Irecv posted after the
   // local kernel is enqueued, polled during it); false: the exchange completes before any force (blocking), for

@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "controllers/chains.hpp"
 #include "common/errors.hpp"
 #include "controllers/metrics.hpp"
@@ -18,6 +20,7 @@
 #include "backends/cpu_physics.hpp"
 #include "effects/effect.hpp"
 #include "model/tissue.hpp"
+#include "run/device_turns.hpp"
 #include "wire.hpp"
 
 namespace semlb::engine {
@@ -26,6 +29,18 @@ namespace {
 // Bands reach a little beyond the cutoff: devices compare in their own precision, and a surplus ghost
 // changes nothing (it lies beyond the cutoff of every owned element).
 constexpr double kGhostSlack = 0.01;
+
+// Regions of the tissue over which a recording run times the local pair forces (WorkloadEvent::slice_seconds):
+// contiguous slices of about equal elements, at most this many (fewer when the slices are fewer).
+constexpr int kCostRegions = 32;
+
+// A name for this job's turn files: the same on every rank (rank 0's, broadcast), different between jobs.
+std::string job_name() {
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  return std::string(host) + "-" + std::to_string(getpid()) + "-" +
+         std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
+}
 
 }  // namespace
 
@@ -62,6 +77,13 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
     sim_->progress = [this] { pending_.progress(); };
   }
   sim_->after_cells = [this] { migrate_cells(); };
+  if (dec_.device_sharing == "turns") {
+    std::string job = mpi.rank() == 0 ? job_name() : "";
+    mpi.broadcast(job, 0);
+    turns_ = std::make_unique<DeviceTurns>(DeviceTurns::path_for(job, sim_->backend().device_key()));
+    sim_->turns = turns_.get();
+    mpi.allreduce_max(0);  // every rank has the file open before any rank may remove it (at its end)
+  }
   sim_->failure_check = [this] { collective_check(); };
   trace_path_ = mpi.rank() == 0 ? trace_path : "";  // opened at the first event: nothing is written before
   if (!trace_path_.empty() && balancer_->event() > 0 && std::filesystem::exists(trace_path_))
@@ -102,8 +124,13 @@ void DistributedSimulation::start_exchange() {
   const auto t0 = std::chrono::steady_clock::now();
   Backend& b = sim_->backend();
   PhaseScope phase(b, "exchange");
-  const auto [lo, hi] = b.x_extent();
-  const Failure failure = b.failure();
+  std::array<double, 2> extent{};
+  Failure failure;
+  sim_->in_turn([&] {
+    extent = b.x_extent();
+    failure = b.failure();
+  });
+  const auto [lo, hi] = extent;
   const auto gathered = mpi_->allgather({lo, hi, static_cast<double>(failure.step)});  // 3 per rank
   auto los = [&](int q) { return gathered[3 * q]; };
   auto his = [&](int q) { return gathered[3 * q + 1]; };
@@ -123,7 +150,7 @@ void DistributedSimulation::start_exchange() {
   // Every ghost then lies at least `reach` (> cutoff) beyond the band limits: the bands' selection is exact
   // as the non-local items (Backend::pair_forces_nonlocal).
   Ghosts left, right;
-  b.bands(r > 0 ? his(r - 1) + reach : -INFINITY, r + 1 < P ? los(r + 1) - reach : INFINITY, left, right);
+  sim_->in_turn([&] { b.bands(r > 0 ? his(r - 1) + reach : -INFINITY, r + 1 < P ? los(r + 1) - reach : INFINITY, left, right); });
   send_left_ = pack_band(left);
   send_right_ = pack_band(right);
   exchange_s_ += seconds_since(t0);
@@ -142,6 +169,7 @@ void DistributedSimulation::post_exchange() {
   const int below = r > 0 ? r - 1 : MPI_PROC_NULL, above = r + 1 < P ? r + 1 : MPI_PROC_NULL;
   mpi_->start_sendrecv(send_left_, below, above, from_above_, 1, pending_);   // tags 1, 2: bands sent down
   mpi_->start_sendrecv(send_right_, above, below, from_below_, 3, pending_);  // tags 3, 4: bands sent up
+  exchange_bytes_ += static_cast<double>((r > 0 ? send_left_.size() : 0) + (r + 1 < P ? send_right_.size() : 0));
   if (r == fault_rank_ && step() == fault_step_)  // with its bands in flight: Requests frees them, MPI_Abort follows
     throw std::runtime_error("step " + std::to_string(step()) + ": fault injected by SEMLB_FAULT_INJECT");
   exchange_s_ += seconds_since(t0);
@@ -164,7 +192,7 @@ void DistributedSimulation::finish_exchange() {
     if (e == 0 || cell_id_of_key(g.keys[e]) != cell_id_of_key(g.keys[e - 1])) ++cell;
     g.info[e] = phys64::semlb_info_pack(cell, phys64::semlb_info_type(g.info[e]));
   }
-  b.set_ghosts(g);  // kept on the backend for the next W_s
+  sim_->in_turn([&] { b.set_ghosts(g); });  // kept on the backend for the next W_s
   exchange_s_ += seconds_since(t0);
 }
 
@@ -177,19 +205,22 @@ void DistributedSimulation::migrate_cells() {
   if (step() % dec_.rebalance_every == 0) decide(measure());  // new boundaries first
   State leavers;
   std::vector<int> owner;
-  b.take_leavers(sim_->state(), dec_, balancer_->boundaries(), mpi_->rank(), leavers, owner);
+  sim_->in_turn([&] { b.take_leavers(sim_->state(), dec_, balancer_->boundaries(), mpi_->rank(), leavers, owner); });
   std::vector<Writer> out(mpi_->size());
   for (long c = 0; c < leavers.cells(); ++c) pack_cell(out[owner[c]], leavers, c);
   std::vector<std::vector<char>> parts;
   for (auto& w : out) parts.push_back(std::move(w.bytes));
+  for (int q = 0; q < mpi_->size(); ++q)
+    if (q != mpi_->rank()) migrate_bytes_ += static_cast<double>(parts[q].size());
   State arrivals = empty_like(sim_->host_state());
   for (const auto& bytes : mpi_->alltoall(parts)) unpack_cells(bytes, arrivals);
   arrivals.reindex();
-  if (leavers.cells() > 0 || arrivals.cells() > 0) {  // else the backend holds exactly these cells
-    b.append_cells(sim_->state(), arrivals);
-    sim_->refit_grid();
-    b.finish();
-  }
+  if (leavers.cells() > 0 || arrivals.cells() > 0)  // else the backend holds exactly these cells
+    sim_->in_turn([&] {
+      b.append_cells(sim_->state(), arrivals);
+      sim_->refit_grid();
+      b.finish();
+    });
   migrate_s_ += seconds_since(t0);
 }
 
@@ -221,16 +252,28 @@ std::vector<double> DistributedSimulation::global_slice_work() {
 }
 
 Measurement DistributedSimulation::measure() {
-  const double now = compute_seconds();
-  const auto seconds = mpi_->allgather({now - seconds_at_event_, exchange_s_, migrate_s_});  // 3 per rank
+  Backend& b = sim_->backend();
+  const double now = compute_seconds(), device_now = b.step_device_seconds();
+  std::map<std::string, double> kernels = b.step_kernel_seconds();  // this interval's, by kernel
+  for (auto& [k, t] : kernels) t -= kernels_at_event_[k];
+  kernels_at_event_ = b.step_kernel_seconds();
+  constexpr int kPerRank = 6;
+  const auto seconds = mpi_->allgather(
+      {now - seconds_at_event_, exchange_s_, migrate_s_, device_now - device_at_event_, exchange_bytes_, migrate_bytes_});
   seconds_at_event_ = now;
-  exchange_s_ = migrate_s_ = 0;
+  device_at_event_ = device_now;
+  exchange_s_ = migrate_s_ = exchange_bytes_ = migrate_bytes_ = 0;
   Interval iv{};
   Measurement m;
   for (int r = 0; r < mpi_->size(); ++r) {
-    m.times.push_back(seconds[3 * r]);
-    iv.exchange.push_back(seconds[3 * r + 1]);
-    iv.migrate.push_back(seconds[3 * r + 2]);
+    const double* v = &seconds[kPerRank * r];
+    iv.wall.push_back(v[0]);
+    iv.exchange.push_back(v[1]);
+    iv.migrate.push_back(v[2]);
+    iv.device.push_back(v[3]);
+    iv.exchange_bytes.push_back(v[4]);
+    iv.migrate_bytes.push_back(v[5]);
+    m.times.push_back(dec_.timing == "device" ? v[3] : v[0]);
   }
   auto work = global_slice_work();
   if (scene_->record_workload) {
@@ -241,6 +284,7 @@ Measurement DistributedSimulation::measure() {
     e.slice_work = work;
     for (double t : m.times) e.interval_s += t;  // measured, before decomposition.timing: modelled replaces them
     count_elements(e);
+    if (b.has_device_timers()) e.slice_seconds = measured_slice_seconds(e, work, kernels, iv.device[mpi_->rank()]);
     if (mpi_->rank() == 0) workload_.push_back(std::move(e));
   }
   if (dec_.timing == "modelled") m.times = rank_sums(work, balancer_->boundaries());
@@ -282,6 +326,51 @@ void DistributedSimulation::count_elements(WorkloadEvent& e) {
   for (double v : e.slice_elements) e.elements += static_cast<long>(v);
 }
 
+std::vector<double> DistributedSimulation::measured_slice_seconds(const WorkloadEvent& e, const std::vector<double>& work,
+                                                                  const std::map<std::string, double>& kernels, double device_s) {
+  const int S = dec_.slices, K = std::min(kCostRegions, S);
+  // Regions: contiguous slices of about equal elements (the global counts: the same regions on every rank).
+  std::vector<int> region(S);
+  double total = 0, before = 0;
+  for (double n : e.slice_elements) total += n;
+  for (int s = 0; s < S; ++s) {
+    const double mid = before + e.slice_elements[s] / 2;
+    before += e.slice_elements[s];
+    region[s] = total > 0 ? std::min(K - 1, static_cast<int>(mid * K / total)) : static_cast<int>(static_cast<long>(s) * K / S);
+  }
+  const State& st = sim_->host_state();  // count_elements synced it
+  std::vector<int> group(st.elements());
+  for (long i = 0; i < st.elements(); ++i) group[i] = region[dec_.slice_of(st.position[3 * i])];
+  Backend& b = sim_->backend();
+  std::vector<double> sums;
+  {
+    PhaseScope phase(b, "workload");  // outside the step's timers
+    sim_->in_turn([&] { sums = b.pair_force_seconds(group, K); });
+  }
+  sums.resize(K, 0.0);
+  double pair = 0;
+  for (const char* k : {"nl_forces", "nl_overflow", "forces_binned", "forces_allpairs"})
+    if (const auto it = kernels.find(k); it != kernels.end()) pair += it->second;
+  sums.push_back(pair);
+  sums.push_back(std::max(0.0, device_s - pair));
+  mpi_->allreduce_sum(sums);
+  const double F = sums[K], O = sums[K + 1];
+  double timed = 0;
+  std::vector<double> region_work(K, 0.0), region_elements(K, 0.0);
+  for (int k = 0; k < K; ++k) timed += sums[k];
+  for (int s = 0; s < S; ++s) region_work[region[s]] += work[s], region_elements[region[s]] += e.slice_elements[s];
+  std::vector<double> out(S, 0.0);
+  for (int s = 0; s < S; ++s) {
+    const int k = region[s];
+    const double n = e.slice_elements[s];
+    // the region's measured share of the pair forces, over its slices by W_s (by elements where it has no W_s)
+    const double within = region_work[k] > 0 ? work[s] / region_work[k] : (region_elements[k] > 0 ? n / region_elements[k] : 0.0);
+    const double pair_share = timed > 0 ? sums[k] / timed * within : (total > 0 ? n / total : 0.0);
+    out[s] = F * pair_share + (total > 0 ? O * n / total : 0.0);
+  }
+  return out;
+}
+
 void DistributedSimulation::write_workload(const std::string& path, const std::string& command, const std::string& git_revision) {
   EngineWorkload w;
   w.slices = dec_.slices;
@@ -297,6 +386,7 @@ void DistributedSimulation::write_workload(const std::string& path, const std::s
   w.git_revision = git_revision;
   w.device = sim_->backend().device_name();
   w.events = workload_;
+  if (!w.events.empty() && !w.events.front().slice_seconds.empty()) w.cost_regions = std::min(kCostRegions, dec_.slices);
   ::semlb::write_workload(path, w);
 }
 

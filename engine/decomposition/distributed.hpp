@@ -3,6 +3,7 @@
 // workload-aware initial partition and rebalancing through the shared controllers (controllers/balancer).
 #pragma once
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -38,8 +39,10 @@ class DistributedSimulation {
   // Per rebalancing interval: the ranks' computation times and the global imbalance (T_max-T_min)/T_mean.
   struct Interval {
     long step;
-    std::vector<double> times;            // computation per rank
-    std::vector<double> exchange, migrate;  // per rank: ghost exchange; cell migration and rebalancing
+    std::vector<double> times;            // computation per rank, as the policy saw it (decomposition.timing)
+    std::vector<double> exchange, migrate;  // per rank: ghost exchange; cell migration and rebalancing (wall seconds)
+    std::vector<double> wall, device;     // per rank: the step phases' wall seconds; device timers' seconds (0 without)
+    std::vector<double> exchange_bytes, migrate_bytes;  // per rank: band bytes sent; cell bytes sent to other ranks
     double imbalance;
     long moved;
   };
@@ -77,8 +80,15 @@ class DistributedSimulation {
   std::string trace_path_, trace_kept_, restarted_;  // trace_kept_: the lines before a restart's event
   std::ofstream trace_;
   std::vector<Interval> intervals_;
-  double seconds_at_event_ = 0;
+  double seconds_at_event_ = 0, device_at_event_ = 0;
   double exchange_s_ = 0, migrate_s_ = 0;  // since the last rebalancing event
+  double exchange_bytes_ = 0, migrate_bytes_ = 0;  // since the last rebalancing event
+  std::map<std::string, double> kernels_at_event_;  // Backend::step_kernel_seconds at the last event
+  std::unique_ptr<DeviceTurns> turns_;              // decomposition.device_sharing: turns
+  // With output.workload and device timers: the event's measured seconds per slice (WorkloadEvent::slice_seconds),
+  // collective. `work`: the global W_s; `kernels`: this rank's step kernel seconds since the last event.
+  std::vector<double> measured_slice_seconds(const WorkloadEvent& e, const std::vector<double>& work,
+                                             const std::map<std::string, double>& kernels, double device_s);
   // The bands in flight between start_exchange() and finish_exchange(); the buffers are declared first so that
   // they outlive the requests.
   std::vector<char> send_left_, send_right_, from_above_, from_below_;

@@ -356,7 +356,10 @@ class Decomposed final : public Run {
         const std::map<std::string_view, std::string> field = {
             {rt::kStep, std::to_string(iv.step)}, {rt::kRank, std::to_string(r)}, {rt::kComputeS, format_real(iv.times[r])},
             {rt::kExchangeS, format_real(iv.exchange[r])}, {rt::kMigrateS, format_real(iv.migrate[r])},
-            {rt::kImbalance, format_real(iv.imbalance)}, {rt::kMovedSlices, std::to_string(iv.moved)}};
+            {rt::kImbalance, format_real(iv.imbalance)}, {rt::kMovedSlices, std::to_string(iv.moved)},
+            {rt::kWallS, format_real(iv.wall[r])}, {rt::kDeviceS, format_real(iv.device[r])},
+            {rt::kExchangeBytes, std::to_string(static_cast<long>(iv.exchange_bytes[r]))},
+            {rt::kMigrateBytes, std::to_string(static_cast<long>(iv.migrate_bytes[r]))}};
         for (size_t c = 0; c < rt::kColumns.size(); ++c) (rows += c ? "," : "") += field.at(rt::kColumns[c]);
         rows += "\n";
       }

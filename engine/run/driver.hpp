@@ -26,12 +26,16 @@ struct RunSummary {
 // DIR/rank_times.csv of a decomposed run: one row per rebalancing interval and rank. Columns, written and read
 // by these names in kColumns' order: the interval's last step, the rank, its computation, ghost-exchange and
 // migration seconds (computation in work units under decomposition.timing: modelled), the interval's
-// I_global and the slices moved at its end.
+// I_global and the slices moved at its end; then the step phases' wall seconds, the device timers' seconds (0
+// without them; decomposition.timing: device), and the bytes the rank sent in ghost bands and in migrating cells.
 namespace rank_times {
 inline constexpr const char* kFile = "rank_times.csv";
 inline constexpr const char *kStep = "step", *kRank = "rank", *kComputeS = "compute_s", *kExchangeS = "exchange_s",
-                            *kMigrateS = "migrate_s", *kImbalance = "imbalance", *kMovedSlices = "moved_slices";
-inline constexpr std::array<const char*, 7> kColumns = {kStep, kRank, kComputeS, kExchangeS, kMigrateS, kImbalance, kMovedSlices};
+                            *kMigrateS = "migrate_s", *kImbalance = "imbalance", *kMovedSlices = "moved_slices",
+                            *kWallS = "wall_s", *kDeviceS = "device_s", *kExchangeBytes = "exchange_bytes",
+                            *kMigrateBytes = "migrate_bytes";
+inline constexpr std::array<const char*, 11> kColumns = {kStep,         kRank,      kComputeS, kExchangeS,     kMigrateS,    kImbalance,
+                                                         kMovedSlices, kWallS,     kDeviceS,  kExchangeBytes, kMigrateBytes};
 }  // namespace rank_times
 
 // Output: DIR/final.h5, DIR/snapshots/step_NNNNNNNNN.h5 (the first step's included) + DIR/snapshots.xmf,

@@ -15,6 +15,7 @@ namespace {
 BackendConfig backend_config(const Scene& scene) {
   BackendConfig c = scene.backend;
   if (const std::string term = scene_pair_term(scene); !term.empty()) c.pair_term = term;
+  c.device_timing = scene.decomposition && scene.decomposition->has("timing") && scene.decomposition->text("timing", "") == "device";
   return c;
 }
 }  // namespace
@@ -47,8 +48,10 @@ Simulation::Simulation(const Scene& scene, State state)
 template <class F>
 void Simulation::timed(size_t phase, F&& f) {
   const auto t0 = std::chrono::steady_clock::now();
-  f();
-  if (profile) progress ? backend_->finish_while(progress) : backend_->finish();
+  in_turn([&] {
+    f();
+    if (profile) progress ? backend_->finish_while(progress) : backend_->finish();
+  });
   seconds_[phase] += seconds_since(t0);
 }
 
@@ -95,9 +98,12 @@ void Simulation::step_once() {
   for (const auto& e : effects_)
     if (e->adds_forces()) {
       const auto t0 = std::chrono::steady_clock::now();
-      e->forces(*backend_, grid_);
-      const double posting = posted ? 0.0 : post();
-      if (profile) progress ? backend_->finish_while(progress) : backend_->finish();
+      double posting = 0;
+      in_turn([&] {  // without turns: a decomposed run's bands are posted here, while the device computes
+        e->forces(*backend_, grid_);
+        posting = posted ? 0.0 : post();
+        if (profile) progress ? backend_->finish_while(progress) : backend_->finish();
+      });
       seconds_[phase++] += seconds_since(t0) - posting;
     }
   if (!posted) post();
@@ -132,9 +138,12 @@ void Simulation::update_cells() {
   };
   const double elapsed = scene_->cell_stage_h();
   cellrules::semlb_cell_stage_at(&rules_, state_.time);
-  bool changed = backend_->update_cells(state_, rules_, scene_->seed, elapsed, state_.step);
-  for (const auto& e : effects_)
-    if (e->changes_cells()) changed = e->after_cell_stage(*backend_, state_) || changed;
+  bool changed = false;
+  in_turn([&] {
+    changed = backend_->update_cells(state_, rules_, scene_->seed, elapsed, state_.step);
+    for (const auto& e : effects_)
+      if (e->changes_cells()) changed = e->after_cell_stage(*backend_, state_) || changed;
+  });
   lap(0);
   if (changed) refit_grid();
   lap(1);
@@ -142,14 +151,15 @@ void Simulation::update_cells() {
 
 const State& Simulation::sync() {
   PhaseScope phase(*backend_, "output");
-  backend_->download(state_);
+  in_turn([&] { backend_->download(state_); });
   return state_;
 }
 
 void Simulation::check() {
-  const Failure f = backend_->failure();
+  Failure f;
+  in_turn([&] { f = backend_->failure(); });
   if (!f.failed()) return;
-  backend_->download(state_);
+  in_turn([&] { backend_->download(state_); });
   long cell = 0;
   while (cell + 1 < state_.cells() && state_.cell_first[cell + 1] <= f.element) ++cell;
   std::ostringstream m;

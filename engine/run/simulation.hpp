@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "backends/backend.hpp"
+#include "device_turns.hpp"
 #include "effects/effect.hpp"
 #include "model/scene.hpp"
 #include "model/state.hpp"
@@ -64,6 +65,24 @@ class Simulation {
   std::function<void()> progress;
   std::function<void()> after_cells;    // after each cell update (cell migration)
   std::function<void()> failure_check;  // replaces check() (a collective check across ranks)
+  // Ranks sharing one device (decomposition.device_sharing: turns): when set, every piece of device work of this
+  // simulation (each force part, integration, the cell stage, the failure read, a download) runs in a turn, and so
+  // should the decomposed run's own device work (in_turn); null: no turns.
+  DeviceTurns* turns = nullptr;
+  // f() and a finish() of the backend's queue within one turn on the device (just f() and nothing else without turns).
+  template <class F>
+  void in_turn(F&& f) {
+    if (!turns) return f();
+    turns->acquire();
+    try {
+      f();
+      backend_->finish();
+    } catch (...) {
+      turns->release();
+      throw;
+    }
+    turns->release();
+  }
   State& state() { return state_; }     // the host state, for the decomposed run to edit, then reload()
   void reload();                        // uploads state() again and refits the grid
   void refit_grid();                    // after the backend's elements changed (a migration)
