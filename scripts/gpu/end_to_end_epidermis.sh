@@ -5,7 +5,7 @@
 #   bash scripts/gpu/end_to_end_epidermis.sh SEMLB OUT_DIR "MACHINE TEXT" [GPUS="1 2"] [CELLS=435661] [STEPS=1000]
 # PLATFORM (default NVIDIA) picks the OpenCL platform by name: PLATFORM=Portable runs the same on PoCL (CPU), one
 # "GPU" meaning one rank. SETS (default empty) adds settings to every run, e.g. SETS="--set decomposition.overlap=false"
-# times the blocking ghost exchange (docs/engine.md). Writes OUT_DIR/end_to_end_epidermis.csv and OUT_DIR/end_to_end_mechanics.csv (+ the run folders under OUT_DIR/runs).
+# times the blocking ghost exchange (docs/performance.md). Writes OUT_DIR/end_to_end_epidermis.csv and OUT_DIR/end_to_end_mechanics.csv (+ the run folders under OUT_DIR/runs).
 set -euo pipefail
 S=$1; OUT=$2; MACHINE=$3; GPUS=${4:-1 2}; CELLS=${5:-435661}; STEPS=${6:-1000}
 here=$(cd "$(dirname "$0")/../.." && pwd)
