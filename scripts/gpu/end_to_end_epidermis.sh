@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 13's benchmark: scenes/epidermis.yaml (all effects) and scenes/mechanics.yaml at CELLS cells, STEPS steps,
+# The end-to-end benchmark (docs/performance.md "End to end on one node with 2 H200s"): scenes/epidermis.yaml (all effects) and scenes/mechanics.yaml at CELLS cells, STEPS steps,
 # float, opencl-binned on 1..G GPUs of one node (one rank per GPU), no snapshots or checkpoints; then one CSV row
 # per run (analysis/end_to_end_epidermis.py). Usage:
 #   bash scripts/gpu/end_to_end_epidermis.sh SEMLB OUT_DIR "MACHINE TEXT" [GPUS="1 2"] [CELLS=435661] [STEPS=1000]
