@@ -40,7 +40,7 @@ epidermis: build
 	$(SEMLB) sim --scene scenes/epidermis.yaml --out $(RESULTS)/epidermis --steps 3000
 	$(PYTHON) analysis/render.py $(RESULTS)/epidermis/final.h5 $(RESULTS)/figures/epidermis.png --semlb $(SEMLB)
 
-# Day 0-5 of the developing epidermis (issue 18), one process, at the small profile's step (experiments/end_to_end.yaml):
+# Day 0-5 of the developing epidermis, one process, at the small profile's step (experiments/end_to_end.yaml):
 # six snapshots, Day 0 to Day 5, rendered as panels of ellipsoids seen from the side (analysis/render.py), with a
 # ParaView state of the same snapshots and a CSV of cells per type and thickness per day beside the figure.
 DEV := $(RESULTS)/development
@@ -61,7 +61,7 @@ surrogate-fit: build
 	$(PYTHON) analysis/fit_surrogate.py --semlb $(SEMLB) --results results --csv results/surrogate/surrogate_fit.csv \
 	  --params-csv results/surrogate/surrogate_fit_params.csv --table results/surrogate/surrogate_fit.md
 
-# Regenerates the shipped GRU weights from the mixed family of issue 25 (engine workloads + synthetic, features
+# Regenerates the shipped GRU weights from the mixed family (engine workloads + synthetic scenarios, features
 # boundary-v2; docs/train.md "Engine workloads"), and its synthetic-only ablation; each resumes after an interruption.
 train: build
 	$(SEMLB) train --config surrogate/train/engine_mixed.yaml --out controllers/weights/gru_default.h5
@@ -69,7 +69,7 @@ train-fronts: build
 	$(SEMLB) train --config surrogate/train/engine_mixed_fronts.yaml --out controllers/weights/gru_mixed_fronts.h5
 train-synthetic: build
 	$(SEMLB) train --config surrogate/train/engine_synthetic.yaml --out controllers/weights/gru_synthetic.h5
-# The recipe of the weights shipped before issue 25 (synthetic scenarios, boundary-v1), kept as gru_v1_migration_penalty_2.h5.
+# The synthetic-only recipe (synthetic scenarios, boundary-v1 features) of gru_v1_migration_penalty_2.h5, the first shipped weights.
 train-v1: build
 	$(SEMLB) train --config surrogate/train/default.yaml --out controllers/weights/gru_v1_migration_penalty_2.h5
 

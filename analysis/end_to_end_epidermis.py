@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""One row of results/gpu/end_to_end_epidermis.csv per `semlb sim` run folder (issue 13's benchmark).
+"""One row of results/gpu/end_to_end_epidermis.csv per `semlb sim` run folder (docs/performance.md "End to end on one
+node with 2 H200s").
 
 Usage: end_to_end_epidermis.py --machine TEXT --gpus N [--append] --out CSV RUN_DIR...
 
@@ -7,7 +8,7 @@ Each RUN_DIR is the --out folder of one run: scene.yaml, run.csv and, for a deco
 Columns (seconds for the whole run):
   loop_s        sum of run.csv's wall_s (the stepping loop; set-up and the first snapshot excluded)
   compute_s     one device: the sum of the phase columns; decomposed: per rebalancing interval the slowest
-                rank's computation time (rank_times.csv compute_s), summed (docs/engine.md "Strong scaling")
+                rank's computation time (rank_times.csv compute_s), summed (docs/performance.md "Multi-GPU on H200s")
   cell_stage_s  run.csv's cells_s (one device; decomposed: the slowest rank's, as run.csv logs it)
   exchange_s    decomposed: per interval the slowest rank's ghost exchange, summed; 0 on one device
 Errors (a missing file or column) stop with the folder named and exit code 2, writing nothing.

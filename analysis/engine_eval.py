@@ -4,7 +4,7 @@
 Each (workload, policy, knob setting, P) is averaged over the replay seeds. Per workload and P the table lists static,
 the reference reactive (tau 0.02, alpha 0.5), each family's setting with the lowest imbalance and the one on the
 family's front closest to the shipped GRU's migration, every GRU weights file, and the foresight floor (lambda 0).
-Targets (issue 25), for the shipped GRU (`gru` without gru.weights):
+Targets (docs/train.md "Engine workloads"), for the shipped GRU (`gru` without gru.weights):
   front:    no deployable setting (every policy but foresight) has both less-or-equal imbalance and migration, one less;
   reactive: imbalance below the reference reactive's with at most 5% more migration;
   gap:      it closes at least half the imbalance gap between the reference reactive and foresight (lambda 0).

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Fit the surrogate's scenario parameters to engine traces, check the fit, and compare policy rankings (issue 17).
+"""Fit the surrogate's scenario parameters to engine traces, check the fit, and compare policy rankings.
 
 Trace families (every trace.jsonl under --results, grouped by path and timing): `development` (cpu/end_to_end),
 `gpu_epidermis` (gpu/engine_traces), `cpu_epidermis` (other CPU traces with measured timing) and

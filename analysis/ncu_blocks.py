@@ -4,7 +4,7 @@ Usage: /usr/bin/python3 analysis/ncu_blocks.py SOURCE.csv [TOP]
 Instructions of one basic block run equally often, so they are grouped by their "Instructions Executed" count;
 each line gives a block's executions (warp-level), its SASS instructions, its share of the kernel's executed
 instructions and of the warp-stall samples, and its average active threads per warp (of 32). Used for
-results/gpu/ncu_forces_binned (docs/engine.md "Profiling the force kernel"). Exit code 2 on a file that is
+results/gpu/ncu_forces_binned (docs/performance.md "Profiling the force kernel"). Exit code 2 on a file that is
 not such a page.
 """
 import collections

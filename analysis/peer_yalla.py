@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""results/gpu/peer_yalla.csv from the output of scripts/gpu/peer_yalla/run.sh (issue 14's peer benchmark).
+"""results/gpu/peer_yalla.csv from the output of scripts/gpu/peer_yalla/run.sh (the peer benchmark against ya||a).
 
 Usage: peer_yalla.py --machine TEXT LOG > peer_yalla.csv
 LOG holds rounds of `semlb bench engine` tables followed by ya||a lines ("yalla grid_solver n=N ...
@@ -27,7 +27,7 @@ def main():
         elif f and f[0] == "backend":
             header = f
         elif header and f and f[0].startswith("opencl"):
-            skin = f[header.index("skin")] if "skin" in header else "0"  # the neighbour list's (issue 27); 0: none
+            skin = f[header.index("skin")] if "skin" in header else "0"  # the neighbour list's skin (um); 0: none
             semlb[int(f[header.index("elements")])] = (float(f[header.index("ms/step")]), f[header.index("precision")], skin)
         elif line.startswith("yalla"):
             m = re.search(r"n=(\d+) .*ms/force-eval=([0-9.]+)", line)

@@ -19,8 +19,10 @@ Action add_train(CLI::App& app);
 Action add_sim(CLI::App& app);
 Action add_list(CLI::App& app);
 
-// The names a registry holds (policies, engine-policies, effects, backends, cell-types, runners, launchers, cell-fields), as
-// `semlb list WHAT` prints them, and as "a, b, c" for --help texts; std::logic_error for another WHAT.
+// The names a registry holds (any of the 14 kinds of cmd_list.cpp's kKinds: policies, engine-policies, effects,
+// backends, cell-types, runners, launchers, cell-fields, pair-terms, element-terms, fate-rules, removal-rules,
+// growth-laws, division-rules), as `semlb list WHAT` prints them, and as "a, b, c" for --help texts;
+// std::logic_error for another WHAT.
 std::vector<std::string> registered(const std::string& what);
 std::string registered_list(const std::string& what);
 

@@ -1,4 +1,4 @@
-// The rebalancing interval written once (paper Sec. IV, DESIGN.md "controller contract"): one interval's
+// The rebalancing interval written once (paper Sec. IV; docs/design.md "The controller contract"): one interval's
 // measurement -> validated Observation -> policy -> checked partition -> migration, I_global, trace event.
 // The engine, the surrogate rollout and the trainer all go through a Balancer; its state is checkpointed.
 #pragma once

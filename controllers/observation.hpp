@@ -1,4 +1,4 @@
-// The controller contract: what a policy sees at one rebalancing event (DESIGN.md "controller contract").
+// The controller contract: what a policy sees at one rebalancing event (docs/design.md "The controller contract").
 #pragma once
 #include <string>
 #include <vector>

@@ -264,7 +264,7 @@ std::string machine(const Job& job, const Launch& l, const RunOptions& o) {
   return m;
 }
 
-// The paper's end-to-end row (results/end_to_end/load_balance.csv, issue 18): one launch of one policy and initial
+// The paper's end-to-end row (results/end_to_end/load_balance.csv): one launch of one policy and initial
 // partition. cells_start is the scene's tissue.cells (the generator makes exactly that many); loop_s the
 // time-stepping loop; compute_s the slowest rank's computation per interval, summed; gpus as the manifest
 // records it; machine as machine() above. With `segments: N` (launch() above) the row sums the segments (the

@@ -2,7 +2,7 @@
 # Final states of the shipped scenes from two semlb binaries, compared bit for bit by h5diff (/elements and /cells):
 # scenes/epidermis.yaml and scenes/mechanics.yaml on the four backends, scenes/epidermis_development.yaml on the three
 # binned/OpenCL ones, double and float, STEPS steps (cell stages included). A refactor that must not change results
-# (issue 26) passes with "different 0". Usage: scripts/compare_states.sh OLD_SEMLB NEW_SEMLB [STEPS] [PLATFORM]
+# (a plug-in moved out of the core, a loop rewritten) passes with "different 0". Usage: scripts/compare_states.sh OLD_SEMLB NEW_SEMLB [STEPS] [PLATFORM]
 # (defaults 100, Portable: PoCL); work files in $TMPDIR/compare_states.
 set -u
 OLD=$1; NEW=$2; STEPS=${3:-100}; PLATFORM=${4:-Portable}

@@ -1,4 +1,4 @@
-"""Report section: the controller evaluation on the engine's own workloads (issue 25; replays through the time model)."""
+"""Report section: the controller evaluation on the engine's own workloads (replays through the time model)."""
 import os
 import sys
 

@@ -85,8 +85,8 @@ std::vector<DeviceInfo> list_devices();
 DeviceInfo choose_device(const std::string& platform, int index, int local_rank = 0);
 
 // One launch of a named kernel written to a folder, so that tools which cannot profile OpenCL (Nsight
-// Compute) can replay it through the CUDA driver (scripts/gpu/ncu_replay.cpp; docs/engine.md "Profiling the
-// force kernel"). Switched on by `SEMLB_OPENCL_CAPTURE=KERNEL[@N]:DIR`; the N-th launch of KERNEL (default 1;
+// Compute) can replay it through the CUDA driver (scripts/gpu/ncu_replay.cpp; docs/performance.md "Profiling
+// the force kernel"). Switched on by `SEMLB_OPENCL_CAPTURE=KERNEL[@N]:DIR`; the N-th launch of KERNEL (default 1;
 // a later one shows the steady state: the neighbour list's first launch runs before kmax has grown) writes
 //   DIR/program.bin   the program binary (PTX text on NVIDIA's platform),
 //   DIR/launch.txt    "kernel NAME", "global N", "group N", then per argument "arg I buffer BYTES", "arg I value

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Kernel times of two source trees in one call on one NVIDIA GPU (issue 26's "within 3% of their time before"):
+# Kernel times of two source trees in one call on one NVIDIA GPU (does a refactor keep every kernel's time?):
 # builds `semlb` from each tree, then ROUNDS rounds (default 2) alternating old and new of `semlb bench engine`
 # (scenes/mechanics.yaml, ENGINE_RUNS precision:skin, default "float:0 float:0.5 double:0", SEMLB_OPENCL_PROFILE=1: device ms per kernel and step) and
 # `semlb bench cells` (scenes/epidermis.yaml, float: ms per cell update of the stage and the grid), each output in

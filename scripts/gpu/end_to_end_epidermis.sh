@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Issue 13's benchmark: scenes/epidermis.yaml (all effects) and scenes/mechanics.yaml at CELLS cells, STEPS steps,
+# The end-to-end benchmark (docs/performance.md "End to end on one node with 2 H200s"): scenes/epidermis.yaml (all effects) and scenes/mechanics.yaml at CELLS cells, STEPS steps,
 # float, opencl-binned on 1..G GPUs of one node (one rank per GPU), no snapshots or checkpoints; then one CSV row
 # per run (analysis/end_to_end_epidermis.py). Usage:
 #   bash scripts/gpu/end_to_end_epidermis.sh SEMLB OUT_DIR "MACHINE TEXT" [GPUS="1 2"] [CELLS=435661] [STEPS=1000]
 # PLATFORM (default NVIDIA) picks the OpenCL platform by name: PLATFORM=Portable runs the same on PoCL (CPU), one
 # "GPU" meaning one rank. SETS (default empty) adds settings to every run, e.g. SETS="--set decomposition.overlap=false"
-# times the blocking ghost exchange (docs/engine.md). Writes OUT_DIR/end_to_end_epidermis.csv and OUT_DIR/end_to_end_mechanics.csv (+ the run folders under OUT_DIR/runs).
+# times the blocking ghost exchange (docs/performance.md). Writes OUT_DIR/end_to_end_epidermis.csv and OUT_DIR/end_to_end_mechanics.csv (+ the run folders under OUT_DIR/runs).
 set -euo pipefail
 S=$1; OUT=$2; MACHINE=$3; GPUS=${4:-1 2}; CELLS=${5:-435661}; STEPS=${6:-1000}
 here=$(cd "$(dirname "$0")/../.." && pwd)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Engine traces on GPUs (issue 17): scenes/epidermis.yaml at CELLS cells, STEPS steps, float, opencl-binned, RANKS
+# Engine traces on GPUs (docs/controllers.md "Engine traces"): scenes/epidermis.yaml at CELLS cells, STEPS steps, float, opencl-binned, RANKS
 # ranks (one per GPU), an event every EVERY steps, one run per policy; keeps scene.yaml, run.csv, rank_times.csv and
 # trace.jsonl under OUT/runs/policy=P/ (the layout analysis/trace_model.py and the replay_score runner read). Usage:
 #   bash scripts/gpu/engine_traces.sh SEMLB OUT [RANKS=2] [CELLS=435661] [STEPS=1000] [EVERY=50] [POLICIES="static reactive gru gromacs_dlb"]

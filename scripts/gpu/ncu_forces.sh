@@ -4,7 +4,7 @@
 # (ncu_replay.cpp: checks the replay reproduces the OpenCL launch bit for bit, times it), and writes ncu's full
 # report, its details page and its per-SASS-instruction source page, for float and double.
 # Usage: scripts/gpu/ncu_forces.sh SEMLB OUT [CELLS] [PRECISIONS]   (an NVIDIA GPU, nvcc and ncu on the PATH)
-# KERNEL=nl_forces SKIN=0.5 profiles the neighbour list's force kernel instead (issue 27). LAUNCH=N captures the
+# KERNEL=nl_forces SKIN=0.5 profiles the neighbour list's force kernel instead. LAUNCH=N captures the
 # N-th launch (default 10: past the first steps, where the list's kmax is still growing and slots over it take the
 # stencil). The replay's median is printed beside OpenCL's own ms/step of the kernel in the same bench: a replay
 # that differs by more than 10% is not the launch the bench timed, and the script says so.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 27's measurements of opencl-binned's neighbour list on one NVIDIA GPU (docs/engine.md "Neighbour list"):
+# Measurements of opencl-binned's neighbour list on one NVIDIA GPU (docs/performance.md "Neighbour list"):
 # `semlb bench engine` per skin (0 = the stencil over fresh bins every step) in float and double, one profiled run
 # (SEMLB_OPENCL_PROFILE=1: device ms per kernel), and the paper-size development run (scenes/epidermis_development.yaml,
 # 435,661 cells, Day 0-5, 2,400 steps of 0.05 h, float) as a CSV row of results/gpu/development_1gpu.csv.

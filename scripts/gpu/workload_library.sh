@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The library of engine workloads (issue 25; results/gpu/workloads/README.md): each variant of the developing epidermis
+# The library of engine workloads (results/gpu/workloads/README.md): each variant of the developing epidermis
 # at the paper's size (435,661 cells, Day 0-5, 2,400 steps of 0.05 h, an event every 20 steps) and of the epidermis
 # scene, run on ONE device with output.workload (a decomposition of one rank: W_s does not depend on the partition, so
 # one run serves every rank count). Writes OUT/NAME.h5 (workload), OUT/NAME.run.csv and OUT/NAME.scene.yaml per variant.

@@ -35,7 +35,7 @@ struct TrainConfig {
   std::string validation_ranks = "2,4,8,16";
   long validation_events = 100;
   long checkpoint_every = 100;       // steps between checkpoints
-  // The GRU's input transforms (controllers/features.hpp): boundary-v1 (clamped, the shipped weights before issue 25)
+  // The GRU's input transforms (controllers/features.hpp): boundary-v1 (clamped; the synthetic-only gru_v1 weights)
   // or boundary-v2 (squashed: keeps its meaning at imbalances of 100% and more).
   std::string features = "boundary-v1";
   // Trace-driven episodes (docs/train.md "Engine workloads"): a fraction `trace_fraction` of the episodes replays a

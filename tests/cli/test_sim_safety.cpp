@@ -1,4 +1,4 @@
-// `semlb sim` on a full disk, on an output folder in use, and from a state at or past its end (issue 28).
+// `semlb sim` on a full disk, on an output folder in use, and from a state at or past its end.
 #include <gtest/gtest.h>
 #include <unistd.h>
 

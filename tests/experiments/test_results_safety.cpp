@@ -1,5 +1,5 @@
 // Sweeps never mix, lose or shell-expand results: rows keyed by their settings digest, one writer per results
-// folder, ranks started without a shell, manifest paths relative to the manifest (issue 28).
+// folder, ranks started without a shell, manifest paths relative to the manifest.
 #include <gtest/gtest.h>
 
 #include <chrono>

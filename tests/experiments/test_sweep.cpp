@@ -180,7 +180,7 @@ set:
   EXPECT_EQ(migration(rows[2]), "0");  // ... tau 100 never does: the row ran with its own group's value
 }
 
-// A job still running 2 s after it began is named on stderr with its axes (issue 29: a line within 2 s of the start
+// A job still running 2 s after it began is named on stderr with its axes (a line within 2 s of the start
 // of every job longer than 5 s); quick jobs print no such line.
 TEST(Sweep, LongJobsGetAHeartbeatLineNamingThem) {
   const auto dir = fresh_dir("sweep_heartbeat");

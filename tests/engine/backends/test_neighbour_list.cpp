@@ -185,7 +185,7 @@ TEST(NeighbourList, SkinIsANonNegativeLength) {
 
 // What a step launches with the list: its check from the second step on (the first builds unasked), the gated build
 // kernels every step (they return at once unless the check asked for a build), the list's force kernels; and with
-// skin 0 the stencil over fresh bins, as before the list.
+// skin 0 the stencil over fresh bins every step, without the list's kernels.
 TEST(NeighbourList, LaunchesTheGatedBuildEveryStepAndTheCheckAfterTheFirst) {
   if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
   using Launches = std::map<std::string, long>;
