@@ -73,7 +73,8 @@ Action add_replay(CLI::App& app) {
                                   {"migration", res.migration}, {"loop_s", res.loop_s}, {"compute_s", res.compute_s},
                                   {"migrate_s", res.migrate_s}, {"ideal_s", res.ideal_s},
                                   {"first_quarter_imbalance", res.first_quarter_imbalance},
-                                  {"last_quarter_imbalance", res.last_quarter_imbalance}};
+                                  {"last_quarter_imbalance", res.last_quarter_imbalance},
+                                  {"truth", res.measured ? "measured" : "work"}};
       std::cout << out.dump() << '\n';
       return 0;
     }

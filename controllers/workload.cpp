@@ -195,6 +195,7 @@ EngineWorkload read_workload(const std::string& path) {
   const auto below = matrix("band_below", S - 1), above = matrix("band_above", S - 1);
   std::vector<double> seconds;
   if (version == 2) {
+    if (H5Aexists(f.id(), "cost_regions") <= 0) fail(path, "cost_regions", "missing (a version 2 file holds measured seconds)");
     w.cost_regions = static_cast<int>(integer_attr("cost_regions", 1, w.slices));
     seconds = series("slice_seconds", false);
     if (dims.size() != 2 || dims[0] != E || dims[1] != S)

@@ -35,7 +35,8 @@ std::vector<double> coarse_edges(const std::vector<double>& v, int k, int n) {  
 }  // namespace
 
 const std::vector<std::string>& time_model_keys() {
-  static const std::vector<std::string> keys = {"ghost_weight", "speed_spread", "jitter", "migrate_s_per_slice", "seconds_per_work"};
+  static const std::vector<std::string> keys = {"ghost_weight",     "speed_spread",    "jitter", "migrate_s_per_slice",
+                                                "seconds_per_work", "rank_overhead_s", "truth"};
   return keys;
 }
 
@@ -46,6 +47,13 @@ void set_time_model(TimeModel& m, const std::string& key, const std::string& val
   else if (key == "jitter") m.jitter = parse_real(value, at, 0, 0.3);
   else if (key == "migrate_s_per_slice") m.migrate_s_per_slice = parse_real(value, at, 0, 1e6);
   else if (key == "seconds_per_work") m.seconds_per_work = parse_real(value, at, 0, 1e6);
+  else if (key == "rank_overhead_s") m.rank_overhead_s = parse_real(value, at, 0, 1e6);
+  else if (key == "truth") {
+    if (value == "auto") m.truth = TimeModel::Truth::kAuto;
+    else if (value == "work") m.truth = TimeModel::Truth::kWork;
+    else if (value == "measured") m.truth = TimeModel::Truth::kMeasured;
+    else throw InputError(at + "'" + value + "' is not one of auto, work, measured");
+  }
   else {
     std::string known;
     for (const auto& k : time_model_keys()) known += (known.empty() ? "" : ", ") + k;
@@ -65,6 +73,11 @@ ReplayTrack replay_track(const EngineWorkload& w, const WorkloadReplay& r, const
   if (static_cast<long>(r.ranks) * t.min_width > t.slices || r.ranks < 1)
     throw InputError(file + ": --ranks " + std::to_string(r.ranks) + ": " + std::to_string(r.ranks) + " ranks of at least " +
                      std::to_string(t.min_width) + " slices do not fit in " + std::to_string(t.slices) + " slices");
+  const bool has = has_measured_cost(w);
+  if (r.model.truth == TimeModel::Truth::kMeasured && !has)
+    throw InputError(file + ": field 'slice_seconds': --time-model truth=measured, but the file has no measured seconds "
+                            "(a version 1 workload: record it with decomposition.timing: device)");
+  t.measured = has && r.model.truth != TimeModel::Truth::kWork;
   double work = 0, seconds = 0;
   for (int e = r.first_event; e < last; ++e) {
     const WorkloadEvent& ev = w.events[e];
@@ -77,6 +90,12 @@ ReplayTrack replay_track(const EngineWorkload& w, const WorkloadReplay& r, const
     t.phase.push_back(ev.growth_phase);
     t.growth.push_back(ev.growth_event);
     if (ev.interval_s > 0) work += sum, seconds += ev.interval_s;
+    if (t.measured) {
+      t.seconds.push_back(coarse(ev.slice_seconds, r.coarsen, t.slices));
+      double total = 0;
+      for (double x : ev.slice_seconds) total += x;
+      t.seconds_per_element.push_back(ev.elements > 0 ? total / static_cast<double>(ev.elements) : 0.0);
+    }
   }
   t.seconds_per_work = r.model.seconds_per_work > 0 ? r.model.seconds_per_work : (work > 0 ? seconds / work : 1.0);
   return t;
@@ -90,13 +109,15 @@ std::vector<double> speed_factors(int ranks, uint64_t seed, double spread) {
 
 std::vector<double> model_times(const ReplayTrack& t, int event, const std::vector<int>& b, const std::vector<double>& speed,
                                 const TimeModel& m) {
-  auto times = rank_sums(t.work[event], b);
-  const double ghost = m.ghost_weight * t.per_element[event];
+  auto times = rank_sums(t.measured ? t.seconds[event] : t.work[event], b);
+  // seconds per unit of what `times` holds, and per received ghost element in those units
+  const double scale = t.measured ? 1.0 : t.seconds_per_work;
+  const double ghost = m.ghost_weight * (t.measured ? t.seconds_per_element[event] : t.per_element[event]);
   for (size_t q = 0; q < times.size(); ++q) {
     double g = 0;
     if (q > 0) g += t.below[event][b[q - 1] - 1];            // the rank below sends its elements below edge b_{q-1}
     if (q + 1 < times.size()) g += t.above[event][b[q] - 1];  // the rank above sends those above edge b_q
-    times[q] = speed[q] * t.seconds_per_work * (times[q] + ghost * g);
+    times[q] = speed[q] * (scale * (times[q] + ghost * g) + m.rank_overhead_s);
   }
   return times;
 }
@@ -106,7 +127,8 @@ WorkloadReplayResult replay_workload(const EngineWorkload& w, const WorkloadRepl
   const ReplayTrack t = replay_track(w, r, file);
   const int K = static_cast<int>(t.work.size());
   const auto speed = speed_factors(r.ranks, r.seed, r.model.speed_spread);
-  auto seconds_of = [&](int e) {  // per-slice modelled seconds without ghosts or speed factors (oracle_work, foresight)
+  auto seconds_of = [&](int e) {  // per-slice seconds without ghosts or speed factors (oracle_work, foresight)
+    if (t.measured) return t.seconds[e];
     auto v = t.work[e];
     for (double& x : v) x *= t.seconds_per_work;
     return v;
@@ -115,6 +137,7 @@ WorkloadReplayResult replay_workload(const EngineWorkload& w, const WorkloadRepl
   WorkloadReplayResult res;
   res.events = K;
   res.slices = t.slices;
+  res.measured = t.measured;
   double max_over_mean_sum = 0, decide_s = 0;
   auto account = [&](const std::vector<double>& times, long moved) {
     res.imbalance.push_back(global_imbalance(times));

@@ -22,7 +22,18 @@ namespace semlb::surrogate {
 // Defaults: docs/controllers.md "Time model" (fit_time_model.py on results/gpu/engine_traces: the ghost weight is not
 // identified by those runs and is set from the force loop's cost; jitter from the static run's residual; migration from
 // the slope of migrate_s against slices moved at 435,661 cells).
+//
+// A workload with measured seconds (version 2, WorkloadEvent::slice_seconds; docs/measured_time.md) replaces the work
+// by what the device took: with S_r the measured seconds of rank r's slices and sigma = sum of slice_seconds /
+// elements (seconds per element of the event),
+//   T_r = s_r * (S_r + ghost_weight * sigma * G_r + rank_overhead_s),
+// while the policy still sees W_s (as on a machine). `truth` chooses: auto (measured when the file has it), work, or
+// measured (an InputError for a file without it). rank_overhead_s (seconds per interval and rank: the fixed cost of
+// a rank's launches) is added under either truth.
 struct TimeModel {
+  enum class Truth { kAuto, kWork, kMeasured };
+  Truth truth = Truth::kAuto;
+  double rank_overhead_s = 0;       // seconds per interval and rank
   double ghost_weight = 0.5;        // a received ghost element's cost relative to an owned element's
   double speed_spread = 0.01;       // sigma of the per-rank speed factors
   double jitter = 0.03;             // sigma of the measurement noise (relative)
@@ -31,7 +42,8 @@ struct TimeModel {
 };
 
 // The TimeModel keys ("ghost_weight", ...), and one "KEY=VALUE" set into `m` (strict numbers, each in its range:
-// ghost_weight [0, 100], speed_spread and jitter [0, 0.3], migrate_s_per_slice and seconds_per_work [0, 1e6]).
+// ghost_weight [0, 100], speed_spread and jitter [0, 0.3], migrate_s_per_slice, seconds_per_work and rank_overhead_s
+// [0, 1e6]; truth one of auto, work, measured).
 // InputError prefixed by `where` naming the key.
 const std::vector<std::string>& time_model_keys();
 void set_time_model(TimeModel& m, const std::string& key, const std::string& value, const std::string& where);
@@ -53,6 +65,7 @@ struct WorkloadReplayResult : RolloutResult {
   double compute_s = 0;   // sum of max_r T_r
   double migrate_s = 0;   // migration seconds
   double ideal_s = 0;     // sum of mean_r T_r: a perfectly balanced loop
+  bool measured = false;  // the truth was the workload's measured seconds (else W_s through the time model)
 };
 
 // The workload seen at `r.ranks` ranks after the window and coarsening: per event the slice work, and the per-edge
@@ -62,6 +75,9 @@ struct ReplayTrack {
   int slices = 0, min_width = 1;
   std::vector<std::vector<double>> work, below, above;  // [events][slices], [events][slices - 1]
   std::vector<double> per_element;                      // rho per event (W_s per element)
+  bool measured = false;                                // the truth is the file's measured seconds
+  std::vector<std::vector<double>> seconds;             // [events][slices] measured seconds (when measured)
+  std::vector<double> seconds_per_element;              // sigma per event (when measured)
   std::vector<double> phase;
   std::vector<bool> growth;
   double seconds_per_work = 0;

@@ -1,6 +1,7 @@
 // Workload files: the round trip, every refusal naming the file and field, and the edge ghost-band counts.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "common/errors.hpp"
@@ -80,6 +81,67 @@ TEST(Workload, RoundTripKeepsEveryField) {
   }
 }
 
+// small() with measured seconds (version 2): event 0's sum 0.5 s, event 1's 0.75 s.
+EngineWorkload measured() {
+  EngineWorkload w = small();
+  w.cost_regions = 2;
+  w.events[0].slice_seconds = {0.125, 0, 0.375};
+  w.events[1].slice_seconds = {0.25, 0.125, 0.375};
+  return w;
+}
+
+TEST(Workload, MeasuredSecondsRoundTripAsVersionTwo) {
+  const auto path = tmp_path("measured.h5");
+  write_workload(path, measured());
+  EXPECT_EQ(h5::File::open_read(path).read_int_attr("version"), 2);
+  const auto w = read_workload(path);
+  EXPECT_TRUE(has_measured_cost(w));
+  EXPECT_EQ(w.cost_regions, 2);
+  for (size_t t = 0; t < 2; ++t) EXPECT_EQ(w.events[t].slice_seconds, measured().events[t].slice_seconds);
+  write_workload(path, small());  // without measured seconds: version 1, as before
+  EXPECT_EQ(h5::File::open_read(path).read_int_attr("version"), 1);
+  EXPECT_FALSE(has_measured_cost(read_workload(path)));
+}
+
+TEST(Workload, MeasuredSecondsAreReadStrictly) {
+  struct Case {
+    std::function<void(EngineWorkload&)> spoil;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {[](EngineWorkload& w) { w.events[0].slice_seconds[2] = -1e-9; }, "field 'slice_seconds': event 0: -1e-09 is not a finite non-negative number"},
+      {[](EngineWorkload& w) { w.events[1].slice_seconds[0] = std::nan(""); }, "field 'slice_seconds': event 1: nan"},
+      {[](EngineWorkload& w) { w.events[1].slice_seconds[0] = INFINITY; }, "field 'slice_seconds': event 1: inf"},
+      {[](EngineWorkload& w) { w.events[1].slice_seconds.pop_back(); }, "field 'slice_seconds': event 1 has 2 entries, expected 3"},
+      {[](EngineWorkload& w) { w.events[1].slice_seconds.clear(); }, "field 'slice_seconds': present at some events and not at others"},
+      {[](EngineWorkload& w) { w.cost_regions = 0; }, "field 'cost_regions': must be >= 1 when the events carry slice_seconds"},
+      {[](EngineWorkload& w) { w.cost_regions = 4; }, "field 'cost_regions': must be in [0, slices], got 4"},
+  };
+  for (const auto& c : cases) {
+    auto w = measured();
+    c.spoil(w);
+    const auto path = tmp_path("bad_measured.h5");
+    std::filesystem::remove(path);
+    EXPECT_NE(error_of([&] { write_workload(path, w); }).find(c.message), std::string::npos) << c.message;
+    EXPECT_FALSE(std::filesystem::exists(path)) << "nothing written for " << c.message;
+  }
+  // A version 2 file whose dataset is missing or of another shape
+  const auto path = tmp_path("edit_measured.h5");
+  write_workload(path, measured());
+  {
+    auto f = h5::File::open_write(path);
+    H5Ldelete(f.id(), "events/slice_seconds", H5P_DEFAULT);
+  }
+  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'slice_seconds': missing (dataset /events/slice_seconds)"), std::string::npos);
+  write_workload(path, measured());
+  {
+    auto f = h5::File::open_write(path);
+    H5Ldelete(f.id(), "events/slice_seconds", H5P_DEFAULT);
+    f.write("events/slice_seconds", {2, 2}, std::vector<double>(4, 0.1));
+  }
+  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'slice_seconds': must be events x 3 (2 x 3)"), std::string::npos);
+}
+
 TEST(Workload, InvalidContentIsRefusedNamingTheField) {
   struct Case {
     std::function<void(EngineWorkload&)> spoil;
@@ -117,7 +179,13 @@ TEST(Workload, FilesOfAnotherFormatVersionOrShapeAreRefused) {
     H5Adelete(f.id(), "version");
     f.write_attr("version", 2L);
   });
-  EXPECT_NE(error_of([&] { read_workload(path); }).find(path + ": field 'version': 2 (this semlb reads version 1)"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_workload(path); }).find(path + ": field 'cost_regions'"), std::string::npos)
+      << "version 2 without its measured seconds";
+  rewrite([](h5::File& f) {
+    H5Adelete(f.id(), "version");
+    f.write_attr("version", 3L);
+  });
+  EXPECT_NE(error_of([&] { read_workload(path); }).find(path + ": field 'version': 3 (this semlb reads versions 1 and 2)"), std::string::npos);
   rewrite([](h5::File& f) {
     H5Adelete(f.id(), "format");
     f.write_attr("format", std::string("semlb-state"));

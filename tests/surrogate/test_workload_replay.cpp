@@ -40,6 +40,74 @@ TEST(WorkloadReplay, TimeModelMatchesAHandComputedCase) {
   EXPECT_DOUBLE_EQ(p.loop_s, 11.25);
 }
 
+// The hand workload with measured seconds that disagree with W_s: event 0's W_s is even (4, 4, 4, 4) but the device
+// took 1, 1, 3, 3 s; event 1's W_s is heavy on the left (8, 4, 2, 2) and so were the seconds (2, 2, 1, 1).
+EngineWorkload hand_measured() {
+  EngineWorkload w = hand();
+  w.cost_regions = 2;
+  w.events[0].slice_seconds = {1, 1, 3, 3};
+  w.events[1].slice_seconds = {2, 2, 1, 1};
+  return w;
+}
+
+TEST(WorkloadReplay, MeasuredSecondsAreTheTruthWhenTheFileHasThem) {
+  // P=2 from the W_s-optimal partition [2] (what policies see is still W_s): T_r = S_r + 0.5 sigma G_r + 0.25 with
+  // sigma = sum of the seconds / 8 elements and one ghost element each way.
+  // Event 0: sigma = 1: 2 + 0.5 + 0.25, 6 + 0.5 + 0.25 = 2.75, 6.75; event 1: sigma = 0.75: 4.625, 2.625.
+  auto model = exact(2);
+  model.model.rank_overhead_s = 0.25;
+  auto policy = make_policy("static");
+  const auto r = replay_workload(hand_measured(), model, *policy, "static", "hand.h5");
+  EXPECT_TRUE(r.measured);
+  EXPECT_DOUBLE_EQ(r.imbalance[0], 4.0 / 4.75);
+  EXPECT_DOUBLE_EQ(r.imbalance[1], 2.0 / 3.625);
+  EXPECT_DOUBLE_EQ(r.compute_s, 6.75 + 4.625);
+  EXPECT_DOUBLE_EQ(r.ideal_s, 4.75 + 3.625);
+  // truth=work scores the same file on W_s through c_w (the hand-computed case above, plus the overhead)
+  model.model.truth = TimeModel::Truth::kWork;
+  const auto w = replay_workload(hand_measured(), model, *policy, "static", "hand.h5");
+  EXPECT_FALSE(w.measured);
+  EXPECT_DOUBLE_EQ(w.compute_s, 4.75 + 6.75);
+  EXPECT_DOUBLE_EQ(w.imbalance[0], 0.0);
+  // a file without measured seconds under truth=measured is refused naming the field
+  model.model.truth = TimeModel::Truth::kMeasured;
+  try {
+    replay_workload(hand(), model, *policy, "static", "hand.h5");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("hand.h5: field 'slice_seconds': --time-model truth=measured"), std::string::npos) << e.what();
+  }
+}
+
+TEST(WorkloadReplay, TheOracleSeesTheNextMeasuredSeconds) {
+  // oracle_work is the next event's measured seconds: at event 0 it sees 2, 2, 1, 1 and moves the boundary to 1
+  // (2 | 4 -> max 4 at [2] or [1]: the partition of the least maximum, found by chains; either gives T_max 4 + ghosts).
+  auto policy = make_policy("oracle");
+  const auto m = replay_workload(hand_measured(), exact(2), *policy, "oracle", "hand.h5");
+  auto work = exact(2);
+  work.model.truth = TimeModel::Truth::kWork;
+  const auto w = replay_workload(hand_measured(), work, *policy, "oracle", "hand.h5");
+  // under W_s the oracle sees 8, 4, 2, 2 next and moves to [1]; under measured seconds 2, 2, 1, 1 is as good at [2]
+  EXPECT_EQ(w.migration, 1);
+  EXPECT_LE(m.compute_s, 6.5 + 4.375 + 1e-12);  // static's 6.5 (event 0) + 4.375 (event 1) without the overhead
+}
+
+TEST(WorkloadReplay, TruthAndOverheadKeysAreChecked) {
+  TimeModel m;
+  set_time_model(m, "truth", "measured", "--time-model ");
+  EXPECT_EQ(m.truth, TimeModel::Truth::kMeasured);
+  set_time_model(m, "rank_overhead_s", "0.002", "--time-model ");
+  EXPECT_DOUBLE_EQ(m.rank_overhead_s, 0.002);
+  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{{"truth", "wall"}, {"rank_overhead_s", "-1"}, {"rank_overhead_s", "1x"}}) {
+    try {
+      set_time_model(m, k, v, "--time-model ");
+      ADD_FAILURE() << k << "=" << v;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--time-model " + k), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(WorkloadReplay, AnotherRankCountAndCoarseningFollowTheModel) {
   // P=4, one slice each: ghosts 1, 2, 2, 1. Event 0: T = 0.5 (4 + G) = 2.5, 3, 3, 2.5 (I = 0.5 / 2.75);
   // event 1: 0.5 (8 + 1), 0.5 (4 + 2), 0.5 (2 + 2), 0.5 (2 + 1) = 4.5, 3, 2, 1.5 (I = 3 / 2.75).

@@ -2,6 +2,8 @@
 // checkpoint on 2 ranks continued on 4, engine traces that `semlb replay` reproduces, and failures.
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <nlohmann/json.hpp>
 
 #include "../../run_command.hpp"
@@ -11,6 +13,7 @@
 #include "engine/decomposition/distributed.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/io/io.hpp"
+#include "engine/run/driver.hpp"
 #include "controllers/workload.hpp"
 #include "engine/backends/opencl.hpp"
 
@@ -134,6 +137,108 @@ TEST(Decomposition, OpenClRanksMatchOneOpenClDevice) {
   }
 }
 
+// The columns of DIR/rank_times.csv by name, one map per row.
+std::vector<std::map<std::string, std::string>> rank_time_rows(const std::string& dir) {
+  const auto lines = split(read_file(dir + "/" + rank_times::kFile), '\n');
+  const auto header = split(lines.at(0), ',');
+  std::vector<std::map<std::string, std::string>> rows;
+  for (size_t i = 1; i < lines.size(); ++i) {
+    if (lines[i].empty()) continue;
+    const auto f = split(lines[i], ',');
+    std::map<std::string, std::string> row;
+    for (size_t c = 0; c < header.size() && c < f.size(); ++c) row[header[c]] = f[c];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// decomposition.timing: device and device_sharing: turns on the OpenCL device the tests have (PoCL): 2 and 4 ranks
+// taking turns give the one-device state bit for bit, every rank's device time is positive and is what the policy
+// saw (compute_s, the trace's times), and the recorded workload carries measured seconds summing to the device time.
+TEST(Decomposition, DeviceTimersAndTurnsKeepTheStateAndFeedTheDecisions) {
+  if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL platform";
+  const auto dir = fresh_dir("decomposition_device_timing");
+  const std::string args = kArgs + " --steps 100 --set backend.name=opencl-binned --set decomposition.rebalance_every=20";
+  auto r = run(semlb_bin() + " sim" + args + " --out " + dir + "/single");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const uint64_t reference = read_state(dir + "/single/final.h5").hash();
+  const std::string timed = " --set decomposition.timing=device --set decomposition.device_sharing=turns --set output.workload=true";
+  for (int ranks : {2, 4}) {
+    for (const std::string skin : {"0", "0.5"}) {  // the stencil and the neighbour list (timed over regions alike)
+      const std::string out = dir + "/np" + std::to_string(ranks) + "_skin" + skin;
+      r = run(mpirun_sim(ranks) + args + timed + " --set backend.skin=" + skin + " --out " + out);
+      ASSERT_EQ(r.rc, 0) << r.out;
+      EXPECT_EQ(read_state(out + "/final.h5").hash(), reference) << out;
+      const auto rows = rank_time_rows(out);
+      ASSERT_EQ(rows.size(), 5u * ranks) << out;
+      std::map<long, std::vector<double>> device;  // per event, by rank
+      for (const auto& row : rows) {
+        const double d = parse_real(row.at("device_s"), "device_s");
+        EXPECT_GT(d, 0) << out << " step " << row.at("step") << " rank " << row.at("rank");
+        EXPECT_EQ(row.at("compute_s"), row.at("device_s")) << "the policy sees the device times";
+        EXPECT_GT(parse_real(row.at("exchange_bytes"), "exchange_bytes"), 0) << "every rank sends a band";
+        device[parse_integer(row.at("step"), "step")].push_back(d);
+      }
+      const auto trace = split(read_file(out + "/trace.jsonl"), '\n');
+      ASSERT_GE(trace.size(), 5u);
+      for (size_t e = 0; e < 5; ++e) {
+        const auto times = nlohmann::json::parse(trace[e]).at("times").get<std::vector<double>>();
+        EXPECT_EQ(times, device.at(20 * static_cast<long>(e + 1))) << out << " event " << e;
+      }
+      const auto w = read_workload(out + "/workload.h5");
+      ASSERT_TRUE(has_measured_cost(w)) << out;
+      EXPECT_EQ(w.cost_regions, std::min(32, w.slices));
+      for (size_t e = 0; e < w.events.size(); ++e) {
+        double sum = 0;
+        for (double x : w.events[e].slice_seconds) sum += x;
+        EXPECT_NEAR(sum, w.events[e].interval_s, 1e-9 * w.events[e].interval_s) << out << " event " << e;
+        double ranks_sum = 0;
+        for (double d : device.at(w.events[e].step)) ranks_sum += d;
+        EXPECT_NEAR(w.events[e].interval_s, ranks_sum, 1e-9 * ranks_sum) << "interval_s: the ranks' device seconds";
+      }
+    }
+  }
+}
+
+// A rank whose slabs hold no element launches no force work: its device time is near zero (a domain twice as wide
+// as the tissue, split uniformly and never rebalanced).
+TEST(Decomposition, ARankWithoutElementsHasNearZeroDeviceTime) {
+  if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL platform";
+  const auto dir = fresh_dir("decomposition_device_timing_empty");
+  const auto r = run(mpirun_sim(2) + " --scene " + source("scenes/epidermis.yaml") +
+                     " --quiet --set tissue.cells=60 --steps 40 --set backend.name=opencl-binned"
+                     " --set domain.lo=[-20,-20,-20] --set domain.hi=[400,60,60] --set decomposition.initial=uniform"
+                     " --set decomposition.policy=static --set decomposition.rebalance_every=20"
+                     " --set decomposition.timing=device --set decomposition.device_sharing=turns --out " + dir + "/out");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  for (const auto& row : rank_time_rows(dir + "/out")) {
+    if (row.at("rank") != "0") continue;
+    const double busy = parse_real(row.at("device_s"), "device_s");
+    EXPECT_GT(busy, 0);
+    for (const auto& other : rank_time_rows(dir + "/out"))
+      if (other.at("rank") == "1" && other.at("step") == row.at("step"))
+        EXPECT_LT(parse_real(other.at("device_s"), "device_s"), 0.2 * busy) << "step " << row.at("step");
+  }
+}
+
+TEST(Decomposition, DeviceTimersAndTurnsAreRefusedWhereTheyCannotWork) {
+  const auto dir = fresh_dir("decomposition_device_timing_refused");
+  for (const auto& [set, message] : std::vector<std::pair<std::string, std::string>>{
+           {"decomposition.timing=device", "decomposition.timing: device timers need an OpenCL backend"},
+           {"decomposition.device_sharing=turns", "decomposition.device_sharing: turns share an OpenCL device"},
+           {"decomposition.timing=clock", "must be measured, modelled or device"},
+           {"decomposition.device_sharing=always", "must be none or turns"}}) {
+    const auto r = run(semlb_bin() + " sim" + kArgs + " --steps 1 --set " + set + " --out " + dir + "/out");
+    EXPECT_EQ(r.rc, 2) << set << ": " << r.out;
+    EXPECT_NE(r.out.find(message), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/out")) << set;
+  }
+  const auto r = run(semlb_bin() + " sim" + kArgs + " --steps 1 --set backend.name=opencl-binned --set decomposition.device_sharing=turns"
+                     " --set decomposition.overlap=true --out " + dir + "/out");
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_NE(r.out.find("decomposition.overlap: true cannot be combined with device_sharing: turns"), std::string::npos) << r.out;
+}
+
 TEST(Decomposition, OverlapIsTrueOrFalse) {
   const auto dir = fresh_dir("decomposition_overlap_flag");
   const auto r = run(semlb_bin() + " sim" + kArgs + " --steps 1 --set decomposition.overlap=yes --out " + dir + "/out");
@@ -192,7 +297,7 @@ TEST(Decomposition, ARestartContinuesTheBalancerLineForLine) {
       std::vector<std::string> out;
       for (const auto& line : split(read_file(file), '\n')) {
         auto f = split(line, ',');
-        if (f.size() == 7) out.push_back(f[0] + "," + f[1] + "," + f[2] + "," + f[5] + "," + f[6]);
+        if (f.size() == rank_times::kColumns.size()) out.push_back(f[0] + "," + f[1] + "," + f[2] + "," + f[5] + "," + f[6]);
       }
       return out;
     };
