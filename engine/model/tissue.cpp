@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "backends/cpu_physics.hpp"
+#include "common/text_io.hpp"
 #include "io/io.hpp"
 
 namespace semlb::engine {
@@ -97,6 +98,22 @@ State make_tissue(Scene& scene) {
     s = epidermal_sheet(t, scene.seed);
   } else {
     t.fail("generator", "unknown generator '" + generator + "' (known: epidermal_sheet; or give tissue.file)");
+  }
+  // tissue.x_range: [lo, hi] keeps the cells whose centroid x lies in [lo, hi) um: one slab of the tissue (e.g. to time
+  // a rank's slab alone on the device, docs/measured_time.md)
+  if (t.has("x_range")) {
+    const auto range = t.texts("x_range", {});
+    if (range.size() != 2) t.fail("x_range", "must be [lo, hi] in um");
+    const double lo = parse_real(range[0], t.where("x_range")), hi = parse_real(range[1], t.where("x_range"));
+    if (!(lo < hi)) t.fail("x_range", "lo must be below hi");
+    State kept = empty_like(s);
+    for (long c = 0; c < s.cells(); ++c)
+      if (const double x = centroid(s, c)[0]; x >= lo && x < hi) copy_cell(s, c, kept);
+    if (kept.cells() == 0) t.fail("x_range", "no cell's centroid lies in it");
+    kept.reindex();
+    kept.step = s.step;
+    kept.time = s.time;
+    s = std::move(kept);
   }
   t.finish();
   if (scene.auto_box) fit_box(scene, s);

@@ -9,6 +9,7 @@
 #include "engine/backends/cpu_physics.hpp"
 #include "engine/model/scene.hpp"
 #include "engine/model/state.hpp"
+#include "engine/model/tissue.hpp"
 
 namespace semlb::engine {
 namespace {
@@ -76,6 +77,35 @@ TEST(Model, SceneSettingsSetTheirKeysWithTypedValues) {
   EXPECT_EQ(scene_override("dt", "1e-3", ""), "time.dt=1e-3");
   EXPECT_EQ(scene_override("backend", "any text", ""), "backend.name=any text");
   EXPECT_THROW(scene_override("colour", "red", ""), std::logic_error);
+}
+
+// tissue.x_range keeps the cells whose centroid x lies in [lo, hi): together the two halves are the whole tissue.
+TEST(Model, TissueXRangeKeepsOneSlabOfCells) {
+  const std::string scene = std::string(SEMLB_SOURCE_DIR) + "/scenes/epidermis.yaml";
+  Scene whole_scene = load_scene(scene, {"tissue.cells=60"});
+  const State whole = make_tissue(whole_scene);
+  long kept = 0;
+  for (const auto& [lo, hi] : {std::pair{"-1e9", "25"}, std::pair{"25", "1e9"}}) {
+    Scene half = load_scene(scene, {"tissue.cells=60", std::string("tissue.x_range=[") + lo + ", " + hi + "]"});
+    const State s = make_tissue(half);
+    ASSERT_GT(s.cells(), 0);
+    for (long c = 0; c < s.cells(); ++c) {
+      const double x = centroid(s, c)[0];
+      EXPECT_GE(x, parse_real(lo, "lo"));
+      EXPECT_LT(x, parse_real(hi, "hi"));
+    }
+    kept += s.cells();
+  }
+  EXPECT_EQ(kept, whole.cells());
+  for (const std::string bad : {"[25, 0]", "[1]", "[1e9, 2e9]", "[a, 2]"}) {
+    Scene s = load_scene(scene, {"tissue.cells=60", "tissue.x_range=" + bad});
+    try {
+      make_tissue(s);
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("tissue.x_range"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
