@@ -1,0 +1,306 @@
+#!/usr/bin/env python3
+"""Measured GPU time (docs/measured_time.md): the tables of scripts/gpu/measured_time.sh's runs.
+
+Usage: measured_time.py RUNS OUT [--semlb SEMLB] [--scene NAME] [--nvlink-gbs 450] [--seeds 0-2]
+
+RUNS is the script's OUT folder (tissue/, cost/, turns/, record/, e2e/); OUT receives:
+- timer_cost.csv: the loop's wall seconds with decomposition.timing measured and device, per round;
+- turns_validation.csv: per interval, the sum of the P ranks' device seconds against one rank's (the difference is
+  the ghost work and the per-rank launches), and each slab of the 2-rank run against the same slab alone;
+- time_model_validation.csv: per end-to-end run, the mean absolute relative error of the per-rank interval times that
+  the time model predicts from the recorded workload (record/workload.h5: measured seconds per slice) under the
+  run's own boundaries, against its device timers; ghost_weight and rank_overhead_s are fitted (least squares) on
+  the runs marked fitted (launch 1 of static at every P) and the error of the others is out of sample;
+- policy_order.csv: per P, each policy's mean measured loop seconds and its replayed loop seconds (`semlb replay
+  --workload record/workload.h5` with the fitted model, seeds averaged), with both ranks;
+- end_to_end.csv: one row per launch (scene, policy, ranks, launch, mean_imbalance, migration, loop_s, compute_s,
+  exchange_s, migrate_s, migrate_measured_s, ideal_s): the device-timed imbalance, the slices moved, and the projected
+  loop time (sum over intervals of the slowest rank's device seconds, plus the ghost bands' and migrating cells' bytes
+  over the stated NVLink bandwidth);
+- end_to_end_summary.csv: per (policy, ranks) the mean over launches and the 95% Student-t interval, and static minus
+  the policy's loop time with its interval;
+- migration_cost.csv: the measured migration seconds (wall, the slowest rank) of each interval that moved slices,
+  and the fitted seconds per slice moved.
+Needs numpy, scipy and h5py (Debian's python3-numpy, python3-scipy, python3-h5py).
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+from scipy import stats
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def write_csv(path, header, rows):
+    """Rows (sequences in header order) to PATH, written to PATH.tmp then renamed."""
+    with open(path + ".tmp", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        for r in rows:
+            w.writerow([f"{v:.6g}" if isinstance(v, float) else v for v in r])
+    os.replace(path + ".tmp", path)
+
+
+def rank_times(run):
+    """{step: [row of rank 0, row of rank 1, ...]} of RUN/rank_times.csv, numbers as floats."""
+    out = {}
+    for r in read_csv(os.path.join(run, "rank_times.csv")):
+        out.setdefault(int(r["step"]), {})[int(r["rank"])] = {k: float(v) for k, v in r.items()}
+    return {s: [v[q] for q in sorted(v)] for s, v in sorted(out.items())}
+
+
+def trace_boundaries(run, every):
+    """{step: boundaries in force during the interval ending there} of RUN/trace.jsonl (event e ends at (e+1) EVERY)."""
+    out = {}
+    with open(os.path.join(run, "trace.jsonl")) as f:
+        for line in f:
+            if line.strip():
+                e = json.loads(line)
+                out[(e["event"] + 1) * every] = e["boundaries"]
+    return out
+
+
+def loop_seconds(run, nvlink_gbs):
+    """The projected loop of one run: per interval the slowest rank's device seconds, the ghost bytes and migration
+    bytes of the busiest sender over NVLink, and the measured migration wall seconds (the slowest rank)."""
+    rt = rank_times(run)
+    bw = nvlink_gbs * 1e9
+    compute = exchange = migrate = measured = ideal = 0.0
+    imbalance, moved = [], 0
+    for step, rows in rt.items():
+        d = np.array([r["device_s"] for r in rows])
+        compute += d.max()
+        ideal += d.mean()
+        imbalance.append((d.max() - d.min()) / d.mean() if d.mean() > 0 else 0.0)
+        exchange += max(r["exchange_bytes"] for r in rows) / bw
+        migrate += max(r["migrate_bytes"] for r in rows) / bw
+        measured += max(r["migrate_s"] for r in rows)
+        moved += int(rows[0]["moved_slices"])
+    return {"mean_imbalance": float(np.mean(imbalance)), "migration": moved, "compute_s": compute, "exchange_s": exchange,
+            "migrate_s": migrate, "migrate_measured_s": measured, "ideal_s": ideal,
+            "loop_s": compute + exchange + migrate}
+
+
+class Workload:
+    """The measured workload's per-event arrays (controllers/workload.hpp), by step."""
+
+    def __init__(self, path):
+        with h5py.File(path, "r") as f:
+            if "events/slice_seconds" not in f:
+                sys.exit(f"measured_time.py: {path}: field 'slice_seconds': missing (record with decomposition.timing: device)")
+            e = f["events"]
+            self.steps = [int(s) for s in e["step"][:]]
+            self.seconds = e["slice_seconds"][:]
+            self.below = e["band_below"][:].astype(float)
+            self.above = e["band_above"][:].astype(float)
+            self.elements = e["elements"][:].astype(float)
+        self.at = {s: i for i, s in enumerate(self.steps)}
+
+    def terms(self, step, boundaries):
+        """Per rank (S_r: measured seconds of its slices, sigma G_r: seconds per element x ghost elements received)."""
+        i = self.at[step]
+        cuts = [0] + list(boundaries) + [self.seconds.shape[1]]
+        sigma = self.seconds[i].sum() / self.elements[i] if self.elements[i] > 0 else 0.0
+        own, ghost = [], []
+        for q in range(len(cuts) - 1):
+            own.append(self.seconds[i][cuts[q]:cuts[q + 1]].sum())
+            g = 0.0
+            if q > 0:
+                g += self.below[i][cuts[q] - 1]
+            if q + 2 < len(cuts):
+                g += self.above[i][cuts[q + 1] - 1]
+            ghost.append(sigma * g)
+        return np.array(own), np.array(ghost)
+
+
+def model_rows(workload, run, every):
+    """(S_r, sigma G_r, measured device seconds) of every interval and rank of RUN whose step the workload has."""
+    rt, bounds = rank_times(run), trace_boundaries(run, every)
+    rows = []
+    for step, rs in rt.items():
+        if step not in workload.at or step not in bounds:
+            continue
+        own, ghost = workload.terms(step, bounds[step])
+        for q, r in enumerate(rs):
+            rows.append((own[q], ghost[q], r["device_s"]))
+    return np.array(rows)
+
+
+def fit_time_model(rows):
+    """Least squares of T - S_r = ghost_weight sigma G_r + rank_overhead_s (both >= 0)."""
+    a = np.column_stack([rows[:, 1], np.ones(len(rows))])
+    coef, *_ = np.linalg.lstsq(a, rows[:, 2] - rows[:, 0], rcond=None)
+    return max(0.0, float(coef[0])), max(0.0, float(coef[1]))
+
+
+def interval95(values):
+    """Mean and the half-width of its 95% Student-t interval (0 for one value)."""
+    v = np.asarray(values, dtype=float)
+    if len(v) < 2:
+        return float(v.mean()), 0.0
+    return float(v.mean()), float(stats.t.ppf(0.975, len(v) - 1) * v.std(ddof=1) / np.sqrt(len(v)))
+
+
+def e2e_runs(runs_dir):
+    """(policy, ranks, launch, folder) of every finished e2e run, named POLICY_npP_lL by measured_time.sh."""
+    out = []
+    d = os.path.join(runs_dir, "e2e")
+    for name in sorted(os.listdir(d)) if os.path.isdir(d) else []:
+        if not os.path.exists(os.path.join(d, name, "rank_times.csv")):
+            continue
+        policy, np_, launch = name.rsplit("_", 2)
+        out.append((policy, int(np_[2:]), int(launch[1:]), os.path.join(d, name)))
+    return out
+
+
+def rebalance_every(run):
+    """decomposition.rebalance_every of a run folder's scene.yaml (the value after the override)."""
+    with open(os.path.join(run, "scene.yaml")) as f:
+        text = f.read()
+    for token in text.replace(",", " ").split():
+        if token.startswith("decomposition.rebalance_every="):
+            return int(token.split("=")[1])
+    raise SystemExit(f"measured_time.py: {run}/scene.yaml: no decomposition.rebalance_every in its command line")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("runs")
+    ap.add_argument("out")
+    ap.add_argument("--semlb", default="build/cli/semlb")
+    ap.add_argument("--scene", default="epidermis_half")
+    ap.add_argument("--nvlink-gbs", type=float, default=450.0, help="GB/s per direction (H200 NVLink 4: 450)")
+    ap.add_argument("--seeds", default="0-2", help="replay seeds A-B for policy_order.csv")
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+
+    cost = []
+    for name in sorted(os.listdir(os.path.join(a.runs, "cost"))) if os.path.isdir(os.path.join(a.runs, "cost")) else []:
+        rows = read_csv(os.path.join(a.runs, "cost", name, "run.csv"))
+        timing, rnd = name.rsplit("_", 1)
+        cost.append((int(rnd), timing, sum(float(r["wall_s"]) for r in rows)))
+    if cost:
+        write_csv(os.path.join(a.out, "timer_cost.csv"), ["round", "timing", "loop_wall_s"], cost)
+
+    turns = os.path.join(a.runs, "turns")
+    if os.path.isdir(os.path.join(turns, "np1")):
+        rows = []
+        one = rank_times(os.path.join(turns, "np1"))
+        for np_ in (2, 4):
+            d = os.path.join(turns, f"np{np_}")
+            if not os.path.isdir(d):
+                continue
+            for step, rs in rank_times(d).items():
+                total, single = sum(r["device_s"] for r in rs), one[step][0]["device_s"]
+                rows.append(("sum_of_ranks", np_, step, -1, total, single, total / single - 1))
+        if os.path.isdir(os.path.join(turns, "alone0")):
+            two = rank_times(os.path.join(turns, "np2"))
+            first = min(two)
+            for q in (0, 1):
+                alone = rank_times(os.path.join(turns, f"alone{q}"))
+                t, ref = two[first][q]["device_s"], alone[first][0]["device_s"]
+                rows.append(("rank_vs_alone", 2, first, q, t, ref, t / ref - 1))
+        write_csv(os.path.join(a.out, "turns_validation.csv"),
+                  ["check", "ranks", "step", "rank", "device_s", "reference_s", "relative_difference"], rows)
+
+    runs = e2e_runs(a.runs)
+    record = os.path.join(a.runs, "record", "workload.h5")
+    if not runs:
+        return
+    every = rebalance_every(runs[0][3])
+    end = []
+    for policy, ranks, launch, d in runs:
+        m = loop_seconds(d, a.nvlink_gbs)
+        end.append((a.scene, policy, ranks, launch, m["mean_imbalance"], m["migration"], m["loop_s"], m["compute_s"],
+                    m["exchange_s"], m["migrate_s"], m["migrate_measured_s"], m["ideal_s"]))
+    header = ["scene", "policy", "ranks", "launch", "mean_imbalance", "migration", "loop_s", "compute_s", "exchange_s",
+              "migrate_s", "migrate_measured_s", "ideal_s"]
+    write_csv(os.path.join(a.out, "end_to_end.csv"), header, end)
+
+    summary = []
+    static = {(r[2], r[3]): r[6] for r in end if r[1] == "static"}
+    for policy in sorted({r[1] for r in end}):
+        for ranks in sorted({r[2] for r in end}):
+            rs = [r for r in end if r[1] == policy and r[2] == ranks]
+            if not rs:
+                continue
+            imb, imb_ci = interval95([r[4] for r in rs])
+            mig, mig_ci = interval95([r[5] for r in rs])
+            loop, loop_ci = interval95([r[6] for r in rs])
+            saved = [static[(r[2], r[3])] - r[6] for r in rs if (r[2], r[3]) in static]
+            sv, sv_ci = interval95(saved) if saved else (float("nan"), float("nan"))
+            summary.append((a.scene, policy, ranks, len(rs), imb, imb_ci, mig, mig_ci, loop, loop_ci, sv, sv_ci))
+    write_csv(os.path.join(a.out, "end_to_end_summary.csv"),
+              ["scene", "policy", "ranks", "launches", "mean_imbalance", "mean_imbalance_ci95", "migration",
+               "migration_ci95", "loop_s", "loop_s_ci95", "static_minus_loop_s", "static_minus_loop_s_ci95"], summary)
+
+    moved = []
+    for policy, ranks, launch, d in runs:
+        rt = rank_times(d)
+        steps = list(rt)
+        # migrate_s of an interval holds the migration at the end of the interval before it (measure() runs first)
+        for prev, step in zip(steps, steps[1:]):
+            slices = int(rt[prev][0]["moved_slices"])
+            if slices > 0:
+                moved.append((policy, ranks, launch, step, slices, max(r["migrate_s"] for r in rt[step]),
+                              max(r["migrate_bytes"] for r in rt[step])))
+    if moved:
+        x, y = np.array([m[4] for m in moved], float), np.array([m[5] for m in moved], float)
+        slope, intercept = np.polyfit(x, y, 1)
+        write_csv(os.path.join(a.out, "migration_cost.csv"),
+                  ["policy", "ranks", "launch", "step", "moved_slices", "migrate_s", "migrate_bytes"],
+                  moved + [("fit", "", "", "", "s_per_slice", float(slope), float(intercept))])
+
+    if not os.path.exists(record):
+        return
+    w = Workload(record)
+    fitted = {(p, r, l) for p, r, l, _ in runs if p == "static" and l == 1}
+    fit_rows = np.vstack([model_rows(w, d, every) for p, r, l, d in runs if (p, r, l) in fitted])
+    g, c = fit_time_model(fit_rows)
+    val = []
+    for policy, ranks, launch, d in runs:
+        rows = model_rows(w, d, every)
+        pred = rows[:, 0] + g * rows[:, 1] + c
+        err = np.abs(pred - rows[:, 2]) / rows[:, 2]
+        val.append((a.scene, policy, ranks, launch, int((policy, ranks, launch) in fitted), float(err.mean()),
+                    float(err.max()), g, c))
+    write_csv(os.path.join(a.out, "time_model_validation.csv"),
+              ["scene", "policy", "ranks", "launch", "fitted", "mean_abs_rel_error", "max_abs_rel_error",
+               "ghost_weight", "rank_overhead_s"], val)
+
+    lo, hi = (int(x) for x in a.seeds.split("-"))
+    per_slice = [m[6] / m[4] for m in moved] if moved else [0.0]
+    migrate_per_slice = float(np.mean(per_slice)) / (a.nvlink_gbs * 1e9)
+    order = []
+    for ranks in sorted({r[2] for r in end}):
+        measured = {p: np.mean([r[6] for r in end if r[1] == p and r[2] == ranks]) for p in sorted({r[1] for r in end})}
+        replayed = {}
+        for p in measured:
+            loops = []
+            for seed in range(lo, hi + 1):
+                out = subprocess.run([a.semlb, "replay", "--workload", record, "--ranks", str(ranks), "--policy", p,
+                                      "--seed", str(seed), "--time-model", f"ghost_weight={g!r}",
+                                      "--time-model", f"rank_overhead_s={c!r}",
+                                      "--time-model", f"migrate_s_per_slice={migrate_per_slice!r}"],
+                                     check=True, capture_output=True, text=True).stdout
+                loops.append(json.loads(out)["loop_s"])
+            replayed[p] = float(np.mean(loops))
+        rank_m = {p: i + 1 for i, p in enumerate(sorted(measured, key=measured.get))}
+        rank_r = {p: i + 1 for i, p in enumerate(sorted(replayed, key=replayed.get))}
+        for p in measured:
+            order.append((ranks, p, float(measured[p]), replayed[p], rank_m[p], rank_r[p]))
+    write_csv(os.path.join(a.out, "policy_order.csv"),
+              ["ranks", "policy", "measured_loop_s", "replayed_loop_s", "measured_rank", "replayed_rank"], order)
+
+
+if __name__ == "__main__":
+    main()
