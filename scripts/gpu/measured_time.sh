@@ -1,31 +1,32 @@
 #!/usr/bin/env bash
-# Measured GPU time on one device (docs/measured_time.md): P ranks taking turns on one GPU with device timers, the
-# paper's regime scene (the epidermis at CELLS cells, the left half proliferating). Each stage writes under OUT and is
+# Measured GPU time on one device (docs/measured_time.md): P ranks taking turns on one GPU with device timers, by
+# default the paper's regime scene (the epidermis at CELLS cells, the left half proliferating; SCENE names another). Each stage writes under OUT and is
 # skipped when its outputs are there already, so a stage list can be spread over several device calls.
 #   bash scripts/gpu/measured_time.sh SEMLB OUT STAGE...
 # Stages:
-#   tissue  the scene's first state, generated once (OUT/tissue/final.h5): every later run starts from it
+#   tissue  the scene's state at step START, made once (OUT/tissue/final.h5): every later run starts from it
 #   cost    what the device timers cost: one rank, decomposition.timing measured against device, ROUNDS rounds
 #   turns   turns validated: static on 1, 2 and 4 ranks taking turns (device timing), and each slab of the 2-rank run
 #           alone (tissue.x_range) on one rank
 #   record  the measured workload (output.workload with device timers) of the scene on one rank: OUT/record/workload.h5
 #   e2e     the end-to-end runs: LAUNCHES launches x RANKS x POLICIES, interleaved (launch-major, then P, then policy)
-# Environment: PLATFORM (NVIDIA; Portable runs the same on PoCL), CELLS (435661), STEPS (300), EVERY (10: steps per
+# Environment: SCENE (epidermis: scenes/SCENE.yaml), PLATFORM (NVIDIA; Portable runs the same on PoCL), CELLS (435661), STEPS (300), EVERY (10: steps per
 # rebalancing event), SKIN (0.5), RANKS ("2 4 8"), POLICIES ("static reactive gru persistence all_tensor"),
-# LAUNCHES (3), ROUNDS (2), GROWTH ("--set effects.growth.front.x0=2975 --set effects.growth.front.speed=0").
+# LAUNCHES (3), ROUNDS (2), START (0: the runs cover steps START .. START + STEPS), GROWTH ("--set effects.growth.front.x0=2975 --set effects.growth.front.speed=0").
 set -euo pipefail
 S=$(realpath "$1"); OUT=$2; shift 2
+SCENE=${SCENE:-epidermis}; START=${START:-0}
 here=$(cd "$(dirname "$0")/../.." && pwd)
 PLATFORM=${PLATFORM:-NVIDIA}; CELLS=${CELLS:-435661}; STEPS=${STEPS:-300}; EVERY=${EVERY:-10}; SKIN=${SKIN:-0.5}
 RANKS=${RANKS:-2 4 8}; POLICIES=${POLICIES:-static reactive gru persistence all_tensor}; LAUNCHES=${LAUNCHES:-3}
 ROUNDS=${ROUNDS:-2}
-GROWTH=${GROWTH:---set effects.growth.front.x0=2975 --set effects.growth.front.speed=0}
+GROWTH=${GROWTH---set effects.growth.front.x0=2975 --set effects.growth.front.speed=0}  # set and empty: none
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 icd=(); [ "$PLATFORM" = NVIDIA ] && icd=(-x OCL_ICD_FILENAMES=libnvidia-opencl.so.1)
 mkdir -p "$OUT"
 OUT=$(realpath "$OUT")
 read -ra growth <<< "$GROWTH"
-scene=(--scene "$here/scenes/epidermis.yaml" --backend opencl-binned --platform "$PLATFORM" --precision float --quiet
+scene=(--scene "$here/scenes/$SCENE.yaml" --backend opencl-binned --platform "$PLATFORM" --precision float --quiet
        --set backend.skin="$SKIN" --set decomposition.rebalance_every="$EVERY" --set output.snapshot_every=0
        --set output.checkpoint_every=0 --set output.log_every=100 "${growth[@]}")
 from_tissue=(--set "tissue={file: $OUT/tissue/final.h5}")
@@ -52,17 +53,17 @@ attr() {
 for stage in "$@"; do
   case $stage in
     tissue)
-      [ -f "$OUT/tissue/final.h5" ] || "$S" sim "${scene[@]}" --set tissue.cells="$CELLS" --steps 0 --out "$OUT/tissue" ;;
+      [ -f "$OUT/tissue/final.h5" ] || "$S" sim "${scene[@]}" --set tissue.cells="$CELLS" --steps "$START" --out "$OUT/tissue" ;;
     cost)
       for round in $(seq 1 "$ROUNDS"); do
         for timing in measured device; do
-          run "cost/${timing}_$round" 1 "${from_tissue[@]}" --steps "$STEPS" --set decomposition.timing=$timing
+          run "cost/${timing}_$round" 1 "${from_tissue[@]}" --steps "$((START + STEPS))" --set decomposition.timing=$timing
         done
       done ;;
     turns)
       for np in 1 2 4; do
         extra=(); [ "$np" = 2 ] && extra=(--set output.workload=true)  # its x0 and slice width place the slabs below
-        run "turns/np$np" "$np" "${from_tissue[@]}" --steps 100 --set decomposition.rebalance_every=20 \
+        run "turns/np$np" "$np" "${from_tissue[@]}" --steps "$((START + 100))" --set decomposition.rebalance_every=20 \
           --set decomposition.policy=static "${timed[@]}" "${extra[@]}"
       done
       # each slab of the 2-rank run alone: the cells of its first partition (the trace's first boundary)
@@ -70,17 +71,17 @@ for stage in "$@"; do
       x0=$(attr "$OUT/turns/np2/workload.h5" x0_um); width=$(attr "$OUT/turns/np2/workload.h5" slice_width_um)
       xb=$(/usr/bin/env python3 -c "print($x0 + $b * $width)")
       echo "turns: the 2-rank run's first boundary: slice $b, x = $xb um" | tee "$OUT/turns/split.txt"
-      run "turns/alone0" 1 --set "tissue={file: $OUT/tissue/final.h5, x_range: [-1e9, $xb]}" --steps 100 \
+      run "turns/alone0" 1 --set "tissue={file: $OUT/tissue/final.h5, x_range: [-1e9, $xb]}" --steps "$((START + 100))" \
         --set decomposition.rebalance_every=20 --set decomposition.policy=static "${timed[@]}"
-      run "turns/alone1" 1 --set "tissue={file: $OUT/tissue/final.h5, x_range: [$xb, 1e9]}" --steps 100 \
+      run "turns/alone1" 1 --set "tissue={file: $OUT/tissue/final.h5, x_range: [$xb, 1e9]}" --steps "$((START + 100))" \
         --set decomposition.rebalance_every=20 --set decomposition.policy=static "${timed[@]}" ;;
     record)
-      run record 1 "${from_tissue[@]}" --steps "$STEPS" "${timed[@]}" --set output.workload=true ;;
+      run record 1 "${from_tissue[@]}" --steps "$((START + STEPS))" "${timed[@]}" --set output.workload=true ;;
     e2e)
       for launch in $(seq 1 "$LAUNCHES"); do
         for np in $RANKS; do
           for policy in $POLICIES; do
-            run "e2e/${policy}_np${np}_l$launch" "$np" "${from_tissue[@]}" --steps "$STEPS" "${timed[@]}" \
+            run "e2e/${policy}_np${np}_l$launch" "$np" "${from_tissue[@]}" --steps "$((START + STEPS))" "${timed[@]}" \
               --set decomposition.policy="$policy"
           done
         done
