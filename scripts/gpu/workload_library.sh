@@ -12,6 +12,9 @@ here=$(cd "$(dirname "$0")/../.." && pwd)
 dev="$here/scenes/epidermis_development.yaml"
 epi="$here/scenes/epidermis.yaml"
 common=(--quiet --set output.snapshot_every=0 --set output.checkpoint_every=0 --set output.workload=true)
+# MEASURED=1: measured seconds per slice too (decomposition.timing: device, workload version 2; docs/measured_time.md),
+# with opencl-binned's neighbour list (backend.skin 0.5 unless the scene sets one): the fastest engine, the same tissue
+read -ra timing <<< "${MEASURED:+--set decomposition.timing=device}"
 gpu=(--backend opencl-binned --platform NVIDIA --precision float --set tissue.cells=435661)
 cpu=(--backend cpu-binned --precision double)
 # NAME|scene|steps|overrides (the sheet spans x 0 .. ~5,950 um; 24.8 um/h = half of it in 120 h, the shipped speed)
@@ -46,7 +49,8 @@ for v in "${variants[@]}"; do
   run=$(mktemp -d)
   start=$(date +%s)
   # shellcheck disable=SC2086
-  "$S" sim --scene "$scene" --out "$run" --steps "$steps" "${common[@]}" "${size[@]}" $extra
+  skin=(); [ -n "${MEASURED:-}" ] && ! grep -q "skin:" "$scene" && skin=(--set backend.skin=0.5)
+  "$S" sim --scene "$scene" --out "$run" --steps "$steps" "${common[@]}" "${size[@]}" "${timing[@]}" "${skin[@]}" $extra
   echo "$name: $(( $(date +%s) - start )) s wall"
   cp "$run/workload.h5" "$OUT/$name.h5"
   cp "$run/run.csv" "$OUT/$name.run.csv"
