@@ -12,7 +12,7 @@
 #   e2e     the end-to-end runs: LAUNCHES launches x RANKS x POLICIES, interleaved (launch-major, then P, then policy)
 # Environment: SCENE (epidermis: scenes/SCENE.yaml), PLATFORM (NVIDIA; Portable runs the same on PoCL), CELLS (435661), STEPS (300), EVERY (10: steps per
 # rebalancing event), SKIN (0.5), RANKS ("2 4 8"), POLICIES ("static reactive gru persistence all_tensor"),
-# LAUNCHES (3), ROUNDS (2), START (0: the runs cover steps START .. START + STEPS), GROWTH ("--set effects.growth.front.x0=2975 --set effects.growth.front.speed=0").
+# LAUNCHES (3; LAUNCH_FROM 1: the first launch number), ROUNDS (2), START (0: the runs cover steps START .. START + STEPS), GROWTH ("--set effects.growth.front.x0=2975 --set effects.growth.front.speed=0").
 set -euo pipefail
 S=$(realpath "$1"); OUT=$2; shift 2
 SCENE=${SCENE:-epidermis}; START=${START:-0}
@@ -78,7 +78,7 @@ for stage in "$@"; do
     record)
       run record 1 "${from_tissue[@]}" --steps "$((START + STEPS))" "${timed[@]}" --set output.workload=true ;;
     e2e)
-      for launch in $(seq 1 "$LAUNCHES"); do
+      for launch in $(seq "${LAUNCH_FROM:-1}" "$LAUNCHES"); do
         for np in $RANKS; do
           for policy in $POLICIES; do
             run "e2e/${policy}_np${np}_l$launch" "$np" "${from_tissue[@]}" --steps "$((START + STEPS))" "${timed[@]}" \
