@@ -10,7 +10,7 @@ MANIFESTS := $(wildcard experiments/*.yaml)
 export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
-.PHONY: deps build test experiments epidermis development analysis bench train train-fronts train-synthetic train-v1 clean surrogate-fit
+.PHONY: deps build test experiments gpu-measured epidermis development analysis bench train train-fronts train-synthetic train-v1 clean surrogate-fit
 
 deps:
 	bash scripts/install-deps.sh
@@ -76,6 +76,18 @@ train-v1: build
 # The engine workload library (results/gpu/workloads/README.md) needs an OpenCL GPU: bash scripts/gpu/workload_library.sh.
 # The controller evaluation on it: experiments/controller_eval_engine.yaml (part of `make experiments`), tables by
 # analysis/engine_eval.py.
+
+# Measured GPU time (docs/measured_time.md) on an OpenCL GPU: the paper's regime scene and a Day 2-3 window of the
+# development scene, P = 2, 4, 8 ranks taking turns on one device, every policy, three launches; resumable (a stage's
+# finished runs are kept under GPU_RUNS). The tables go to results/gpu/measured/.
+GPU_RUNS ?= $(BUILD)/measured
+gpu-measured: build
+	bash scripts/gpu/measured_time.sh $(SEMLB) $(GPU_RUNS)/epidermis_half tissue cost turns record e2e
+	SCENE=epidermis_development START=960 STEPS=400 EVERY=20 SKIN=1 GROWTH="--set effects.growth.front.speed=24.8" \
+	  bash scripts/gpu/measured_time.sh $(SEMLB) $(GPU_RUNS)/epidermis_development tissue record e2e
+	for s in epidermis_half epidermis_development; do \
+	  $(PYTHON) analysis/measured_time.py $(GPU_RUNS)/$$s results/gpu/measured/$$s --semlb $(SEMLB) --scene $$s || exit 1; done
+	$(PYTHON) analysis/measured_time.py --combine results/gpu/measured
 
 bench: build
 	$(SEMLB) bench policies --ranks 16

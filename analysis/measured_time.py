@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Measured GPU time (docs/measured_time.md): the tables of scripts/gpu/measured_time.sh's runs.
 
-Usage: measured_time.py RUNS OUT [--semlb SEMLB] [--scene NAME] [--nvlink-gbs 450] [--seeds 0-2]
+Usage: measured_time.py RUNS OUT [--semlb SEMLB] [--scene NAME] [--nvlink-gbs 450] [--seeds 0-2] [--no-replay]
+       measured_time.py --combine ROOT   (ROOT/SCENE/*.csv of several scenes into ROOT/*.csv)
 
 RUNS is the script's OUT folder (tissue/, cost/, turns/, record/, e2e/); OUT receives:
 - timer_cost.csv: the loop's wall seconds with decomposition.timing measured and device, per round;
@@ -58,15 +59,12 @@ def rank_times(run):
     return {s: [v[q] for q in sorted(v)] for s, v in sorted(out.items())}
 
 
-def trace_boundaries(run, every):
-    """{step: boundaries in force during the interval ending there} of RUN/trace.jsonl (event e ends at (e+1) EVERY)."""
-    out = {}
+def trace_boundaries(run):
+    """{step: boundaries in force during the interval ending there}: RUN/trace.jsonl's events in order, matched to
+    RUN/rank_times.csv's steps in order (a run from a restarted state numbers its events from 0)."""
     with open(os.path.join(run, "trace.jsonl")) as f:
-        for line in f:
-            if line.strip():
-                e = json.loads(line)
-                out[(e["event"] + 1) * every] = e["boundaries"]
-    return out
+        events = sorted((json.loads(line) for line in f if line.strip()), key=lambda e: e["event"])
+    return {step: e["boundaries"] for step, e in zip(rank_times(run), events)}
 
 
 def loop_seconds(run, nvlink_gbs):
@@ -122,9 +120,9 @@ class Workload:
         return np.array(own), np.array(ghost)
 
 
-def model_rows(workload, run, every):
+def model_rows(workload, run):
     """(S_r, sigma G_r, measured device seconds) of every interval and rank of RUN whose step the workload has."""
-    rt, bounds = rank_times(run), trace_boundaries(run, every)
+    rt, bounds = rank_times(run), trace_boundaries(run)
     rows = []
     for step, rs in rt.items():
         if step not in workload.at or step not in bounds:
@@ -162,17 +160,26 @@ def e2e_runs(runs_dir):
     return out
 
 
-def rebalance_every(run):
-    """decomposition.rebalance_every of a run folder's scene.yaml (the value after the override)."""
-    with open(os.path.join(run, "scene.yaml")) as f:
-        text = f.read()
-    for token in text.replace(",", " ").split():
-        if token.startswith("decomposition.rebalance_every="):
-            return int(token.split("=")[1])
-    raise SystemExit(f"measured_time.py: {run}/scene.yaml: no decomposition.rebalance_every in its command line")
+def combine(root):
+    """ROOT/end_to_end.csv, end_to_end_summary.csv and time_model_validation.csv: the rows of every scene's folder
+    (ROOT/SCENE/NAME.csv, written by a run of this script each) in one file, scenes in name order."""
+    scenes = sorted(d for d in os.listdir(root) if os.path.isdir(os.path.join(root, d)) and d != "runs")
+    for name in ("end_to_end.csv", "end_to_end_summary.csv", "time_model_validation.csv"):
+        header, rows = None, []
+        for sc in scenes:
+            path = os.path.join(root, sc, name)
+            if os.path.exists(path):
+                with open(path, newline="") as f:
+                    r = list(csv.reader(f))
+                header = header or r[0]
+                rows += r[1:]
+        if header:
+            write_csv(os.path.join(root, name), header, rows)
 
 
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == "--combine":
+        return combine(sys.argv[2])
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("runs")
     ap.add_argument("out")
@@ -180,6 +187,7 @@ def main():
     ap.add_argument("--scene", default="epidermis_half")
     ap.add_argument("--nvlink-gbs", type=float, default=450.0, help="GB/s per direction (H200 NVLink 4: 450)")
     ap.add_argument("--seeds", default="0-2", help="replay seeds A-B for policy_order.csv")
+    ap.add_argument("--no-replay", action="store_true", help="no policy_order.csv (no `semlb replay` runs)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
 
@@ -216,7 +224,6 @@ def main():
     record = os.path.join(a.runs, "record", "workload.h5")
     if not runs:
         return
-    every = rebalance_every(runs[0][3])
     end = []
     for policy, ranks, launch, d in runs:
         m = loop_seconds(d, a.nvlink_gbs)
@@ -255,7 +262,10 @@ def main():
                               max(r["migrate_bytes"] for r in rt[step])))
     if moved:
         x, y = np.array([m[4] for m in moved], float), np.array([m[5] for m in moved], float)
-        slope, intercept = np.polyfit(x, y, 1)
+        if len(set(x)) > 1:
+            slope, intercept = np.polyfit(x, y, 1)
+        else:  # one count of slices moved: no slope to fit, the seconds per slice alone
+            slope, intercept = float(np.mean(y / x)), 0.0
         write_csv(os.path.join(a.out, "migration_cost.csv"),
                   ["policy", "ranks", "launch", "step", "moved_slices", "migrate_s", "migrate_bytes"],
                   moved + [("fit", "", "", "", "s_per_slice", float(slope), float(intercept))])
@@ -264,11 +274,11 @@ def main():
         return
     w = Workload(record)
     fitted = {(p, r, l) for p, r, l, _ in runs if p == "static" and l == 1}
-    fit_rows = np.vstack([model_rows(w, d, every) for p, r, l, d in runs if (p, r, l) in fitted])
+    fit_rows = np.vstack([model_rows(w, d) for p, r, l, d in runs if (p, r, l) in fitted])
     g, c = fit_time_model(fit_rows)
     val = []
     for policy, ranks, launch, d in runs:
-        rows = model_rows(w, d, every)
+        rows = model_rows(w, d)
         pred = rows[:, 0] + g * rows[:, 1] + c
         err = np.abs(pred - rows[:, 2]) / rows[:, 2]
         val.append((a.scene, policy, ranks, launch, int((policy, ranks, launch) in fitted), float(err.mean()),
@@ -277,6 +287,8 @@ def main():
               ["scene", "policy", "ranks", "launch", "fitted", "mean_abs_rel_error", "max_abs_rel_error",
                "ghost_weight", "rank_overhead_s"], val)
 
+    if a.no_replay:
+        return
     lo, hi = (int(x) for x in a.seeds.split("-"))
     per_slice = [m[6] / m[4] for m in moved] if moved else [0.0]
     migrate_per_slice = float(np.mean(per_slice)) / (a.nvlink_gbs * 1e9)

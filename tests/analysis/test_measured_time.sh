@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# analysis/measured_time.py: on hand-made runs whose device times follow T_r = S_r + 2 sigma G_r + 0.001 exactly, the fit
+# recovers ghost_weight 2 and rank_overhead_s 0.001 with no error, the loop and the 95% intervals are the hand values;
+# then scripts/gpu/measured_time.sh end to end on PoCL (every stage, a tiny tissue) gives every table.
+set -euo pipefail
+src=$1; work=$2; semlb=$3
+PY=${PYTHON:-/usr/bin/python3}
+rm -rf "$work"; mkdir -p "$work/hand/record"
+"$PY" - "$work/hand" <<'PYEOF'
+import csv, json, os, sys
+import h5py, numpy as np
+root = sys.argv[1]
+S, E = 4, 3
+seconds = np.array([[1.0, 1.0, 3.0, 3.0], [2.0, 2.0, 1.0, 1.0], [1.0, 2.0, 3.0, 4.0]])
+elements = np.array([8, 8, 10])
+below = np.ones((E, S - 1)); above = np.ones((E, S - 1)) * 2
+with h5py.File(os.path.join(root, "record", "workload.h5"), "w") as f:
+    f["events/step"] = np.array([10, 20, 30]); f["events/slice_seconds"] = seconds
+    f["events/band_below"] = below.astype(np.int64); f["events/band_above"] = above.astype(np.int64)
+    f["events/elements"] = elements
+def run(name, bounds_per_event, launch):
+    d = os.path.join(root, "e2e", name); os.makedirs(d)
+    with open(os.path.join(d, "trace.jsonl"), "w") as t:
+        for e, b in enumerate(bounds_per_event):
+            t.write(json.dumps({"event": e, "boundaries": b}) + "\n")
+    with open(os.path.join(d, "rank_times.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["step", "rank", "compute_s", "exchange_s", "migrate_s", "imbalance", "moved_slices", "wall_s",
+                    "device_s", "exchange_bytes", "migrate_bytes"])
+        for e, b in enumerate(bounds_per_event):
+            cuts = [0] + b + [S]; sigma = seconds[e].sum() / elements[e]
+            nxt = bounds_per_event[e + 1] if e + 1 < E else b
+            moved = sum(abs(x - y) for x, y in zip(b, nxt))
+            for q in range(len(cuts) - 1):
+                g = (below[e][cuts[q] - 1] if q > 0 else 0) + (above[e][cuts[q + 1] - 1] if q + 2 < len(cuts) else 0)
+                t = seconds[e][cuts[q]:cuts[q + 1]].sum() + 2 * sigma * g + 0.001 * launch / launch
+                w.writerow([10 * (e + 1), q, t, 0, 0.01 * moved, 0, moved, t, t, 450, 4.5e9 * moved])
+run("static_np2_l1", [[2], [2], [2]], 1)
+run("static_np2_l2", [[2], [2], [2]], 2)
+run("persistence_np2_l1", [[2], [1], [1]], 1)
+run("persistence_np2_l2", [[2], [1], [1]], 2)
+PYEOF
+"$PY" "$src/analysis/measured_time.py" "$work/hand" "$work/hand_out" --scene hand --no-replay
+"$PY" - "$work/hand_out" <<'PYEOF'
+import csv, sys
+out = sys.argv[1]
+rows = list(csv.DictReader(open(f"{out}/time_model_validation.csv")))
+assert len(rows) == 4, rows
+for r in rows:
+    assert abs(float(r["ghost_weight"]) - 2) < 1e-9 and abs(float(r["rank_overhead_s"]) - 0.001) < 1e-9, r
+    assert float(r["mean_abs_rel_error"]) < 1e-9, r
+    assert r["fitted"] == ("1" if r["policy"] == "static" and r["launch"] == "1" else "0"), r
+e2e = {(r["policy"], r["launch"]): r for r in csv.DictReader(open(f"{out}/end_to_end.csv"))}
+# static on [2]: event 0: S = 2 | 6, sigma 1, G = 2 | 1 -> 6.001 | 8.001; event 1: 4 | 2, sigma 0.75 -> 7.001 | 3.501
+# (max 7.001); event 2: 3 | 7, sigma 1 -> 7.001 | 9.001: compute 8.001 + 7.001 + 9.001; bytes 450 each at 450 GB/s
+s = e2e[("static", "1")]
+assert abs(float(s["compute_s"]) - 24.003) < 1e-9, s
+assert abs(float(s["exchange_s"]) - 3e-9) < 1e-15, s
+assert s["migration"] == "0", s
+p = e2e[("persistence", "1")]
+assert p["migration"] == "1" and abs(float(p["migrate_s"]) - 0.01) < 1e-12, p  # 4.5e9 bytes at 450 GB/s
+summary = {(r["policy"], r["ranks"]): r for r in csv.DictReader(open(f"{out}/end_to_end_summary.csv"))}
+assert summary[("static", "2")]["launches"] == "2" and float(summary[("static", "2")]["loop_s_ci95"]) == 0
+print("hand runs: ok")
+PYEOF
+# The script on PoCL, every stage, then every table
+PLATFORM=Portable CELLS=300 STEPS=40 LAUNCHES=2 RANKS="2" POLICIES="static reactive" ROUNDS=1 \
+  GROWTH="--set effects.growth.front.x0=75 --set effects.growth.front.speed=0" \
+  bash "$src/scripts/gpu/measured_time.sh" "$semlb" "$work/runs" tissue cost turns record e2e > "$work/runs.log" 2>&1 ||
+  { tail -20 "$work/runs.log"; exit 1; }
+"$PY" "$src/analysis/measured_time.py" "$work/runs" "$work/out" --semlb "$semlb" --scene pocl --seeds 0-0 2>/dev/null
+for f in timer_cost turns_validation time_model_validation policy_order end_to_end end_to_end_summary; do
+  [ -s "$work/out/$f.csv" ] || { echo "missing $f.csv"; exit 1; }
+done
+[ "$(wc -l < "$work/out/end_to_end.csv")" = 5 ] || { cat "$work/out/end_to_end.csv"; exit 1; }  # 2 policies x 2 launches
+grep -q "^rank_vs_alone,2," "$work/out/turns_validation.csv"
+grep -q "^sum_of_ranks,4," "$work/out/turns_validation.csv"
+echo "measured_time: ok"
