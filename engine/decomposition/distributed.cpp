@@ -34,13 +34,10 @@ constexpr double kGhostSlack = 0.01;
 // contiguous slices of about equal elements, at most this many (fewer when the slices are fewer).
 constexpr int kCostRegions = 32;
 
-// A name for this job's turn files: the same on every rank (rank 0's, broadcast), different between jobs.
-std::string job_name() {
-  char host[256] = {};
-  gethostname(host, sizeof host - 1);
-  return std::string(host) + "-" + std::to_string(getpid()) + "-" +
-         std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
-}
+// A name for this job's turn files on this node without a collective (the constructor's errors are agreed on after
+// it, so it may not wait for other ranks): the ranks of one job on one node are children of one launcher process
+// (mpirun's daemon, srun's step daemon), whose pid no other running job shares.
+std::string job_name() { return "p" + std::to_string(getppid()); }
 
 }  // namespace
 
@@ -77,12 +74,11 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
     sim_->progress = [this] { pending_.progress(); };
   }
   sim_->after_cells = [this] { migrate_cells(); };
+  // Every rank opens the file here, before the collectives that follow the construction: none can have removed it
+  // (at its end) before the last one opens it.
   if (dec_.device_sharing == "turns") {
-    std::string job = mpi.rank() == 0 ? job_name() : "";
-    mpi.broadcast(job, 0);
-    turns_ = std::make_unique<DeviceTurns>(DeviceTurns::path_for(job, sim_->backend().device_key()));
+    turns_ = std::make_unique<DeviceTurns>(DeviceTurns::path_for(job_name(), sim_->backend().device_key()));
     sim_->turns = turns_.get();
-    mpi.allreduce_max(0);  // every rank has the file open before any rank may remove it (at its end)
   }
   sim_->failure_check = [this] { collective_check(); };
   trace_path_ = mpi.rank() == 0 ? trace_path : "";  // opened at the first event: nothing is written before

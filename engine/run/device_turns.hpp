@@ -21,7 +21,7 @@ class DeviceTurns {
   bool held() const { return held_; }
   const std::string& path() const { return path_; }
   // The lock file of the device `device_key` (Backend::device_key) for the job named `job` (the same on every rank
-  // of one job, different between jobs): /dev/shm when it exists, else the temporary folder.
+  // of one job on a node, different between jobs): /dev/shm when it exists, else the temporary folder.
   static std::string path_for(const std::string& job, const std::string& device_key);
 
  private:
