@@ -155,6 +155,8 @@ def write_report(ctx, built, states, controller_text=""):
             continue
         detail_page(ctx, i, sec, part, phrase)
         alltext = "\n".join(t for _, _, t in part.runs)
+        body += [f"*Paper: Fig. `{sec.paper}` ({common.PAPER_FIGURES[sec.paper]}).*" if sec.paper else
+                 "*Beyond the paper's figures.*", ""]
         if phrase:
             body += [f"*Committed GPU rows: {phrase}.*", ""]
         fig = first_figure(alltext)

@@ -80,7 +80,7 @@ def md_table(header, rows, align=None):
                 return text in ("", "-")
         align = "".join("r" if cells and all(numeric(r[i]) for r in cells) else "l" for i in range(len(header)))
     out = ["| " + " | ".join(header) + " |", "|" + "|".join("---:" if a == "r" else "---" for a in align) + "|"]
-    out += ["| " + " | ".join(r) + " |" for r in cells]
+    out += ["|" + "|".join(f" {c} " if c else " " for c in r) + "|" for r in cells]
     return "\n".join(out)
 
 
