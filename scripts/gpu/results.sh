@@ -7,13 +7,14 @@
 # Usage: bash scripts/gpu/results.sh [OUT=results/gpu] [STAGE ...]   (default: every stage; `list` prints them)
 #   YALLA=DIR: the folder holding a ya||a clone as DIR/yalla (the peer stage is skipped without it: no network there).
 #   BUILD=DIR: where semlb is built (Release, no tests, no torch; default /tmp/semlb-gpu, as scripts/gpu_sweep.sh).
+#   REPLAY_SET="--set KEY=VALUE ...": extra settings of the replay sweep (a quick run: --set ranks=2 --set seed=0).
 #   CHECK=1: check every stage without a GPU (the sweeps' `--check`, the scripts present), write nothing, exit 0.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/../.." && pwd)
 OUT=${1:-$here/results/gpu}; shift || true
 BUDGET_S=${BUDGET_S:-420}
 BUILD=${BUILD:-/tmp/semlb-gpu}
-PY=${PYTHON:-python3}
+PY=${PYTHON:-/usr/bin/python3}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OCL_ICD_FILENAMES=${OCL_ICD_FILENAMES:-libnvidia-opencl.so.1}
 # The GPU variants of the workload library (scripts/gpu/workload_library.sh), one stage each.
 WORKLOADS="dev_v24.8_s1 dev_v24.8_s2 dev_v12.4_s1 dev_v6.2_s1 dev_v3.1_s1 dev_centre_v12.4_s1 epidermis_s1 epidermis_long_s2
@@ -90,7 +91,8 @@ os.replace(path + ".tmp", path)
 EOF
       ;;
     controller_eval_engine)  # the replays of the test workloads (CPU only), as workloads/controller_eval_engine_paper.*
-      "$S" sweep "$here/experiments/controller_eval_engine.yaml" --profile paper --results "$OUT/.replay" --quiet
+      # shellcheck disable=SC2086
+      "$S" sweep "$here/experiments/controller_eval_engine.yaml" --profile paper --results "$OUT/.replay" --quiet ${REPLAY_SET:-}
       mkdir -p "$OUT/workloads"
       cp "$OUT/.replay/controller_eval_engine/controller_eval_engine.csv" "$OUT/workloads/controller_eval_engine_paper.csv"
       $PY "$here/analysis/engine_eval.py" --csv "$OUT/workloads/controller_eval_engine_paper.csv" \
@@ -121,7 +123,8 @@ for st in $want; do
   [ -f "$marker" ] && continue
   if [ $(( $(date +%s) - start )) -ge "$BUDGET_S" ]; then left+=("$st"); continue; fi
   echo "gpu-results: $st ($(( $(date +%s) - start )) s into this call)"
-  rc=0; t0=$(date +%s); run_stage "$st" || rc=$?
+  t0=$(date +%s)
+  set +e; (set -e; run_stage "$st"); rc=$?; set -e  # in a subshell of its own: any failing command fails the stage
   if [ "$rc" = 0 ]; then
     echo "$commit $(date -u +%FT%TZ) $(( $(date +%s) - t0 )) s" > "$marker"
   elif [ "$rc" = 77 ]; then
