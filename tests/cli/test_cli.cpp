@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <regex>
 #include <sstream>
 #include <vector>
 
@@ -157,6 +158,29 @@ TEST(Cli, ReplayOfADumpedTraceReproducesTheRollout) {
     }
     EXPECT_EQ(events, 40);
   }
+}
+
+// semlb surrogate and semlb sweep end with what they measured per policy and P: means, "mean ± sd" over the seeds,
+// the seeds counted; --quiet leaves the last line only.
+TEST(Cli, SurrogateAndSweepEndWithATableOfWhatWasMeasured) {
+  const auto dir = fresh_dir("cli_tables");
+  const auto r = run(semlb_bin() + " surrogate --policies static,reactive --ranks 2,4 --seeds 9000-9002 --events 20 --out " + dir + "/s");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex("\npolicy +\\| P \\| imbalance % +\\| migration +\\| n\n")))
+      << r.out;
+  for (const char* row : {"static +\\| 2 \\| [0-9.]+ ± [0-9.]+ +\\| 0 ± 0 +\\| 3\n", "static +\\| 4 \\| ",
+                          "reactive \\| 2 \\| [0-9.]+ ± [0-9.]+ +\\| [0-9.]+ ± [0-9.]+ +\\| 3\n", "reactive \\| 4 \\| "})
+    EXPECT_TRUE(std::regex_search(r.out, std::regex(std::string("\n") + row))) << row << "\n" << r.out;
+  EXPECT_NE(r.out.find("\nwrote " + dir + "/s/controller_eval.csv (12 rows)\n"), std::string::npos) << r.out;
+  const auto q = run(semlb_bin() + " surrogate --policies static --ranks 2 --seeds 9000 --events 5 --quiet --out " + dir + "/q");
+  ASSERT_EQ(q.rc, 0) << q.out;
+  EXPECT_EQ(q.out.find("imbalance %"), std::string::npos) << q.out;
+  const auto w = run(semlb_bin() + " sweep " + source("experiments/controller_eval.yaml") + " --results " + dir +
+                     "/w --set policy=static,gru --set ranks=2 --set seed=9000-9001 --set events=10");
+  ASSERT_EQ(w.rc, 0) << w.out;
+  EXPECT_TRUE(std::regex_search(w.out, std::regex("\npolicy \\| P \\| imbalance % +\\| migration +\\| n\n"))) << w.out;
+  EXPECT_TRUE(std::regex_search(w.out, std::regex("\ngru    \\| 2 \\| [0-9.]+ ± [0-9.]+ +\\| [0-9.]+ ± [0-9.]+ +\\| 2\n")))
+      << w.out;
 }
 
 TEST(Cli, BenchPrintsATableRowPerPolicy) {
