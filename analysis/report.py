@@ -136,6 +136,22 @@ def write_report(ctx, built, states, controller_text=""):
              "`results/gpu/`, each with the semlb commit and date it was made with (`provenance.json`); a result made "
              "before the last change to the engine's kernels or the controllers is **stale** and no verdict is drawn "
              "from it (`make gpu-results` remakes them on a GPU machine). Each section links its detail page.", ""]
+    for i, (sec, part) in enumerate(built, 1):
+        if part is not None:
+            detail_page(ctx, i, sec, part, states[sec.key][1])
+    for key_rows in (KEY_ROWS, 5, 3, 1):  # shorter key tables until REPORT.md fits its limit
+        text = report_text(ctx, built, states, controller_text, lines, key_rows)
+        if text.count("\n") <= MAX_LINES:
+            break
+    common.atomic_write(os.path.join(ctx.results, "REPORT.md"), text)
+    n = text.count("\n")
+    print(f"report: wrote {os.path.join(ctx.results, 'REPORT.md')} ({n} lines)"
+          + (f"; over the {MAX_LINES}-line limit" if n > MAX_LINES else ""))
+
+
+def report_text(ctx, built, states, controller_text, lines, key_rows):
+    """REPORT.md's text after its opening LINES, with key tables of at most KEY_ROWS rows."""
+    lines = list(lines)
     summary, body = [], []
     for i, (sec, part) in enumerate(built, 1):
         state, phrase = states[sec.key]
@@ -153,7 +169,6 @@ def write_report(ctx, built, states, controller_text=""):
             body += ["Not run: nothing under " + ", ".join(f"`{ctx.results}/{c}`" for c in sec.csvs)
                      + " (`make experiments` makes it).", ""]
             continue
-        detail_page(ctx, i, sec, part, phrase)
         alltext = "\n".join(t for _, _, t in part.runs)
         body += [f"*Paper: Fig. `{sec.paper}` ({common.PAPER_FIGURES[sec.paper]}).*" if sec.paper else
                  "*Beyond the paper's figures.*", ""]
@@ -162,7 +177,7 @@ def write_report(ctx, built, states, controller_text=""):
         fig = first_figure(alltext)
         if fig:
             body += [fig, ""]
-        table = part.key_table if part.key_table is not None else first_table(alltext)
+        table = first_table(part.key_table if part.key_table is not None else alltext, key_rows)
         if table:
             body += [table.strip(), ""]
         if part.reading:
@@ -174,11 +189,7 @@ def write_report(ctx, built, states, controller_text=""):
                                  align="rlllll"))
     if controller_text:
         lines += ["", "## Which controller should I run?", "", controller_text.strip()]
-    text = "\n".join(lines + body) + "\n"
-    common.atomic_write(os.path.join(ctx.results, "REPORT.md"), text)
-    n = text.count("\n")
-    print(f"report: wrote {os.path.join(ctx.results, 'REPORT.md')} ({n} lines)"
-          + (f"; over the {MAX_LINES}-line limit" if n > MAX_LINES else ""))
+    return "\n".join(lines + body) + "\n"
 
 
 def main():
