@@ -111,6 +111,7 @@ register("controller_eval_engine", 5.5, "Controller evaluation on the engine's w
 
 
 NOT_DEPLOYABLE = ("foresight", "oracle", "lazy_oracle")  # they know the future work: floors, not choices
+ON_WS = ("persistence", "holt")  # repartition on forecast W_s, from which the time model derives rank times
 
 
 def choice_rows(points_by_key):
@@ -131,11 +132,19 @@ def choice_rows(points_by_key):
         full = {k: v for k, v in per.items() if len(v) == len(ws)}
         ratio = {k: [v[w]["loop_s"] / static[w]["loop_s"] for w in ws] for k, v in full.items()}
         best = min(ratio, key=lambda k: (np.mean(ratio[k]), k))
+        timed = [k for k in ratio if k[0] not in ON_WS]
+        best_t = min(timed, key=lambda k: (np.mean(ratio[k]), k)) if timed else None
         mean = lambda k, c: float(np.mean([full[k][w][c] for w in ws]))  # noqa: E731
         ref = next((k for k in ratio if engine_eval.is_reference_reactive({"policy": k[0], "setting": k[1]})), None)
         out.append((P, best, ratio[best], mean(best, "imbalance"), mean(best, "migration"),
-                    ratio.get(("gru", "")), ratio.get(ref) if ref else None, ws))
+                    ratio.get(("gru", "")), ratio.get(ref) if ref else None, ws, best_t,
+                    ratio[best_t] if best_t else None))
     return out
+
+
+def named(k):
+    """'policy `setting`' of a (policy, setting) key."""
+    return "-" if k is None else k[0] + (f" `{k[1]}`" if k[1] else "")
 
 
 def pct(ratios):
@@ -149,10 +158,11 @@ def pct(ratios):
 def choice_table(points_by_key):
     """The which-controller table: per P, the best deployable policy and setting by loop time, and what it, the
     shipped GRU and reactive change against static."""
-    rows = [(P, f"{b[0]}" + (f" `{b[1]}`" if b[1] else ""), pct(r), f"{100 * imb:.2f}", f"{mig:.0f}", pct(g), pct(x),
-             len(ws)) for P, b, r, imb, mig, g, x, ws in choice_rows(points_by_key)]
-    return md_table(["P", "run this", "loop vs static (range over workloads)", "imbalance %", "slices moved",
-                     "shipped gru vs static", "reactive vs static", "workloads"], rows)
+    rows = [(P, named(bt), pct(rt), named(b), pct(r), f"{100 * imb:.2f}", f"{mig:.0f}", pct(g), pct(x), len(ws))
+            for P, b, r, imb, mig, g, x, ws, bt, rt in choice_rows(points_by_key)]
+    return md_table(["P", "run this", "loop vs static (range over workloads)", "best of all (W_s forecasts too)",
+                     "its loop vs static", "its imbalance %", "its slices moved", "shipped gru vs static",
+                     "reactive vs static", "workloads"], rows)
 
 
 def which_controller(ctx):
@@ -170,9 +180,12 @@ def which_controller(ctx):
         return ""
     lines = [f"From {where}: every policy and knob setting replayed on recorded engine workloads; loop time from the "
              "time model fitted to measured GPU runs (docs/controllers.md \"Time model\"), means over the replay "
-             "seeds; foresight and the oracles are left out (they know the future work). At each P the setting with "
-             "the least loop time relative to static, averaged over the workloads:", ""]
-    lines.append("; ".join(f"**P = {P}**: `{b[0]}{' ' + b[1] if b[1] else ''}` ({pct(r)} loop time vs static)"
-                           for P, b, r, *_ in choice) + ".")
-    lines += ["", choice_table(points)]
+             "seeds; foresight and the oracles are left out (they know the future work). At each P, the setting of a "
+             "policy that balances on measured rank times with the least loop time relative to static, averaged over "
+             "the workloads (range over the workloads in brackets):", ""]
+    lines.append("; ".join(f"**P = {P}**: `{bt[0]}{' ' + bt[1] if bt[1] else ''}` ({pct(rt)} loop time vs static)"
+                           for P, b, r, imb, mig, g, x, ws, bt, rt in choice if bt) + ".")
+    lines += ["", "persistence and holt repartition on forecast W_s, from which the time model derives the rank times, "
+              "so they score better here than they would on a machine (time is the judge, W_s a hint): they are "
+              "counted only in \"best of all\".", "", choice_table(points)]
     return "\n".join(lines)
