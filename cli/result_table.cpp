@@ -82,52 +82,105 @@ std::string result_table(const std::string& csv_path, const std::vector<std::str
     return it == header.end() ? -1 : static_cast<int>(it - header.begin());
   };
   auto at = [](const std::vector<std::string>& r, int c) { return c >= 0 && c < static_cast<int>(r.size()) ? r[c] : std::string(); };
+  const int policy = column("policy"), ranks = column("ranks");
+  // Knob columns (POLICY.KEY) make one "setting" per row: its own policy's non-empty knobs.
+  std::vector<int> knobs;
+  for (size_t c = 0; c < header.size(); ++c)
+    if (header[c].find('.') != std::string::npos) knobs.push_back(static_cast<int>(c));
+  auto setting = [&](const std::vector<std::string>& r) {
+    std::string s;
+    for (int c : knobs) {
+      const std::string& name = header[c];
+      if (at(r, c).empty() || (policy >= 0 && name.compare(0, name.find('.'), at(r, policy)) != 0)) continue;
+      s += (s.empty() ? "" : " ") + name.substr(name.find('.') + 1) + "=" + at(r, c);
+    }
+    return s;
+  };
+  // Per policy and P when the CSV has them (other axes, workloads say, averaged over); else per varying axis.
   std::vector<int> key_cols;
-  for (const auto& k : keys) {
-    const int c = column(k);
-    if (c < 0 || std::find(key_cols.begin(), key_cols.end(), c) != key_cols.end()) continue;
-    std::set<std::string> seen;
-    for (const auto& r : rows) seen.insert(at(r, c));
-    if (seen.size() > 1 || k == "policy" || k == "ranks") key_cols.push_back(c);
-  }
+  for (int c : {policy, ranks})
+    if (c >= 0) key_cols.push_back(c);
+  if (key_cols.empty())
+    for (const auto& k : keys) {
+      const int c = column(k);
+      if (c < 0 || std::find(knobs.begin(), knobs.end(), c) != knobs.end() ||
+          std::find(key_cols.begin(), key_cols.end(), c) != key_cols.end())
+        continue;
+      std::set<std::string> seen;
+      for (const auto& r : rows) seen.insert(at(r, c));
+      if (seen.size() > 1) key_cols.push_back(c);
+    }
   std::vector<std::pair<int, Measured>> measured;
   for (const auto& m : kMeasured)
     if (const int c = column(m.column); c >= 0 && measured.size() < kMaxMeasured &&
                                         std::find(key_cols.begin(), key_cols.end(), c) == key_cols.end())
       measured.push_back({c, m});
   if (measured.empty()) return "";
-  std::vector<std::string> order;  // groups in first-seen order
-  std::map<std::string, std::vector<const std::vector<std::string>*>> groups;
+  using Rows = std::vector<const std::vector<std::string>*>;
+  auto values = [&](const Rows& members, int c, double scale) {
+    std::vector<double> v;
+    for (const auto* r : members) {
+      try {
+        v.push_back(std::stod(at(*r, c)) * scale);
+      } catch (const std::exception&) {  // an empty or non-numeric cell: not measured in that row
+      }
+    }
+    return v;
+  };
+  auto mean_of = [](const std::vector<double>& v) {
+    double m = 0;
+    for (double x : v) m += x / static_cast<double>(v.size());
+    return m;
+  };
+  // Groups in first-seen order, each split by setting; a group with several settings shows the one with the least
+  // mean of the first measured column (imbalance where there is one), "best of N".
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<std::string>> settings_of;
+  std::map<std::pair<std::string, std::string>, Rows> groups;
   for (const auto& r : rows) {
     std::string key;
     for (int c : key_cols) key += at(r, c) + '\x1f';
-    if (!groups.count(key)) order.push_back(key);
-    groups[key].push_back(&r);
+    if (!settings_of.count(key)) order.push_back(key);
+    auto& ss = settings_of[key];
+    const std::string s = setting(r);
+    if (std::find(ss.begin(), ss.end(), s) == ss.end()) ss.push_back(s);
+    groups[{key, s}].push_back(&r);
   }
+  bool any_setting = false;
+  for (const auto& [k, ss] : settings_of) any_setting = any_setting || ss.size() > 1 || !ss[0].empty();
   std::vector<std::vector<std::string>> table(1);
   for (int c : key_cols) table[0].push_back(header[c] == "ranks" ? "P" : header[c]);
   if (key_cols.empty()) table[0].push_back("rows");
+  if (any_setting) table[0].push_back("setting");
   for (const auto& [c, m] : measured) table[0].push_back(m.heading);
   table[0].push_back("n");
   for (size_t g = 0; g < order.size() && g < max_groups; ++g) {
-    const auto& members = groups[order[g]];
+    const auto& ss = settings_of[order[g]];
+    std::string best = ss[0];
+    double best_mean = 0;
+    for (const auto& s : ss) {
+      const auto v = values(groups[{order[g], s}], measured[0].first, 1.0);
+      if (!v.empty() && (s == ss[0] || mean_of(v) < best_mean)) best = s, best_mean = mean_of(v);
+    }
+    const Rows& members = groups[{order[g], best}];
     std::vector<std::string> out;
-    for (int c : key_cols) out.push_back(at(*members[0], c));
+    for (int c : key_cols) {
+      const std::string v = at(*members[0], c);
+      out.push_back(v.size() > 40 ? v.substr(v.find_last_of('/') + 1) : v);  // a long path: its file name
+    }
     if (key_cols.empty()) out.push_back("all");
+    if (any_setting)
+      out.push_back((best.empty() ? std::string("default") : best) +
+                    (ss.size() > 1 ? " (least " + std::string(measured[0].second.heading) + " of " +
+                                         std::to_string(ss.size()) + ")" : ""));
     for (const auto& [c, m] : measured) {
-      std::vector<double> v;
-      for (const auto* r : members) {
-        try {
-          v.push_back(std::stod(at(*r, c)) * m.scale);
-        } catch (const std::exception&) {  // an empty or non-numeric cell: not measured in that row
-        }
-      }
+      const auto v = values(members, c, m.scale);
       if (v.empty()) {
         out.push_back("-");
         continue;
       }
-      double mean = 0, var = 0;
-      for (double x : v) mean += x / static_cast<double>(v.size());
+      const double mean = mean_of(v);
+      double var = 0;
       for (double x : v) var += (x - mean) * (x - mean);
       out.push_back(v.size() > 1 ? number(mean) + " ± " + number(std::sqrt(var / static_cast<double>(v.size() - 1)))
                                  : number(mean));

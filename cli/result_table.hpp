@@ -5,11 +5,12 @@
 
 namespace semlb::cli {
 
-// The rows of the results CSV at `csv_path` grouped by the columns `keys` names (those absent from the CSV, or with
-// one value in every row, are dropped, except policy and ranks), one line per group in first-seen order: the mean of
-// each measured column the CSV has (imbalance in %, migration, loop / wall / compute seconds, ...; at most five),
-// "mean ± sd" where the group holds several rows (seeds, launches). At most `max_groups` lines, then a line saying
-// how many more the CSV holds. Empty when the CSV has no measured column or no row.
+// The rows of the results CSV at `csv_path` as one line per policy and P when the CSV has those columns (other axes,
+// such as workloads, pooled), else per axis of `keys` whose column varies; first-seen order. Each line: the mean of
+// each measured column the CSV has (imbalance in %, migration, loop / wall / compute seconds, ...; at most five), "mean
+// ± sd" where it pools several rows (seeds, launches, workloads), and n. Knob columns (POLICY.KEY) make a setting;
+// of several settings the line shows the one with the least mean of the first measured column. At most `max_groups`
+// lines, then a line saying how many more the CSV holds. Empty when the CSV has no measured column or no row.
 std::string result_table(const std::string& csv_path, const std::vector<std::string>& keys, size_t max_groups = 40);
 
 // One result as the same table: `keys` and `values` (name, value) of one run.

@@ -175,6 +175,16 @@ TEST(Cli, SurrogateAndSweepEndWithATableOfWhatWasMeasured) {
   const auto q = run(semlb_bin() + " surrogate --policies static --ranks 2 --seeds 9000 --events 5 --quiet --out " + dir + "/q");
   ASSERT_EQ(q.rc, 0) << q.out;
   EXPECT_EQ(q.out.find("imbalance %"), std::string::npos) << q.out;
+  // Knob columns (POLICY.KEY) name each row's setting; of several settings of a policy at a P the line shows the one
+  // with the least imbalance and says of how many; a policy without knobs runs its default.
+  const auto k = run(semlb_bin() + " sweep " + source("experiments/controller_eval_engine.yaml") + " --results " + dir +
+                     "/k --set ranks=2 --set seed=0");
+  ASSERT_EQ(k.rc, 0) << k.out;
+  EXPECT_TRUE(std::regex_search(k.out, std::regex("\npolicy +\\| P \\| setting +\\| imbalance % +\\| migration +\\| loop s +\\| n\n")))
+      << k.out;
+  EXPECT_TRUE(std::regex_search(k.out, std::regex("\nstatic +\\| 2 \\| default +\\| "))) << k.out;
+  EXPECT_TRUE(std::regex_search(k.out, std::regex("\nreactive +\\| 2 \\| tau=[0-9.]+ alpha=[0-9.]+ \\(least imbalance % of [0-9]+\\) +\\| ")))
+      << k.out;
   const auto w = run(semlb_bin() + " sweep " + source("experiments/controller_eval.yaml") + " --results " + dir +
                      "/w --set policy=static,gru --set ranks=2 --set seed=9000-9001 --set events=10");
   ASSERT_EQ(w.rc, 0) << w.out;
