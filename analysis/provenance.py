@@ -43,7 +43,8 @@ def _git(*args, repo=REPO):
 
 def record(path, root=None):
     """The provenance record of a committed result file or folder: the nearest provenance.json at or above it (up to
-    ROOT, default the `gpu` folder holding it), its `files` entry for the file when there is one. None without one."""
+    ROOT, default the `gpu` folder holding it), with the fields of its `files` entry for the file over the folder's
+    (a note on the folder holds for its files). None without one."""
     path = os.path.abspath(path)
     folder = path if os.path.isdir(path) else os.path.dirname(path)
     root = os.path.abspath(root) if root else None
@@ -53,7 +54,8 @@ def record(path, root=None):
             with open(p) as f:
                 doc = json.load(f)
             rel = os.path.relpath(path, folder)
-            rec = dict(doc.get("files", {}).get(rel) or {k: v for k, v in doc.items() if k != "files"})
+            rec = {k: v for k, v in doc.items() if k != "files"}  # the folder's record, a file's own fields over it
+            rec.update(doc.get("files", {}).get(rel) or {})
             rec["file"] = p
             return rec
         if folder == root or os.path.basename(folder) == "gpu" or os.path.dirname(folder) == folder:
@@ -114,6 +116,8 @@ def label(path, repo=REPO):
         text += " · current: no kernel or controller change since"
     if d["before"]:
         text += " · before " + " and ".join(d["before"])
+    if d["note"]:
+        text += " · " + d["note"]
     return text
 
 
