@@ -10,7 +10,7 @@ MANIFESTS := $(wildcard experiments/*.yaml)
 export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
-.PHONY: deps build test experiments gpu-measured epidermis development analysis bench train train-fronts train-synthetic train-v1 clean surrogate-fit
+.PHONY: deps build test experiments gpu-measured gpu-results epidermis development analysis bench train train-fronts train-synthetic train-v1 clean surrogate-fit
 
 deps:
 	bash scripts/install-deps.sh
@@ -72,6 +72,13 @@ train-synthetic: build
 # The synthetic-only recipe (synthetic scenarios, boundary-v1 features) of gru_v1_migration_penalty_2.h5, the first shipped weights.
 train-v1: build
 	$(SEMLB) train --config surrogate/train/default.yaml --out controllers/weights/gru_v1_migration_penalty_2.h5
+
+# Every committed single-GPU result (single device, effect costs, accuracy against time, Day 0-5, peer ratio, the
+# measured end-to-end, the workload library and its replays), on a machine with one NVIDIA GPU, in stages of a few
+# minutes that resume across calls: rerun until it exits 0 (scripts/gpu/results.sh). GPU_OUT: where (results/gpu).
+GPU_OUT ?= results/gpu
+gpu-results:
+	bash scripts/gpu/results.sh $(GPU_OUT)
 
 # The engine workload library (results/gpu/workloads/README.md) needs an OpenCL GPU: bash scripts/gpu/workload_library.sh.
 # The controller evaluation on it: experiments/controller_eval_engine.yaml (part of `make experiments`), tables by

@@ -17,6 +17,9 @@ import os
 import sys
 from collections import defaultdict
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sections.common import md_table  # noqa: E402
+
 KNOB_PREFIXES = ("reactive.", "gromacs_dlb.", "hoomd_balance.", "all_tensor.", "lammps_shift.", "foresight.", "gru.",
                  "holt.", "persistence.")
 
@@ -130,11 +133,9 @@ def render(points_by_key):
     for (w, p) in sorted(points_by_key, key=lambda k: (k[0], k[1])):
         rows, targets = evaluate(points_by_key[(w, p)])
         out.append(f"\n#### {os.path.basename(w)}, P = {p}\n")
-        out.append("| policy | setting | imbalance % | migration | loop s | note |")
-        out.append("|---|---|---:|---:|---:|---|")
-        for r in rows:
-            out.append(f"| {r['policy']} | {r['setting'] or 'default'} | {100 * r['imbalance']:.2f} | {r['migration']:.0f} | "
-                       f"{r['loop_s']:.3f} | {r.get('note', '')} |")
+        out.append(md_table(["policy", "setting", "imbalance %", "migration", "loop s", "note"],
+                            [(r["policy"], r["setting"] or "default", f"{100 * r['imbalance']:.2f}", f"{r['migration']:.0f}",
+                              f"{r['loop_s']:.3f}", r.get("note", "")) for r in rows], align="llrrrl"))
         for name, (ok, text) in targets.items():
             out.append(f"- target {name}: {'holds' if ok else 'misses'} ({text})")
     return "\n".join(out) + "\n"

@@ -26,6 +26,8 @@ import math
 import os
 import sys
 
+import numpy as np
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from trace_model import TraceError, fmt, rank_sums, read_trace, write_csv  # noqa: E402
 
@@ -81,12 +83,10 @@ def fit_speed(events, g):
 
 def migration_slope(runs):
     """Least-squares seconds per slice moved (slowest rank's migrate_s against moved slices), >= 0."""
-    pts = [p for _, mig in runs for p in mig]
-    n = len(pts)
-    mx = math.fsum(p[0] for p in pts) / n
-    my = math.fsum(p[1] for p in pts) / n
-    sxx = math.fsum((p[0] - mx) ** 2 for p in pts)
-    return max(0.0, math.fsum((p[0] - mx) * (p[1] - my) for p in pts) / sxx if sxx > 0 else 0.0)
+    pts = np.asarray([p for _, mig in runs for p in mig], dtype=float)
+    if len(pts) < 2 or np.ptp(pts[:, 0]) == 0:
+        return 0.0
+    return max(0.0, float(np.polyfit(pts[:, 0], pts[:, 1], 1)[0]))
 
 
 GRID = [0.005 * i for i in range(601)]

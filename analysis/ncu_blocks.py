@@ -9,7 +9,11 @@ not such a page.
 """
 import collections
 import csv
+import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sections.common import md_table  # noqa: E402
 
 
 def blocks(path):
@@ -47,10 +51,9 @@ def main():
         return 2
     top = int(sys.argv[2]) if len(sys.argv) == 3 else 6
     print(f"{sys.argv[1]}: {total:,} warp-level instructions executed")
-    print("| executions | SASS instructions | share of instructions | share of stall samples | active threads |")
-    print("|---:|---:|---:|---:|---:|")
-    for e, n, si, ss, t in rows[:top]:
-        print(f"| {e / 1e6:.1f}M | {n} | {100 * si:.1f}% | {100 * ss:.1f}% | {t} |")
+    print(md_table(["executions", "SASS instructions", "share of instructions", "share of stall samples", "active threads"],
+                   [(f"{e / 1e6:.1f}M", n, f"{100 * si:.1f}%", f"{100 * ss:.1f}%", t) for e, n, si, ss, t in rows[:top]],
+                   align="rrrrr"))
     return 0
 
 

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "result_table.hpp"
 #include "common/errors.hpp"
 #include "controllers/partition.hpp"
 #include "controllers/trace.hpp"
@@ -75,7 +76,10 @@ Action add_replay(CLI::App& app) {
                                   {"first_quarter_imbalance", res.first_quarter_imbalance},
                                   {"last_quarter_imbalance", res.last_quarter_imbalance},
                                   {"truth", res.measured ? "measured" : "work"}};
-      std::cout << out.dump() << '\n';
+      std::cout << out.dump() << '\n' << std::flush;  // the JSON line first, then the table on stderr
+      std::cerr << result_row({{"policy", o->policy}, {"P", std::to_string(r.ranks)}, {"events", std::to_string(res.events)}},
+                              {{"imbalance %", 100.0 * res.mean_imbalance}, {"migration", static_cast<double>(res.migration)},
+                               {"loop s", res.loop_s}, {"ideal s", res.ideal_s}, {"migrate s", res.migrate_s}});
       return 0;
     }
     std::vector<TraceEvent> events;  // read and validate the whole trace before printing anything

@@ -1,6 +1,8 @@
 // `semlb sim`: run a scene (snapshots, checkpoints, run.csv) on one backend.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <string>
 
 #include "commands.hpp"
 #include "common/errors.hpp"
@@ -39,7 +41,38 @@ void add_scene_flags(CLI::App* sub, SceneFlags& f) {
 }
 
 namespace {
-void report(const engine::RunSummary& sum, const std::string& out) {
+// The end-of-run breakdown, as LAMMPS ends a run: the loop time, element-steps per second, and per phase its seconds
+// (min / avg / max over the ranks), its share of the loop (of the average) and its imbalance (max - min) / avg.
+void breakdown(const engine::RunSummary& sum) {
+  if (sum.steps <= 0 || sum.loop_seconds <= 0) return;
+  std::string text;
+  auto line = [&](const char* fmt, auto... a) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, fmt, a...);
+    text += buf;
+  };
+  line("Loop time of %.4g s on %d rank%s for %ld steps with %ld elements at the end\n", sum.loop_seconds, sum.ranks,
+       sum.ranks == 1 ? "" : "s", sum.steps, sum.elements);
+  line("Performance: %.4g element-steps/s, %.4g ms/step\n", sum.element_steps / sum.loop_seconds,
+       1000.0 * sum.loop_seconds / static_cast<double>(sum.steps));
+  line("%-10s | %10s | %10s | %10s | %6s | %11s\n", "phase", "min (s)", "avg (s)", "max (s)", "%loop", "imbalance %");
+  double accounted = sum.output_seconds;
+  for (const auto& p : sum.phases) {
+    line("%-10s | %10.4g | %10.4g | %10.4g | %6.1f | %11.1f\n", p.name.c_str(), p.min, p.avg, p.max,
+         100.0 * p.avg / sum.loop_seconds, p.avg > 0 ? 100.0 * (p.max - p.min) / p.avg : 0.0);
+    accounted += p.avg;
+  }
+  line("%-10s | %10s | %10.4g | %10s | %6.1f | %11s\n", "output", "", sum.output_seconds, "",
+       100.0 * sum.output_seconds / sum.loop_seconds, "(rank 0)");
+  line("%-10s | %10s | %10.4g | %10s | %6.1f | %11s\n", "other", "", std::max(0.0, sum.loop_seconds - accounted), "",
+       100.0 * std::max(0.0, sum.loop_seconds - accounted) / sum.loop_seconds, "");
+  if (sum.list_skin > 0)
+    line("Neighbour list: skin %g um, %ld builds over the ranks (in the force phases)\n", sum.list_skin, sum.list_builds);
+  std::fwrite(text.data(), 1, text.size(), stderr);
+}
+
+void report(const engine::RunSummary& sum, const std::string& out, bool quiet) {
+  if (!quiet) breakdown(sum);
   std::cerr << "semlb sim: " << sum.steps << " steps, " << sum.cells << " cells, " << sum.elements << " elements in "
             << sum.wall_seconds << " s on " << sum.device << "; wrote " << out << "/final.h5\n";
 }
@@ -59,7 +92,7 @@ Action add_sim(CLI::App& app) {
   sub->add_option("--seed", o->flags.seed, "Random seed (default: the scene's)")->check(strict_integer(0, 1L << 53));
   sub->add_option("--restart", o->restart, "Continue from a checkpoint (DIR/checkpoint.h5): bit-for-bit");
   add_scene_flags(sub, o->flags);
-  sub->add_flag("--quiet", o->quiet, "No status line");
+  sub->add_flag("--quiet", o->quiet, "No status line and no end-of-run breakdown (the last line stays)");
   sub->add_flag("--wait", o->wait, "When another run is writing --out, wait for it (default: exit 2 naming it)");
   sub->add_flag("--list-devices", o->list, "List OpenCL platforms and devices and exit");
   return [o, sub] {
@@ -80,7 +113,7 @@ Action add_sim(CLI::App& app) {
       rc.wait = o->wait;
       try {
         const auto sum = engine::run_scene(scene, rc);
-        report(sum, o->out);
+        report(sum, o->out, o->quiet);
       } catch (const engine::SimulationError& e) {
         std::cerr << "semlb sim: " << o->scene << ": " << e.what() << " (state written to " << o->out << "/failure.h5)\n";
         return 1;
@@ -95,7 +128,7 @@ Action add_sim(CLI::App& app) {
       engine::RunConfig rc{o->out, o->restart, o->quiet, SEMLB_GIT_REVISION, command_line()};
       rc.wait = o->wait;
       const auto sum = engine::run_scene_decomposed(scene, rc, *mpi);
-      if (mpi->rank() == 0) report(sum, o->out);
+      if (mpi->rank() == 0) report(sum, o->out, o->quiet);
     } catch (const engine::AgreedError& e) {
       if (mpi->rank() == 0) {
         std::cerr << "semlb sim: " << (e.code == 2 ? "" : o->scene + ": ") << e.what();

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "result_table.hpp"
 #include "common/text_io.hpp"
 #include "common/version.hpp"
 #include "experiments/sweep.hpp"
@@ -72,6 +73,7 @@ Action add_surrogate(CLI::App& app) {
     so.git_revision = version_string();
     so.command_line = command_line();
     const auto sum = experiments::run_sweep(m, {}, so);
+    if (!o->quiet) std::cerr << result_table(sum.csv_path, {"policy", "ranks"});
     std::cerr << "wrote " << sum.csv_path << " (" << sum.rows << " rows)\n";
     return 0;
   };

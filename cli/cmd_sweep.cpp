@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "commands.hpp"
+#include "result_table.hpp"
 #include "common/errors.hpp"
 #include "common/version.hpp"
 #include "experiments/sweep.hpp"
@@ -80,6 +81,10 @@ Action add_sweep(CLI::App& app) {
     if (sum.finished) {  // a job may write several CSV rows (one per interval and rank, per launch, ...)
       std::ifstream csv(sum.csv_path);
       const long lines = std::count(std::istreambuf_iterator<char>(csv), std::istreambuf_iterator<char>(), '\n');
+      std::vector<std::string> keys = {"policy", "ranks"};  // then the manifest's axes but the seeds and launches
+      for (const auto& a : m.axis_names())
+        if (a != "seed" && a != "launch") keys.push_back(a);
+      if (!o->quiet) std::cerr << result_table(sum.csv_path, keys);
       std::cerr << "wrote " << sum.csv_path << " (" << sum.rows << " jobs, " << sum.resumed << " resumed; "
                 << std::max(0L, lines - 1) << " rows)\n";
     }

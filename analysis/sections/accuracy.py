@@ -1,18 +1,17 @@
 """Report sections (beyond the paper's figures): what accuracy costs in time, fixed tissue and Day 0-5."""
 from collections import OrderedDict
 
-from .common import Part, plt as _pyplot, register
+from .common import Part, md_table, plt as _pyplot, register
 
 
 def accuracy_table(rows):
     out = ["# What accuracy costs in time", "",
            "Final element positions after the same simulated time against the reference run "
            f"({rows[0]['reference']}); RMS and maximum distance in um.", "",
-           "| precision | cutoff (um) | dt (h) | steps | wall s | RMS error (um) | max error (um) |",
-           "|---|---:|---:|---:|---:|---:|---:|"]
-    for r in rows:
-        out.append(f"| {r['precision']} | {r['cutoff']} | {r['dt']} | {r['steps']} | {float(r['wall_s']):.3g} | "
-                   f"{float(r['rms_error_um']):.3g} | {float(r['max_error_um']):.3g} |")
+           md_table(["precision", "cutoff (um)", "dt (h)", "steps", "wall s", "RMS error (um)", "max error (um)"],
+                    [(r["precision"], r["cutoff"], r["dt"], r["steps"], f"{float(r['wall_s']):.3g}",
+                      f"{float(r['rms_error_um']):.3g}", f"{float(r['max_error_um']):.3g}") for r in rows],
+                    align="lrrrrrr")]
     return "\n".join(out) + "\n"
 
 
@@ -50,25 +49,20 @@ def development_accuracy_table(rows, types):
            "(sum over types of |n - n_ref| / cells of the reference, %), thickness (z extent of the tissue, um), the "
            "centre of the per-slice work W_s (um) and the work profile (share of W_s in other slices than the "
            "reference's, %).", "",
-           f"| precision | dt (h) | cutoff (um) | wall s | cells Day 5 ({'/'.join(types)}) | cells error % | "
-           "thickness error (um) | work centre error (um) | work profile error % |",
-           "|---|---:|---:|---:|---|---:|---:|---:|---:|"]
-    for (prec, dt, cutoff), rs in runs.items():
-        last = rs[-1]
-        out.append(f"| {prec} | {dt} | {cutoff} | {float(last['wall_s']):.3g} | {last['cells']} "
-                   f"({'/'.join(last[t] for t in types)}) | {worst(rs, 'cells_error', 100):.3g} | "
-                   f"{worst(rs, 'thickness_error_um'):.3g} | {worst(rs, 'work_centre_error_um'):.3g} | "
-                   f"{worst(rs, 'work_profile_error', 100):.3g} |")
+           md_table(["precision", "dt (h)", "cutoff (um)", "wall s", f"cells Day 5 ({'/'.join(types)})", "cells error %",
+                     "thickness error (um)", "work centre error (um)", "work profile error %"],
+                    [(prec, dt, cutoff, f"{float(rs[-1]['wall_s']):.3g}",
+                      f"{rs[-1]['cells']} ({'/'.join(rs[-1][t] for t in types)})", f"{worst(rs, 'cells_error', 100):.3g}",
+                      f"{worst(rs, 'thickness_error_um'):.3g}", f"{worst(rs, 'work_centre_error_um'):.3g}",
+                      f"{worst(rs, 'work_profile_error', 100):.3g}") for (prec, dt, cutoff), rs in runs.items()],
+                    align="lrrrlrrrr")]
+    over = [(f"{float(hours):g}", prec, dt, cutoff, *(r[t] for t in types), f"{float(r['thickness_um']):.3g}",
+             f"{float(r['work_centre_um']):.4g}", f"{100 * float(r['work_profile_error']):.3g}")
+            for hours in sorted({r["time_h"] for r in rows}, key=float)
+            for (prec, dt, cutoff), rs in runs.items() for r in rs if r["time_h"] == hours]
     out += ["", "Over time (hours of simulated time):", "",
-            "| h | precision | dt (h) | cutoff (um) | " + "".join(f"{t} | " for t in types) + "thickness (um) | "
-            "work centre (um) | work profile error % |", "|---:|---|---:|---:|" + "---:|" * (len(types) + 3)]
-    for hours in sorted({r["time_h"] for r in rows}, key=float):
-        for (prec, dt, cutoff), rs in runs.items():
-            for r in rs:
-                if r["time_h"] == hours:
-                    out.append(f"| {float(hours):g} | {prec} | {dt} | {cutoff} | " + "".join(f"{r[t]} | " for t in types)
-                               + f"{float(r['thickness_um']):.3g} | {float(r['work_centre_um']):.4g} | "
-                               f"{100 * float(r['work_profile_error']):.3g} |")
+            md_table(["h", "precision", "dt (h)", "cutoff (um)", *types, "thickness (um)", "work centre (um)",
+                      "work profile error %"], over, align="rlrr" + "r" * (len(types) + 3))]
     return "\n".join(out) + "\n"
 
 

@@ -1,5 +1,6 @@
-"""What every report section shares: CSV reading, atomic writes, the section registry, provenance, setup lines."""
+"""What every report section shares: CSV reading, atomic writes, the section registry, provenance, tables, setup lines."""
 import csv
+import math
 import os
 import platform
 import re
@@ -7,6 +8,10 @@ import statistics
 import subprocess
 from collections import OrderedDict
 
+import numpy as np
+from scipy import stats as _stats
+
+import provenance
 import semlb_names
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -38,18 +43,45 @@ class Section:
 class Part:
     """A section's content: `runs` (list of (heading, setup line, markdown body)), `paper` (the paper's numbers),
     `reading` (one line: agrees / differs and why), `supported` (False when the data does not support the paper's
-    claim, None when there is nothing to compare), `summary` (a few words for the report's contents table)."""
+    claim, None when there is nothing to compare), `summary` (a few words on the committed GPU rows, or on this run
+    when basis is "run"), `this_run` (a few words on what this run measured), `basis` ("gpu": the verdict is drawn
+    from committed GPU rows, so stale rows withdraw it; "run": from this run; None: "gpu" when the section read
+    committed GPU rows), `key_table` (the one markdown table REPORT.md shows; default: the first table of the runs)."""
 
-    def __init__(self, runs, paper="", reading="", supported=None, summary=""):
+    def __init__(self, runs, paper="", reading="", supported=None, summary="", this_run="", basis=None, key_table=None):
         self.runs, self.paper, self.reading, self.supported, self.summary = runs, paper, reading, supported, summary
+        self.this_run, self.basis, self.key_table = this_run, basis, key_table
 
 
 SECTIONS = []
 
 
-def register(key, order, title, build, csvs=(), paper=None):
-    """Adds a section to the report; each module of analysis/sections/ calls this for what it shows."""
-    SECTIONS.append(Section(key, order, title, build, csvs, paper))
+def register(key, order, title, build, csvs=(), paper=None, claim=""):
+    """Adds a section to the report; each module of analysis/sections/ calls this for what it shows. CLAIM: the
+    paper's number in a few words, for the summary table."""
+    sec = Section(key, order, title, build, csvs, paper)
+    sec.claim = claim
+    SECTIONS.append(sec)
+
+
+def md_table(header, rows, align=None):
+    """A markdown table: HEADER (column names), ROWS (sequences of cells, str() of each; None as empty), ALIGN (one
+    character per column, 'l' or 'r'; default: 'r' for a column whose cells all read as numbers, else 'l')."""
+    cells = [["" if c is None else str(c) for c in r] for r in rows]
+    for r in cells:
+        if len(r) != len(header):
+            raise ValueError(f"md_table: a row of {len(r)} cells under {len(header)} columns: {r}")
+    if align is None:
+        def numeric(text):
+            try:
+                float(text.split()[0].rstrip("%x"))
+                return True
+            except (ValueError, IndexError):
+                return text in ("", "-")
+        align = "".join("r" if cells and all(numeric(r[i]) for r in cells) else "l" for i in range(len(header)))
+    out = ["| " + " | ".join(header) + " |", "|" + "|".join("---:" if a == "r" else "---" for a in align) + "|"]
+    out += ["|" + "|".join(f" {c} " if c else " " for c in r) + "|" for r in cells]
+    return "\n".join(out)
 
 
 def read_rows(path):
@@ -98,19 +130,14 @@ def fmean(vals):
     return statistics.fmean(vals) if vals else float("nan")
 
 
-# t quantiles t_{0.975, df} for the 95% interval (df 1..30; beyond, the normal 1.96 is within 2%)
-T975 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145, 2.131,
-        2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042]
-
-
 def t_interval(diffs):
-    """Mean and 95% t-interval half-width of paired differences (n >= 2; half-width inf for n = 1)."""
-    import math
-    m = statistics.fmean(diffs)
-    if len(diffs) < 2:
+    """Mean and 95% t-interval half-width of paired differences (Student t quantile from scipy.stats; n >= 2;
+    half-width inf for n = 1)."""
+    d = np.asarray(diffs, dtype=float)
+    m = float(d.mean())
+    if d.size < 2:
         return m, math.inf
-    df = len(diffs) - 1
-    return m, (T975[df - 1] if df <= len(T975) else 1.96) * statistics.stdev(diffs) / math.sqrt(len(diffs))
+    return m, float(_stats.t.ppf(0.975, d.size - 1) * d.std(ddof=1) / math.sqrt(d.size))
 
 
 def order_policies(names):
@@ -169,6 +196,7 @@ class Context:
     def __init__(self, results, committed, semlb):
         self.results, self.committed, self.semlb = results, committed, semlb
         self.written = []
+        self.used_committed = []  # committed results the current section read (report.py resets it per section)
         self._names = {}
 
     def path(self, rel):
@@ -183,13 +211,22 @@ class Context:
         return rows or None
 
     def committed_rows(self, rel):
-        """The rows of a committed CSV (rel to the repository's results/), or None."""
+        """The rows of a committed CSV (rel to the repository's results/), or None; remembered as used by the
+        section being built (its provenance decides whether the section may draw a verdict from it)."""
         p = os.path.join(self.committed, rel)
-        return read_rows(p) if os.path.exists(p) else None
+        if not os.path.exists(p):
+            return None
+        if rel not in self.used_committed:
+            self.used_committed.append(rel)
+        return read_rows(p)
+
+    def committed_provenance(self, rel):
+        """provenance.describe of a committed file (commit, date, status fresh/stale/unknown, milestones before)."""
+        return provenance.describe(os.path.join(self.committed, rel))
 
     def committed_source(self, rel):
-        """'`results/rel` (committed DATE)' for a committed file."""
-        return f"`results/{rel}` (committed {committed_date(os.path.join(self.committed, rel))})"
+        """'`results/rel` (made with semlb abc1234, DATE · **stale** ... )' for a committed file."""
+        return f"`results/{rel}` ({provenance.label(os.path.join(self.committed, rel))})"
 
     def table(self, name, text):
         """Writes RESULTS/tables/NAME.md; returns its body for inlining (its '# ' title made a '####' heading)."""

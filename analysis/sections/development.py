@@ -1,7 +1,7 @@
 """Report sections for the paper's epidermal-development figure (Day 0-5 as ellipsoids) and the epidermis render."""
 import os
 
-from .common import Part, read_rows, register
+from .common import Part, md_table, read_rows, register
 
 FIG = "figures/development.png"
 SUMMARY = "figures/development.csv"   # analysis/render.py --summary: cells per type and thickness per panel
@@ -24,12 +24,10 @@ def build(ctx):
     if os.path.exists(ctx.path(SUMMARY)):
         rows = read_rows(ctx.path(SUMMARY))
         types = [c for c in rows[0] if c not in ("time_h", "step", "cells", "elements", "thickness_um")]
-        body += ["| day | cells | elements | " + " | ".join(types) + " | thickness (um) |",
-                 "|---:|---:|---:|" + "---:|" * len(types) + "---:|"]
-        for r in rows:
-            day = f"{float(r['time_h']) / 24:.1f}" if r["time_h"] else "?"
-            body.append(f"| {day} | {r['cells']} | {r['elements']} | " + " | ".join(r[t] for t in types)
-                        + f" | {float(r['thickness_um']):.1f} |")
+        body.append(md_table(["day", "cells", "elements", *types, "thickness (um)"],
+                             [(f"{float(r['time_h']) / 24:.1f}" if r["time_h"] else "?", r["cells"], r["elements"],
+                               *(r[t] for t in types), f"{float(r['thickness_um']):.1f}") for r in rows],
+                             align="r" * (len(types) + 4)))
         a, b = rows[0], rows[-1]
         grown = int(b["cells"]) > int(a["cells"])
         differentiated = sum(1 for t in types[1:] if int(b[t]) > 0)
@@ -56,5 +54,5 @@ def build_epidermis(ctx):
 
 
 register("development", 6, "Epidermal development, Day 0-5: cells as ellipsoids, coloured by type", build, [FIG],
-         paper="fig:epidermal_visualization")
+         paper="fig:epidermal_visualization", claim="proliferation, differentiation, stratified tissue (no numbers)")
 register("epidermis", 20, "The epidermis scene after 3000 steps", build_epidermis, [])

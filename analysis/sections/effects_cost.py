@@ -1,5 +1,5 @@
 """Report section (beyond the paper's figures): what each effect of the epidermis scene costs per step."""
-from .common import Part, plt, register
+from .common import Part, md_table, plt, register
 
 CSV = "effects_cost/effects_cost.csv"
 GPU = "gpu/effects_cost/effects_cost.csv"
@@ -31,13 +31,15 @@ def table(rows, title):
            f"ms per step = wall time over the {rows[0]['steps']} timed steps / steps x 1000 (the figure's bar height). "
            "Phase columns: each phase's share of the summed phase timers, in % (the timers overlap, so their sum "
            "is not the step time).", "",
-           "| effects | elements at end | ms / step | " + " | ".join(f"{n} %" for n in names) + " |",
-           "|---|---:|---:|" + "---:|" * len(names)]
+           ]
+    body = []
     for r in rows:
         ph = phases(r)
         total = sum(ph.values()) or 1.0
-        out.append(f"| {r['effects']} | {r['elements']} | {ms_per_step(r):.2f} | "
-                   + " | ".join(f"{100 * ph[n] / total:.0f}" if n in ph else "-" for n in names) + " |")
+        body.append((r["effects"], r["elements"], f"{ms_per_step(r):.2f}",
+                     *(f"{100 * ph[n] / total:.0f}" if n in ph else "-" for n in names)))
+    out.append(md_table(["effects", "elements at end", "ms / step"] + [f"{n} %" for n in names], body,
+                        align="lrr" + "r" * len(names)))
     return "\n".join(out) + "\n"
 
 

@@ -1,7 +1,7 @@
 """Report section (beyond the paper's figures): what one-step foresight buys per migrated slice."""
 import statistics
 
-from .common import Part, by, register
+from .common import Part, by, md_table, register
 
 
 def frontier_table(rows, eval_rows):
@@ -13,13 +13,16 @@ def frontier_table(rows, eval_rows):
     out = ["# What one-step foresight buys per migrated slice (lazy oracle, held-out seeds)", "",
            "Mean over seeds. Target: the GRU's bound, reactive's imbalance + 0.5 points at 1/8 of its "
            "migration (reactive from controller_eval.csv in the same results folder).", "",
-           "| P | tau | imbalance % | migration | target imbalance % | target migration |",
-           "|---:|---:|---:|---:|---:|---:|"]
+           ]
+    body = []
     for p, rs in sorted(by(rows, "ranks").items(), key=lambda kv: int(kv[0])):
         ri, rm = reactive.get(p, (float("nan"), float("nan")))
         for tau, ts in sorted(by(rs, "lazy_oracle.tau").items(), key=lambda kv: float(kv[0])):
-            out.append(f"| {p} | {float(tau):g} | {100 * statistics.fmean(float(r['mean_imbalance']) for r in ts):.2f} | "
-                       f"{statistics.fmean(float(r['migration']) for r in ts):.1f} | {100 * ri + 0.5:.2f} | {rm / 8:.1f} |")
+            body.append((p, f"{float(tau):g}", f"{100 * statistics.fmean(float(r['mean_imbalance']) for r in ts):.2f}",
+                         f"{statistics.fmean(float(r['migration']) for r in ts):.1f}", f"{100 * ri + 0.5:.2f}",
+                         f"{rm / 8:.1f}"))
+    out.append(md_table(["P", "tau", "imbalance %", "migration", "target imbalance %", "target migration"], body,
+                        align="r" * 6))
     return "\n".join(out) + "\n"
 
 

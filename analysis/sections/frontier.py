@@ -3,7 +3,7 @@ import math
 import statistics
 from collections import OrderedDict
 
-from .common import Part, plt as _pyplot, register
+from .common import Part, md_table, plt as _pyplot, register
 
 
 # Families that a simulation can run (rank times, slice work); lazy_oracle needs the next interval's true work.
@@ -129,12 +129,12 @@ def balancer_frontier_table(rows):
            "Targets: (a) no deployable setting dominates the GRU (no worse in both, better in one); (b) at the GRU's "
            "imbalance the GRU migrates at most half of what the best deployable front needs: the least, over the "
            "deployable families, of the family's Pareto front interpolated linearly in imbalance between its points.", "",
-           "| P | GRU imbalance % | GRU migration | dominated by | deployable front's migration at the GRU's imbalance "
-           "| GRU / front | (a) | (b) |", "|---:|---:|---:|---|---:|---:|---|---|"]
+           ]
+    body = []
     for P, points in by_p.items():
         gru, beaten_by, need, ratio = gru_verdict(points)
         if gru is None:
-            out.append(f"| {P} | | | no gru rows | | | | |")
+            body.append((P, "", "", "no gru rows", "", "", "", ""))
             continue
         dom = "none" if not beaten_by else (
             f"{len(beaten_by)} setting{'s' if len(beaten_by) > 1 else ''}, least migration: {beaten_by[0][0]} "
@@ -142,27 +142,33 @@ def balancer_frontier_table(rows):
         need_s = "unreached" if need is None else f"{need:.1f}"
         ratio_s = "" if ratio is None else ("inf" if math.isinf(ratio) else f"{ratio:.2f}")
         b = need is None or ratio <= 0.5
-        out.append(f"| {P} | {100 * gru[2]:.2f} | {gru[3]:.1f} | {dom} | {need_s} | {ratio_s} | "
-                   f"{'holds' if not beaten_by else 'fails'} | {'holds' if b else 'fails'} |")
-    out += ["", "\"unreached\": no deployable setting reaches the GRU's imbalance at any migration ((b) holds).", "",
+        body.append((P, f"{100 * gru[2]:.2f}", f"{gru[3]:.1f}", dom, need_s, ratio_s,
+                     "holds" if not beaten_by else "fails", "holds" if b else "fails"))
+    out += [md_table(["P", "GRU imbalance %", "GRU migration", "dominated by",
+                      "deployable front's migration at the GRU's imbalance", "GRU / front", "(a)", "(b)"], body,
+                     align="rrrlrrll"),
+            "", "\"unreached\": no deployable setting reaches the GRU's imbalance at any migration ((b) holds).", "",
             "The floor: foresight (docs/controllers.md) knows the true work of every interval and minimises summed "
             "I_global + lambda x slices moved (exact at P = 2; at P > 2 a feasible path found by block coordinate "
             "descent, so an upper bound on the floor). At the GRU's migration, each front's imbalance (linear in "
             "migration between its points) and the share of the distance from the best deployable front down to "
             "foresight that the GRU closes, (front - GRU) / (front - floor); target at P = 2: at least 0.5.", "",
-            "| P | GRU migration | best deployable front's imbalance % there | foresight's imbalance % there | GRU "
-            "imbalance % | share of the gap closed |", "|---:|---:|---:|---:|---:|---:|"]
+            ]
+    body = []
     for P, points in by_p.items():
         gru, best, floor, share = floor_gap(points)
         if gru is None:
             continue
-        out.append(f"| {P} | {gru[3]:.1f} | {'unreached' if best is None else f'{100 * best:.2f}'} | "
-                   f"{'' if floor is None else f'{100 * floor:.2f}'} | {100 * gru[2]:.2f} | "
-                   f"{'' if share is None else f'{share:.2f}'} |")
-    out += ["", "\"unreached\": no deployable setting migrates as little as the GRU.", "",
+        body.append((P, f"{gru[3]:.1f}", "unreached" if best is None else f"{100 * best:.2f}",
+                     "" if floor is None else f"{100 * floor:.2f}", f"{100 * gru[2]:.2f}",
+                     "" if share is None else f"{share:.2f}"))
+    out += [md_table(["P", "GRU migration", "best deployable front's imbalance % there", "foresight's imbalance % there",
+                      "GRU imbalance %", "share of the gap closed"], body, align="rrrrrr"),
+            "", "\"unreached\": no deployable setting migrates as little as the GRU.", "",
             "Migration each family's front needs at the GRU's imbalance (same interpolation; \"unreached (x)\": the "
             "family's lowest imbalance x % is above the GRU's):", "",
-            "| family | " + " | ".join(f"P={P}" for P in by_p) + " |", "|---|" + "---:|" * len(by_p)]
+            ]
+    body = []
     for fam in FRONTIER_FAMILIES:
         cells = []
         for P, points in by_p.items():
@@ -170,13 +176,13 @@ def balancer_frontier_table(rows):
             need = migration_at(front, gru[2]) if gru and front else None
             cells.append("" if not gru or not front else
                          f"unreached ({100 * front[0][2]:.2f})" if need is None else f"{need:.1f}")
-        out.append(f"| {fam} | " + " | ".join(cells) + " |")
+        body.append([fam] + cells)
+    out.append(md_table(["family"] + [f"P={P}" for P in by_p], body, align="l" + "r" * len(by_p)))
     for P, points in by_p.items():
-        out += ["", f"## P = {P}: Pareto front of each family", "", "| family | setting | imbalance % | migration |",
-                "|---|---|---:|---:|"]
-        for fam in FRONTIER_FAMILIES + ["gru"]:
-            for p in pareto_front([q for q in points if q[0] == fam]):
-                out.append(f"| {fam} | {p[1]} | {100 * p[2]:.2f} | {p[3]:.1f} |")
+        out += ["", f"## P = {P}: Pareto front of each family", "",
+                md_table(["family", "setting", "imbalance %", "migration"],
+                         [(fam, p[1], f"{100 * p[2]:.2f}", f"{p[3]:.1f}") for fam in FRONTIER_FAMILIES + ["gru"]
+                          for p in pareto_front([q for q in points if q[0] == fam])], align="llrr")]
     return "\n".join(out) + "\n"
 
 

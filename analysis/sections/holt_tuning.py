@@ -2,7 +2,7 @@
 import statistics
 from collections import OrderedDict
 
-from .common import Part, register
+from .common import Part, md_table, register
 
 
 def holt_tuning_table(rows):
@@ -14,8 +14,8 @@ def holt_tuning_table(rows):
                      statistics.fmean(float(r["migration"]) for r in rs), a, b) for (a, b), rs in cells.items())
     out = ["# Holt smoothing parameters (training seeds only)", "",
            "Mean over the grid's ranks and training seeds; sorted by imbalance (lower is better).", "",
-           "| alpha | beta | imbalance % | migration |", "|---:|---:|---:|---:|"]
-    out += [f"| {a:g} | {b:g} | {100 * i:.3f} | {m:.0f} |" for i, m, a, b in scored]
+           md_table(["alpha", "beta", "imbalance %", "migration"],
+                    [(f"{a:g}", f"{b:g}", f"{100 * i:.3f}", f"{m:.0f}") for i, m, a, b in scored], align="rrrr")]
     return "\n".join(out) + "\n"
 
 

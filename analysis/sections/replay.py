@@ -1,7 +1,7 @@
 """Report sections (beyond the paper's figures): policies replayed on engine traces, and the per-slice work model."""
 from collections import OrderedDict
 
-from .common import Part, register
+from .common import Part, md_table, register
 
 REPLAY = "replay_score/replay_score.csv"
 MODEL = "trace_model/trace_model.csv"
@@ -25,18 +25,19 @@ def replay_score_table(rows):
            "Committed traces and this run's are listed and averaged apart."]
     for where, traces in OrderedDict((o, [t for t in OrderedDict.fromkeys(r["trace"] for r in rows) if origin(t) == o])
                                      for o in OrderedDict.fromkeys(origin(r["trace"]) for r in rows)).items():
-        out += ["", f"## Traces {where}", "", "| trace | P | events | " + " | ".join(policies) + " |",
-                "|---|---:|---:|" + "---|" * len(policies)]
+        body = []
         for t in traces:
             first = next(cell[(t, p)] for p in policies if (t, p) in cell)
-            vals = [f"{100 * float(cell[(t, p)]['mean_imbalance']):.2f} / {cell[(t, p)]['migration']}"
-                    if (t, p) in cell else "—" for p in policies]
-            out.append(f"| {t} | {first['ranks']} | {first['events']} | " + " | ".join(vals) + " |")
+            body.append([t, first["ranks"], first["events"]] + [
+                f"{100 * float(cell[(t, p)]['mean_imbalance']):.2f} / {cell[(t, p)]['migration']}"
+                if (t, p) in cell else "—" for p in policies])
         mean = {p: [float(cell[(t, p)]["mean_imbalance"]) for t in traces if (t, p) in cell] for p in policies}
         mig = {p: [float(cell[(t, p)]["migration"]) for t in traces if (t, p) in cell] for p in policies}
-        out.append(f"| **mean over these {len(traces)} traces** | | | " + " | ".join(
+        body.append([f"**mean over these {len(traces)} traces**", "", ""] + [
             f"**{100 * sum(mean[p]) / len(mean[p]):.2f} / {sum(mig[p]) / len(mig[p]):.1f}**" if mean[p] else "—"
-            for p in policies) + " |")
+            for p in policies])
+        out += ["", f"## Traces {where}", "", md_table(["trace", "P", "events"] + policies, body,
+                                                        align="lrr" + "l" * len(policies))]
     return "\n".join(out) + "\n"
 
 
@@ -46,13 +47,15 @@ def trace_model_table(rows):
            "Predicted rank time = sum of `slice_work` over the rank's slices on the recorded partition; R^2 around "
            "each event's mean rank time. `modelled` traces have R^2 = 1 by construction and are not pooled; "
            "committed traces and this run's are pooled apart (pooled_measured_committed, pooled_measured).", "",
-           "| trace | origin | timing | P | events | points | R^2 | mean rel. error % | max rel. error % |",
-           "|---|---|---|---:|---:|---:|---:|---:|---:|"]
+           ]
+    body = []
     for r in rows:
         where = ("committed" if r["trace"] == "pooled_measured_committed" else "fresh") \
             if r["trace"].startswith("pooled") else origin(r["trace"]).split(",")[0].split(":")[0]
-        out.append(f"| {r['trace']} | {where} | {r['timing']} | {r['ranks']} | {r['events']} | {r['points']} | "
-                   f"{float(r['r2']):.3f} | {100 * float(r['mean_rel_error']):.1f} | {100 * float(r['max_rel_error']):.1f} |")
+        body.append((r["trace"], where, r["timing"], r["ranks"], r["events"], r["points"], f"{float(r['r2']):.3f}",
+                     f"{100 * float(r['mean_rel_error']):.1f}", f"{100 * float(r['max_rel_error']):.1f}"))
+    out.append(md_table(["trace", "origin", "timing", "P", "events", "points", "R^2", "mean rel. error %",
+                         "max rel. error %"], body, align="lllrrrrrr"))
     return "\n".join(out) + "\n"
 
 

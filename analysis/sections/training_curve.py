@@ -1,17 +1,15 @@
 """Report section (beyond the paper's figures): the GRU's validation curve during training."""
-from .common import Part, plt as _pyplot, register
+from .common import Part, md_table, plt as _pyplot, register
 
 
 def training_curve_table(rows):
     out = ["# GRU training curve (validation seeds, hard integer boundaries)", "",
            "Validation imbalance (time-averaged I_global, %) and migration (slices per rollout) of the GRU after "
            "each number of training steps, with the reactive rule on the same rollouts.", "",
-           "| step | wall s | GRU imbalance % | GRU migration | reactive imbalance % | reactive migration |",
-           "|---:|---:|---:|---:|---:|---:|"]
-    for r in rows:
-        out.append(f"| {int(float(r['step']))} | {float(r['wall_seconds']):.0f} | {100 * float(r['val_imbalance']):.3f} | "
-                   f"{float(r['val_migration']):.1f} | {100 * float(r['reactive_imbalance']):.3f} | "
-                   f"{float(r['reactive_migration']):.1f} |")
+           md_table(["step", "wall s", "GRU imbalance %", "GRU migration", "reactive imbalance %", "reactive migration"],
+                    [(int(float(r["step"])), f"{float(r['wall_seconds']):.0f}", f"{100 * float(r['val_imbalance']):.3f}",
+                      f"{float(r['val_migration']):.1f}", f"{100 * float(r['reactive_imbalance']):.3f}",
+                      f"{float(r['reactive_migration']):.1f}") for r in rows], align="rrrrrr")]
     return "\n".join(out) + "\n"
 
 

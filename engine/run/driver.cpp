@@ -184,7 +184,21 @@ class Run {
   virtual bool failed(const std::exception& e, State& frozen) = 0;
   virtual void finish(RunOutputs& out, const State& all) = 0;  // files beside final.h5 (rank 0)
   virtual std::string device() = 0;
+  // Collective: sum.ranks, sum.phases (each phase's seconds over the run, min / avg / max over the ranks) and the
+  // neighbour list's builds (RunSummary).
+  virtual void breakdown(RunSummary& sum) = 0;
 };
+
+// min / avg / max over ranks of per-rank values.
+PhaseSpread spread_of(const std::string& name, const std::vector<double>& per_rank) {
+  PhaseSpread p{name, per_rank.empty() ? 0.0 : per_rank[0], 0.0, 0.0};
+  for (double v : per_rank) {
+    p.min = std::min(p.min, v);
+    p.max = std::max(p.max, v);
+    p.avg += v / static_cast<double>(per_rank.size());
+  }
+  return p;
+}
 
 // The loop every `semlb sim` runs, once: stops at each log/snapshot/checkpoint step, one run.csv row per log step
 // (the header: step,time_h,cells,elements,wall_s, a column per phase, bytes_h2d,bytes_d2h), the status line, the
@@ -203,11 +217,13 @@ RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long fir
   }
   run.mark();  // the first row's bytes are its steps', not the first snapshot's download
   const State none;  // what `all` is at a stop that writes no state
+  double element_steps = 0, output_seconds = 0;
   try {
     while (run.step() < last) {
-      const long stop = next_stop(scene, run.step(), last);
+      const long stop = next_stop(scene, run.step(), last), from = run.step();
       run.advance(stop);
       const auto [cells, elements] = run.totals();  // no download: the state crosses only when a file needs it
+      element_steps += static_cast<double>(elements) * static_cast<double>(stop - from);
       const bool log = stop % scene.log_every == 0 || stop == last;
       std::pair<std::vector<double>, std::array<long, 2>> since;
       if (log) since = run.since_last();
@@ -215,6 +231,7 @@ RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long fir
       const State& all = gather ? run.whole() : none;
       run.agreed([&] {
         if (!root) return;
+        const auto written = std::chrono::steady_clock::now();
         if (log) {
           std::ostringstream row;
           const double w = seconds_since(t0);
@@ -226,6 +243,7 @@ RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long fir
           wall_before = w;
         }
         if (gather) run.save(*out, all, stop);
+        output_seconds += seconds_since(written);
       });
       status.update(stop, cells, elements, seconds_since(t0), false);
     }
@@ -237,6 +255,7 @@ RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long fir
     });
     throw;
   }
+  const double loop_seconds = seconds_since(t0);
   const State& all = run.whole();
   run.agreed([&] {
     if (!root) return;
@@ -244,7 +263,17 @@ RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long fir
     run.finish(*out, all);
     status.update(all.step, all.cells(), all.elements(), seconds_since(t0), true);
   });
-  return {all.step - first, all.cells(), all.elements(), seconds_since(t0), run.device()};
+  RunSummary sum;
+  sum.steps = all.step - first;
+  sum.cells = all.cells();
+  sum.elements = all.elements();
+  sum.wall_seconds = seconds_since(t0);
+  sum.device = run.device();
+  sum.loop_seconds = loop_seconds;
+  sum.element_steps = element_steps;
+  sum.output_seconds = output_seconds;
+  run.breakdown(sum);
+  return sum;
 }
 
 // The header of run.csv for these phases.
@@ -304,6 +333,12 @@ class OneDevice final : public Run {
     write_file_atomically(out.dir() + "/kernels.csv", csv);
   }
   std::string device() override { return sim_.backend().device_name(); }
+  void breakdown(RunSummary& sum) override {
+    for (size_t p = 0; p < sim_.phases().size(); ++p) sum.phases.push_back(spread_of(sim_.phases()[p], {sim_.phase_seconds()[p]}));
+    const ListStats list = sim_.backend().list_stats();
+    sum.list_builds = list.builds;
+    sum.list_skin = list.skin;
+  }
 
  private:
   const Scene& scene_;
@@ -366,6 +401,30 @@ class Decomposed final : public Run {
     write_file_atomically(config_.out_dir + "/" + rt::kFile, rows);
   }
   std::string device() override { return sim_.local().backend().device_name(); }
+  void breakdown(RunSummary& sum) override {
+    const auto& names = sim_.local().phases();
+    const auto all = mpi_.allgather(sim_.local().phase_seconds());  // rank-major: rank r's phases at r * names.size()
+    const size_t ranks = names.empty() ? 0 : all.size() / names.size();
+    for (size_t p = 0; p < names.size(); ++p) {
+      std::vector<double> per_rank;
+      for (size_t r = 0; r < ranks; ++r) per_rank.push_back(all[r * names.size() + p]);
+      sum.phases.push_back(spread_of(names[p], per_rank));
+    }
+    std::vector<double> exchange(mpi_.size(), 0.0), migration(mpi_.size(), 0.0);
+    for (const auto& iv : sim_.intervals())
+      for (size_t r = 0; r < iv.exchange.size() && r < exchange.size(); ++r) {
+        exchange[r] += iv.exchange[r];
+        migration[r] += iv.migrate[r];
+      }
+    sum.phases.push_back(spread_of("exchange", exchange));
+    sum.phases.push_back(spread_of("migration", migration));
+    const ListStats list = sim_.local().backend().list_stats();
+    std::vector<double> builds = {static_cast<double>(list.builds)};
+    mpi_.allreduce_sum(builds);
+    sum.ranks = mpi_.size();
+    sum.list_builds = static_cast<long>(builds[0]);
+    sum.list_skin = list.skin;
+  }
 
  private:
   const Scene& scene_;

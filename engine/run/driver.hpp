@@ -2,6 +2,7 @@
 #pragma once
 #include <array>
 #include <string>
+#include <vector>
 
 #include "model/scene.hpp"
 
@@ -17,10 +18,25 @@ struct RunConfig {
   bool wait = false;  // out_dir in use by another run (common/dir_lock.hpp): wait for it instead of InputError
 };
 
+// One phase's seconds over the run: the least, mean and largest over the ranks (one device: all three the same).
+struct PhaseSpread {
+  std::string name;
+  double min = 0, avg = 0, max = 0;
+};
+
 struct RunSummary {
   long steps = 0, cells = 0, elements = 0;
   double wall_seconds = 0;
   std::string device;
+  // The end-of-run breakdown `semlb sim` prints: the time-stepping loop's wall seconds (final.h5 not included), the
+  // element-steps it made (elements after each stretch between stops x its steps), rank 0's seconds writing files
+  // in it (run.csv rows, snapshots, checkpoints), the phase timers of run.csv per rank (decomposed: also the ghost
+  // exchange and migration of the rebalancing intervals), and the neighbour list's builds summed over the ranks.
+  int ranks = 1;
+  double loop_seconds = 0, element_steps = 0, output_seconds = 0;
+  std::vector<PhaseSpread> phases;
+  long list_builds = 0;
+  double list_skin = 0;
 };
 
 // DIR/rank_times.csv of a decomposed run: one row per rebalancing interval and rank. Columns, written and read

@@ -37,7 +37,8 @@ for f in single_device strong_scaling rank_balance rank_balance_gpu_4ranks rank_
   [ -s "$png" ] || { echo "missing or empty: $png"; exit 1; }
   head -c 8 "$png" | od -An -c | grep -q "P   N   G" || { echo "not a PNG: $png"; exit 1; }
   [ "$(stat -c %s "$png")" -gt 10000 ] || { echo "suspiciously small: $png"; exit 1; }
-  grep -qF "![figures/$f.png](figures/$f.png)" "$r/REPORT.md" || { echo "REPORT.md does not show $f"; exit 1; }
+  grep -qF "![figures/$f.png](figures/$f.png)" "$r/REPORT.md" || grep -qF "![figures/$f.png](../figures/$f.png)" "$r"/report/*.md ||
+    { echo "neither REPORT.md nor a detail page shows $f"; exit 1; }
 done
 rep=$r/REPORT.md
 # One section per paper figure, in the paper's order, before any section beyond the paper.
@@ -47,14 +48,18 @@ got=$(grep -o '^\*Paper: Fig\. `fig:[a-z_]*`' "$rep" | grep -o 'fig:[a-z_]*' | u
 first_extra=$(grep -n "^\*Beyond the paper" "$rep" | head -1 | cut -d: -f1)
 last_paper=$(grep -n '^\*Paper: Fig' "$rep" | tail -1 | cut -d: -f1)
 [ "$last_paper" -lt "$first_extra" ] || { echo "a section beyond the paper comes before a paper figure"; exit 1; }
-# Every section names its profile and machine, and every paper section the paper's numbers and a reading.
+# Every section (with its detail page) names its profile and machine, and every paper section the paper's numbers and
+# a reading.
 "$py" - "$rep" <<'PY' || exit 1
-import re, sys
+import os, re, sys
 text = open(sys.argv[1]).read()
 sections = re.split(r"(?m)^(?=## \d+\. )", text)[1:]
 assert len(sections) >= 9, f"only {len(sections)} sections"
 for sec in sections:
     title = sec.splitlines()[0]
+    link = re.search(r"\]\((report/\d\d-[a-z_]+\.md)\)", sec)
+    if link:
+        sec += open(os.path.join(os.path.dirname(sys.argv[1]), link.group(1))).read()
     assert "profile **" in sec, f"no profile in: {title}"
     assert "machine: " in sec, f"no machine in: {title}"
     if sec.count("*Paper: Fig.") == 1:

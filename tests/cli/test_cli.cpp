@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <regex>
 #include <sstream>
 #include <vector>
 
@@ -157,6 +158,39 @@ TEST(Cli, ReplayOfADumpedTraceReproducesTheRollout) {
     }
     EXPECT_EQ(events, 40);
   }
+}
+
+// semlb surrogate and semlb sweep end with what they measured per policy and P: means, "mean ± sd" over the seeds,
+// the seeds counted; --quiet leaves the last line only.
+TEST(Cli, SurrogateAndSweepEndWithATableOfWhatWasMeasured) {
+  const auto dir = fresh_dir("cli_tables");
+  const auto r = run(semlb_bin() + " surrogate --policies static,reactive --ranks 2,4 --seeds 9000-9002 --events 20 --out " + dir + "/s");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex("\npolicy +\\| P \\| imbalance % +\\| migration +\\| n\n")))
+      << r.out;
+  for (const char* row : {"static +\\| 2 \\| [0-9.]+ ± [0-9.]+ +\\| 0 ± 0 +\\| 3\n", "static +\\| 4 \\| ",
+                          "reactive \\| 2 \\| [0-9.]+ ± [0-9.]+ +\\| [0-9.]+ ± [0-9.]+ +\\| 3\n", "reactive \\| 4 \\| "})
+    EXPECT_TRUE(std::regex_search(r.out, std::regex(std::string("\n") + row))) << row << "\n" << r.out;
+  EXPECT_NE(r.out.find("\nwrote " + dir + "/s/controller_eval.csv (12 rows)\n"), std::string::npos) << r.out;
+  const auto q = run(semlb_bin() + " surrogate --policies static --ranks 2 --seeds 9000 --events 5 --quiet --out " + dir + "/q");
+  ASSERT_EQ(q.rc, 0) << q.out;
+  EXPECT_EQ(q.out.find("imbalance %"), std::string::npos) << q.out;
+  // Knob columns (POLICY.KEY) name each row's setting; of several settings of a policy at a P the line shows the one
+  // with the least imbalance and says of how many; a policy without knobs runs its default.
+  const auto k = run(semlb_bin() + " sweep " + source("experiments/controller_eval_engine.yaml") + " --results " + dir +
+                     "/k --set ranks=2 --set seed=0");
+  ASSERT_EQ(k.rc, 0) << k.out;
+  EXPECT_TRUE(std::regex_search(k.out, std::regex("\npolicy +\\| P \\| setting +\\| imbalance % +\\| migration +\\| loop s +\\| n\n")))
+      << k.out;
+  EXPECT_TRUE(std::regex_search(k.out, std::regex("\nstatic +\\| 2 \\| default +\\| "))) << k.out;
+  EXPECT_TRUE(std::regex_search(k.out, std::regex("\nreactive +\\| 2 \\| tau=[0-9.]+ alpha=[0-9.]+ \\(least imbalance % of [0-9]+\\) +\\| ")))
+      << k.out;
+  const auto w = run(semlb_bin() + " sweep " + source("experiments/controller_eval.yaml") + " --results " + dir +
+                     "/w --set policy=static,gru --set ranks=2 --set seed=9000-9001 --set events=10");
+  ASSERT_EQ(w.rc, 0) << w.out;
+  EXPECT_TRUE(std::regex_search(w.out, std::regex("\npolicy \\| P \\| imbalance % +\\| migration +\\| n\n"))) << w.out;
+  EXPECT_TRUE(std::regex_search(w.out, std::regex("\ngru    \\| 2 \\| [0-9.]+ ± [0-9.]+ +\\| [0-9.]+ ± [0-9.]+ +\\| 2\n")))
+      << w.out;
 }
 
 TEST(Cli, BenchPrintsATableRowPerPolicy) {

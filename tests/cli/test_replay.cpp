@@ -84,8 +84,12 @@ TEST(Replay, WorkloadAtARankCountThroughTheTimeModel) {
                             " --time-model seconds_per_work=0.5 --time-model migrate_s_per_slice=0";
   const auto r = run(semlb_bin() + " replay --policy static --workload " + dir + "/w.h5 --ranks 2" + exact);
   ASSERT_EQ(r.rc, 0) << r.out;
-  const auto j = nlohmann::json::parse(r.out);
+  const auto j = nlohmann::json::parse(r.out.substr(0, r.out.find('\n')));  // the JSON line (stdout), then the table
   EXPECT_DOUBLE_EQ(j["mean_imbalance"].get<double>(), 2.0 / 4.5);
+  // The terminal's table (stderr): one row per policy and P, the imbalance in %.
+  EXPECT_NE(r.out.find("\npolicy | P | events | imbalance % | migration | loop s | ideal s | migrate s\n"
+                       "static | 2 | 2      | 44.44       | 0         | 11     | "), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.back(), '\n');
   EXPECT_DOUBLE_EQ(j["loop_s"].get<double>(), 11.0);
   EXPECT_EQ(j["ranks"], 2);
   EXPECT_EQ(j["events"], 2);

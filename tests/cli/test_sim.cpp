@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <regex>
 #include <sstream>
 
 #include "../run_command.hpp"
@@ -23,6 +24,49 @@ TEST(CliSim, WritesFinalStateSnapshotsXdmfRunCsvAndSceneCopy) {
   EXPECT_NE(slurp(dir + "/out/scene.yaml").find("cells: 20"), std::string::npos);
   const auto h5 = run("h5ls -r " + dir + "/out/final.h5");
   for (const char* d : {"/elements/position", "/elements/cell", "/cells/type"}) EXPECT_NE(h5.out.find(d), std::string::npos) << h5.out;
+}
+
+// The end of a run, as LAMMPS ends one: the loop time, element-steps per second and a line per phase with its
+// min / avg / max over the ranks, its share of the loop and its imbalance; then the last line. --quiet keeps the last
+// line only. On 2 ranks the ghost exchange and migration get their lines and the ranks' spread shows.
+TEST(CliSim, EndsWithTheLoopTimeAndAPhaseBreakdown) {
+  const auto dir = fresh_dir("cli_sim_breakdown");
+  const std::string args = " --scene " + source("scenes/epidermis.yaml") + " --steps 40 --set tissue.cells=20";
+  const auto r = run(semlb_bin() + " sim" + args + " --out " + dir + "/one");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\nLoop time of [0-9.e+-]+ s on 1 rank for 40 steps with [0-9]+ elements at the end\n)")))
+      << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\nPerformance: [0-9.e+]+ element-steps/s, [0-9.e+-]+ ms/step\n)"))) << r.out;
+  EXPECT_NE(r.out.find("phase      |    min (s) |    avg (s) |    max (s) |  %loop | imbalance %\n"), std::string::npos) << r.out;
+  const std::string number = R"( +[0-9.e+-]+ )";
+  for (const char* phase : {"mechanics", "integrate", "cells"})  // one device: min = avg = max, no imbalance
+    EXPECT_TRUE(std::regex_search(r.out, std::regex(std::string("\n") + phase + " +\\|(" + number + "\\|){4} +0\\.0\n")))
+        << phase << "\n" << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\noutput +\| +\| +[0-9.e+-]+ +\| +\| +[0-9.]+ \| +\(rank 0\)\n)"))) << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\nother +\| +\| +[0-9.e+-]+ +\| )"))) << r.out;
+  const auto last = r.out.substr(r.out.rfind("\n", r.out.size() - 2) + 1);
+  EXPECT_EQ(last.rfind("semlb sim: 40 steps, ", 0), 0u) << last;
+  // The phases' shares and output and other add up to the loop (other is what the timers do not cover).
+  double share = 0;
+  std::smatch m;
+  for (auto it = r.out.cbegin(); std::regex_search(it, r.out.cend(), m, std::regex(R"(\| +([0-9.]+) \| +(?:[0-9.]+|\(rank 0\))? *\n)"));
+       it = m.suffix().first)
+    share += std::stod(m[1]);
+  EXPECT_NEAR(share, 100.0, 1.0) << r.out;
+
+  const auto q = run(semlb_bin() + " sim" + args + " --quiet --out " + dir + "/quiet");
+  ASSERT_EQ(q.rc, 0) << q.out;
+  EXPECT_EQ(q.out.find("Loop time"), std::string::npos) << q.out;
+  EXPECT_NE(q.out.find("semlb sim: 40 steps, "), std::string::npos) << q.out;
+
+  const auto d = run("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " SEMLB_MPIEXEC " --oversubscribe -np 2 " +
+                     semlb_bin() + " sim" + args + " --out " + dir + "/two");
+  ASSERT_EQ(d.rc, 0) << d.out;
+  EXPECT_NE(d.out.find(" on 2 ranks for 40 steps"), std::string::npos) << d.out;
+  for (const char* phase : {"mechanics", "exchange", "migration"})
+    EXPECT_TRUE(std::regex_search(d.out, std::regex(std::string("\n") + phase + " +\\|(" + number + "\\|){4} +[0-9.]+\n")))
+        << phase << "\n" << d.out;
+  EXPECT_EQ(d.out.find("Loop time"), d.out.rfind("Loop time")) << "printed by one rank only\n" << d.out;
 }
 
 TEST(CliSim, BadInputExitsTwoWithOneLineAndWritesNothing) {

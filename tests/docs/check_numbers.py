@@ -199,7 +199,7 @@ def check_numbers(root, spec):
 
 RESULTS_PATH = re.compile(r"results/[A-Za-z0-9_./*<>-]*[A-Za-z0-9_*>/]")
 # What `make experiments` writes: results/tables, results/figures, results/epidermis, results/development,
-# results/trace_model, results/REPORT.md and one folder per
+# results/trace_model, results/REPORT.md, results/report (its detail pages) and one folder per
 # manifest (experiments/*.yaml 'output:' folder).
 MAKE_EXPERIMENTS = re.compile(r"`?make (experiments|epidermis|train)`?|PROFILE=paper make experiments")
 
@@ -212,7 +212,7 @@ def check_paths(root, docs):
     manifests = sorted(os.path.splitext(n)[0] for n in os.listdir(os.path.join(root, "experiments"))
                        if n.endswith(".yaml"))
     made = ["results/tables/", "results/figures/", "results/epidermis/", "results/development/", "results/trace_model/",
-            "results/REPORT.md", "results/<experiment>/"] + \
+            "results/REPORT.md", "results/report/", "results/<experiment>/"] + \
         [f"results/{m}/" for m in manifests]
     errors, seen = [], 0
     for doc in docs:

@@ -1,0 +1,143 @@
+"""Where a committed GPU result comes from (semlb commit and date) and whether the engine has changed since (stale).
+
+A result folder under results/gpu/ holds a `provenance.json`:
+    {"semlb_commit": "<40 hex>", "date": "YYYY-MM-DD", "how": "how the commit is known", "note": "optional",
+     "files": {"name.csv": {"semlb_commit": ..., "date": ..., "how": ..., "note": ...}}}
+`files` overrides the folder's record for single files (results/gpu/provenance.json records the loose files there).
+A result is stale when a commit after its own changed the engine's kernels or the controllers (KERNEL_PATHS);
+unknown when git cannot say (a tarball without history, or a commit this clone does not hold).
+Usage: provenance.py [--results DIR] [--check]   (prints one line per record: path, commit, date, status)
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# The paths whose changes make a committed timing or controller result stale: the kernels and their host code, the
+# per-pair and per-cell plug-ins, the decomposition (exchange, migration) and the controllers.
+KERNEL_PATHS = ["engine/backends", "engine/pairs", "engine/terms", "engine/effects", "engine/growth",
+                "engine/division", "engine/fates", "engine/removal", "engine/decomposition", "controllers"]
+
+# Changes a reader knows the engine by: a result made before one of them is labelled "before <name>".
+MILESTONES = [("the GPU-resident engine", "52e041256476e6d0e0f70823a8511537cca1cdd0"),
+              ("the neighbour list", "aaa44ac")]
+
+FRESH, STALE, UNKNOWN = "fresh", "stale", "unknown"
+_cache = {}
+
+
+def _git(*args, repo=REPO):
+    """stdout of `git -C repo ARGS`, or None when git fails (no git, no history, unknown commit)."""
+    key = (repo,) + args
+    if key not in _cache:
+        try:
+            out = subprocess.run(["git", "-C", repo, *args], capture_output=True, text=True, timeout=30)
+            _cache[key] = out.stdout.strip() if out.returncode == 0 else None
+        except (OSError, subprocess.SubprocessError):
+            _cache[key] = None
+    return _cache[key]
+
+
+def record(path, root=None):
+    """The provenance record of a committed result file or folder: the nearest provenance.json at or above it (up to
+    ROOT, default the `gpu` folder holding it), with the fields of its `files` entry for the file over the folder's
+    (a note on the folder holds for its files). None without one."""
+    path = os.path.abspath(path)
+    folder = path if os.path.isdir(path) else os.path.dirname(path)
+    root = os.path.abspath(root) if root else None
+    while True:
+        p = os.path.join(folder, "provenance.json")
+        if os.path.exists(p):
+            with open(p) as f:
+                doc = json.load(f)
+            rel = os.path.relpath(path, folder)
+            rec = {k: v for k, v in doc.items() if k != "files"}  # the folder's record, a file's own fields over it
+            rec.update(doc.get("files", {}).get(rel) or {})
+            rec["file"] = p
+            return rec
+        if folder == root or os.path.basename(folder) == "gpu" or os.path.dirname(folder) == folder:
+            return None
+        folder = os.path.dirname(folder)
+
+
+def status(commit, repo=REPO):
+    """(FRESH | STALE | UNKNOWN, detail): STALE when a commit after COMMIT changed KERNEL_PATHS (detail: the latest
+    such commit, 'abc1234 YYYY-MM-DD'); UNKNOWN when git cannot tell (detail: why)."""
+    if not commit:
+        return UNKNOWN, "no commit recorded"
+    if _git("rev-parse", "--git-dir", repo=repo) is None:
+        return UNKNOWN, "no git history here"
+    if _git("cat-file", "-e", f"{commit}^{{commit}}", repo=repo) is None:
+        return UNKNOWN, f"commit {commit[:7]} is not in this clone"
+    later = _git("log", "-1", "--format=%h %cs", f"{commit}..HEAD", "--", *KERNEL_PATHS, repo=repo)
+    if later is None:
+        return UNKNOWN, "git log failed"
+    return (STALE, later) if later else (FRESH, "")
+
+
+def before(commit, repo=REPO):
+    """The MILESTONES names the COMMIT predates (it does not contain them); [] when git cannot tell."""
+    out = []
+    for name, m in MILESTONES:
+        full = _git("rev-parse", "--verify", "-q", f"{m}^{{commit}}", repo=repo)
+        if full and _git("merge-base", "--is-ancestor", full, commit, repo=repo) is None and \
+                _git("cat-file", "-e", f"{commit}^{{commit}}", repo=repo) is not None:
+            out.append(name)
+    return out
+
+
+def describe(path, repo=REPO):
+    """{'commit', 'date', 'status', 'detail', 'before', 'note'} for a committed result (status UNKNOWN and commit ''
+    without a record)."""
+    rec = record(path)
+    if rec is None:
+        return {"commit": "", "date": "", "status": UNKNOWN, "detail": "no provenance.json", "before": [], "note": ""}
+    commit = rec.get("semlb_commit", "")
+    st, detail = status(commit, repo)
+    return {"commit": commit, "date": rec.get("date", ""), "status": st, "detail": detail,
+            "before": before(commit, repo) if commit else [], "note": rec.get("note", "")}
+
+
+def label(path, repo=REPO):
+    """One markdown phrase for a result's provenance: 'semlb abc1234, 2026-11-22 · **stale**: the kernels or
+    controllers changed after it (last: def5678 2026-12-03) · before the GPU-resident engine'."""
+    d = describe(path, repo)
+    if not d["commit"]:
+        return "provenance **unknown** (no provenance.json)"
+    text = f"semlb `{d['commit'][:7]}`, {d['date']}"
+    if d["status"] == STALE:
+        text += f" · **stale**: the kernels or controllers changed after it (last: `{d['detail']}`)"
+    elif d["status"] == UNKNOWN:
+        text += f" · staleness **unknown** ({d['detail']})"
+    else:
+        text += " · current: no kernel or controller change since"
+    if d["before"]:
+        text += " · before " + " and ".join(d["before"])
+    if d["note"]:
+        text += " · " + d["note"]
+    return text
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--results", default=os.path.join(REPO, "results"), help="results folder (default: the repo's)")
+    ap.add_argument("--check", action="store_true", help="exit 1 when a result folder under gpu/ has no record")
+    args = ap.parse_args()
+    gpu = os.path.join(args.results, "gpu")
+    missing = 0
+    for name in sorted(os.listdir(gpu)):
+        p = os.path.join(gpu, name)
+        if name == "provenance.json":
+            continue
+        d = describe(p)
+        missing += not d["commit"]
+        print(f"gpu/{name}: {d['commit'][:7] or '-'} {d['date'] or '-'} {d['status']} {d['detail']}"
+              + (" · before " + ", ".join(d["before"]) if d["before"] else ""))
+    return 1 if args.check and missing else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

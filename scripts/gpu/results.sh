@@ -1,0 +1,140 @@
+#!/usr/bin/env bash
+# Regenerates the committed single-GPU results (`make gpu-results`) on a machine with one NVIDIA GPU, in stages that
+# each fit one 10-minute device call: a stage that finished leaves OUT/.stages/STAGE.done (commit, date) and is
+# skipped next time; a sweep cut off mid-stage resumes from its own .partial file. A call starts no new stage once
+# BUDGET_S seconds (default 420) have passed and exits 3 saying what is left: run it again until it exits 0.
+# Each stage writes a provenance.json (semlb commit, date, device) beside what it made (analysis/provenance.py).
+# Usage: bash scripts/gpu/results.sh [OUT=results/gpu] [STAGE ...]   (default: every stage; `list` prints them)
+#   YALLA=DIR: the folder holding a ya||a clone as DIR/yalla (the peer stage is skipped without it: no network there).
+#   BUILD=DIR: where semlb is built (Release, no tests, no torch; default /tmp/semlb-gpu, as scripts/gpu_sweep.sh).
+#   REPLAY_SET="--set KEY=VALUE ...": extra settings of the replay sweep (a quick run: --set ranks=2 --set seed=0).
+#   CHECK=1: check every stage without a GPU (the sweeps' `--check`, the scripts present), write nothing, exit 0.
+set -euo pipefail
+here=$(cd "$(dirname "$0")/../.." && pwd)
+OUT=${1:-$here/results/gpu}; shift || true
+BUDGET_S=${BUDGET_S:-420}
+BUILD=${BUILD:-/tmp/semlb-gpu}
+PY=${PYTHON:-/usr/bin/python3}
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OCL_ICD_FILENAMES=${OCL_ICD_FILENAMES:-libnvidia-opencl.so.1}
+# The GPU variants of the workload library (scripts/gpu/workload_library.sh), one stage each.
+WORKLOADS="dev_v24.8_s1 dev_v24.8_s2 dev_v12.4_s1 dev_v6.2_s1 dev_v3.1_s1 dev_centre_v12.4_s1 epidermis_s1 epidermis_long_s2
+epidermis_long_s3 epidermis_half_s1 epidermis_half3k_s2"
+STAGES="single_device effects_cost accuracy_vs_time development peer_yalla measured_time $(for w in $WORKLOADS; do
+  printf 'workload:%s ' "$w"; done)controller_eval_engine"
+if [ "${1:-}" = list ]; then printf '%s\n' $STAGES; exit 0; fi
+want=${*:-$STAGES}
+start=$(date +%s)
+commit=$(git -C "$here" rev-parse HEAD 2>/dev/null || echo unknown)
+dirty=$(git -C "$here" status --porcelain -- engine controllers cli 2>/dev/null | head -1)
+[ -z "$dirty" ] || echo "gpu-results: the engine or controllers differ from $commit (uncommitted): provenance says so" >&2
+S=$BUILD/cli/semlb
+if [ ! -x "$S" ]; then
+  cmake -S "$here" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DSEMLB_BUILD_TESTS=OFF -DSEMLB_WITH_TORCH=OFF >/dev/null
+  cmake --build "$BUILD" -j"$(nproc)" --target semlb >/dev/null
+fi
+device=$(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null | head -1 || echo "?")
+
+provenance() {  # DIR [HOW]: DIR/provenance.json for what the stage made
+  mkdir -p "$1"
+  printf '{"semlb_commit": "%s", "date": "%s", "how": "%s", "device": "%s"%s}\n' "$commit" "$(date -u +%F)" \
+    "${2:-scripts/gpu/results.sh}" "$device" "${dirty:+, \"note\": \"uncommitted changes under engine/ or controllers/\"}" \
+    > "$1/provenance.json.tmp"
+  mv "$1/provenance.json.tmp" "$1/provenance.json"
+}
+sweep() {  # MANIFEST: the paper profile on the NVIDIA platform in float, one job at a time (they share one GPU),
+           # results under OUT/NAME/
+  "$S" sweep "$here/experiments/$1.yaml" --profile paper --results "$OUT" --quiet --jobs 1 ${CHECK:+--check} \
+    --set scene.backend.platform=NVIDIA --set scene.backend.precision=float
+}
+check_stage() {  # STAGE: what CHECK=1 verifies without a GPU
+  case $1 in
+    single_device|effects_cost|accuracy_vs_time) sweep "$1";;
+    development) [ -f "$here/scripts/gpu/neighbour_list.sh" ];;
+    peer_yalla) [ -f "$here/scripts/gpu/peer_yalla/run.sh" ] && [ -f "$here/analysis/peer_yalla.py" ];;
+    measured_time) [ -f "$here/scripts/gpu/measured_time.sh" ] || echo "gpu-results: measured_time: no script yet (skipped)";;
+    workload:*) grep -q "^  \"${1#workload:}|" "$here/scripts/gpu/workload_library.sh";;
+    controller_eval_engine) "$S" sweep "$here/experiments/controller_eval_engine.yaml" --profile paper --results "$OUT/.replay" --check;;
+    *) echo "gpu-results: unknown stage '$1'" >&2; return 2;;
+  esac
+}
+
+run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run here (and says why)
+  case $1 in
+    single_device|effects_cost|accuracy_vs_time)
+      sweep "$1" && provenance "$OUT/$1" "scripts/gpu/results.sh $1 (semlb sweep experiments/$1.yaml --profile paper)";;
+    development)  # Day 0-5 at the paper's size on one GPU (scripts/gpu/neighbour_list.sh dev): a fresh CSV row
+      rm -rf "$OUT/development.tmp"
+      bash "$here/scripts/gpu/neighbour_list.sh" "$S" "$OUT/development.tmp" dev "0 0.5 1 1.5 2" "1"
+      rm -rf "$OUT/development"; mv "$OUT/development.tmp" "$OUT/development"
+      provenance "$OUT/development" "scripts/gpu/results.sh development (scripts/gpu/neighbour_list.sh dev)";;
+    peer_yalla)
+      [ -n "${YALLA:-}" ] || { echo "gpu-results: peer_yalla needs YALLA=DIR holding a ya||a clone as DIR/yalla"; return 77; }
+      mkdir -p "$OUT/peer_yalla"
+      bash "$here/scripts/gpu/peer_yalla/run.sh" "$S" "$here/scenes/mechanics.yaml" > "$OUT/peer_yalla/peer_yalla.log" 2>&1
+      $PY "$here/analysis/peer_yalla.py" --machine "$device" "$OUT/peer_yalla/peer_yalla.log" > "$OUT/peer_yalla/peer_yalla.csv"
+      provenance "$OUT/peer_yalla" "scripts/gpu/results.sh peer_yalla (scripts/gpu/peer_yalla/run.sh)";;
+    measured_time)  # the measured end-to-end of the measured-time issue, when its script is in this tree
+      [ -f "$here/scripts/gpu/measured_time.sh" ] || { echo "gpu-results: no scripts/gpu/measured_time.sh in this tree"; return 77; }
+      bash "$here/scripts/gpu/measured_time.sh" "$S" "$OUT/measured_time"
+      provenance "$OUT/measured_time" "scripts/gpu/results.sh measured_time (scripts/gpu/measured_time.sh)";;
+    workload:*)
+      bash "$here/scripts/gpu/workload_library.sh" "$S" "$OUT/workloads" "${1#workload:}"
+      $PY - "$OUT/workloads/provenance.json" "${1#workload:}" "$commit" "$(date -u +%F)" "$device" <<'EOF'
+import json, os, sys
+path, name, commit, date, device = sys.argv[1:]
+doc = json.load(open(path)) if os.path.exists(path) else {"how": "scripts/gpu/results.sh workload:NAME", "files": {}}
+rec = {"semlb_commit": commit, "date": date, "how": f"scripts/gpu/results.sh workload:{name}", "device": device}
+for ext in (".h5", ".run.csv", ".scene.yaml"):
+    doc.setdefault("files", {})[name + ext] = rec
+json.dump(doc, open(path + ".tmp", "w"), indent=1)
+os.replace(path + ".tmp", path)
+EOF
+      ;;
+    controller_eval_engine)  # the replays of the test workloads (CPU only), as workloads/controller_eval_engine_paper.*
+      # shellcheck disable=SC2086
+      "$S" sweep "$here/experiments/controller_eval_engine.yaml" --profile paper --results "$OUT/.replay" --quiet ${REPLAY_SET:-}
+      mkdir -p "$OUT/workloads"
+      cp "$OUT/.replay/controller_eval_engine/controller_eval_engine.csv" "$OUT/workloads/controller_eval_engine_paper.csv"
+      $PY "$here/analysis/engine_eval.py" --csv "$OUT/workloads/controller_eval_engine_paper.csv" \
+        --md "$OUT/workloads/controller_eval_engine_paper.md" > /dev/null
+      $PY - "$OUT/workloads/provenance.json" "$commit" "$(date -u +%F)" <<'EOF'
+import json, os, sys
+path, commit, date = sys.argv[1:]
+doc = json.load(open(path)) if os.path.exists(path) else {"files": {}}
+rec = {"semlb_commit": commit, "date": date, "how": "scripts/gpu/results.sh controller_eval_engine (CPU replays)"}
+for f in ("controller_eval_engine_paper.csv", "controller_eval_engine_paper.md"):
+    doc.setdefault("files", {})[f] = rec
+json.dump(doc, open(path + ".tmp", "w"), indent=1)
+os.replace(path + ".tmp", path)
+EOF
+      ;;
+    *) echo "gpu-results: unknown stage '$1' (bash scripts/gpu/results.sh OUT list)" >&2; return 2;;
+  esac
+}
+
+if [ -n "${CHECK:-}" ]; then
+  for st in $want; do check_stage "$st" > /dev/null || { echo "gpu-results: stage $st fails its check" >&2; exit 1; }; done
+  echo "gpu-results: $(echo $want | wc -w) stage(s) checked"; exit 0
+fi
+mkdir -p "$OUT/.stages"
+left=()
+for st in $want; do
+  marker="$OUT/.stages/${st//:/_}.done"
+  [ -f "$marker" ] && continue
+  if [ $(( $(date +%s) - start )) -ge "$BUDGET_S" ]; then left+=("$st"); continue; fi
+  echo "gpu-results: $st ($(( $(date +%s) - start )) s into this call)"
+  t0=$(date +%s)
+  set +e; (set -e; run_stage "$st"); rc=$?; set -e  # in a subshell of its own: any failing command fails the stage
+  if [ "$rc" = 0 ]; then
+    echo "$commit $(date -u +%FT%TZ) $(( $(date +%s) - t0 )) s" > "$marker"
+  elif [ "$rc" = 77 ]; then
+    echo "gpu-results: $st skipped"
+  else
+    echo "gpu-results: $st failed (exit $rc); the next call retries it" >&2; exit "$rc"
+  fi
+done
+if [ ${#left[@]} -gt 0 ]; then
+  echo "gpu-results: ${#left[@]} stage(s) left (${left[*]}); run the same command again"
+  exit 3
+fi
+echo "gpu-results: every stage done under $OUT (markers in $OUT/.stages; remove one to redo its stage)"

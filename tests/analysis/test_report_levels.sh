@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# REPORT.md in two levels and the provenance of committed GPU rows: a stale row is marked with its commit and the
+# summary draws no verdict from it (nor from one git cannot date), a current one gets its verdict; on the committed
+# results REPORT.md stays within 400 lines and links a detail page per section, each of which exists.
+set -euo pipefail
+src=$1; work=$2; semlb=$3
+PY=${PYTHON:-/usr/bin/python3}
+git -C "$src" rev-parse HEAD >/dev/null 2>&1 || { echo "no git history: staleness cannot be tested"; exit 77; }
+rm -rf "$work"; mkdir -p "$work"
+fail() { echo "FAIL: $*"; exit 1; }
+
+# One section (single device) with this run's CPU rows and a committed H200 CSV whose provenance we choose.
+run_with() {  # COMMIT -> the REPORT.md of a run whose committed gpu/single_device was made with COMMIT
+  local c=$1 d="$work/$2"
+  mkdir -p "$d/results/single_device" "$d/committed/gpu/single_device"
+  cp "$src/results/cpu/single_device/single_device.csv" "$src/results/cpu/single_device/single_device.manifest.yaml" \
+    "$d/results/single_device/"
+  cp "$src/results/gpu/single_device/single_device.csv" "$d/committed/gpu/single_device/"
+  printf '{"semlb_commit": "%s", "date": "2026-01-01", "how": "test"}\n' "$c" > "$d/committed/gpu/single_device/provenance.json"
+  "$PY" "$src/analysis/report.py" --results "$d/results" --committed "$d/committed" --semlb "$semlb" > "$d/log" 2>&1 ||
+    { cat "$d/log"; fail "report.py on $2"; }
+}
+row() { grep "^| 1 | \[Single-device" "$work/$1/results/REPORT.md" || fail "$1: no summary row 1"; }
+
+# Stale: a commit before the last change under the kernels' and controllers' paths.
+old=$(git -C "$src" log --format=%H -2 -- engine/backends | tail -1)
+run_with "$old" stale
+r=$(row stale)
+[[ "$r" == *"**stale**"* && "$r" == *"${old:0:7}"* ]] || fail "stale row not marked with its commit: $r"
+[[ "$r" == *"**no verdict**"* && "$r" != *"| agrees |"* ]] || fail "summary drew a verdict from a stale row: $r"
+grep -q "^\*Committed GPU rows: made with \`${old:0:7}\` 2026-01-01; \*\*stale\*\*" "$work/stale/results/REPORT.md" ||
+  fail "section does not say its GPU rows are stale"
+grep -q "^\*\*Reading (of stale GPU rows" "$work/stale/results/REPORT.md" || fail "reading not flagged as from stale rows"
+
+# Current: HEAD itself (no kernel or controller change after it): the verdict stands.
+run_with "$(git -C "$src" rev-parse HEAD)" fresh
+r=$(row fresh)
+[[ "$r" == *"| agrees |" && "$r" == *"current ("* ]] || fail "current row lost its verdict: $r"
+
+# Unknown: a commit this clone does not hold: no verdict, and it says why.
+run_with 0123456789abcdef0123456789abcdef01234567 unknown
+r=$(row unknown)
+[[ "$r" == *"**unknown**"* && "$r" == *"**no verdict**"* ]] || fail "unknown provenance got a verdict: $r"
+grep -q "staleness \*\*unknown\*\* (commit 0123456 is not in this clone)" "$work/unknown/results/REPORT.md" ||
+  fail "unknown: no reason given"
+
+# analysis/provenance.py on its own: every committed GPU folder has a record (--check), stale ones named.
+"$PY" "$src/analysis/provenance.py" --check > "$work/provenance.txt" || { cat "$work/provenance.txt"; fail "a committed GPU result without provenance.json"; }
+grep -q "^gpu/single_device: [0-9a-f]\{7\} 2026-[0-9-]* \(stale\|fresh\)" "$work/provenance.txt" || fail "provenance.py line"
+
+# The committed results (results/cpu as this run, results/gpu committed): length, links, detail pages.
+cp -r "$src/results/cpu" "$work/full"
+"$PY" "$src/analysis/report.py" --results "$work/full" --semlb "$semlb" > "$work/full.log" 2>&1 || { cat "$work/full.log"; fail "full report"; }
+rep="$work/full/REPORT.md"
+n=$(wc -l < "$rep"); [ "$n" -le 400 ] || fail "REPORT.md has $n lines (limit 400)"
+grep -q "^## Which controller should I run?$" "$rep" || fail "no which-controller section"
+grep -q '^\*\*P = 2\*\*: `' "$rep" || fail "which-controller names no policy at P = 2"
+links=$(grep -o "(report/[0-9][0-9]-[a-z_]*\.md)" "$rep" | tr -d '()' | sort -u)
+[ -n "$links" ] || fail "no detail page linked"
+for l in $links; do [ -s "$work/full/$l" ] || fail "linked detail page $l missing"; done
+for f in "$work/full"/report/*.md; do grep -q "(report/$(basename "$f"))" "$rep" || fail "detail page $(basename "$f") not linked"; done
+# Every section with content has its detail page; no table in REPORT.md longer than the key table's 8 rows.
+[ "$(grep -c '^Details (every run' "$rep")" = "$(ls "$work/full/report" | wc -l)" ] || fail "sections and detail pages differ"
+awk '/^\|/ {n++; if (n > 10) bad = 1} !/^\|/ {n = 0} END {exit bad}' <(sed -n '/^<a id/,$p' "$rep") ||
+  fail "a table of more than 8 rows in REPORT.md outside the summary"
+# The 4/8-GPU rows keep their place, labelled with their commit and the engine they predate.
+grep -q "before the GPU-resident engine" "$work/full/report/"*load_balance.md || fail "load_balance rows not labelled"
+echo "1 passed, 0 failed"
