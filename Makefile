@@ -89,12 +89,7 @@ gpu-results:
 # finished runs are kept under GPU_RUNS). The tables go to results/gpu/measured/.
 GPU_RUNS ?= $(BUILD)/measured
 gpu-measured: build
-	bash scripts/gpu/measured_time.sh $(SEMLB) $(GPU_RUNS)/epidermis_half tissue cost turns record e2e
-	SCENE=epidermis_development START=960 STEPS=400 EVERY=20 SKIN=1 GROWTH="--set effects.growth.front.speed=24.8" \
-	  bash scripts/gpu/measured_time.sh $(SEMLB) $(GPU_RUNS)/epidermis_development tissue record e2e
-	for s in epidermis_half epidermis_development; do \
-	  $(PYTHON) analysis/measured_time.py $(GPU_RUNS)/$$s results/gpu/measured/$$s --semlb $(SEMLB) --scene $$s || exit 1; done
-	$(PYTHON) analysis/measured_time.py --combine results/gpu/measured
+	bash scripts/gpu/measured_all.sh $(SEMLB) $(GPU_RUNS)
 
 bench: build
 	$(SEMLB) bench policies --ranks 16

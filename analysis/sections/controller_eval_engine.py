@@ -165,8 +165,51 @@ def choice_table(points_by_key):
                      "reactive vs static", "workloads"], rows)
 
 
+MEASURED = "gpu/measured/end_to_end_summary.csv"
+SCENES = {"epidermis_half": "the paper's regime (epidermis, left half proliferating, 435,661 cells)",
+          "epidermis_development": "a proliferative front (development scene, Day 2-3, paper size)"}
+
+
+def measured_choice(ctx):
+    """Per scene and P, from the measured end-to-end runs on one H200 (docs/measured_time.md): the policy with the
+    least mean projected loop time and its saving against static with the 95% interval over launches. '' when the
+    committed CSV is absent."""
+    rows = ctx.committed_rows(MEASURED)
+    if not rows:
+        return ""
+    lines = [f"**Measured on one H200** ({ctx.committed_source(MEASURED)}; P ranks taking turns, device timers, three "
+             "launches, docs/measured_time.md). Lowest mean loop time at each P, its loop time against static "
+             "(± 95% interval over launches), and the shipped GRU's:", ""]
+    for scene in sorted({r["scene"] for r in rows}, key=lambda s: list(SCENES).index(s) if s in SCENES else 99):
+        parts = []
+        for P in sorted({int(r["ranks"]) for r in rows if r["scene"] == scene}):
+            at = [r for r in rows if r["scene"] == scene and int(r["ranks"]) == P]
+            static = next((r for r in at if r["policy"] == "static"), None)
+            best = min(at, key=lambda r: float(r["loop_s"]))
+            if not static:
+                continue
+            def saving(r):
+                base = float(static["loop_s"])
+                return (f"{-100 * float(r['static_minus_loop_s']) / base:+.1f}% "
+                        f"(± {100 * float(r['static_minus_loop_s_ci95']) / base:.1f})")
+            gru = next((r for r in at if r["policy"] == "gru"), None)
+            parts.append(f"P = {P}: `{best['policy']}` {saving(best)}" + (f", gru {saving(gru)}" if gru and gru is not best else ""))
+        lines.append(f"- {SCENES.get(scene, scene)}: " + "; ".join(parts) + ".")
+    lines += ["", "Negative: faster than static. Where the interval includes zero, no policy beats static there.", ""]
+    return "\n".join(lines)
+
+
 def which_controller(ctx):
-    """The report's "which controller" paragraph and table, from this run's replays (else the committed ones)."""
+    """The report's "which controller" paragraph and table: the measured end-to-end runs first (when committed), then
+    this run's replays (else the committed ones)."""
+    measured = measured_choice(ctx)
+    text = which_controller_replayed(ctx)
+    return (measured + "\n" + ("**Replayed through the time model** (W_s as the truth):\n\n" + text if text else "")).strip()
+
+
+def which_controller_replayed(ctx):
+    """The replayed part of the "which controller" paragraph and table, from this run's replays (else the committed
+    ones)."""
     rows, where = ctx.rows(CSV), f"`{CSV}` (this run)"
     if not rows:
         ctx.used_committed = []

@@ -51,7 +51,7 @@ check_stage() {  # STAGE: what CHECK=1 verifies without a GPU
     single_device|effects_cost|accuracy_vs_time) sweep "$1";;
     development) [ -f "$here/scripts/gpu/neighbour_list.sh" ];;
     peer_yalla) [ -f "$here/scripts/gpu/peer_yalla/run.sh" ] && [ -f "$here/analysis/peer_yalla.py" ];;
-    measured_time) [ -f "$here/scripts/gpu/measured_time.sh" ] || echo "gpu-results: measured_time: no script yet (skipped)";;
+    measured_time) [ -f "$here/scripts/gpu/measured_all.sh" ] || echo "gpu-results: measured_time: no script yet (skipped)";;
     workload:*) grep -q "^  \"${1#workload:}|" "$here/scripts/gpu/workload_library.sh";;
     controller_eval_engine) "$S" sweep "$here/experiments/controller_eval_engine.yaml" --profile paper --results "$OUT/.replay" --check;;
     *) echo "gpu-results: unknown stage '$1'" >&2; return 2;;
@@ -74,11 +74,11 @@ run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run her
       $PY "$here/analysis/peer_yalla.py" --machine "$device" "$OUT/peer_yalla/peer_yalla.log" > "$OUT/peer_yalla/peer_yalla.csv"
       provenance "$OUT/peer_yalla" "scripts/gpu/results.sh peer_yalla (scripts/gpu/peer_yalla/run.sh)";;
     measured_time)  # the measured end-to-end of the measured-time issue, when its script is in this tree
-      [ -f "$here/scripts/gpu/measured_time.sh" ] || { echo "gpu-results: no scripts/gpu/measured_time.sh in this tree"; return 77; }
-      bash "$here/scripts/gpu/measured_time.sh" "$S" "$OUT/measured_time"
-      provenance "$OUT/measured_time" "scripts/gpu/results.sh measured_time (scripts/gpu/measured_time.sh)";;
+      [ -f "$here/scripts/gpu/measured_all.sh" ] || { echo "gpu-results: no scripts/gpu/measured_all.sh in this tree"; return 77; }
+      bash "$here/scripts/gpu/measured_all.sh" "$S" "$OUT/measured_time" "$OUT/measured_time/tables"
+      provenance "$OUT/measured_time" "scripts/gpu/results.sh measured_time (scripts/gpu/measured_all.sh)";;
     workload:*)
-      bash "$here/scripts/gpu/workload_library.sh" "$S" "$OUT/workloads" "${1#workload:}"
+      MEASURED=1 bash "$here/scripts/gpu/workload_library.sh" "$S" "$OUT/workloads" "${1#workload:}"  # version 2: measured seconds
       $PY - "$OUT/workloads/provenance.json" "${1#workload:}" "$commit" "$(date -u +%F)" "$device" <<'EOF'
 import json, os, sys
 path, name, commit, date, device = sys.argv[1:]
