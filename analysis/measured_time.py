@@ -60,9 +60,13 @@ def rank_times(run):
 
 
 def trace_boundaries(run):
-    """{step: boundaries in force during the interval ending there}: RUN/trace.jsonl's events in order, matched to
+    """{step: boundaries in force during the interval ending there}: RUN/trace.jsonl's events in order (or
+    boundaries.jsonl's, the committed runs' traces reduced to event, boundaries, decision, times), matched to
     RUN/rank_times.csv's steps in order (a run from a restarted state numbers its events from 0)."""
-    with open(os.path.join(run, "trace.jsonl")) as f:
+    path = os.path.join(run, "trace.jsonl")
+    if not os.path.exists(path):
+        path = os.path.join(run, "boundaries.jsonl")
+    with open(path) as f:
         events = sorted((json.loads(line) for line in f if line.strip()), key=lambda e: e["event"])
     return {step: e["boundaries"] for step, e in zip(rank_times(run), events)}
 
