@@ -1,7 +1,10 @@
 // Small text helpers shared by every module: atomic writes, whole-file reads, field splitting, and the ONE
 // strict number parser / real formatter (input rules: docs/engine.md "Input rules").
 #pragma once
+#include <algorithm>
 #include <limits>
+#include <map>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -30,5 +33,25 @@ long parse_integer(std::string_view text, const std::string& where,
 // The shortest text that reads back as exactly `v` (std::to_chars): 12345.01 -> "12345.01", 0.1 -> "0.1",
 // 3 -> "3", 1e-07 -> "1e-07". Used for every real written into CSV, XDMF and other text outputs.
 std::string format_real(double v);
+
+// The rows of a comma-separated file that semlb wrote (a header line, no quoting), each by column name; empty lines
+// skipped. std::runtime_error naming the file when one of `columns` is not in its header (a file of another version).
+template <class Names = std::vector<std::string>>
+std::vector<std::map<std::string, std::string>> csv_rows(const std::string& path, const Names& columns = {}) {
+  const auto lines = split(read_file(path), '\n');
+  const auto header = split(lines[0], ',');
+  for (const auto& c : columns)
+    if (std::find(header.begin(), header.end(), c) == header.end())
+      throw std::runtime_error(path + ": no column '" + std::string(c) + "' in its header '" + lines[0] + "'");
+  std::vector<std::map<std::string, std::string>> rows;
+  for (size_t i = 1; i < lines.size(); ++i) {
+    if (lines[i].empty()) continue;
+    const auto f = split(lines[i], ',');
+    std::map<std::string, std::string> row;
+    for (size_t c = 0; c < header.size() && c < f.size(); ++c) row[header[c]] = f[c];
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
 
 }  // namespace semlb

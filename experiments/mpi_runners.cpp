@@ -177,26 +177,6 @@ void finish_run(const Job& job, const RunOptions& o, const std::string& dir, boo
   fs::remove_all(dir);
 }
 
-// The rows of a CSV our sim wrote, by column name; std::runtime_error naming the file when one of `columns`
-// is not in its header.
-template <class Names>
-std::vector<std::map<std::string, std::string>> csv(const std::string& path, const Names& columns) {
-  const auto lines = split(read_file(path), '\n');
-  std::vector<std::map<std::string, std::string>> rows;
-  const auto header = split(lines[0], ',');
-  for (const auto& c : columns)
-    if (std::find(header.begin(), header.end(), c) == header.end())
-      throw std::runtime_error(path + ": no column '" + std::string(c) + "' in its header '" + lines[0] + "'");
-  for (size_t i = 1; i < lines.size(); ++i) {
-    if (lines[i].empty()) continue;
-    const auto f = split(lines[i], ',');
-    std::map<std::string, std::string> row;
-    for (size_t c = 0; c < header.size() && c < f.size(); ++c) row[header[c]] = f[c];
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 // What a finished launch's run.csv and rank_times.csv say: the loop's wall seconds (run.csv's log intervals
 // summed), the computation seconds (per rebalancing interval the slowest rank's, summed), the mean I_global over
 // the events, the slices moved, the events, and the last logged cells and elements.
@@ -209,7 +189,7 @@ struct RunTotals {
 RunTotals run_totals(const std::string& dir) {
   namespace rt = engine::rank_times;
   const std::string run_csv = dir + "/run.csv", rank_csv = dir + "/" + rt::kFile;  // written by our sim
-  const auto log = csv(run_csv, std::vector<std::string>{"cells", "elements", "wall_s"});
+  const auto log = csv_rows(run_csv, std::vector<std::string>{"cells", "elements", "wall_s"});
   RunTotals t;
   for (const auto& r : log) t.loop_s += parse_real(r.at("wall_s"), run_csv + ": wall_s: ");
   t.cells = log.back().at("cells");
@@ -217,7 +197,7 @@ RunTotals run_totals(const std::string& dir) {
   std::map<std::string, double> slowest;  // per interval: the slowest rank's computation time
   double imbalance = 0;
   std::set<std::string> events;
-  for (const auto& r : csv(rank_csv, rt::kColumns)) {
+  for (const auto& r : csv_rows(rank_csv, rt::kColumns)) {
     const std::string& step = r.at(rt::kStep);
     slowest[step] = std::max(slowest[step], parse_real(r.at(rt::kComputeS), rank_csv + ": " + rt::kComputeS + ": "));
     if (events.insert(step).second) {
@@ -306,7 +286,7 @@ class MpiIntervalsRunner final : public Runner {
     namespace rt = engine::rank_times;
     const std::string dir = launch(job, o).dir;
     std::vector<std::vector<std::string>> rows;
-    for (const auto& r : csv(dir + "/" + rt::kFile, rt::kColumns)) {
+    for (const auto& r : csv_rows(dir + "/" + rt::kFile, rt::kColumns)) {
       std::vector<std::string> row;
       for (const auto& c : columns()) row.push_back(c == rt::kComputeS && !o.timing ? "0" : r.at(c));
       rows.push_back(std::move(row));

@@ -66,7 +66,7 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
   }
   State mine;  // every rank holds the whole tissue here: each keeps its own cells, nothing is sent
   split_by_owner(tissue, dec_, balancer_->boundaries(), mpi.rank(), mine);
-  sim_ = std::make_unique<Simulation>(scene, std::move(mine));
+  sim_ = std::make_unique<Simulation>(scene, std::move(mine), dec_.timing == "device");
   sim_->before_forces = [this] { start_exchange(); };
   if (dec_.overlap) {
     sim_->post_exchange = [this] { post_exchange(); };
@@ -250,9 +250,10 @@ std::vector<double> DistributedSimulation::global_slice_work() {
 Measurement DistributedSimulation::measure() {
   Backend& b = sim_->backend();
   const double now = compute_seconds(), device_now = b.step_device_seconds();
-  std::map<std::string, double> kernels = b.step_kernel_seconds();  // this interval's, by kernel
+  const std::map<std::string, double> kernels_now = b.step_kernel_seconds();
+  std::map<std::string, double> kernels = kernels_now;  // this interval's, by kernel
   for (auto& [k, t] : kernels) t -= kernels_at_event_[k];
-  kernels_at_event_ = b.step_kernel_seconds();
+  kernels_at_event_ = kernels_now;
   constexpr int kPerRank = 6;
   const auto seconds = mpi_->allgather(
       {now - seconds_at_event_, exchange_s_, migrate_s_, device_now - device_at_event_, exchange_bytes_, migrate_bytes_});

@@ -43,8 +43,8 @@ struct BackendConfig {
   // Not a scene key: the pair term the scene lists (pairs/pair_term.hpp scene_pair_term, set by Simulation), which
   // the OpenCL backends build their program for; another term asked for later rebuilds it.
   std::string pair_term = "mechanics";
-  // Not a scene key: decomposition.timing is `device` (set by Simulation): the OpenCL backends time the step's
-  // kernels on the device (Backend::step_device_seconds).
+  // Not a scene key: the OpenCL backends time the step's kernels on the device (Backend::step_device_seconds); set by
+  // Simulation when its decomposed run has decomposition.timing: device.
   bool device_timing = false;
 };
 

@@ -11,17 +11,20 @@
 
 namespace semlb::engine {
 namespace {
-// The scene's backend settings with the pair term it lists (the OpenCL program is built for it).
-BackendConfig backend_config(const Scene& scene) {
+// The scene's backend settings with the pair term it lists (the OpenCL program is built for it) and the device timers.
+BackendConfig backend_config(const Scene& scene, bool device_timers) {
   BackendConfig c = scene.backend;
   if (const std::string term = scene_pair_term(scene); !term.empty()) c.pair_term = term;
-  c.device_timing = scene.decomposition && scene.decomposition->has("timing") && scene.decomposition->text("timing", "") == "device";
+  c.device_timing = device_timers;
   return c;
 }
 }  // namespace
 
-Simulation::Simulation(const Scene& scene, State state)
-    : scene_(&scene), state_(std::move(state)), backend_(make_backend(backend_config(scene))), effects_(make_effects(scene)) {
+Simulation::Simulation(const Scene& scene, State state, bool device_timers)
+    : scene_(&scene),
+      state_(std::move(state)),
+      backend_(make_backend(backend_config(scene, device_timers))),
+      effects_(make_effects(scene)) {
   grid_ = Grid::cover(scene.box_lo, scene.box_hi, scene.cutoff);
   std::vector<std::string> listed;
   for (const auto& e : effects_) {

@@ -28,8 +28,9 @@ struct SimulationError : std::runtime_error {
 
 class Simulation {
  public:
-  // Builds the backend and the scene's effects (InputError on bad parameters) and uploads `state`.
-  Simulation(const Scene& scene, State state);
+  // Builds the backend and the scene's effects (InputError on bad parameters) and uploads `state`. `device_timers`:
+  // the backend times the step's kernels on the device (Backend::step_device_seconds; decomposition.timing: device).
+  Simulation(const Scene& scene, State state, bool device_timers = false);
   // Runs until state().step == target; `profile` synchronises after every phase for honest timers.
   void advance(long target);
   // The host state with current positions (downloads them from the backend).

@@ -32,11 +32,11 @@ scene=(--scene "$here/scenes/$SCENE.yaml" --backend opencl-binned --platform "$P
 from_tissue=(--set "tissue={file: $OUT/tissue/final.h5}")
 timed=(--set decomposition.timing=device --set decomposition.device_sharing=turns)
 
-# run NAME RANKS ARGS...: `semlb sim` under mpirun into OUT/NAME unless OUT/NAME/final.h5 exists; keeps the small files.
+# run NAME RANKS ARGS...: `semlb sim` under mpirun into OUT/NAME unless it finished before (OUT/NAME/done); keeps the small files.
 run() {
   local name=$1 np=$2; shift 2
   local d="$OUT/$name"
-  if [ -f "$d/final.h5" ] || [ -f "$d/done" ]; then return; fi
+  if [ -f "$d/done" ]; then return; fi
   rm -rf "$d"
   local t0; t0=$(date +%s.%N)
   mpirun --oversubscribe --bind-to none -np "$np" "${icd[@]}" "$S" sim "${scene[@]}" --out "$d" "$@"

@@ -137,19 +137,9 @@ TEST(Decomposition, OpenClRanksMatchOneOpenClDevice) {
   }
 }
 
-// The columns of DIR/rank_times.csv by name, one map per row.
+// The rows of DIR/rank_times.csv by column name.
 std::vector<std::map<std::string, std::string>> rank_time_rows(const std::string& dir) {
-  const auto lines = split(read_file(dir + "/" + rank_times::kFile), '\n');
-  const auto header = split(lines.at(0), ',');
-  std::vector<std::map<std::string, std::string>> rows;
-  for (size_t i = 1; i < lines.size(); ++i) {
-    if (lines[i].empty()) continue;
-    const auto f = split(lines[i], ',');
-    std::map<std::string, std::string> row;
-    for (size_t c = 0; c < header.size() && c < f.size(); ++c) row[header[c]] = f[c];
-    rows.push_back(row);
-  }
-  return rows;
+  return csv_rows(dir + "/" + rank_times::kFile, rank_times::kColumns);
 }
 
 // decomposition.timing: device and device_sharing: turns on the OpenCL device the tests have (PoCL): 2 and 4 ranks
