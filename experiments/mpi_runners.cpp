@@ -9,10 +9,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <mutex>
 #include <set>
 #include <sstream>
 #include <thread>
 
+#include "common/cleanup.hpp"
 #include "common/errors.hpp"
 #include "common/process.hpp"
 #include "common/text_io.hpp"
@@ -113,8 +115,12 @@ struct Launch {
 // started afresh instead of continuing (the sim's "restart:" line).
 Launch launch(const Job& job, const RunOptions& o) {
   const std::string scene = scene_path(job, o);
-  const fs::path dir = (o.scratch_dir.empty() ? fs::temp_directory_path() : fs::path(o.scratch_dir)) / ("semlb_mpi_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(job_key(job))));
+  const fs::path scratch = o.scratch_dir.empty() ? fs::temp_directory_path() : fs::path(o.scratch_dir);
+  static std::once_flag swept;  // the folders of sweeps that died by SIGKILL, once per process
+  std::call_once(swept, [&] { remove_stale_run_folders(scratch.string(), "semlb_mpi_"); });
+  const fs::path dir = scratch / ("semlb_mpi_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(job_key(job))));
   fs::remove_all(dir);
+  register_cleanup_path(dir.string());  // removed by a signal's cleanup; finish_run or a failure removes it otherwise
   // An argument vector, started without a shell (common/process.hpp): paths reach `semlb sim` as they are.
   std::vector<std::string> argv = o.mpi_launcher;
   if (argv.empty()) {
@@ -132,6 +138,16 @@ Launch launch(const Job& job, const RunOptions& o) {
   const long segments = segments_of(job, "");
   const long length = segments > 1 ? mpi_scene(job, "", o).steps / segments : 0;  // steps per segment
   Launch l{dir.string(), 0.0, ""};
+  struct Discard {  // a launch that fails leaves no folder behind
+    fs::path dir;
+    bool keep = false;
+    ~Discard() {
+      if (keep) return;
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+      unregister_cleanup_path(dir.string());
+    }
+  } discard{dir};
   for (long k = 1; k <= segments; ++k) {
     std::vector<std::string> command = argv;
     if (segments > 1) {  // later --set values win (engine::parse_scene applies them in order)
@@ -151,6 +167,7 @@ Launch launch(const Job& job, const RunOptions& o) {
     l.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     l.output = out;
   }
+  discard.keep = true;
   return l;
 }
 
@@ -175,6 +192,7 @@ void finish_run(const Job& job, const RunOptions& o, const std::string& dir, boo
         fs::copy_file(fs::path(dir) / f, to / f, fs::copy_options::overwrite_existing);
   }
   fs::remove_all(dir);
+  unregister_cleanup_path(dir);
 }
 
 // The rows of a CSV our sim wrote, by column name; std::runtime_error naming the file when one of `columns`

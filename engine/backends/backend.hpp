@@ -32,7 +32,7 @@ bool run_cell_stage(State& s, const CellRules& rules, uint64_t seed, double elap
 struct Failure {
   long step = -1;
   long element = -1;
-  int code = 0;  // 1: position not finite, 2: displacement above the limit
+  int code = 0;  // 1: position not finite, 2: displacement above the limit, 3: force sums may leave int64 (pair_force.h)
   bool failed() const { return step >= 0; }
   std::string quantity() const;
 };

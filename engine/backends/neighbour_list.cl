@@ -83,13 +83,14 @@ __kernel void nl_done(__global int* gate, __global int* stats) {
 __kernel void nl_forces(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
                         __global const ulong* keys, __global const int* nl_count, __global const int* nl,
                         int kmax, __global const int* starts, real4 lo, real4 size, int4 dims,
-                        __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n) {
+                        __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force,
+                        __global long* bound, int n) {
   int s = get_global_id(0);
   if (s >= n) return;
   real4 me = sorted_pos[s];
   int i = sorted_index[s], info = INFO(me.w), count = nl_count[s];
   SEMLB_REAL cutoff2 = cutoff * cutoff;
-  long acc[3] = {0, 0, 0};
+  long acc[4] = {0, 0, 0, 0};
   if (count <= kmax) {
     /* 4 partners per load (an int4 of the slot's chunk), then the force law on each */
     for (int base = 0; base < count; base += 4) {
@@ -113,6 +114,7 @@ __kernel void nl_forces(__global const real4* sorted_pos, __global const real4* 
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
+  bound[i] += acc[3];
 }
 
 /* A variant (-DSEMLB_NL_SPLIT, to measure): the slots over kmax in a kernel of their own, so that nl_forces holds
@@ -120,17 +122,18 @@ __kernel void nl_forces(__global const real4* sorted_pos, __global const real4* 
 __kernel void nl_overflow(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
                           __global const ulong* keys, __global const int* nl_count, int kmax, __global const int* starts,
                           real4 lo, real4 size, int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff,
-                          __global long* force, int n) {
+                          __global long* force, __global long* bound, int n) {
 #ifdef SEMLB_NL_SPLIT
   int s = get_global_id(0);
   if (s >= n || nl_count[s] <= kmax) return;
   real4 me = sorted_pos[s];
   int i = sorted_index[s];
-  long acc[3] = {0, 0, 0};
+  long acc[4] = {0, 0, 0, 0};
   stencil_forces(me, i, s, bin3(ref[s], lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table,
                  cutoff * cutoff, acc);
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
+  bound[i] += acc[3];
 #endif
 }

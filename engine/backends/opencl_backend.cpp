@@ -168,15 +168,15 @@ void OpenClBackend<Real>::pair_forces_local(const PairForces& f, const Grid& gri
   use_pair_term(f);
   const Real c2 = static_cast<Real>(f.cutoff * f.cutoff);
   if (!binned_) {
-    launch("forces_allpairs", owned_, kGroup, pos_.get(), keys_.get(), table_.get(), c2, force_.get(), owned(), cl_int{0},
+    launch("forces_allpairs", owned_, kGroup, pos_.get(), keys_.get(), table_.get(), c2, force_.get(), bound_.get(), owned(), cl_int{0},
            LocalBytes{kGroup * sizeof(Real4)}, near_.get(), owned(), cl_int{1});
     return;
   }
-  if (list_.on()) return list_.forces(*this, grid, f.cutoff, table_, keys_, force_, owned_);
+  if (list_.on()) return list_.forces(*this, grid, f.cutoff, table_, keys_, force_, bound_, owned_);
   sort_into_bins(grid, 0, owned_, owned_sort_);
   launch("forces_binned", owned_, kGroup, owned_sort_.sorted_pos.get(), owned_sort_.sorted_index.get(), keys_.get(),
          owned_sort_.starts.get(), real4(grid.lo), real4(grid.size), int4(grid.dims), table_.get(),
-         static_cast<Real>(f.cutoff), force_.get(), owned(), owned());
+         static_cast<Real>(f.cutoff), force_.get(), bound_.get(), owned(), owned());
 }
 
 template <class Real>
@@ -188,19 +188,20 @@ void OpenClBackend<Real>::pair_forces_nonlocal(const PairForces& f, const Grid& 
   const cl_int all = near_valid_ ? 0 : 1;
   if (!binned_) {
     launch("forces_allpairs", items, kGroup, pos_.get(), keys_.get(), table_.get(), static_cast<Real>(f.cutoff * f.cutoff),
-           force_.get(), static_cast<cl_int>(n_), owned(), LocalBytes{kGroup * sizeof(Real4)}, near_.get(),
+           force_.get(), bound_.get(), static_cast<cl_int>(n_), owned(), LocalBytes{kGroup * sizeof(Real4)}, near_.get(),
            static_cast<cl_int>(items), all);
     return;
   }
   sort_into_bins(grid, owned_, ghosts, ghost_sort_);
   launch("forces_nonlocal", items, kGroup, pos_.get(), keys_.get(), near_.get(), static_cast<cl_int>(items), all,
          ghost_sort_.sorted_pos.get(), ghost_sort_.sorted_index.get(), ghost_sort_.starts.get(), real4(grid.lo),
-         real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(f.cutoff), force_.get());
+         real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(f.cutoff), force_.get(), bound_.get());
 }
 
 template <class Real>
 void OpenClBackend<Real>::element_term(const std::string& name, const std::vector<double>& params) {
   engine::element_term(name);  // std::logic_error for an unregistered name
+  ++terms_;  // its bound, added by integrate
   launch(name.c_str(), owned_, kGroup, pos_.get(), plugin_parameters<Real>(term_params_, name, params), force_.get(), owned());
 }
 
@@ -292,11 +293,12 @@ void OpenClBackend<Real>::build(const std::string& pair_term) {
 template <class Real>
 void OpenClBackend<Real>::reserve_elements(long n) {
   if (n <= capacity_) return;
-  cl::Mem old_pos = std::move(pos_), old_keys = std::move(keys_), old_force = std::move(force_);
+  cl::Mem old_pos = std::move(pos_), old_keys = std::move(keys_), old_force = std::move(force_), old_bound = std::move(bound_);
   allocate(n + n / 4 + 64);
   copy(old_pos, pos_, n_ * sizeof(Real4));
   copy(old_keys, keys_, n_ * sizeof(uint64_t));
   copy(old_force, force_, 3 * owned_ * sizeof(cl_long));
+  copy(old_bound, bound_, owned_ * sizeof(cl_long));
 }
 
 template <class Real>
@@ -307,6 +309,7 @@ void OpenClBackend<Real>::allocate(long capacity) {
   pos_back_ = buffer(capacity * sizeof(Real4));  // the cell stage's output (swapped with pos_, keys_)
   keys_back_ = buffer(capacity * sizeof(uint64_t));
   force_ = buffer(3 * capacity * sizeof(cl_long));
+  bound_ = buffer(capacity * sizeof(cl_long));  // the force sums' bounds (pair_force.h)
   flags_ = buffer(2 * capacity * sizeof(cl_int));  // both bands' flags (bands())
   band_starts_ = buffer((2 * capacity + 1) * sizeof(cl_int));
   band_sums_ = buffer(round_up(2 * capacity, kScanGroup) / kScanGroup * sizeof(cl_int));

@@ -81,6 +81,8 @@ class OpenClBackend final : public Backend {
     count("zero_forces");
     const cl_long zero = 0;
     if (owned_) cl::check(clEnqueueFillBuffer(queue_.get(), force_.get(), &zero, sizeof zero, 0, 3 * owned_ * sizeof(cl_long), 0, nullptr, nullptr), "zero forces");
+    if (owned_) cl::check(clEnqueueFillBuffer(queue_.get(), bound_.get(), &zero, sizeof zero, 0, owned_ * sizeof(cl_long), 0, nullptr, nullptr), "zero force bounds");
+    terms_ = 0;
   }
 
   void pair_forces_local(const PairForces& f, const Grid& grid) override;
@@ -94,7 +96,7 @@ class OpenClBackend final : public Backend {
   void integrate(double dt_over_eta, double max_step, long step) override {
     if (step > INT_MAX) throw std::runtime_error("opencl backends count steps in 32 bits");
     near_valid_ = false;  // the bands' selection was for these positions
-    launch("integrate", owned_, kGroup, pos_.get(), force_.get(), static_cast<Real>(dt_over_eta),
+    launch("integrate", owned_, kGroup, pos_.get(), force_.get(), bound_.get(), static_cast<cl_long>(terms_ * SEMLB_TERM_BOUND), static_cast<Real>(dt_over_eta),
            static_cast<Real>(max_step * max_step), static_cast<cl_int>(step), fail_.get(), owned());
   }
 
@@ -377,6 +379,8 @@ class OpenClBackend final : public Backend {
   std::map<std::string, cl::Kernel> kernels_;
   std::map<cl_mem, std::vector<unsigned char>> last_written_;  // write_parameters' last bytes per buffer
   cl::Mem pos_, keys_, force_, fail_, table_;
+  cl::Mem bound_;  // per owned element: the bound of its pair force sums (pair_force.h), checked by integrate
+  long terms_ = 0;  // element terms added since zero_forces
   std::map<std::string, cl::Mem> term_params_, rule_params_;  // each element term's / removal rule's parameters
   BinSort owned_sort_, ghost_sort_;  // the local forces' bins; the ghosts' own (non-local forces)
   cl::Mem extent_, flags_, band_starts_, band_sums_, band_pos_;
