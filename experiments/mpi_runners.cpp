@@ -19,6 +19,7 @@
 #include "common/process.hpp"
 #include "common/text_io.hpp"
 #include "engine/decomposition/decomposition.hpp"
+#include "engine/effects/effect.hpp"
 #include "engine/model/scene.hpp"
 #include "engine/run/driver.hpp"
 #include "runner.hpp"
@@ -55,8 +56,8 @@ std::pair<std::string, std::string> row_policy(const Job& job, const std::string
 // the previous one's checkpoint (launch()); 1 when absent.
 long segments_of(const Job& job, const std::string& manifest) { return job.integer("segments", 1, 1, 1L << 20, manifest); }
 
-// Refuses, before anything runs: an unknown setting, a missing scene or rank count, a value of the wrong type,
-// `segments` that do not divide the steps, a bad POLICY.KEY parameter, and a row whose policy the engine cannot
+// Refuses, before anything runs: an unknown setting, a missing scene or rank count, a value of the wrong type, an
+// effect's bad parameter (in the scene or a scene.* setting), `segments` that do not divide the steps, a bad POLICY.KEY parameter, and a row whose policy the engine cannot
 // run (PolicyNeeds::true_work).
 void check_job(const Job& job, const std::string& manifest, const RunOptions& o) {
   std::vector<std::string> known = {"scene", "ranks"};
@@ -77,6 +78,7 @@ void check_job(const Job& job, const std::string& manifest, const RunOptions& o)
       if (const Setting* s = job.find(k); s && s->value != "none")
         throw InputError(where_of(*s, manifest, k) + "applies to this machine's mpirun only; the launcher '" + shell_words(o.mpi_launcher) + "' places the ranks");
   scene_overrides(job, kSceneNames, manifest);  // typed values
+  engine::make_effects(mpi_scene(job, manifest, o));  // the effects' parameters, now rather than in a launch mid-sweep
   if (const long segments = segments_of(job, manifest); segments > 1)
     if (const long steps = mpi_scene(job, manifest, o).steps; steps % segments != 0)
       throw InputError(where_of(*job.find("segments"), manifest, "segments") + std::to_string(segments) + " segments do not divide the " +

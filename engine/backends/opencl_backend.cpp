@@ -58,6 +58,7 @@ void OpenClBackend<Real>::upload(const State& s) {
   near_valid_ = false;
   list_.invalidate();
   n_ = owned_ = s.elements();
+  check_element_count(n_);
   if (n_ > capacity_) allocate(n_ + n_ / 4 + 64);
   write_elements(0, s.position, s.element_info(), s.element_keys());
   const cl_int none[2] = {-1, INT_MAX};
@@ -293,6 +294,7 @@ void OpenClBackend<Real>::build(const std::string& pair_term) {
 template <class Real>
 void OpenClBackend<Real>::reserve_elements(long n) {
   if (n <= capacity_) return;
+  check_element_count(n);
   cl::Mem old_pos = std::move(pos_), old_keys = std::move(keys_), old_force = std::move(force_), old_bound = std::move(bound_);
   allocate(n + n / 4 + 64);
   copy(old_pos, pos_, n_ * sizeof(Real4));

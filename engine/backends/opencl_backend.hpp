@@ -240,6 +240,14 @@ class OpenClBackend final : public Backend {
   // Room for n elements (owned + ghosts); growing keeps elements [0, n_) and the owned elements' forces (the
   // local part, when the ghosts arrive between the two parts) by device copies.
   void reserve_elements(long n);
+  // The most elements (owned and ghosts) one device holds: its kernels index them in 32 bits, failure codes as
+  // 4 element + code. Beyond, InputError naming the count and the way out (more ranks).
+  static void check_element_count(long n) {
+    constexpr long kMax = (INT_MAX - 3) / 4;
+    if (n > kMax)
+      throw InputError(std::to_string(n) + " elements on one OpenCL device: more than " + std::to_string(kMax) +
+                       ", the most its 32-bit element indices and failure codes reach; run on more ranks");
+  }
 
   // The per-cell work arrays of the cell stage and the migration for n cells.
   void reserve_plan(long n);
