@@ -58,7 +58,14 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
     if (n != static_cast<double>(e.elements))
       fail(file, "slice_elements", "event " + std::to_string(i) + ": sums to " + std::to_string(static_cast<long>(n)) +
                                        ", but elements is " + std::to_string(e.elements));
+    double work = 0;
+    for (double x : e.slice_work) work += x;
+    if ((e.elements == 0) != (work == 0))  // W_s = sum n_i n_N(i) >= 1 per element (paper eq. 2): both zero or neither
+      fail(file, "slice_work", "event " + std::to_string(i) + ": sums to " + format_real(work) + " with " +
+                                   std::to_string(e.elements) + " elements (each element adds at least 1)");
   }
+  if (w.events.size() > 1 && std::all_of(w.events.begin(), w.events.end(), [](const WorkloadEvent& e) { return e.interval_s == 0; }))
+    fail(file, "interval_s", "every event's interval is 0 s: no measured time to turn work into seconds");
 }
 
 void write_workload(const std::string& path, const EngineWorkload& w) {

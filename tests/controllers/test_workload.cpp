@@ -96,6 +96,12 @@ TEST(Workload, InvalidContentIsRefusedNamingTheField) {
       {[](EngineWorkload& w) { w.events[0].growth_phase = 1; }, "field 'growth_phase': event 0: outside [0, 1)"},
       {[](EngineWorkload& w) { w.min_width = 4; }, "field 'min_width'"},
       {[](EngineWorkload& w) { w.events.clear(); }, "field 'events': the workload has no events"},
+      {[](EngineWorkload& w) {  // elements 0 (slice_elements too) with work left
+         w.events[0].elements = 0;
+         w.events[0].slice_elements = {0, 0, 0};
+       }, "field 'slice_work': event 0: sums to 42 with 0 elements (each element adds at least 1)"},
+      {[](EngineWorkload& w) { w.events[1].slice_work = {0, 0, 0}; }, "field 'slice_work': event 1: sums to 0 with 7 elements"},
+      {[](EngineWorkload& w) { w.events[0].interval_s = w.events[1].interval_s = 0; }, "field 'interval_s': every event's interval is 0 s"},
   };
   for (const auto& c : cases) {
     auto w = small();
