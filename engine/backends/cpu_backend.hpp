@@ -134,7 +134,7 @@ class CpuBackend : public Backend {
     long worst = LONG_MAX;
 #pragma omp parallel for schedule(static) num_threads(threads()) reduction(min : worst)
     for (long i = 0; i < n; ++i) {
-      if (bound_[i] + terms > SEMLB_BOUND_LIMIT) worst = std::min(worst, i * 4 + 3);  // the sums may have wrapped
+      if (bound_[i] + terms > SEMLB_BOUND_LIMIT) worst = std::min(worst, i - INT_MAX);  // may have wrapped: first
       Real d2 = 0;
       bool finite = true;
       for (int c = 0; c < 3; ++c) {
@@ -165,8 +165,8 @@ class CpuBackend : public Backend {
     Failure f;
     if (fail_step_ >= 0) {
       f.step = fail_step_;
-      f.element = fail_code_ / 4;
-      f.code = fail_code_ % 4;
+      f.element = fail_code_ < 0 ? fail_code_ + INT_MAX : fail_code_ / 4;  // as the OpenCL integrate records it
+      f.code = fail_code_ < 0 ? 3 : static_cast<int>(fail_code_ % 4);
     }
     return f;
   }

@@ -211,10 +211,10 @@ Failure OpenClBackend<Real>::failure() {
   cl_int f[2];
   read(fail_, f, sizeof f);
   Failure out;
-  if (f[1] != INT_MAX) {
+  if (f[1] != INT_MAX) {  // i * 4 + code, or i - INT_MAX for code 3 (integrate, elements.cl)
     out.step = f[0];
-    out.element = f[1] / 4;
-    out.code = f[1] % 4;
+    out.element = f[1] < 0 ? f[1] + static_cast<long>(INT_MAX) : f[1] / 4;
+    out.code = f[1] < 0 ? 3 : f[1] % 4;
   }
   return out;
 }

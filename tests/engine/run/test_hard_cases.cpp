@@ -107,10 +107,11 @@ TEST(HardCases, ForceSumsThatCouldLeaveInt64StopNamingTheElement) {
   for (const auto& backend : available_backends()) runs.emplace_back(backend, "0");
   if (runs.size() > 2) runs.emplace_back("opencl-binned", "0.5");
   for (const auto& [backend, skin] : runs) {
-    for (const char* precision : {"double", "float"}) {
+    // dt 0.01: every element also moves too far, and the force sums' stop still wins (the cause, not the symptom)
+    for (const auto& [precision, dt] : {std::pair{"double", "0.01"}, std::pair{"float", "1e-12"}}) {
       auto scene = scene_from(testing::kMechanicsYaml,
                               {"backend.name=" + backend, "backend.skin=" + skin, std::string("backend.precision=") + precision,
-                               "time.dt=1e-12", "effects.mechanics={intra: {U0: 1e7, V0: 0}, inter: {U0: 1e7, V0: 0}}"});
+                               std::string("time.dt=") + dt, "effects.mechanics={intra: {U0: 1e7, V0: 0}, inter: {U0: 1e7, V0: 0}}"});
       Simulation sim(scene, s);
       try {
         sim.advance(2);
