@@ -5,6 +5,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "common/cleanup.hpp"
 #include "common/errors.hpp"
 #include "engine/decomposition/distributed.hpp"
 #include "engine/run/driver.hpp"
@@ -108,6 +109,9 @@ Action add_sim(CLI::App& app) {
     // output.workload records rebalancing events: one device then runs as a decomposition of one rank
     if (!mpi && engine::load_scene(o->scene, scene_overrides(o->flags)).record_workload) mpi = std::make_unique<engine::Mpi>();
     if (!mpi) {
+      // On one device a SIGINT, SIGTERM or SIGHUP removes the --out folder's lock on the way out (common/cleanup.hpp),
+      // before the backend starts its threads (they inherit the blocked signals).
+      const SignalCleanup cleanup;
       auto scene = engine::load_scene(o->scene, scene_overrides(o->flags));
       engine::RunConfig rc{o->out, o->restart, o->quiet, SEMLB_GIT_REVISION, command_line()};
       rc.wait = o->wait;

@@ -74,7 +74,8 @@ Action add_sweep(CLI::App& app) {
     so.wait = o->wait;
     if (o->check) {
       const experiments::SweepPlan plan(m, so, experiments::SweepPlan::Partial::ignore);
-      std::cerr << o->manifest << " (profile " << m.profile << "): " << plan.jobs().size() << " jobs checked\n";
+      std::cerr << o->manifest << (m.profile.empty() ? "" : " (profile " + m.profile + ")") << ": " << plan.jobs().size()
+                << " jobs checked\n";
       return 0;
     }
     const auto sum = experiments::run_sweep(m, o->sets, so);

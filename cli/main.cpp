@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "common/errors.hpp"
+#include "common/process.hpp"
 #include "common/text_io.hpp"
 #include "common/version.hpp"
 
@@ -28,8 +29,8 @@ CLI::Validator strict_integer(long min, long max) {
       },
       "INT", "strict_integer");
 }
-void set_command_line(int argc, char** argv) {
-  for (int i = 0; i < argc; ++i) g_command_line += (i ? " " : "") + std::string(argv[i]);
+void set_command_line(int argc, char** argv) {  // quoted for /bin/sh where a word needs it: provenance a shell reruns
+  g_command_line = semlb::shell_words(std::vector<std::string>(argv, argv + argc));
 }
 
 // The cell stage frees and allocates arrays of 1e7 elements (positions, keys, staging) at every cell

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "cleanup.hpp"
 #include "errors.hpp"
 #include "process.hpp"
 
@@ -88,11 +89,12 @@ DirLock::DirLock(const std::string& dir, bool wait) : path_((std::filesystem::pa
     const int err = errno;
     ::close(fd_);
     throw std::runtime_error(path_ + ": write failed: " + std::strerror(err ? err : ENOSPC));
-  }
+  }  register_cleanup_path(path_);  // a SIGINT or SIGTERM (common/cleanup.hpp) removes it too: no stale-lock note next time
 }
 
 DirLock::~DirLock() {
   if (fd_ < 0) return;
+  unregister_cleanup_path(path_);
   ::unlink(path_.c_str());  // before unlocking: a waiter that then gets the lock sees the file gone and reopens
   ::close(fd_);             // releases the flock
 }

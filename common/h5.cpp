@@ -15,8 +15,14 @@ struct SilenceHdf5 {  // HDF5 prints its own error stack unless told not to; we 
 };
 const SilenceHdf5 silence;
 
-void check(herr_t status, const std::string& what) {
-  if (status < 0) throw std::runtime_error("HDF5: " + what + " failed");
+// A failed HDF5 call on file `path`: "PATH: HDF5: WHAT failed", WHAT naming the object (std::runtime_error: the
+// writers' and the library's errors).
+void check(herr_t status, const std::string& path, const std::string& what) {
+  if (status < 0) throw std::runtime_error(path + ": HDF5: " + what + " failed");
+}
+// A failed read of an object of an input file: InputError (exit 2) "PATH: OBJECT: HDF5 could not read it".
+void check_read(herr_t status, const std::string& path, const std::string& object) {
+  if (status < 0) throw InputError(path + ": " + object + ": HDF5 could not read it (a damaged or truncated file?)");
 }
 
 }  // namespace
@@ -47,17 +53,17 @@ File File::create(const std::string& path) {
 
 File File::create_in_memory(const std::string& name) {
   Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, name + ": H5Pcreate failed");
-  check(H5Pset_fapl_core(fapl.get(), 1 << 20, 0), "H5Pset_fapl_core");
+  check(H5Pset_fapl_core(fapl.get(), 1 << 20, 0), name, "H5Pset_fapl_core");
   return File(Id(H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose, name + ": cannot create HDF5 file in memory"),
               name);
 }
 
 std::string File::image() const {
-  check(H5Fflush(id(), H5F_SCOPE_GLOBAL), path_ + ": H5Fflush");
+  check(H5Fflush(id(), H5F_SCOPE_GLOBAL), path_, "H5Fflush");
   const ssize_t n = H5Fget_file_image(id(), nullptr, 0);
-  check(n < 0 ? -1 : 0, path_ + ": H5Fget_file_image");
+  check(n < 0 ? -1 : 0, path_, "H5Fget_file_image");
   std::string bytes(static_cast<size_t>(n), '\0');
-  check(H5Fget_file_image(id(), bytes.data(), bytes.size()) < 0 ? -1 : 0, path_ + ": H5Fget_file_image");
+  check(H5Fget_file_image(id(), bytes.data(), bytes.size()) < 0 ? -1 : 0, path_, "H5Fget_file_image");
   return bytes;
 }
 
@@ -66,13 +72,13 @@ std::vector<std::string> File::list(const std::string& name) const {
   if (!has(name)) return out;
   Id group(H5Gopen2(id(), name.c_str(), H5P_DEFAULT), H5Gclose, path_ + ": group " + name);
   H5G_info_t info;
-  check(H5Gget_info(group.get(), &info), "H5Gget_info");
+  check_read(H5Gget_info(group.get(), &info), path_, "group " + name);
   for (hsize_t i = 0; i < info.nlinks; ++i) {
     const ssize_t n = H5Lget_name_by_idx(group.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
-    check(n < 0 ? -1 : 0, "H5Lget_name_by_idx");
+    check_read(n < 0 ? -1 : 0, path_, "group " + name);
     std::string link(static_cast<size_t>(n) + 1, '\0');
-    check(H5Lget_name_by_idx(group.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, link.data(), link.size(), H5P_DEFAULT) < 0 ? -1 : 0,
-          "H5Lget_name_by_idx");
+    check_read(H5Lget_name_by_idx(group.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, link.data(), link.size(), H5P_DEFAULT) < 0 ? -1 : 0,
+               path_, "group " + name);
     link.resize(static_cast<size_t>(n));
     out.push_back(link);
   }
@@ -98,7 +104,8 @@ Id File::open_dataset(const std::string& name, H5T_class_t expected, std::vector
   Id space(H5Dget_space(set.get()), H5Sclose, path_ + ": no dataspace for " + name);
   const int rank = H5Sget_simple_extent_ndims(space.get());
   dims.assign(std::max(rank, 0), 0);
-  if (rank > 0) H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+  if (rank < 0 || (rank > 0 && H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr) < 0))
+    check_read(-1, path_, "the shape of dataset " + name);
   Id type(H5Dget_type(set.get()), H5Tclose, path_ + ": no datatype for " + name);
   if (H5Tget_class(type.get()) != expected)
     throw InputError(path_ + ": dataset " + name + " is not " + (expected == H5T_FLOAT ? "floating-point" : "integer"));
@@ -116,33 +123,33 @@ hsize_t count_of(const std::vector<hsize_t>& dims) {
 std::vector<double> File::read(const std::string& name, std::vector<hsize_t>& dims) const {
   Id set = open_dataset(name, H5T_FLOAT, dims);
   std::vector<double> data(count_of(dims));
-  if (!data.empty()) check(H5Dread(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "read " + name);
+  if (!data.empty()) check_read(H5Dread(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), path_, "dataset " + name);
   return data;
 }
 
 std::vector<int64_t> File::read_ints(const std::string& name, std::vector<hsize_t>& dims) const {
   Id set = open_dataset(name, H5T_INTEGER, dims);
   std::vector<int64_t> data(count_of(dims));
-  if (!data.empty()) check(H5Dread(set.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "read " + name);
+  if (!data.empty()) check_read(H5Dread(set.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), path_, "dataset " + name);
   return data;
 }
 
 void File::write_raw(const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type, hid_t mem_type, const void* data) {
-  Id lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose, "H5Pcreate");
-  check(H5Pset_create_intermediate_group(lcpl.get(), 1), "intermediate groups");
-  Id space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose, "dataspace " + name);
-  Id dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "H5Pcreate");
+  Id lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose, path_ + ": H5Pcreate for " + name);
+  check(H5Pset_create_intermediate_group(lcpl.get(), 1), path_, "intermediate groups of " + name);
+  Id space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose, path_ + ": dataspace " + name);
+  Id dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, path_ + ": H5Pcreate for " + name);
   if (deflate_ > 0 && !dims.empty() && count_of(dims) > 0) {  // chunks of whole rows, up to 2^20 values each
     std::vector<hsize_t> chunk = dims;
     const hsize_t row = count_of(dims) / dims[0];
     chunk[0] = std::max<hsize_t>(1, std::min<hsize_t>(dims[0], (hsize_t{1} << 20) / std::max<hsize_t>(row, 1)));
-    check(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), "chunk " + name);
-    check(H5Pset_shuffle(dcpl.get()), "shuffle " + name);
-    check(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(deflate_)), "deflate " + name);
+    check(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), path_, "chunk " + name);
+    check(H5Pset_shuffle(dcpl.get()), path_, "shuffle " + name);
+    check(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(deflate_)), path_, "deflate " + name);
   }
   Id set(H5Dcreate2(id(), name.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
          H5Dclose, path_ + ": cannot create dataset " + name);
-  if (count_of(dims) > 0) check(H5Dwrite(set.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + name);
+  if (count_of(dims) > 0) check(H5Dwrite(set.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), path_, "write " + name);
 }
 
 void File::write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<double>& data) {
@@ -158,30 +165,44 @@ Id File::attr(const std::string& name) const {
   return Id(H5Aopen(id(), name.c_str(), H5P_DEFAULT), H5Aclose, path_ + ": cannot open attribute " + name);
 }
 
+// A text attribute however its writer stored it: fixed length (null-terminated, null- or space-padded) or variable
+// length (h5py's default for a Python str), ASCII or UTF-8, one value (a scalar or a one-element array).
 std::string File::read_text_attr(const std::string& name) const {
   Id a = attr(name);
-  Id type(H5Aget_type(a.get()), H5Tclose, "attribute type");
-  if (H5Tget_class(type.get()) != H5T_STRING) throw InputError(path_ + ": attribute '" + name + "' is not text");
+  const std::string object = "attribute '" + name + "'";
+  Id type(H5Aget_type(a.get()), H5Tclose, path_ + ": " + object + ": no datatype");
+  Id space(H5Aget_space(a.get()), H5Sclose, path_ + ": " + object + ": no dataspace");
+  if (H5Tget_class(type.get()) != H5T_STRING) throw InputError(path_ + ": " + object + " is not text");
+  if (H5Sget_simple_extent_npoints(space.get()) != 1) throw InputError(path_ + ": " + object + " must be one string");
+  // The memory type in the file's character set: HDF5 converts no string between ASCII and UTF-8.
+  Id mem(H5Tcopy(H5T_C_S1), H5Tclose, path_ + ": " + object + ": string type");
+  check(H5Tset_cset(mem.get(), H5Tget_cset(type.get())), path_, object + " character set");
   if (H5Tis_variable_str(type.get()) > 0) {
+    check(H5Tset_size(mem.get(), H5T_VARIABLE), path_, object + " string size");
     char* raw = nullptr;
-    Id mem(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
-    check(H5Tset_size(mem.get(), H5T_VARIABLE), "string size");
-    check(H5Aread(a.get(), mem.get(), &raw), "read " + name);
+    check_read(H5Aread(a.get(), mem.get(), &raw), path_, object);
     std::string s = raw ? raw : "";
     H5free_memory(raw);
     return s;
   }
-  std::string s(H5Tget_size(type.get()), '\0');
-  check(H5Aread(a.get(), type.get(), s.data()), "read " + name);
-  return s.substr(0, s.find('\0'));
+  const size_t size = H5Tget_size(type.get());
+  if (size == 0) check_read(-1, path_, object);
+  const H5T_str_t pad = H5Tget_strpad(type.get());
+  check(H5Tset_size(mem.get(), size), path_, object + " string size");
+  check(H5Tset_strpad(mem.get(), pad == H5T_STR_ERROR ? H5T_STR_NULLPAD : pad), path_, object + " padding");
+  std::string s(size, '\0');
+  check_read(H5Aread(a.get(), mem.get(), s.data()), path_, object);
+  s = s.substr(0, s.find('\0'));
+  if (pad == H5T_STR_SPACEPAD) s.erase(s.find_last_not_of(' ') + 1);
+  return s;
 }
 
 namespace {
 // A numeric attribute of the expected class holding one value (a float is not silently truncated to an
 // integer, a list is not read as its first value).
 void check_scalar(hid_t a, H5T_class_t expected, const std::string& path, const std::string& name) {
-  Id type(H5Aget_type(a), H5Tclose, "attribute type");
-  Id space(H5Aget_space(a), H5Sclose, "attribute space");
+  Id type(H5Aget_type(a), H5Tclose, path + ": attribute '" + name + "': no datatype");
+  Id space(H5Aget_space(a), H5Sclose, path + ": attribute '" + name + "': no dataspace");
   if (H5Tget_class(type.get()) != expected || H5Sget_simple_extent_npoints(space.get()) != 1)
     throw InputError(path + ": attribute '" + name + "' must be one " + (expected == H5T_FLOAT ? "floating-point" : "integer") + " value");
 }
@@ -191,7 +212,7 @@ long File::read_int_attr(const std::string& name) const {
   long v = 0;
   Id a = attr(name);
   check_scalar(a.get(), H5T_INTEGER, path_, name);
-  check(H5Aread(a.get(), H5T_NATIVE_LONG, &v), "read " + name);
+  check_read(H5Aread(a.get(), H5T_NATIVE_LONG, &v), path_, "attribute '" + name + "'");
   return v;
 }
 
@@ -199,32 +220,33 @@ double File::read_real_attr(const std::string& name) const {
   double v = 0;
   Id a = attr(name);
   check_scalar(a.get(), H5T_FLOAT, path_, name);
-  check(H5Aread(a.get(), H5T_NATIVE_DOUBLE, &v), "read " + name);
+  check_read(H5Aread(a.get(), H5T_NATIVE_DOUBLE, &v), path_, "attribute '" + name + "'");
   if (!std::isfinite(v)) throw InputError(path_ + ": attribute '" + name + "' is not finite");
   return v;
 }
 
 namespace {
-void write_scalar_attr(hid_t file, const std::string& name, hid_t file_type, hid_t mem_type, const void* value) {
-  Id space(H5Screate(H5S_SCALAR), H5Sclose, "scalar dataspace");
+void write_scalar_attr(hid_t file, const std::string& path, const std::string& name, hid_t file_type, hid_t mem_type,
+                       const void* value) {
+  Id space(H5Screate(H5S_SCALAR), H5Sclose, path + ": scalar dataspace for attribute " + name);
   Id a(H5Acreate2(file, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
-       "cannot create attribute " + name);
-  check(H5Awrite(a.get(), mem_type, value), "write attribute " + name);
+       path + ": cannot create attribute " + name);
+  check(H5Awrite(a.get(), mem_type, value), path, "write attribute " + name);
 }
 }  // namespace
 
 void File::write_attr(const std::string& name, const std::string& value) {
-  Id type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
-  check(H5Tset_size(type.get(), value.size() + 1), "string size");
-  write_scalar_attr(id(), name, type.get(), type.get(), value.c_str());
+  Id type(H5Tcopy(H5T_C_S1), H5Tclose, path_ + ": string type for attribute " + name);
+  check(H5Tset_size(type.get(), value.size() + 1), path_, "string size of attribute " + name);
+  write_scalar_attr(id(), path_, name, type.get(), type.get(), value.c_str());
 }
 
 void File::write_attr(const std::string& name, long value) {
-  write_scalar_attr(id(), name, H5T_STD_I64LE, H5T_NATIVE_LONG, &value);
+  write_scalar_attr(id(), path_, name, H5T_STD_I64LE, H5T_NATIVE_LONG, &value);
 }
 
 void File::write_attr(const std::string& name, double value) {
-  write_scalar_attr(id(), name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value);
+  write_scalar_attr(id(), path_, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value);
 }
 
 }  // namespace semlb::h5

@@ -1,7 +1,12 @@
-// posix_spawnp with a pipe for the child's output, waitpid for its status.
+// fork + execvpe with a pipe for the child's output (the child in its own process group, ended with its parent),
+// waitpid for its status.
 #include "process.hpp"
 
-#include <spawn.h>
+#include "cleanup.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -28,21 +33,54 @@ ProcessResult run_process(const std::vector<std::string>& argv, const std::vecto
   args.push_back(nullptr);
   envp.push_back(nullptr);
 
-  int fd[2];
-  if (::pipe(fd) != 0) throw std::runtime_error("cannot run " + argv[0] + ": pipe: " + std::strerror(errno));
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addclose(&actions, fd[0]);
-  posix_spawn_file_actions_adddup2(&actions, fd[1], 1);
-  posix_spawn_file_actions_adddup2(&actions, fd[1], 2);
-  posix_spawn_file_actions_addclose(&actions, fd[1]);
-  pid_t pid = 0;
-  const int rc = posix_spawnp(&pid, argv[0].c_str(), &actions, nullptr, args.data(), envp.data());
-  posix_spawn_file_actions_destroy(&actions);
-  ::close(fd[1]);
-  if (rc != 0) {
+  // The child in a process group of its own (the group is what a signal-time cleanup stops: common/cleanup.hpp),
+  // with SIGTERM when this thread ends (PR_SET_PDEATHSIG: even a SIGKILL of semlb ends mpiexec and, through it, its
+  // ranks), an empty signal mask, stdout and stderr into the pipe. Pipes close on exec, so a child started by
+  // another thread meanwhile holds no end of them; `err` carries exec's errno back.
+  int fd[2], err[2];
+  if (::pipe2(fd, O_CLOEXEC) != 0) throw std::runtime_error("cannot run " + argv[0] + ": pipe: " + std::strerror(errno));
+  if (::pipe2(err, O_CLOEXEC) != 0) {
     ::close(fd[0]);
-    throw std::runtime_error("cannot run " + argv[0] + ": " + std::strerror(rc));
+    ::close(fd[1]);
+    throw std::runtime_error("cannot run " + argv[0] + ": pipe: " + std::strerror(errno));
+  }
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid == 0) {  // async-signal-safe calls only from here on
+    ::setpgid(0, 0);
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (::getppid() != parent) ::_exit(127);  // the parent died before prctl
+    sigset_t none;
+    sigemptyset(&none);
+    ::sigprocmask(SIG_SETMASK, &none, nullptr);
+    ::dup2(fd[1], 1);
+    ::dup2(fd[1], 2);
+    ::execvpe(args[0], args.data(), envp.data());
+    const int e = errno;
+    (void)!::write(err[1], &e, sizeof e);
+    ::_exit(127);
+  }
+  const int fork_errno = errno;
+  ::close(fd[1]);
+  ::close(err[1]);
+  if (pid < 0) {
+    ::close(fd[0]);
+    ::close(err[0]);
+    throw std::runtime_error("cannot run " + argv[0] + ": fork: " + std::strerror(fork_errno));
+  }
+  ::setpgid(pid, pid);  // also here: the group exists before anyone signals it
+  register_child_group(pid);
+  int exec_errno = 0;
+  ssize_t got;
+  while ((got = ::read(err[0], &exec_errno, sizeof exec_errno)) < 0 && errno == EINTR) {
+  }
+  ::close(err[0]);
+  if (got == static_cast<ssize_t>(sizeof exec_errno)) {  // exec failed: reap the child, say why
+    ::close(fd[0]);
+    while (::waitpid(pid, nullptr, 0) < 0 && errno == EINTR) {
+    }
+    unregister_child_group(pid);
+    throw std::runtime_error("cannot run " + argv[0] + ": " + std::strerror(exec_errno));
   }
   ProcessResult r;
   char buf[4096];
@@ -55,6 +93,7 @@ ProcessResult run_process(const std::vector<std::string>& argv, const std::vecto
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
+  unregister_child_group(pid);
   r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return r;
 }

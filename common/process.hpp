@@ -12,7 +12,9 @@ struct ProcessResult {
 
 // Runs argv[0] (looked up in PATH) with argv, the environment plus `env` ("NAME=VALUE", replacing a variable
 // of the same name), and waits for it; its stdout and stderr are collected. Throws std::runtime_error naming
-// the program when it cannot be started. Nothing in argv is interpreted by a shell.
+// the program when it cannot be started. Nothing in argv is interpreted by a shell. The child runs in a process
+// group of its own, registered while it runs (common/cleanup.hpp: a SignalCleanup stops it), and gets SIGTERM if
+// the calling thread ends first (a SIGKILL of semlb included).
 ProcessResult run_process(const std::vector<std::string>& argv, const std::vector<std::string>& env = {});
 
 // argv as one line for messages, each word quoted for /bin/sh where it needs it (copy-paste reproduces it).

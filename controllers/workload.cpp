@@ -19,9 +19,12 @@ constexpr const char* kFormat = "semlb-workload";
 
 void check_counts(const std::vector<double>& v, size_t n, const std::string& file, const std::string& field, long event) {
   if (v.size() != n) fail(file, field, "event " + std::to_string(event) + " has " + std::to_string(v.size()) + " entries, expected " + std::to_string(n));
-  for (double x : v)
-    if (!(x >= 0) || x != std::floor(x) || x > 9.0e15)
-      fail(file, field, "event " + std::to_string(event) + ": " + std::to_string(x) + " is not a non-negative integer");
+  for (double x : v) {
+    if (!(x >= 0) || x != std::floor(x))
+      fail(file, field, "event " + std::to_string(event) + ": " + format_real(x) + " is not a non-negative integer");
+    if (x > 9.0e15)  // beyond 2^53 doubles skip integers: sums of counts would no longer be exact
+      fail(file, field, "event " + std::to_string(event) + ": " + format_real(x) + " exceeds 9e15, where counts stop being exact in doubles");
+  }
 }
 
 }  // namespace
@@ -70,7 +73,14 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
     if (n != static_cast<double>(e.elements))
       fail(file, "slice_elements", "event " + std::to_string(i) + ": sums to " + std::to_string(static_cast<long>(n)) +
                                        ", but elements is " + std::to_string(e.elements));
+    double work = 0;
+    for (double x : e.slice_work) work += x;
+    if ((e.elements == 0) != (work == 0))  // W_s = sum n_i n_N(i) >= 1 per element (paper eq. 2): both zero or neither
+      fail(file, "slice_work", "event " + std::to_string(i) + ": sums to " + format_real(work) + " with " +
+                                   std::to_string(e.elements) + " elements (each element adds at least 1)");
   }
+  if (w.events.size() > 1 && std::all_of(w.events.begin(), w.events.end(), [](const WorkloadEvent& e) { return e.interval_s == 0; }))
+    fail(file, "interval_s", "every event's interval is 0 s: no measured time to turn work into seconds");
 }
 
 void write_workload(const std::string& path, const EngineWorkload& w) {
@@ -244,15 +254,17 @@ void add_edge_bands(const std::vector<double>& x, double x0, double width, int s
   for (double xe : x) {
     if (!std::isfinite(xe)) continue;
     long first = index(xe) + 1, last = index(xe + reach);  // below: the edges in (x, x + reach]
-    while (edge(first) <= xe) ++first;
+    // Every correction stops at the edges that exist (add() clips to 1..slices-1 alike): an element far beyond the
+    // last edge (x = 1e15 um) costs no loop over the edges it passed.
+    while (first <= slices && edge(first) <= xe) ++first;
     while (first > 1 && edge(first - 1) > xe) --first;
-    while (edge(last + 1) - reach <= xe) ++last;
+    while (last < slices && edge(last + 1) - reach <= xe) ++last;
     while (last > 0 && edge(last) - reach > xe) --last;
     add(dlo, first, last);
     first = index(xe - reach) + 1, last = index(xe);  // above: the edges in (x - reach, x]
-    while (edge(first) + reach <= xe) ++first;
+    while (first <= slices && edge(first) + reach <= xe) ++first;
     while (first > 1 && edge(first - 1) + reach > xe) --first;
-    while (edge(last + 1) <= xe) ++last;
+    while (last < slices && edge(last + 1) <= xe) ++last;
     while (last > 0 && edge(last) > xe) --last;
     add(dhi, first, last);
   }

@@ -9,14 +9,17 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <mutex>
 #include <set>
 #include <sstream>
 #include <thread>
 
+#include "common/cleanup.hpp"
 #include "common/errors.hpp"
 #include "common/process.hpp"
 #include "common/text_io.hpp"
 #include "engine/decomposition/decomposition.hpp"
+#include "engine/effects/effect.hpp"
 #include "engine/model/scene.hpp"
 #include "engine/run/driver.hpp"
 #include "runner.hpp"
@@ -53,8 +56,8 @@ std::pair<std::string, std::string> row_policy(const Job& job, const std::string
 // the previous one's checkpoint (launch()); 1 when absent.
 long segments_of(const Job& job, const std::string& manifest) { return job.integer("segments", 1, 1, 1L << 20, manifest); }
 
-// Refuses, before anything runs: an unknown setting, a missing scene or rank count, a value of the wrong type,
-// `segments` that do not divide the steps, a bad POLICY.KEY parameter, and a row whose policy the engine cannot
+// Refuses, before anything runs: an unknown setting, a missing scene or rank count, a value of the wrong type, an
+// effect's bad parameter (in the scene or a scene.* setting), `segments` that do not divide the steps, a bad POLICY.KEY parameter, and a row whose policy the engine cannot
 // run (PolicyNeeds::true_work).
 void check_job(const Job& job, const std::string& manifest, const RunOptions& o) {
   std::vector<std::string> known = {"scene", "ranks"};
@@ -75,6 +78,7 @@ void check_job(const Job& job, const std::string& manifest, const RunOptions& o)
       if (const Setting* s = job.find(k); s && s->value != "none")
         throw InputError(where_of(*s, manifest, k) + "applies to this machine's mpirun only; the launcher '" + shell_words(o.mpi_launcher) + "' places the ranks");
   scene_overrides(job, kSceneNames, manifest);  // typed values
+  engine::make_effects(mpi_scene(job, manifest, o));  // the effects' parameters, now rather than in a launch mid-sweep
   if (const long segments = segments_of(job, manifest); segments > 1)
     if (const long steps = mpi_scene(job, manifest, o).steps; steps % segments != 0)
       throw InputError(where_of(*job.find("segments"), manifest, "segments") + std::to_string(segments) + " segments do not divide the " +
@@ -113,8 +117,12 @@ struct Launch {
 // started afresh instead of continuing (the sim's "restart:" line).
 Launch launch(const Job& job, const RunOptions& o) {
   const std::string scene = scene_path(job, o);
-  const fs::path dir = (o.scratch_dir.empty() ? fs::temp_directory_path() : fs::path(o.scratch_dir)) / ("semlb_mpi_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(job_key(job))));
+  const fs::path scratch = o.scratch_dir.empty() ? fs::temp_directory_path() : fs::path(o.scratch_dir);
+  static std::once_flag swept;  // the folders of sweeps that died by SIGKILL, once per process
+  std::call_once(swept, [&] { remove_stale_run_folders(scratch.string(), "semlb_mpi_"); });
+  const fs::path dir = scratch / ("semlb_mpi_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(job_key(job))));
   fs::remove_all(dir);
+  register_cleanup_path(dir.string());  // removed by a signal's cleanup; finish_run or a failure removes it otherwise
   // An argument vector, started without a shell (common/process.hpp): paths reach `semlb sim` as they are.
   std::vector<std::string> argv = o.mpi_launcher;
   if (argv.empty()) {
@@ -132,6 +140,16 @@ Launch launch(const Job& job, const RunOptions& o) {
   const long segments = segments_of(job, "");
   const long length = segments > 1 ? mpi_scene(job, "", o).steps / segments : 0;  // steps per segment
   Launch l{dir.string(), 0.0, ""};
+  struct Discard {  // a launch that fails leaves no folder behind
+    fs::path dir;
+    bool keep = false;
+    ~Discard() {
+      if (keep) return;
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+      unregister_cleanup_path(dir.string());
+    }
+  } discard{dir};
   for (long k = 1; k <= segments; ++k) {
     std::vector<std::string> command = argv;
     if (segments > 1) {  // later --set values win (engine::parse_scene applies them in order)
@@ -151,6 +169,7 @@ Launch launch(const Job& job, const RunOptions& o) {
     l.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     l.output = out;
   }
+  discard.keep = true;
   return l;
 }
 
@@ -175,6 +194,7 @@ void finish_run(const Job& job, const RunOptions& o, const std::string& dir, boo
         fs::copy_file(fs::path(dir) / f, to / f, fs::copy_options::overwrite_existing);
   }
   fs::remove_all(dir);
+  unregister_cleanup_path(dir);
 }
 
 // What a finished launch's run.csv and rank_times.csv say: the loop's wall seconds (run.csv's log intervals

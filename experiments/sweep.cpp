@@ -21,7 +21,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include "common/digest.hpp"
+#include "common/cleanup.hpp"
 #include "common/dir_lock.hpp"
+#include "common/process.hpp"
 #include "common/errors.hpp"
 #include "common/progress_line.hpp"
 #include "common/registry.hpp"
@@ -121,9 +123,10 @@ void copy_manifest(const Manifest& m, const std::vector<std::string>& overrides,
   std::string body, head = "# " + o.command_line + "\n";
   if (!m.path.empty()) {
     body = read_file(m.path);
-    head = "# semlb sweep " + m.path + " --profile " + m.profile;
-    for (const auto& s : overrides) head += " --set " + s;
-    head += "\n";
+    std::vector<std::string> argv = {"semlb", "sweep", m.path};  // quoted for /bin/sh: copy-paste reruns it
+    if (!m.profile.empty()) argv.insert(argv.end(), {"--profile", m.profile});
+    for (const auto& s : overrides) argv.insert(argv.end(), {"--set", s});
+    head = "# " + shell_words(argv) + "\n";
   }
   head += "# git revision: " + o.git_revision + "\n# semlb " + version_string() + "\n";
   write_file_atomically(fs::path(csv).replace_extension(".manifest.yaml").string(), head + body);
@@ -435,6 +438,9 @@ std::vector<std::string> launcher_names() { return launchers().names(); }
 SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o) {
   const Launcher* launcher = launchers().find(o.launcher);
   if (!launcher) throw InputError("--launcher: unknown launcher '" + o.launcher + "' (known: " + launchers().known() + ")");
+  // A SIGINT, SIGTERM or SIGHUP of the sweep stops the rows' children (mpiexec and its ranks), removes their run
+  // folders and the results folder's lock, then ends the sweep by that signal (docs/experiments.md, "Signals").
+  const SignalCleanup cleanup;
   return (*launcher)(m, overrides, o);
 }
 

@@ -3,7 +3,9 @@
 // surrogate/train/config.hpp); `config` names a YAML file.
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 
+#include "common/cleanup.hpp"
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
 #include "runner.hpp"
@@ -27,9 +29,20 @@ class TrainRunner final : public Runner {
 
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& options) const override {
     const auto c = config(job, "", options.base_dir);
-    const auto dir = std::filesystem::temp_directory_path() /
-                     ("semlb_train_runner_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(train::to_yaml(c))));
+    const auto tmp = std::filesystem::temp_directory_path();
+    static std::once_flag swept;  // the folders of sweeps that died by SIGKILL, once per process
+    std::call_once(swept, [&] { remove_stale_run_folders(tmp.string(), "semlb_train_runner_"); });
+    const auto dir = tmp / ("semlb_train_runner_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(train::to_yaml(c))));
     std::filesystem::create_directories(dir);
+    register_cleanup_path(dir.string());  // a signal's cleanup removes it (common/cleanup.hpp)
+    struct Remove {  // and so does every way out of this function
+      std::filesystem::path dir;
+      ~Remove() {
+        std::error_code ec;
+        std::filesystem::remove_all(dir, ec);
+        unregister_cleanup_path(dir.string());
+      }
+    } remove{dir};
     train::TrainOptions o;
     o.out = (dir / "weights.h5").string();
     o.log = (dir / "log.csv").string();
@@ -40,7 +53,6 @@ class TrainRunner final : public Runner {
     std::string line;
     std::getline(in, line);  // header: same columns as columns()
     while (std::getline(in, line)) rows.push_back(split(line, ','));
-    std::filesystem::remove_all(dir);
     return rows;
   }
 

@@ -15,6 +15,7 @@ Registry<BackendFactory>& registry() {
 }  // namespace
 
 std::string Failure::quantity() const {
+  if (code == 3) return "force sum beyond the fixed-point range";
   return code == 1 ? "position is not finite" : "displacement exceeds time.max_displacement";
 }
 

@@ -26,13 +26,16 @@ using CellRules = cellrules::semlb_cell_rules;
 // Returns true when elements were added or cells divided. Throws std::runtime_error when a cell would
 // divide more than kMaxDivisionDepth times.
 bool run_cell_stage(State& s, const CellRules& rules, uint64_t seed, double elapsed_h, long step);
+// The message of a cell that would divide a (kMaxDivisionDepth + 1)-th time at `step`: its lineage has no ids left
+// (every backend throws std::runtime_error with it).
+std::string ids_exhausted(uint64_t id, int depth, long step);
 
 // A run-time failure inside a kernel: the first step at which it happened, the lowest element index
 // that failed then, and what went wrong.
 struct Failure {
   long step = -1;
   long element = -1;
-  int code = 0;  // 1: position not finite, 2: displacement above the limit
+  int code = 0;  // 1: position not finite, 2: displacement above the limit, 3: force sums may leave int64 (pair_force.h)
   bool failed() const { return step >= 0; }
   std::string quantity() const;
 };

@@ -41,6 +41,14 @@ const T* plugin_at(int index, const std::vector<std::string>& names, Lookup look
 }
 }  // namespace
 
+std::string ids_exhausted(uint64_t id, int depth, long step) {
+  return "step " + std::to_string(step) + ": cell " + std::to_string(id) + " would divide a " + std::to_string(depth + 1) +
+         "th time, but a lineage has ids for " + std::to_string(kMaxDivisionDepth) + " divisions (division.depth; " +
+         std::to_string(kRootIdBits) + " + " + std::to_string(kMaxDivisionDepth) + " id bits and " + std::to_string(kSlotBits) +
+         " slot bits make a 64-bit element key): run fewer generations (a longer effects.growth.cycle_time or fewer "
+         "time.steps), or restart from a state whose cells have fresh ids";
+}
+
 bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_h, long step) {
   using namespace cellrules;
   const long n = s.cells();
@@ -71,7 +79,7 @@ bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_
     if (divides[c]) {
       const int d = static_cast<int>((*depth)[c]);
       if (d >= kMaxDivisionDepth)
-        throw std::runtime_error("cell " + std::to_string(s.cell_id[c]) + " divided " + std::to_string(d) + " times: cell ids are exhausted");
+        throw std::runtime_error(ids_exhausted(s.cell_id[c], d, step));
       double g[6];
       semlb_cell_gyration(s.position.data(), s.cell_first[c], s.cell_count[c], births[c], ctr, &r, seed, s.cell_id[c],
                           key_step, &split[c], g);

@@ -23,9 +23,11 @@ class CpuBackend : public Backend {
     key_ = s.element_keys();
     owned_ = s.elements();
     force_.assign(pos_.size(), 0);
+    bound_.assign(owned_, 0);
+    terms_ = 0;
     near_valid_ = false;
     fail_step_ = -1;
-    fail_code_ = INT_MAX;
+    fail_code_ = LONG_MAX;
   }
   void set_ghosts(const Ghosts& g) override {
     pos_.resize(3 * owned_);
@@ -83,6 +85,8 @@ class CpuBackend : public Backend {
   void zero_forces() override {
     count("zero_forces");
     std::fill(force_.begin(), force_.end(), 0);
+    std::fill(bound_.begin(), bound_.end(), 0);
+    terms_ = 0;
   }
   std::vector<int64_t> fixed_forces() override { return {force_.begin(), force_.begin() + 3 * owned_}; }
   long owned() const { return owned_; }  // forces, integration and noise apply to elements [0, owned)
@@ -90,7 +94,8 @@ class CpuBackend : public Backend {
 
   // Pair term f.term in this precision (std::logic_error when unregistered): its evaluator, its parameters in Real,
   // the squared cutoff in Real; `add` calls the evaluator unless r^2 >= cutoff2 (its own first test, done inline so
-  // that the candidates beyond the cutoff cost no call; a NaN distance goes on to the evaluator).
+  // that the candidates beyond the cutoff cost no call; a NaN distance goes on to the evaluator). acc[0..2] are the
+  // fixed-point sums, acc[3] their bound (pair_force.h).
   struct PairLoop {
     PairEvaluator<Real> law;
     std::vector<Real> p;
@@ -108,6 +113,7 @@ class CpuBackend : public Backend {
     TermEvaluator<Real> evaluate;
     if constexpr (std::is_same_v<Real, double>) evaluate = term.f64; else evaluate = term.f32;
     count(name);
+    ++terms_;
     const std::vector<Real> p(params.begin(), params.end());
     const long n = owned_;
 #pragma omp parallel for schedule(static) num_threads(threads())
@@ -124,9 +130,11 @@ class CpuBackend : public Backend {
     if (fail_step_ >= 0) return;  // frozen since the failing step (which completed on every element)
     const Real k = static_cast<Real>(dt_over_eta), limit2 = static_cast<Real>(max_step * max_step);
     const long n = owned_;
-    int worst = INT_MAX;
+    const int64_t terms = terms_ * SEMLB_TERM_BOUND;
+    long worst = LONG_MAX;
 #pragma omp parallel for schedule(static) num_threads(threads()) reduction(min : worst)
     for (long i = 0; i < n; ++i) {
+      if (bound_[i] + terms > SEMLB_BOUND_LIMIT) worst = std::min(worst, i - INT_MAX);  // may have wrapped: first
       Real d2 = 0;
       bool finite = true;
       for (int c = 0; c < 3; ++c) {
@@ -135,9 +143,9 @@ class CpuBackend : public Backend {
         d2 += d * d;
         finite = finite && std::isfinite(pos_[3 * i + c]);
       }
-      if (!finite || !(d2 <= limit2)) worst = std::min(worst, static_cast<int>(i * 4 + (finite ? 2 : 1)));
+      if (!finite || !(d2 <= limit2)) worst = std::min(worst, i * 4 + (finite ? 2 : 1));
     }
-    if (worst != INT_MAX) {
+    if (worst != LONG_MAX) {
       fail_step_ = step;
       fail_code_ = worst;
     }
@@ -157,8 +165,8 @@ class CpuBackend : public Backend {
     Failure f;
     if (fail_step_ >= 0) {
       f.step = fail_step_;
-      f.element = fail_code_ / 4;
-      f.code = fail_code_ % 4;
+      f.element = fail_code_ < 0 ? fail_code_ + INT_MAX : fail_code_ / 4;  // as the OpenCL integrate records it
+      f.code = fail_code_ < 0 ? 3 : static_cast<int>(fail_code_ % 4);
     }
     return f;
   }
@@ -176,12 +184,14 @@ class CpuBackend : public Backend {
   std::vector<int> info_;
   std::vector<uint64_t> key_;
   std::vector<int64_t> force_;  // owned elements only
+  std::vector<int64_t> bound_;  // per owned element: the bound of its pair force sums (pair_force.h)
+  long terms_ = 0;              // element terms added since zero_forces
   long owned_ = 0;
   int threads_;
   std::vector<long> near_;   // the union of the last bands, in owned order
   bool near_valid_ = false;  // until the owned elements move or change
   long fail_step_ = -1;
-  int fail_code_ = INT_MAX;
+  long fail_code_ = LONG_MAX;
 };
 
 }  // namespace semlb::engine

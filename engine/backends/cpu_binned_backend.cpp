@@ -87,7 +87,7 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
   void accumulate(long i, const Packed& me, long b, const Sorted& other, long self, const Grid& g, const Loop& loop) {
     const int bx = static_cast<int>(b % g.dims[0]), by = static_cast<int>(b / g.dims[0] % g.dims[1]),
               bz = static_cast<int>(b / (static_cast<long>(g.dims[0]) * g.dims[1]));
-    int64_t acc[3] = {0, 0, 0};
+    int64_t acc[4] = {0, 0, 0, 0};
     SEMLB_STENCIL_ROWS(bx, by, bz, g.dims[0], g.dims[1], g.dims[2], first_bin, last_bin) {
       for (long o = other.start[first_bin], last = other.start[last_bin + 1]; o < last; ++o) {
         if (o == self) continue;
@@ -96,6 +96,7 @@ class CpuBinnedBackend final : public CpuBackend<Real> {
       }
     }
     for (int c = 0; c < 3; ++c) this->force_[3 * i + c] += acc[c];
+    this->bound_[i] += acc[3];
   }
 
   Sorted owned_bins_, ghost_bins_;

@@ -1,11 +1,18 @@
 /* Per-element kernels: the overdamped update, noise, the x range and bounding box, the ghost bands (kernels.cl
    includes it). */
 /* Overdamped update; the first failing step records (step, lowest element*4+code) and completes on every
-   element; later steps (fail[0] < step) move nothing, so the frozen state does not depend on launch order. */
-__kernel void integrate(__global real4* pos, __global const long* force, SEMLB_REAL dt_over_eta, SEMLB_REAL limit2,
-                        int step, __global volatile int* fail, int n) {
+   element; later steps (fail[0] < step) move nothing, so the frozen state does not depend on launch order. Code 3:
+   the bound of the element's force sums (pair forces' bound[i] plus `terms`, pair_force.h) is above
+   SEMLB_BOUND_LIMIT, so the sums may have wrapped; it is recorded as i - INT_MAX (< 0), so that it wins over
+   every displacement a wrapped sum may have caused, the lowest such element first. */
+__kernel void integrate(__global real4* pos, __global const long* force, __global const long* bound, long terms,
+                        SEMLB_REAL dt_over_eta, SEMLB_REAL limit2, int step, __global volatile int* fail, int n) {
   int i = get_global_id(0);
   if (i >= n || (fail[0] >= 0 && fail[0] < step)) return;
+  if (bound[i] + terms > SEMLB_BOUND_LIMIT) {
+    atomic_min(&fail[1], i - INT_MAX);
+    atomic_xchg(&fail[0], step);
+  }
   real4 p = pos[i];
   SEMLB_REAL dx = semlb_displacement(force[3 * i], dt_over_eta);
   SEMLB_REAL dy = semlb_displacement(force[3 * i + 1], dt_over_eta);

@@ -17,8 +17,14 @@ typedef SEMLB_REAL semlb_real;
 /* Forces are summed in fixed point (2^-32 force units) so that sums do not depend on their order. */
 #define SEMLB_FIXED_SCALE 4294967296.0
 #define SEMLB_FIXED_INV (1.0 / 4294967296.0)
-/* Per-pair and per-element force clamp (force units) keeping every fixed-point sum inside int64. */
+/* Per-pair and per-element-term force clamp (force units): one contribution is at most 2^52 in fixed point. */
 #define SEMLB_FORCE_MAX 1048576.0
+/* The most an element's bound (pair_force.h: the sum over its contributions of floor(min(|f|, SEMLB_FORCE_MAX)) + 1,
+ * force units) may reach: its fixed-point sums then stay below 2^31 force units = 2^63, inside int64, with a factor 2
+ * to spare for rounding. Beyond it the integrator stops the run (code 3) rather than move by a wrapped sum. */
+#define SEMLB_BOUND_LIMIT ((SEMLB_LONG)1 << 30)
+/* The bound of one element term's contribution (each component clamped to SEMLB_FORCE_MAX). */
+#define SEMLB_TERM_BOUND ((SEMLB_LONG)1048576 + 1)
 /* Below this distance (length units) the pair direction is taken from the element keys (r = 0). */
 #define SEMLB_R_MIN 1e-6
 #define SEMLB_R_MIN2 1e-12 /* SEMLB_R_MIN^2 as one literal (the device compiler did not fold the product) */

@@ -84,11 +84,12 @@ static inline void nl_slot_forces(int s, __global const real4* sorted_pos, __glo
                                   __global const int* sorted_index, __global const ulong* keys,
                                   __global const int* nl_count, __global const int* nl, int kmax,
                                   __global const int* starts, real4 lo, real4 size, int4 dims,
-                                  __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force) {
+                                  __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force,
+                                  __global long* bound) {
   real4 me = sorted_pos[s];
   int i = sorted_index[s], info = INFO(me.w), count = nl_count[s];
   SEMLB_REAL cutoff2 = cutoff * cutoff;
-  long acc[3] = {0, 0, 0};
+  long acc[4] = {0, 0, 0, 0};
   if (count <= kmax) {
     /* 4 partners per load (an int4 of the slot's chunk), then the force law on each */
     for (int base = 0; base < count; base += 4) {
@@ -112,29 +113,32 @@ static inline void nl_slot_forces(int s, __global const real4* sorted_pos, __glo
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
+  bound[i] += acc[3];
 }
 
 /* The local pair forces over the list: one item per sorted slot of the build. */
 __kernel void nl_forces(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
                         __global const ulong* keys, __global const int* nl_count, __global const int* nl,
                         int kmax, __global const int* starts, real4 lo, real4 size, int4 dims,
-                        __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n) {
+                        __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force,
+                        __global long* bound, int n) {
   int s = get_global_id(0);
   if (s >= n) return;
-  nl_slot_forces(s, sorted_pos, ref, sorted_index, keys, nl_count, nl, kmax, starts, lo, size, dims, table, cutoff, force);
+  nl_slot_forces(s, sorted_pos, ref, sorted_index, keys, nl_count, nl, kmax, starts, lo, size, dims, table, cutoff, force,
+                 bound);
 }
 
 /* The same for the sorted slots items[first .. first + n) alone (the measured cost of a region of the tissue,
-   docs/measured_time.md; `force` is a scratch buffer there). */
+   docs/measured_time.md; `force` and `bound` are scratch buffers there). */
 __kernel void nl_forces_items(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
                               __global const ulong* keys, __global const int* nl_count, __global const int* nl,
                               int kmax, __global const int* starts, real4 lo, real4 size, int4 dims,
                               __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force,
-                              __global const int* items, int first, int n) {
+                              __global long* bound, __global const int* items, int first, int n) {
   int k = get_global_id(0);
   if (k >= n) return;
   nl_slot_forces(items[first + k], sorted_pos, ref, sorted_index, keys, nl_count, nl, kmax, starts, lo, size, dims,
-                 table, cutoff, force);
+                 table, cutoff, force, bound);
 }
 
 /* A variant (-DSEMLB_NL_SPLIT, to measure): the slots over kmax in a kernel of their own, so that nl_forces holds
@@ -142,17 +146,18 @@ __kernel void nl_forces_items(__global const real4* sorted_pos, __global const r
 __kernel void nl_overflow(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
                           __global const ulong* keys, __global const int* nl_count, int kmax, __global const int* starts,
                           real4 lo, real4 size, int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff,
-                          __global long* force, int n) {
+                          __global long* force, __global long* bound, int n) {
 #ifdef SEMLB_NL_SPLIT
   int s = get_global_id(0);
   if (s >= n || nl_count[s] <= kmax) return;
   real4 me = sorted_pos[s];
   int i = sorted_index[s];
-  long acc[3] = {0, 0, 0};
+  long acc[4] = {0, 0, 0, 0};
   stencil_forces(me, i, s, bin3(ref[s], lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table,
                  cutoff * cutoff, acc);
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
+  bound[i] += acc[3];
 #endif
 }

@@ -38,10 +38,11 @@ class NeighbourList {
     return stats_;
   }
 
-  // Adds the local pair forces (the backend's owned elements [0, n), its pos_, on each other) to force, as
-  // opencl-binned's stencil does.
+  // Adds the local pair forces (the backend's owned elements [0, n), its pos_, on each other) to force and their
+  // bounds to bound, as opencl-binned's stencil does.
   template <class B>
-  void forces(B& b, const Grid& g, double cutoff, const cl::Mem& table, const cl::Mem& keys, const cl::Mem& force, long n) {
+  void forces(B& b, const Grid& g, double cutoff, const cl::Mem& table, const cl::Mem& keys, const cl::Mem& force,
+              const cl::Mem& bound, long n) {
     if (n <= 0) return;
     std::array<double, 3> hi{};
     for (int d = 0; d < 3; ++d) hi[d] = g.lo[d] + g.size[d] * g.dims[d];
@@ -77,9 +78,9 @@ class NeighbourList {
              static_cast<Real>(list * list), ni, kmax, count_.get(), list_.get(), stats_buf_.get());
     b.launch("nl_done", 1, 1, gate_.get(), stats_buf_.get());
     b.launch("nl_forces", n, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(), keys.get(), count_.get(),
-             list_.get(), kmax, sort_.starts.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), ni);
+             list_.get(), kmax, sort_.starts.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), bound.get(), ni);
     b.launch("nl_overflow", split_ ? n : 1, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(), keys.get(),
-             count_.get(), kmax, sort_.starts.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), ni);
+             count_.get(), kmax, sort_.starts.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), bound.get(), ni);
     valid_ = true;
     if (rebuild || ++since_read_ >= kReadEvery) request(b);  // kmax follows the densest element, a step or more late
   }
@@ -87,15 +88,16 @@ class NeighbourList {
   // The list's sort as of its last build (sorted_index: slot -> element); meaningful once forces() ran (valid()).
   const cl::BinSort& sort() const { return sort_; }
   bool valid() const { return valid_; }
-  // nl_forces over the sorted slots items[first, first + n) into `force` (a region's measured cost).
+  // nl_forces over the sorted slots items[first, first + n) into `force` and `bound` (a region's measured cost).
   template <class B>
-  void forces_items(B& b, const cl::Mem& table, const cl::Mem& keys, const cl::Mem& force, const cl::Mem& items, long first,
-                    long n) {
+  void forces_items(B& b, const cl::Mem& table, const cl::Mem& keys, const cl::Mem& force, const cl::Mem& bound,
+                    const cl::Mem& items, long first, long n) {
     const auto lo = b.real4(grid_.lo), size = b.real4(grid_.size);
     const auto dims = b.int4(grid_.dims);
     b.launch("nl_forces_items", n, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(), keys.get(),
              count_.get(), list_.get(), static_cast<cl_int>(stored_kmax_), sort_.starts.get(), lo, size, dims, table.get(),
-             static_cast<Real>(cutoff_), force.get(), items.get(), static_cast<cl_int>(first), static_cast<cl_int>(n));
+             static_cast<Real>(cutoff_), force.get(), bound.get(), items.get(), static_cast<cl_int>(first),
+             static_cast<cl_int>(n));
   }
 
  private:

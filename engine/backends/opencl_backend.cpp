@@ -59,6 +59,7 @@ void OpenClBackend<Real>::upload(const State& s) {
   near_valid_ = false;
   list_.invalidate();
   n_ = owned_ = s.elements();
+  check_element_count(n_);
   if (n_ > capacity_) allocate(n_ + n_ / 4 + 64);
   write_elements(0, s.position, s.element_info(), s.element_keys());
   const cl_int none[2] = {-1, INT_MAX};
@@ -169,18 +170,18 @@ void OpenClBackend<Real>::pair_forces_local(const PairForces& f, const Grid& gri
   use_pair_term(f);
   const Real c2 = static_cast<Real>(f.cutoff * f.cutoff);
   if (!binned_) {
-    launch("forces_allpairs", owned_, kGroup, pos_.get(), keys_.get(), table_.get(), c2, force_.get(), owned(), cl_int{0},
+    launch("forces_allpairs", owned_, kGroup, pos_.get(), keys_.get(), table_.get(), c2, force_.get(), bound_.get(), owned(), cl_int{0},
            LocalBytes{kGroup * sizeof(Real4)}, near_.get(), owned(), cl_int{1});
     return;
   }
   sort_grid_ = grid;
   sorted_ = true;
   last_cutoff_ = f.cutoff;
-  if (list_.on()) return list_.forces(*this, grid, f.cutoff, table_, keys_, force_, owned_);
+  if (list_.on()) return list_.forces(*this, grid, f.cutoff, table_, keys_, force_, bound_, owned_);
   sort_into_bins(grid, 0, owned_, owned_sort_);
   launch("forces_binned", owned_, kGroup, owned_sort_.sorted_pos.get(), owned_sort_.sorted_index.get(), keys_.get(),
          owned_sort_.starts.get(), real4(grid.lo), real4(grid.size), int4(grid.dims), table_.get(),
-         static_cast<Real>(f.cutoff), force_.get(), owned(), owned());
+         static_cast<Real>(f.cutoff), force_.get(), bound_.get(), owned(), owned());
 }
 
 template <class Real>
@@ -192,14 +193,14 @@ void OpenClBackend<Real>::pair_forces_nonlocal(const PairForces& f, const Grid& 
   const cl_int all = near_valid_ ? 0 : 1;
   if (!binned_) {
     launch("forces_allpairs", items, kGroup, pos_.get(), keys_.get(), table_.get(), static_cast<Real>(f.cutoff * f.cutoff),
-           force_.get(), static_cast<cl_int>(n_), owned(), LocalBytes{kGroup * sizeof(Real4)}, near_.get(),
+           force_.get(), bound_.get(), static_cast<cl_int>(n_), owned(), LocalBytes{kGroup * sizeof(Real4)}, near_.get(),
            static_cast<cl_int>(items), all);
     return;
   }
   sort_into_bins(grid, owned_, ghosts, ghost_sort_);
   launch("forces_nonlocal", items, kGroup, pos_.get(), keys_.get(), near_.get(), static_cast<cl_int>(items), all,
          ghost_sort_.sorted_pos.get(), ghost_sort_.sorted_index.get(), ghost_sort_.starts.get(), real4(grid.lo),
-         real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(f.cutoff), force_.get());
+         real4(grid.size), int4(grid.dims), table_.get(), static_cast<Real>(f.cutoff), force_.get(), bound_.get());
 }
 
 template <class Real>
@@ -210,14 +211,15 @@ std::vector<double> OpenClBackend<Real>::pair_force_seconds(const std::vector<in
   if (!device_timing_ || !sorted_ || !binned_ || groups <= 0) return {};
   std::vector<double> seconds(groups, 0.0);
   if (!owned_) return seconds;
-  if (scratch_capacity_ < owned_) {  // the forces of the timed launches go here, never into force_
+  if (scratch_capacity_ < owned_) {  // the forces (and bounds) of the timed launches go here, never into force_
     scratch_capacity_ = owned_ + owned_ / 4 + 64;
     scratch_force_ = buffer(3 * scratch_capacity_ * sizeof(cl_long));
+    scratch_bound_ = buffer(scratch_capacity_ * sizeof(cl_long));
     items_ = buffer(scratch_capacity_ * sizeof(cl_int));
   }
   // The sort the kernel reads, for the elements as they are now: the list's (rebuilt if a cell stage or a migration
   // invalidated it; its forces go to scratch) or the bins' of the last local forces' grid.
-  if (list_.on()) list_.forces(*this, sort_grid_, last_cutoff_, table_, keys_, scratch_force_, owned_);
+  if (list_.on()) list_.forces(*this, sort_grid_, last_cutoff_, table_, keys_, scratch_force_, scratch_bound_, owned_);
   else sort_into_bins(sort_grid_, 0, owned_, owned_sort_);
   const cl::BinSort& sort = list_.on() ? list_.sort() : owned_sort_;
   std::vector<cl_int> slot_element(owned_);
@@ -244,11 +246,12 @@ std::vector<double> OpenClBackend<Real>::pair_force_seconds(const std::vector<in
       if (n == 0) continue;
       launched.push_back(g);
       if (list_.on()) {
-        list_.forces_items(*this, table_, keys_, scratch_force_, items_, first[g], n);
+        list_.forces_items(*this, table_, keys_, scratch_force_, scratch_bound_, items_, first[g], n);
       } else {
         launch("forces_binned_items", n, kGroup, owned_sort_.sorted_pos.get(), owned_sort_.sorted_index.get(), keys_.get(),
                owned_sort_.starts.get(), real4(sort_grid_.lo), real4(sort_grid_.size), int4(sort_grid_.dims), table_.get(),
-               static_cast<Real>(last_cutoff_), scratch_force_.get(), owned(), items_.get(), static_cast<cl_int>(first[g]),
+               static_cast<Real>(last_cutoff_), scratch_force_.get(), scratch_bound_.get(), owned(), items_.get(),
+               static_cast<cl_int>(first[g]),
                static_cast<cl_int>(n));
       }
     }
@@ -266,6 +269,7 @@ std::vector<double> OpenClBackend<Real>::pair_force_seconds(const std::vector<in
 template <class Real>
 void OpenClBackend<Real>::element_term(const std::string& name, const std::vector<double>& params) {
   engine::element_term(name);  // std::logic_error for an unregistered name
+  ++terms_;  // its bound, added by integrate
   launch(name.c_str(), owned_, kGroup, pos_.get(), plugin_parameters<Real>(term_params_, name, params), force_.get(), owned());
 }
 
@@ -274,10 +278,10 @@ Failure OpenClBackend<Real>::failure() {
   cl_int f[2];
   read(fail_, f, sizeof f);
   Failure out;
-  if (f[1] != INT_MAX) {
+  if (f[1] != INT_MAX) {  // i * 4 + code, or i - INT_MAX for code 3 (integrate, elements.cl)
     out.step = f[0];
-    out.element = f[1] / 4;
-    out.code = f[1] % 4;
+    out.element = f[1] < 0 ? f[1] + static_cast<long>(INT_MAX) : f[1] / 4;
+    out.code = f[1] < 0 ? 3 : f[1] % 4;
   }
   return out;
 }
@@ -357,11 +361,13 @@ void OpenClBackend<Real>::build(const std::string& pair_term) {
 template <class Real>
 void OpenClBackend<Real>::reserve_elements(long n) {
   if (n <= capacity_) return;
-  cl::Mem old_pos = std::move(pos_), old_keys = std::move(keys_), old_force = std::move(force_);
+  check_element_count(n);
+  cl::Mem old_pos = std::move(pos_), old_keys = std::move(keys_), old_force = std::move(force_), old_bound = std::move(bound_);
   allocate(n + n / 4 + 64);
   copy(old_pos, pos_, n_ * sizeof(Real4));
   copy(old_keys, keys_, n_ * sizeof(uint64_t));
   copy(old_force, force_, 3 * owned_ * sizeof(cl_long));
+  copy(old_bound, bound_, owned_ * sizeof(cl_long));
 }
 
 template <class Real>
@@ -372,6 +378,7 @@ void OpenClBackend<Real>::allocate(long capacity) {
   pos_back_ = buffer(capacity * sizeof(Real4));  // the cell stage's output (swapped with pos_, keys_)
   keys_back_ = buffer(capacity * sizeof(uint64_t));
   force_ = buffer(3 * capacity * sizeof(cl_long));
+  bound_ = buffer(capacity * sizeof(cl_long));  // the force sums' bounds (pair_force.h)
   flags_ = buffer(2 * capacity * sizeof(cl_int));  // both bands' flags (bands())
   band_starts_ = buffer((2 * capacity + 1) * sizeof(cl_int));
   band_sums_ = buffer(round_up(2 * capacity, kScanGroup) / kScanGroup * sizeof(cl_int));

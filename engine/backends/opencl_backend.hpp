@@ -80,12 +80,15 @@ class OpenClBackend final : public Backend {
   void zero_forces() override {
     count("zero_forces");
     const cl_long zero = 0;
-    cl_event raw = nullptr;
-    if (owned_)
-      cl::check(clEnqueueFillBuffer(queue_.get(), force_.get(), &zero, sizeof zero, 0, 3 * owned_ * sizeof(cl_long), 0, nullptr,
-                                    timing() ? &raw : nullptr),
-                "zero forces");
-    if (raw) pending_.emplace_back("zero_forces", cl::Event(raw));
+    for (auto [m, items, what] : {std::tuple{&force_, 3 * owned_, "zero forces"}, {&bound_, owned_, "zero force bounds"}}) {
+      cl_event raw = nullptr;
+      if (owned_)
+        cl::check(clEnqueueFillBuffer(queue_.get(), m->get(), &zero, sizeof zero, 0, items * sizeof(cl_long), 0, nullptr,
+                                      timing() ? &raw : nullptr),
+                  what);
+      if (raw) pending_.emplace_back("zero_forces", cl::Event(raw));
+    }
+    terms_ = 0;
   }
 
   void pair_forces_local(const PairForces& f, const Grid& grid) override;
@@ -99,7 +102,7 @@ class OpenClBackend final : public Backend {
   void integrate(double dt_over_eta, double max_step, long step) override {
     if (step > INT_MAX) throw std::runtime_error("opencl backends count steps in 32 bits");
     near_valid_ = false;  // the bands' selection was for these positions
-    launch("integrate", owned_, kGroup, pos_.get(), force_.get(), static_cast<Real>(dt_over_eta),
+    launch("integrate", owned_, kGroup, pos_.get(), force_.get(), bound_.get(), static_cast<cl_long>(terms_ * SEMLB_TERM_BOUND), static_cast<Real>(dt_over_eta),
            static_cast<Real>(max_step * max_step), static_cast<cl_int>(step), fail_.get(), owned());
   }
 
@@ -249,6 +252,14 @@ class OpenClBackend final : public Backend {
   // Room for n elements (owned + ghosts); growing keeps elements [0, n_) and the owned elements' forces (the
   // local part, when the ghosts arrive between the two parts) by device copies.
   void reserve_elements(long n);
+  // The most elements (owned and ghosts) one device holds: its kernels index them in 32 bits, failure codes as
+  // 4 element + code. Beyond, InputError naming the count and the way out (more ranks).
+  static void check_element_count(long n) {
+    constexpr long kMax = (INT_MAX - 3) / 4;
+    if (n > kMax)
+      throw InputError(std::to_string(n) + " elements on one OpenCL device: more than " + std::to_string(kMax) +
+                       ", the most its 32-bit element indices and failure codes reach; run on more ranks");
+  }
 
   // The per-cell work arrays of the cell stage and the migration for n cells.
   void reserve_plan(long n);
@@ -404,7 +415,7 @@ class OpenClBackend final : public Backend {
   bool device_timing_ = false;                               // BackendConfig::device_timing
   bool measuring_ = false;                                   // pair_force_seconds' launches: each one's event kept
   std::vector<cl::Event> measured_;
-  cl::Mem scratch_force_, items_;                            // pair_force_seconds' forces (discarded) and slot lists
+  cl::Mem scratch_force_, scratch_bound_, items_;            // pair_force_seconds' forces and bounds (discarded), slots
   long scratch_capacity_ = 0, items_capacity_ = 0;
   bool sorted_ = false;                                      // owned_sort_ holds the last local forces' sort
   Grid sort_grid_;                                           // its grid
@@ -428,6 +439,8 @@ class OpenClBackend final : public Backend {
   std::map<std::string, cl::Kernel> kernels_;
   std::map<cl_mem, std::vector<unsigned char>> last_written_;  // write_parameters' last bytes per buffer
   cl::Mem pos_, keys_, force_, fail_, table_;
+  cl::Mem bound_;  // per owned element: the bound of its pair force sums (pair_force.h), checked by integrate
+  long terms_ = 0;  // element terms added since zero_forces
   std::map<std::string, cl::Mem> term_params_, rule_params_;  // each element term's / removal rule's parameters
   BinSort owned_sort_, ghost_sort_;  // the local forces' bins; the ghosts' own (non-local forces)
   cl::Mem extent_, flags_, band_starts_, band_sums_, band_pos_;

@@ -158,8 +158,7 @@ bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t 
     read(cell_.count, &count, sizeof count, c * sizeof count);
     if (rules.depth_field >= 0) read(cell_.fields, &depth, sizeof depth, (c * nf() + rules.depth_field) * sizeof depth);
     if (ids)
-      throw std::runtime_error("cell " + std::to_string(id) + " divided " + std::to_string(static_cast<int>(depth)) +
-                               " times: cell ids are exhausted");
+      throw std::runtime_error(ids_exhausted(id, static_cast<int>(depth), step));
     throw std::runtime_error("cell " + std::to_string(id) + ": growth law '" + growth_law_names().at(rules.growth) +
                              "' gave births outside 0 to " + std::to_string(kMaxSlots - 1 - count) + " to its " +
                              std::to_string(count) + " elements (a cell holds at most " + std::to_string(kMaxSlots - 1) + ")");

@@ -3,10 +3,20 @@
  * The includer defines SEMLB_PAIR_LAW, the term's evaluator `semlb_real semlb_pair_NAME(semlb_real r, int info_i,
  * int info_j, SEMLB_CONST const semlb_real* p)` (pairs/pair_term.hpp), after evaluator.h. */
 
-/* Force on element i from element j, added to acc[0..2] in fixed point; d = Y_i - Y_j (eq. 1: the force along d
- * is the law's f(r) = -dV/dr, positive repulsive). Returns 0 outside the cutoff, 1 when added, and -1 for coincident
- * elements (r < SEMLB_R_MIN), whose direction is undefined: the caller then calls semlb_coincident_force. A NaN
- * distance counts as within the cutoff (it reaches the force and the integrator reports it). */
+/* The bound acc[3] of a sum: each pair adds floor(min(|f|, SEMLB_FORCE_MAX)) + 1 (force units; a NaN f counts as
+ * the maximum), at least |F_ij| / 2^32 of each of its three fixed-point components (an integer, so its sum does not
+ * depend on the order). While an element's bound, all its contributions together, stays below SEMLB_BOUND_LIMIT
+ * (2^30, half of the 2^31 force units an int64 of 2^-32 units holds, so rounding in |d_k| / r cannot matter) no
+ * fixed-point force sum of it can leave int64; beyond it the integrator stops the run (Failure code 3). */
+#ifndef SEMLB_PAIR_BOUND
+#define SEMLB_PAIR_BOUND(f) ((SEMLB_LONG)SEMLB_FMIN(SEMLB_FMAX((f), -(f)), (semlb_real)SEMLB_FORCE_MAX) + 1)
+#endif
+
+/* Force on element i from element j, added to acc[0..2] in fixed point, and its bound to acc[3]; d = Y_i - Y_j
+ * (eq. 1: the force along d is the law's f(r) = -dV/dr, positive repulsive). Returns 0 outside the cutoff, 1 when
+ * added, and -1 for coincident elements (r < SEMLB_R_MIN), whose direction is undefined: the caller then calls
+ * semlb_coincident_force. A NaN distance counts as within the cutoff (it reaches the force and the integrator
+ * reports it). */
 static inline int semlb_pair_force(semlb_real dx, semlb_real dy, semlb_real dz, int info_i, int info_j,
                                    SEMLB_CONST const semlb_real* p, semlb_real cutoff2, SEMLB_LONG* acc) {
   semlb_real r2 = dx * dx + dy * dy + dz * dz;
@@ -14,15 +24,18 @@ static inline int semlb_pair_force(semlb_real dx, semlb_real dy, semlb_real dz, 
 #ifdef SEMLB_PAIR_RSQRT
   if (r2 < (semlb_real)SEMLB_R_MIN2) return -1;
   semlb_real inv = SEMLB_PAIR_RSQRT(r2), r = r2 * inv;
-  semlb_real s = SEMLB_PAIR_LAW(r, info_i, info_j, p) * inv * (semlb_real)SEMLB_FIXED_SCALE;
+  semlb_real f = SEMLB_PAIR_LAW(r, info_i, info_j, p);
+  semlb_real s = f * inv * (semlb_real)SEMLB_FIXED_SCALE;
 #else
   semlb_real r = SEMLB_SQRT(r2);
   if (r < (semlb_real)SEMLB_R_MIN) return -1;
-  semlb_real s = SEMLB_PAIR_LAW(r, info_i, info_j, p) / r * (semlb_real)SEMLB_FIXED_SCALE;
+  semlb_real f = SEMLB_PAIR_LAW(r, info_i, info_j, p);
+  semlb_real s = f / r * (semlb_real)SEMLB_FIXED_SCALE;
 #endif
   acc[0] += semlb_scaled_to_fixed(s * dx);
   acc[1] += semlb_scaled_to_fixed(s * dy);
   acc[2] += semlb_scaled_to_fixed(s * dz);
+  acc[3] += SEMLB_PAIR_BOUND(f);
   return 1;
 }
 
@@ -38,4 +51,5 @@ static inline void semlb_coincident_force(SEMLB_ULONG key_i, SEMLB_ULONG key_j, 
   acc[0] += semlb_to_fixed(s * ux);
   acc[1] += semlb_to_fixed(s * uy);
   acc[2] += semlb_to_fixed(s * uz);
+  acc[3] += SEMLB_PAIR_BOUND(f);
 }

@@ -40,38 +40,40 @@ static inline void stencil_forces(real4 me, int i, int self, int4 b, int4 dims, 
 static inline void binned_slot_forces(int s, __global const real4* sorted_pos, __global const int* sorted_index,
                                       __global const ulong* keys, __global const int* starts, real4 lo, real4 size,
                                       int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff,
-                                      __global long* force, int owned) {
+                                      __global long* force, __global long* bound, int owned) {
   if (sorted_index[s] >= owned) return;  /* ghosts exert forces but receive none */
   real4 me = sorted_pos[s];
   int i = sorted_index[s];
-  long acc[3] = {0, 0, 0};
+  long acc[4] = {0, 0, 0, 0};
   stencil_forces(me, i, s, bin3(me, lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table,
                  cutoff * cutoff, acc);
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
+  bound[i] += acc[3];
 }
 
 /* Local pair forces: one item per sorted owned element. */
 __kernel void forces_binned(__global const real4* sorted_pos, __global const int* sorted_index,
                             __global const ulong* keys, __global const int* starts, real4 lo, real4 size, int4 dims,
-                            __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force, int n,
-                            int owned) {
+                            __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force,
+                            __global long* bound, int n, int owned) {
   int s = get_global_id(0);
   if (s >= n) return;
-  binned_slot_forces(s, sorted_pos, sorted_index, keys, starts, lo, size, dims, table, cutoff, force, owned);
+  binned_slot_forces(s, sorted_pos, sorted_index, keys, starts, lo, size, dims, table, cutoff, force, bound, owned);
 }
 
 /* The same for the sorted slots items[first .. first + n) alone (the measured cost of a region of the tissue,
-   docs/measured_time.md; `force` is a scratch buffer there). */
+   docs/measured_time.md; `force` and `bound` are scratch buffers there). */
 __kernel void forces_binned_items(__global const real4* sorted_pos, __global const int* sorted_index,
                                   __global const ulong* keys, __global const int* starts, real4 lo, real4 size,
                                   int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff,
-                                  __global long* force, int owned, __global const int* items, int first, int n) {
+                                  __global long* force, __global long* bound, int owned, __global const int* items,
+                                  int first, int n) {
   int k = get_global_id(0);
   if (k >= n) return;
   binned_slot_forces(items[first + k], sorted_pos, sorted_index, keys, starts, lo, size, dims, table, cutoff, force,
-                     owned);
+                     bound, owned);
 }
 
 /* Non-local pair forces (ghosts on owned): one item per owned element near a slab boundary, near[k] its index
@@ -80,31 +82,34 @@ __kernel void forces_binned_items(__global const real4* sorted_pos, __global con
 __kernel void forces_nonlocal(__global const real4* pos, __global const ulong* keys, __global const int* near,
                               int items, int all, __global const real4* ghost_pos, __global const int* ghost_index,
                               __global const int* ghost_starts, real4 lo, real4 size, int4 dims,
-                              __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force) {
+                              __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force,
+                              __global long* bound) {
   int k = get_global_id(0);
   if (k >= items) return;
   int i = all ? k : near[k];
   if (i < 0) return;
   real4 me = pos[i];
-  long acc[3] = {0, 0, 0};
+  long acc[4] = {0, 0, 0, 0};
   stencil_forces(me, i, -1, bin3(me, lo, size, dims), dims, ghost_pos, ghost_index, ghost_starts, keys, table,
                  cutoff * cutoff, acc);
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
+  bound[i] += acc[3];
 }
 
 /* All pairs, tiled through local memory (the GPU all-pairs baseline of the paper): the forces of elements
    [from, n) on owned elements. Local part: from 0, n = owned, item k = element k (all != 0). Non-local part:
    from = owned (the ghosts), item k = element near[k] (-1: none) for k < items, as forces_nonlocal. */
 __kernel void forces_allpairs(__global const real4* pos, __global const ulong* keys, __constant const SEMLB_REAL* table,
-                              SEMLB_REAL cutoff2, __global long* force, int n, int from, __local real4* tile,
+                              SEMLB_REAL cutoff2, __global long* force, __global long* bound, int n, int from,
+                              __local real4* tile,
                               __global const int* near, int items, int all) {
   int k = get_global_id(0), l = get_local_id(0), w = get_local_size(0);
   int i = k < items ? (all ? k : near[k]) : -1;
   real4 me = i >= 0 ? pos[i] : (real4)(0);
   int info = INFO(me.w);
-  long acc[3] = {0, 0, 0};
+  long acc[4] = {0, 0, 0, 0};
   for (int base = from; base < n; base += w) {
     tile[l] = base + l < n ? pos[base + l] : (real4)(0);
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -123,4 +128,5 @@ __kernel void forces_allpairs(__global const real4* pos, __global const ulong* k
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
   force[3 * i + 2] += acc[2];
+  bound[i] += acc[3];
 }

@@ -27,12 +27,13 @@ class SerialBackend final : public CpuBackend<Real> {
     const typename CpuBackend<Real>::PairLoop loop(f);
     const Real* p = this->pos_.data();
     for (const long i : items) {
-      int64_t acc[3] = {0, 0, 0};
+      int64_t acc[4] = {0, 0, 0, 0};
       for (long j = from; j < to; ++j)
         if (j != i)
           loop.add(p[3 * i] - p[3 * j], p[3 * i + 1] - p[3 * j + 1], p[3 * i + 2] - p[3 * j + 2], this->info_[i],
                    this->info_[j], this->key_[i], this->key_[j], acc);
       for (int c = 0; c < 3; ++c) this->force_[3 * i + c] += acc[c];
+      this->bound_[i] += acc[3];
     }
   }
 };

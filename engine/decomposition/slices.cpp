@@ -2,6 +2,7 @@
 // from slices.h, shared with the kernels.
 #include "slices.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -20,15 +21,25 @@ namespace arith {
 
 
 Grid Grid::cover(const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cutoff) {
+  // 1e-4 of slack keeps bins >= cutoff even after float rounding of positions on a device
+  const double edge = cutoff * (1 + 1e-4), limit = static_cast<double>(kMaxBins);
+  std::array<double, 3> extent{}, n{};
+  for (int d = 0; d < 3; ++d) {
+    extent[d] = std::max(hi[d] - lo[d], edge);
+    n[d] = std::min(limit, std::max(1.0, std::floor(extent[d] / edge)));  // in doubles: no int overflow on the way
+  }
+  // More bins than a 32-bit sort counts (a far-flung element, a huge box): fewer, larger bins, the largest count
+  // first; bins of edge >= cutoff are all the pair loops need, so the forces stay the same sums.
+  for (int pass = 0; pass < 3 && n[0] * n[1] * n[2] > limit; ++pass) {
+    const int big = static_cast<int>(std::max_element(n.begin(), n.end()) - n.begin());
+    n[big] = std::max(1.0, std::floor(limit / (n[0] * n[1] * n[2] / n[big])));
+  }
   Grid g;
   g.lo = lo;
   for (int d = 0; d < 3; ++d) {
-    const double extent = std::max(hi[d] - lo[d], cutoff * (1 + 1e-4));
-    // 1e-4 of slack keeps bins >= cutoff even after float rounding of positions on a device
-    g.dims[d] = std::max(1, static_cast<int>(std::floor(extent / (cutoff * (1 + 1e-4)))));
-    g.size[d] = extent / g.dims[d];
+    g.dims[d] = static_cast<int>(n[d]);
+    g.size[d] = extent[d] / g.dims[d];
   }
-  if (g.bins() > (1L << 31) - 2) throw InputError("domain: " + std::to_string(g.bins()) + " bins exceed 2^31; enlarge the cutoff or shrink the box");
   return g;
 }
 

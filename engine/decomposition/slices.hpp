@@ -15,7 +15,11 @@ namespace semlb::engine {
 struct Grid {
   std::array<double, 3> lo{}, size{};  // bin edge length >= cutoff
   std::array<int, 3> dims{1, 1, 1};
+  // The most bins a grid has (2^24): bin counts and starts are 32-bit on the devices, and a bin sort allocates and
+  // scans one start per bin at every step, so a far-flung element must not ask for billions of them.
+  static constexpr long kMaxBins = 1L << 24;
   long bins() const { return static_cast<long>(dims[0]) * dims[1] * dims[2]; }
+  // Bins of edge >= cutoff (um) over [lo, hi], at most kMaxBins of them: past that, fewer and larger bins.
   static Grid cover(const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cutoff);
   std::array<int, 3> bin_of(const double* p) const;
 };

@@ -1,6 +1,8 @@
 // Scene parsing: overrides on the YAML tree, then checked sections with line-accurate errors.
 #include "scene.hpp"
 
+#include <climits>
+
 #include <stdexcept>
 
 #include "common/errors.hpp"
@@ -123,7 +125,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   domain.finish();
   const Section time = top.child("time");
   s.dt = time.real("dt", s.dt, 1e-12, 1e6);
-  s.steps = time.integer("steps", s.steps, 0, 1L << 40);
+  s.steps = time.integer("steps", s.steps, 0, INT_MAX);  // the device kernels count steps in 32 bits
   s.friction = time.real("friction", s.friction, 1e-12, 1e12);
   s.max_displacement = time.real("max_displacement", s.max_displacement, 1e-12, 1e12);
   s.cell_update_every = time.integer("cell_update_every", s.cell_update_every, 1, 1L << 30);

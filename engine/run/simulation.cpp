@@ -168,8 +168,12 @@ void Simulation::check() {
   std::ostringstream m;
   m << "step " << f.step << ": element " << f.element << " (cell " << state_.cell_id[cell] << ", slot "
     << f.element - state_.cell_first[cell] << "): " << f.quantity() << " (position " << state_.position[3 * f.element]
-    << ", " << state_.position[3 * f.element + 1] << ", " << state_.position[3 * f.element + 2] << "; limit "
-    << scene_->max_displacement << " um per step at time.dt = " << scene_->dt << " h): lower time.dt";
+    << ", " << state_.position[3 * f.element + 1] << ", " << state_.position[3 * f.element + 2] << "; ";
+  if (f.code == 3)
+    m << "the |forces| on it add up to more than 2^30 force units, beyond which its fixed-point sums, int64 in units of"
+      << " 2^-32, could wrap): fewer partners within the cutoff or weaker pair forces (U0, V0)";
+  else
+    m << "limit " << scene_->max_displacement << " um per step at time.dt = " << scene_->dt << " h): lower time.dt";
   throw SimulationError(m.str());
 }
 

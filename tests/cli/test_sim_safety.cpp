@@ -76,6 +76,29 @@ TEST(CliSimSafety, SecondRunIntoAFolderInUseIsRefused) {
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
 }
 
+// A run on one device ended by SIGINT (Ctrl-C) removes its folder's lock on the way out and still ends by the signal
+// (exit 130): the next run into the folder has no stale lock to report.
+TEST(CliSimSafety, InterruptedRunLeavesNoLock) {
+  const auto dir = fresh_dir("sim_sigint");
+  // python resets SIGINT, which a shell ignores in a background job, to its default before it runs semlb
+  run("(" + within(600) + "/usr/bin/python3 -c 'import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); "
+      "os.execv(sys.argv[1], sys.argv[1:])' " + sim(dir + "/o", "--steps 100000000") + " > " + dir + "/a.log 2>&1; echo $? > " +
+      dir + "/a.rc) > /dev/null 2>&1 &");
+  const auto t0 = std::chrono::steady_clock::now();
+  while (!fs::exists(dir + "/o/run.csv") && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  const auto holder = run("cat " + dir + "/o/.semlb.lock").out;
+  ASSERT_FALSE(holder.empty());
+  ASSERT_EQ(run("kill -INT " + holder.substr(0, holder.find(' '))).rc, 0);
+  while (!fs::exists(dir + "/a.rc") && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(120))
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_EQ(run("cat " + dir + "/a.rc").out, "130\n") << run("cat " + dir + "/a.log").out;
+  EXPECT_FALSE(fs::exists(dir + "/o/.semlb.lock"));
+  const auto again = run(sim(dir + "/o", "--steps 10"));
+  EXPECT_EQ(again.rc, 0) << again.out;
+  EXPECT_EQ(again.out.find("stale lock"), std::string::npos) << again.out;
+}
+
 // Failure 4 for a scene: a policy's weights file named relative to the scene resolves beside the scene, whatever
 // the working directory.
 TEST(CliSimSafety, SceneWeightsResolveBesideTheScene) {

@@ -149,13 +149,21 @@ TEST(Workload, InvalidContentIsRefusedNamingTheField) {
   };
   const std::vector<Case> cases = {
       {[](EngineWorkload& w) { w.events[1].step = 20; }, "field 'step': event 1: steps must increase"},
-      {[](EngineWorkload& w) { w.events[0].slice_work[1] = 0.5; }, "field 'slice_work': event 0: 0.500000 is not a non-negative integer"},
+      {[](EngineWorkload& w) { w.events[0].slice_work[1] = 0.5; }, "field 'slice_work': event 0: 0.5 is not a non-negative integer"},
+      {[](EngineWorkload& w) { w.events[0].slice_work[1] = 4611686018427387904.0; },  // 2^62: an integer, too large
+       "field 'slice_work': event 0: 4611686018427387904 exceeds 9e15, where counts stop being exact in doubles"},
       {[](EngineWorkload& w) { w.events[0].slice_work[1] = -1; }, "field 'slice_work': event 0"},
       {[](EngineWorkload& w) { w.events[1].band_below.pop_back(); }, "field 'band_below': event 1 has 1 entries, expected 2"},
       {[](EngineWorkload& w) { w.events[0].elements = 8; }, "field 'slice_elements': event 0: sums to 7, but elements is 8"},
       {[](EngineWorkload& w) { w.events[0].growth_phase = 1; }, "field 'growth_phase': event 0: outside [0, 1)"},
       {[](EngineWorkload& w) { w.min_width = 4; }, "field 'min_width'"},
       {[](EngineWorkload& w) { w.events.clear(); }, "field 'events': the workload has no events"},
+      {[](EngineWorkload& w) {  // elements 0 (slice_elements too) with work left
+         w.events[0].elements = 0;
+         w.events[0].slice_elements = {0, 0, 0};
+       }, "field 'slice_work': event 0: sums to 42 with 0 elements (each element adds at least 1)"},
+      {[](EngineWorkload& w) { w.events[1].slice_work = {0, 0, 0}; }, "field 'slice_work': event 1: sums to 0 with 7 elements"},
+      {[](EngineWorkload& w) { w.events[0].interval_s = w.events[1].interval_s = 0; }, "field 'interval_s': every event's interval is 0 s"},
   };
   for (const auto& c : cases) {
     auto w = small();
@@ -235,6 +243,11 @@ TEST(Workload, EdgeBandsCountTheElementsWithinReachOfEachEdge) {
     }
   EXPECT_EQ(b2, wb);
   EXPECT_EQ(a2, wa);
+  // Elements far beyond the edges (an edited state, a cell flung away) cost no loop on their distance.
+  std::vector<double> b3(3, 0.0), a3(3, 0.0);
+  add_edge_bands({1e15, 1e300, -1e300, 31.0}, 0.0, 10.0, 4, 4.0, b3, a3);
+  EXPECT_EQ(b3, (std::vector<double>{0, 0, 0}));
+  EXPECT_EQ(a3, (std::vector<double>{0, 0, 1}));
 }
 
 }  // namespace

@@ -107,7 +107,7 @@ inline PairForces pair_forces(const std::string& name, const std::string& yaml, 
 // The force (force units) of pair term f.term on element i (info_i) from element j (info_j) at distance r um along
 // +x (double), its fixed-point sum read back: its x component (the others must be 0).
 inline double pair_force_x(const PairForces& f, double r, int info_i, int info_j) {
-  int64_t acc[3] = {0, 0, 0};
+  int64_t acc[4] = {0, 0, 0, 0};
   pair_term(f.term).f64(r, 0, 0, info_i, info_j, 1, 2, f.params.data(), f.cutoff * f.cutoff, acc);
   EXPECT_EQ(acc[1], 0);
   EXPECT_EQ(acc[2], 0);
@@ -118,7 +118,7 @@ inline double pair_force_x(const PairForces& f, double r, int info_i, int info_j
 template <class Real>
 double coincident_kick(PairEvaluator<Real> law, const std::vector<Real>& p, Real cutoff2, int info, uint64_t key_i,
                        uint64_t key_j, int64_t* out) {
-  out[0] = out[1] = out[2] = 0;
+  out[0] = out[1] = out[2] = out[3] = 0;
   law(0, 0, 0, info, info, key_i, key_j, p.data(), cutoff2, out);
   double norm = 0;
   for (int c = 0; c < 3; ++c) norm += std::pow(static_cast<double>(out[c]) * SEMLB_FIXED_INV, 2);

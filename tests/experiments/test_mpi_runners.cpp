@@ -98,6 +98,19 @@ TEST(MpiRunners, SceneSettingsAreTypedAtTheirLine) {
   EXPECT_FALSE(fs::exists(dir + "/out"));
 }
 
+// An effect's bad parameter (here a scene.* setting of the manifest) is refused by --check and before anything is
+// launched, exit 2 naming the setting, as engine_timing does: not by a launch that fails mid-sweep.
+TEST(MpiRunners, EffectParametersAreCheckedBeforeAnythingIsLaunched) {
+  const auto dir = fresh_dir("mpi_effects");
+  write(dir + "/m.yaml", engine_manifest("  policy: [static]\n", "  scene.effects.growth.cycle_time: -1\n"));
+  for (const std::string flag : {" --check", ""}) {
+    const auto r = run(semlb_bin() + " sweep " + dir + "/m.yaml --quiet --results " + dir + "/out" + flag);
+    EXPECT_EQ(r.rc, 2) << flag << ": " << r.out;
+    EXPECT_NE(r.out.find("effects.growth.cycle_time"), std::string::npos) << flag << ": " << r.out;
+    EXPECT_FALSE(fs::exists(dir + "/out")) << flag;
+  }
+}
+
 // rank_times.csv is written in engine::rank_times::kColumns' order, and mpi_intervals copies its columns by name.
 TEST(MpiRunners, RankTimesColumnsAreTheDeclaredOnes) {
   const auto dir = fresh_dir("mpi_intervals");

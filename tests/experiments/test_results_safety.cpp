@@ -119,6 +119,35 @@ TEST(ResultsSafety, OneSweepWritesAResultsFolderAtATime) {
   EXPECT_EQ(slurp(dir + "/s/sub/d.csv"), ref10);
 }
 
+// A SIGINT (Ctrl-C) or SIGTERM of a sweep removes its lock file on the way out (common/cleanup.hpp), so the next
+// sweep has no stale lock to report; the sweep still ends by the signal (exit 130, 143). The manifest copy's first
+// line is a command /bin/sh reruns: no empty --profile, every word quoted where it needs it.
+TEST(ResultsSafety, InterruptedSweepLeavesNoLockAndRecordsAQuotedCommand) {
+  const auto dir = fresh_dir("results_sigint");
+  write(dir + "/m.yaml", surrogate_manifest(2000));
+  for (const auto& [sig, rc] : {std::pair{"INT", 130}, std::pair{"TERM", 143}}) {
+    const std::string out = dir + "/r" + sig;
+    // python resets SIGINT, which a shell ignores in a background job, to its default before it runs the sweep
+    run("(" + within(600) + "/usr/bin/python3 -c 'import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); "
+        "os.execv(sys.argv[1], sys.argv[1:])' " + semlb_bin() + " sweep " + dir + "/m.yaml --no-timing --quiet --jobs 1 --results " +
+        out + " > " + out + ".log 2>&1; echo $? > " + out + ".rc) > /dev/null 2>&1 &");
+    ASSERT_TRUE(wait_for([&] { return fs::exists(out + "/sub/d.csv.partial"); }, 60)) << slurp(out + ".log");
+    const std::string holder = slurp(out + "/sub/.semlb.lock");
+    ASSERT_FALSE(holder.empty());
+    ASSERT_EQ(run(std::string("kill -") + sig + " " + holder.substr(0, holder.find(' '))).rc, 0);
+    ASSERT_TRUE(wait_for([&] { return fs::exists(out + ".rc"); }, 60));
+    EXPECT_EQ(slurp(out + ".rc"), std::to_string(rc) + "\n") << sig << ": " << slurp(out + ".log");
+    EXPECT_FALSE(fs::exists(out + "/sub/.semlb.lock")) << sig;
+    write(dir + "/m x.yaml", surrogate_manifest(10));
+    const auto next = run(semlb_bin() + " sweep " + sh(dir + "/m x.yaml") + " --no-timing --quiet --results " + out + " --set events=10");
+    EXPECT_EQ(next.rc, 0) << next.out;
+    EXPECT_EQ(next.out.find("stale lock"), std::string::npos) << next.out;
+    const std::string copy = slurp(out + "/sub/d.manifest.yaml");
+    const std::string first = copy.substr(0, copy.find('\n'));
+    EXPECT_EQ(first, "# semlb sweep '" + dir + "/m x.yaml' --set events=10") << first;
+  }
+}
+
 // Failure 3: MPI rows start their ranks without a shell: a scene and a results folder whose paths hold
 // spaces, $HOME, quotes, ';' and non-ASCII letters run as given, and nothing in them is executed.
 TEST(ResultsSafety, MpiRowsTakePathsWithShellCharacters) {

@@ -429,7 +429,7 @@ TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
   const long n = static_cast<long>(s.position.size() / 3);
   const std::vector<std::string> want = {"kernel forces_binned", "global " + std::to_string((n + 127) / 128 * 128), "group 128",
       "arg 0 buffer", "arg 1 buffer", "arg 2 buffer", "arg 3 buffer", "arg 4 value 16", "arg 5 value 16", "arg 6 value 16",
-      "arg 7 buffer", "arg 8 value 4", "arg 9 buffer", "arg 10 value 4", "arg 11 value 4"};
+      "arg 7 buffer", "arg 8 value 4", "arg 9 buffer", "arg 10 buffer", "arg 11 value 4", "arg 12 value 4"};
   ASSERT_EQ(lines.size(), want.size());
   for (size_t i = 0; i < want.size(); ++i) EXPECT_EQ(lines[i].rfind(want[i], 0), 0u) << lines[i];
   const auto bytes = [&](const std::string& name) {
@@ -437,7 +437,7 @@ TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
     return std::vector<char>(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
   };
   EXPECT_FALSE(bytes("program.bin").empty());
-  const std::vector<char> count = bytes("arg10.bin");  // n: the elements of the launch
+  const std::vector<char> count = bytes("arg11.bin");  // n: the elements of the launch
   ASSERT_EQ(count.size(), 4u);
   int32_t items = 0;
   std::memcpy(&items, count.data(), 4);

@@ -70,6 +70,27 @@ TEST(DivisionRules, EveryRuleOnEveryBackendSplitsAsItsEvaluatorSays) {
   }
 }
 
+// A cell whose lineage has divided kMaxDivisionDepth times has no id left for a daughter: every backend stops the
+// cell stage naming the step, the cell, the limit and the way out, not an id that would collide.
+TEST(DivisionRules, ALineageOutOfIdsStopsNamingStepCellAndLimit) {
+  State s = testing::random_state(30, 16, 24.0, 11);
+  const CellRules rules = testing::rules_of("  division: " + division_rule("long_axis").example + "\n", s);
+  for (double& d : s.cell_fields.at("division.depth")) d = kMaxDivisionDepth;
+  for (const auto& [backend, precision] : testing::backend_precisions()) {
+    auto b = testing::backend(backend, precision);
+    b->upload(s);
+    State host = s;
+    try {
+      b->update_cells(host, rules, 3, 0.1, 10);
+      ADD_FAILURE() << backend << " " << precision << ": no error";
+    } catch (const std::runtime_error& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.rfind("step 10: cell ", 0), 0u) << m;
+      EXPECT_NE(m.find("would divide a 37th time, but a lineage has ids for 36 divisions"), std::string::npos) << m;
+    }
+  }
+}
+
 // One basal cell of 20 elements stretched along x (x in [0, 19] um, y and z within 1 um): long_axis cuts it across x,
 // oriented with the normal z cuts it into a lower and an upper half whatever its shape.
 TEST(DivisionRules, LongAxisFollowsTheShapeOrientedItsAxis) {

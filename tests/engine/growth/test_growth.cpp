@@ -79,6 +79,37 @@ TEST(GrowthLaws, ClockFollowsTheClockStopsAtTheMaximumAndWaitsForTheFront) {
   EXPECT_EQ(clock_law(0, 10, centre, 10.0, 5.0, front, &clock), 3);  // at 20 um: behind (<=) counts
 }
 
+// A huge but finite clock (an edited state, a checkpoint of a slow cycle restarted with a fast one) takes closed-form
+// time: births capped by the room left, the clock reduced modulo the period; below 64 periods the loop's own bits.
+TEST(GrowthLaws, ClockOfAnyMagnitudeEndsInBoundedTime) {
+  const GrowthEvaluator clock_law = growth_law("clock").births;
+  const double p[7] = {2, 1, 20, 0, 0, 0, 20}, centre[3] = {20, 0, 0};
+  double clock = 1e300;  // 1e300 - 2 == 1e300: a loop that subtracts the period never ends
+  EXPECT_EQ(clock_law(0, 10, centre, 0, 5.0, p, &clock), 10);
+  EXPECT_GE(clock, 0.0);
+  EXPECT_LT(clock, 2.0);
+  EXPECT_EQ(clock, std::fmod(1e300 + 5.0, 2.0));
+  clock = 3.6e13;  // 1e10 h as a 1e12-h cycle's clock: 1.8e13 periods of 2 h
+  EXPECT_EQ(clock_law(0, 19, centre, 0, 5.0, p, &clock), 1);
+  EXPECT_EQ(clock, std::fmod(3.6e13 + 5.0, 2.0));
+  clock = 200.0;  // 102.5 periods: more than the room (10), the clock wraps
+  EXPECT_EQ(clock_law(0, 10, centre, 0, 5.0, p, &clock), 10);
+  EXPECT_EQ(clock, 1.0);
+  clock = 1.7976931348623157e308;  // the largest double: + 5 h stays finite
+  EXPECT_EQ(clock_law(0, 0, centre, 0, 5.0, p, &clock), 20);
+  EXPECT_LT(clock, 2.0);
+  // Below 64 periods, the loop: exactly what subtracting 2 h at a time gives.
+  for (double c0 : {0.1, 7.3, 33.3, 120.9, 122.9}) {
+    double ref_clock = c0 + 5.0;
+    int ref = 0;
+    for (; ref_clock >= 2.0; ref_clock -= 2.0)
+      if (10 + ref < 20) ++ref;
+    clock = c0;
+    EXPECT_EQ(clock_law(0, 10, centre, 0, 5.0, p, &clock), ref) << c0;
+    EXPECT_EQ(clock, ref_clock) << c0;
+  }
+}
+
 TEST(GrowthLaws, GrowthSettingsAreChecked) {
   testing::expect_errors_name_fields({{"effects.growth={law: nope}", "effects.growth.law"},
                                       {"effects.growth={law: clock, offset: -1}", "effects.growth.offset"},

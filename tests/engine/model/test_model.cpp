@@ -108,5 +108,17 @@ TEST(Model, TissueXRangeKeepsOneSlabOfCells) {
   }
 }
 
+// A step count the device kernels cannot count (32 bits) is refused when the scene is read, never met mid-run.
+TEST(Model, StepsBeyondWhatTheKernelsCountAreRefusedAtReadTime) {
+  const std::string yaml = "name: t\ntissue: {cells: 4}\neffects: {mechanics: {}}\n";
+  EXPECT_EQ(parse_scene(yaml, "t.yaml", {"time.steps=2147483647"}).steps, 2147483647L);
+  try {
+    parse_scene(yaml, "t.yaml", {"time.steps=2147483648"});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("time.steps"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace semlb::engine

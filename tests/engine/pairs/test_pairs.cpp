@@ -37,7 +37,7 @@ void antisymmetric_and_order_independent(const std::string& name) {
   long nonzero = 0;
   for (int k = 0; k < 1000; ++k) {
     const Real d[3] = {static_cast<Real>(u(rng)), static_cast<Real>(u(rng)), static_cast<Real>(u(rng))};
-    int64_t a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
+    int64_t a[4] = {0, 0, 0, 0}, b[4] = {0, 0, 0, 0};
     const int info_i = 4 | (k % 3), info_j = k % 4 == 0 ? info_i : 8 | ((k / 3) % 3);  // intra- and inter-cell pairs
     pair(d[0], d[1], d[2], info_i, info_j, 5, 9, p.data(), c2, a);
     pair(-d[0], -d[1], -d[2], info_j, info_i, 9, 5, p.data(), c2, b);
@@ -46,7 +46,7 @@ void antisymmetric_and_order_independent(const std::string& name) {
   }
   EXPECT_GT(nonzero, 100) << name << ": the example exerts almost no force";
   // Coincident elements: equal and opposite, finite, and pushed apart by f(0) (nonzero for the examples).
-  int64_t a[3], b[3];
+  int64_t a[4], b[4];
   const double kick = testing::coincident_kick(pair, p, c2, 4, 100, 101, a);
   testing::coincident_kick(pair, p, c2, 4, 101, 100, b);
   for (int c = 0; c < 3; ++c) EXPECT_EQ(a[c], -b[c]) << name;
@@ -56,7 +56,7 @@ void antisymmetric_and_order_independent(const std::string& name) {
   std::vector<std::array<Real, 3>> others(200);
   for (auto& o : others) o = {static_cast<Real>(u(rng) * 0.8), static_cast<Real>(u(rng) * 0.8), static_cast<Real>(u(rng) * 0.8)};
   const auto sum = [&] {
-    int64_t acc[3] = {0, 0, 0};
+    int64_t acc[4] = {0, 0, 0, 0};
     for (const auto& o : others) pair(o[0], o[1], o[2], 4, 9, 1, 2, p.data(), c2, acc);
     return std::array<int64_t, 3>{acc[0], acc[1], acc[2]};
   };
@@ -90,7 +90,7 @@ std::pair<std::vector<int64_t>, std::vector<double>> reference(const PairForces&
   for (long i = 0; i < n; ++i)
     for (long j = 0; j < n; ++j) {
       if (i == j) continue;
-      int64_t acc[3] = {0, 0, 0};
+      int64_t acc[4] = {0, 0, 0, 0};
       Real d[3];
       for (int c = 0; c < 3; ++c) d[c] = static_cast<Real>(s.position[3 * i + c]) - static_cast<Real>(s.position[3 * j + c]);
       pair(d[0], d[1], d[2], info[i], info[j], keys[i], keys[j], p.data(), c2, acc);
