@@ -5,6 +5,9 @@
 # one run serves every rank count). Writes OUT/NAME.h5 (workload), OUT/NAME.run.csv and OUT/NAME.scene.yaml per variant.
 # Variants named small_* are the CPU versions for `make experiments` (2,500-4,900 cells, cpu-binned, results/cpu/workloads/).
 # Usage: bash scripts/gpu/workload_library.sh SEMLB OUT [VARIANT ...]   (default: every variant below but small_*)
+# JOBS=N runs N variants at once (default 1). With MEASURED=1 they take turns on the device
+# (decomposition.device_sharing: turns, one lock for this script's children): each run's device timers time its own
+# kernels alone, while the host parts (the per-event download and counting) overlap.
 set -euo pipefail
 S=$1; OUT=$2; shift 2
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
@@ -15,6 +18,8 @@ common=(--quiet --set output.snapshot_every=0 --set output.checkpoint_every=0 --
 # MEASURED=1: measured seconds per slice too (decomposition.timing: device, workload version 2; docs/measured_time.md),
 # with opencl-binned's neighbour list (backend.skin 0.5 unless the scene sets one): the fastest engine, the same tissue
 read -ra timing <<< "${MEASURED:+--set decomposition.timing=device}"
+JOBS=${JOBS:-1}
+[ -n "${MEASURED:-}" ] && [ "$JOBS" -gt 1 ] && timing+=(--set decomposition.device_sharing=turns)
 gpu=(--backend opencl-binned --platform NVIDIA --precision float --set tissue.cells=435661)
 cpu=(--backend cpu-binned --precision double)
 # NAME|scene|steps|overrides (the sheet spans x 0 .. ~5,950 um; 24.8 um/h = half of it in 120 h, the shipped speed)
@@ -41,19 +46,29 @@ variants=(
 )
 want=("$@")
 mkdir -p "$OUT"
-for v in "${variants[@]}"; do
-  IFS='|' read -r name scene steps extra <<<"$v"
-  if [ ${#want[@]} -gt 0 ] && [[ " ${want[*]} " != *" $name "* ]]; then continue; fi
-  if [ ${#want[@]} -eq 0 ] && [[ $name == small_* ]]; then continue; fi
+record() {  # NAME SCENE STEPS EXTRA: one variant into OUT
+  local name=$1 scene=$2 steps=$3 extra=$4 run start size skin
   if [[ $name == small_* ]]; then size=("${cpu[@]}"); else size=("${gpu[@]}"); fi
   run=$(mktemp -d)
   start=$(date +%s)
-  # shellcheck disable=SC2086
   skin=(); [ -n "${MEASURED:-}" ] && ! grep -q "skin:" "$scene" && skin=(--set backend.skin=0.5)
+  # shellcheck disable=SC2086
   "$S" sim --scene "$scene" --out "$run" --steps "$steps" "${common[@]}" "${size[@]}" "${timing[@]}" "${skin[@]}" $extra
   echo "$name: $(( $(date +%s) - start )) s wall"
   cp "$run/workload.h5" "$OUT/$name.h5"
   cp "$run/run.csv" "$OUT/$name.run.csv"
   cp "$run/scene.yaml" "$OUT/$name.scene.yaml"
   rm -rf "$run"
+}
+running=0 failed=0
+for v in "${variants[@]}"; do
+  IFS='|' read -r name scene steps extra <<<"$v"
+  if [ ${#want[@]} -gt 0 ] && [[ " ${want[*]} " != *" $name "* ]]; then continue; fi
+  if [ ${#want[@]} -eq 0 ] && [[ $name == small_* ]]; then continue; fi
+  if [ "$JOBS" -le 1 ]; then record "$name" "$scene" "$steps" "$extra"; continue; fi
+  if [ "$running" -ge "$JOBS" ]; then wait -n || failed=1; running=$((running - 1)); fi
+  record "$name" "$scene" "$steps" "$extra" &
+  running=$((running + 1))
 done
+while [ "$running" -gt 0 ]; do wait -n || failed=1; running=$((running - 1)); done
+exit "$failed"
