@@ -37,6 +37,20 @@ Traffic Backend::traffic_total() const {
   return t;
 }
 
+Backend::DeviceParts Backend::device_parts(const std::map<std::string, double>& kernels) {
+  DeviceParts p;
+  for (const auto& [key, t] : kernels) {
+    if (key.rfind("cells:", 0) == 0) p.cells += t;
+    else if (key.rfind("list:", 0) == 0) p.list += t;
+    else if (is_pair_force_kernel(key)) p.pair += t;
+  }
+  return p;
+}
+
+bool Backend::is_pair_force_kernel(const std::string& name) {
+  return name == "nl_forces" || name == "nl_overflow" || name == "forces_binned" || name == "forces_allpairs";
+}
+
 std::vector<double> Backend::slice_work(State& host, const SliceMap& map, const Grid& g, const CountReduce& reduce) {
   download(host);
   auto counts = bin_counts(host, g);

@@ -193,6 +193,16 @@ class Backend {
     return step_kernel_s_;
   }
   static bool is_step_phase(const std::string& phase) { return phase == "step" || phase == "cells"; }
+  // The device timers' seconds of `kernels` (step_kernel_seconds, or a difference of two) by part of the step
+  // (rank_times.csv's device_*_s): the local pair forces (is_pair_force_kernel), the neighbour list's builds (keys
+  // "list:NAME", the gated sort and build: their launches cost a little at every step), the cell stage (keys
+  // "cells:NAME"). The rest (terms, integration, the ghosts' forces, the list's check) is none of them.
+  struct DeviceParts {
+    double pair = 0, list = 0, cells = 0;  // seconds
+  };
+  static DeviceParts device_parts(const std::map<std::string, double>& kernels);
+  // Whether a kernel (by name) computes the local pair forces: those pair_force_seconds times per region.
+  static bool is_pair_force_kernel(const std::string& name);
   // The measured device cost of regions of the tissue (docs/measured_time.md "Measured workloads"): `group[i]` is
   // owned element i's region (0 .. groups-1; -1: none). Returns [groups] the device seconds of the last step's local
   // pair forces (the same kernel, bins or neighbour list) restricted to each region's elements, one timed launch per

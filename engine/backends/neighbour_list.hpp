@@ -70,6 +70,7 @@ class NeighbourList {
                static_cast<Real>(stats_.skin), gate_.get());
     }
     // the build, gated: bins of edge >= cutoff + skin (the backend's sort, grid-stride: a gated launch costs little)
+    b.set_kernel_group("list:");  // the device timers' list part (Backend::device_parts)
     b.sort_into_bins(lg, 0, n, sort_, &gate_, &ref_, kStrideItems);
     const long wide = std::min<long>(n, kStrideItems);
     const auto lo = b.real4(lg.lo), size = b.real4(lg.size);
@@ -77,6 +78,7 @@ class NeighbourList {
     b.launch("nl_build", wide, kGroup, gate_.get(), sort_.sorted_pos.get(), sort_.starts.get(), lo, size, dims,
              static_cast<Real>(list * list), ni, kmax, count_.get(), list_.get(), stats_buf_.get());
     b.launch("nl_done", 1, 1, gate_.get(), stats_buf_.get());
+    b.set_kernel_group("");
     b.launch("nl_forces", n, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(), keys.get(), count_.get(),
              list_.get(), kmax, sort_.starts.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), bound.get(), ni);
     b.launch("nl_overflow", split_ ? n : 1, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(), keys.get(),

@@ -86,7 +86,7 @@ class OpenClBackend final : public Backend {
         cl::check(clEnqueueFillBuffer(queue_.get(), m->get(), &zero, sizeof zero, 0, items * sizeof(cl_long), 0, nullptr,
                                       timing() ? &raw : nullptr),
                   what);
-      if (raw) pending_.emplace_back("zero_forces", cl::Event(raw));
+      if (raw) pending_.emplace_back(step_key("zero_forces"), cl::Event(raw));
     }
     terms_ = 0;
   }
@@ -347,16 +347,25 @@ class OpenClBackend final : public Backend {
       return;
     }
     if (!profile_) {
-      pending_.emplace_back(name, std::move(event));  // read at the next finish(): the host does not wait here
+      pending_.emplace_back(step_key(name), std::move(event));  // read at the next finish(): the host does not wait here
       return;
     }
     cl_event e = event.get();
     cl::check(clWaitForEvents(1, &e), "clWaitForEvents");
     const double t = seconds_of(e);
     kernel_seconds_[name] += t;
-    if (step_timer) add_step_time(name, t);
+    if (step_timer) add_step_time(step_key(name), t);
   }
+  // Kernels launched until the next call are timed under GROUP + name in step_kernel_seconds (Backend::device_parts:
+  // "list:" for the neighbour list's builds); "" ends the group.
+  void set_kernel_group(const char* group) { kernel_group_ = group; }
 
+  // A step-timed kernel's key in step_kernel_seconds: "cells:" in the cell stage, then the kernel group, then the name.
+  std::string step_key(const char* name) const {
+    std::string key = phase() == "cells" ? "cells:" : "";
+    key.append(kernel_group_).append(name);
+    return key;
+  }
   // Whether the work enqueued now is timed by the device timers (Backend::step_device_seconds).
   bool timing() const { return device_timing_ && is_step_phase(phase()); }
   // A completed event's device execution seconds (profiling END - START).
@@ -413,6 +422,7 @@ class OpenClBackend final : public Backend {
   template <class> friend class semlb::engine::NeighbourList;
   bool binned_, profile_ = false, has_fp64_ = false, cells_stale_ = false;
   bool device_timing_ = false;                               // BackendConfig::device_timing
+  std::string kernel_group_;                                 // set_kernel_group
   bool measuring_ = false;                                   // pair_force_seconds' launches: each one's event kept
   std::vector<cl::Event> measured_;
   cl::Mem scratch_force_, scratch_bound_, items_;            // pair_force_seconds' forces and bounds (discarded), slots

@@ -254,9 +254,10 @@ Measurement DistributedSimulation::measure() {
   std::map<std::string, double> kernels = kernels_now;  // this interval's, by kernel
   for (auto& [k, t] : kernels) t -= kernels_at_event_[k];
   kernels_at_event_ = kernels_now;
-  constexpr int kPerRank = 6;
-  const auto seconds = mpi_->allgather(
-      {now - seconds_at_event_, exchange_s_, migrate_s_, device_now - device_at_event_, exchange_bytes_, migrate_bytes_});
+  const Backend::DeviceParts parts = Backend::device_parts(kernels);
+  constexpr int kPerRank = 9;
+  const auto seconds = mpi_->allgather({now - seconds_at_event_, exchange_s_, migrate_s_, device_now - device_at_event_,
+                                        exchange_bytes_, migrate_bytes_, parts.pair, parts.list, parts.cells});
   seconds_at_event_ = now;
   device_at_event_ = device_now;
   exchange_s_ = migrate_s_ = exchange_bytes_ = migrate_bytes_ = 0;
@@ -270,6 +271,9 @@ Measurement DistributedSimulation::measure() {
     iv.device.push_back(v[3]);
     iv.exchange_bytes.push_back(v[4]);
     iv.migrate_bytes.push_back(v[5]);
+    iv.device_pair.push_back(v[6]);
+    iv.device_list.push_back(v[7]);
+    iv.device_cells.push_back(v[8]);
     m.times.push_back(dec_.timing == "device" ? v[3] : v[0]);
   }
   auto work = global_slice_work();
@@ -345,9 +349,7 @@ std::vector<double> DistributedSimulation::measured_slice_seconds(const Workload
     sim_->in_turn([&] { sums = b.pair_force_seconds(group, K); });
   }
   sums.resize(K, 0.0);
-  double pair = 0;
-  for (const char* k : {"nl_forces", "nl_overflow", "forces_binned", "forces_allpairs"})
-    if (const auto it = kernels.find(k); it != kernels.end()) pair += it->second;
+  const double pair = Backend::device_parts(kernels).pair;
   sums.push_back(pair);
   sums.push_back(std::max(0.0, device_s - pair));
   mpi_->allreduce_sum(sums);

@@ -43,6 +43,7 @@ class DistributedSimulation {
     std::vector<double> exchange, migrate;  // per rank: ghost exchange; cell migration and rebalancing (wall seconds)
     std::vector<double> wall, device;     // per rank: the step phases' wall seconds; device timers' seconds (0 without)
     std::vector<double> exchange_bytes, migrate_bytes;  // per rank: band bytes sent; cell bytes sent to other ranks
+    std::vector<double> device_pair, device_list, device_cells;  // per rank: Backend::device_parts of `device`
     double imbalance;
     long moved;
   };

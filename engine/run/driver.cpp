@@ -394,7 +394,9 @@ class Decomposed final : public Run {
             {rt::kImbalance, format_real(iv.imbalance)}, {rt::kMovedSlices, std::to_string(iv.moved)},
             {rt::kWallS, format_real(iv.wall[r])}, {rt::kDeviceS, format_real(iv.device[r])},
             {rt::kExchangeBytes, std::to_string(static_cast<long>(iv.exchange_bytes[r]))},
-            {rt::kMigrateBytes, std::to_string(static_cast<long>(iv.migrate_bytes[r]))}};
+            {rt::kMigrateBytes, std::to_string(static_cast<long>(iv.migrate_bytes[r]))},
+            {rt::kDevicePairS, format_real(iv.device_pair[r])}, {rt::kDeviceListS, format_real(iv.device_list[r])},
+            {rt::kDeviceCellsS, format_real(iv.device_cells[r])}};
         for (size_t c = 0; c < rt::kColumns.size(); ++c) (rows += c ? "," : "") += field.at(rt::kColumns[c]);
         rows += "\n";
       }

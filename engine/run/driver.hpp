@@ -43,15 +43,18 @@ struct RunSummary {
 // by these names in kColumns' order: the interval's last step, the rank, its computation, ghost-exchange and
 // migration seconds (computation in work units under decomposition.timing: modelled), the interval's
 // I_global and the slices moved at its end; then the step phases' wall seconds, the device timers' seconds (0
-// without them; decomposition.timing: device), and the bytes the rank sent in ghost bands and in migrating cells.
+// without them; decomposition.timing: device), the bytes the rank sent in ghost bands and in migrating cells, and
+// the device seconds' parts (Backend::device_parts): local pair forces, neighbour-list builds, cell stage.
 namespace rank_times {
 inline constexpr const char* kFile = "rank_times.csv";
 inline constexpr const char *kStep = "step", *kRank = "rank", *kComputeS = "compute_s", *kExchangeS = "exchange_s",
                             *kMigrateS = "migrate_s", *kImbalance = "imbalance", *kMovedSlices = "moved_slices",
                             *kWallS = "wall_s", *kDeviceS = "device_s", *kExchangeBytes = "exchange_bytes",
-                            *kMigrateBytes = "migrate_bytes";
-inline constexpr std::array<const char*, 11> kColumns = {kStep,         kRank,      kComputeS, kExchangeS,     kMigrateS,    kImbalance,
-                                                         kMovedSlices, kWallS,     kDeviceS,  kExchangeBytes, kMigrateBytes};
+                            *kMigrateBytes = "migrate_bytes", *kDevicePairS = "device_pair_s",
+                            *kDeviceListS = "device_list_s", *kDeviceCellsS = "device_cells_s";
+inline constexpr std::array<const char*, 14> kColumns = {
+    kStep,   kRank,          kComputeS,     kExchangeS,   kMigrateS,    kImbalance,   kMovedSlices,
+    kWallS,  kDeviceS,       kExchangeBytes, kMigrateBytes, kDevicePairS, kDeviceListS, kDeviceCellsS};
 }  // namespace rank_times
 
 // Output: DIR/final.h5, DIR/snapshots/step_NNNNNNNNN.h5 (the first step's included) + DIR/snapshots.xmf,

@@ -184,6 +184,15 @@ TEST(Decomposition, DeviceTimersAndTurnsKeepTheStateAndFeedTheDecisions) {
         EXPECT_GT(d, 0) << out << " step " << row.at("step") << " rank " << row.at("rank");
         EXPECT_EQ(row.at("compute_s"), row.at("device_s")) << "the policy sees the device times";
         EXPECT_GT(parse_real(row.at("exchange_bytes"), "exchange_bytes"), 0) << "every rank sends a band";
+        // the parts: pair forces timed, the list's builds only with a list, the cell stage (every 10 steps)
+        const double pair = parse_real(row.at("device_pair_s"), "device_pair_s"),
+                     list = parse_real(row.at("device_list_s"), "device_list_s"),
+                     cells = parse_real(row.at("device_cells_s"), "device_cells_s");
+        EXPECT_GT(pair, 0) << out;
+        EXPECT_GT(cells, 0) << out;
+        if (skin == "0") EXPECT_EQ(list, 0) << out;
+        else EXPECT_GT(list, 0) << out;
+        EXPECT_LT(pair + list + cells, d) << out << ": the parts leave integration and the terms";
         device[parse_integer(row.at("step"), "step")].push_back(d);
       }
       const auto trace = split(read_file(out + "/trace.jsonl"), '\n');
