@@ -20,6 +20,9 @@ RUNS is the script's OUT folder (tissue/, cost/, turns/, record/, e2e/); OUT rec
   over the stated NVLink bandwidth);
 - end_to_end_summary.csv: per (policy, ranks) the mean over launches and the 95% Student-t interval, and static minus
   the policy's loop time with its interval;
+- parts_additivity.csv (runs with rank_times.csv's device_PART_s): per run and part of the device time (pair
+  forces, list builds, cell stage, other), the ranks' sum against the one-rank recording's, and the error of each
+  rank's part predicted from its share of the elements (which part the time model's spreading by elements misses);
 - migration_cost.csv: the measured migration seconds (wall, the slowest rank) of each interval that moved slices,
   and the fitted seconds per slice moved.
 Needs numpy, scipy and h5py (Debian's python3-numpy, python3-scipy, python3-h5py).
@@ -105,6 +108,7 @@ class Workload:
             self.below = e["band_below"][:].astype(float)
             self.above = e["band_above"][:].astype(float)
             self.elements = e["elements"][:].astype(float)
+            self.slice_elements = e["slice_elements"][:].astype(float) if "slice_elements" in e else None
         self.at = {s: i for i, s in enumerate(self.steps)}
 
     def terms(self, step, boundaries):
@@ -122,6 +126,47 @@ class Workload:
                 g += self.above[i][cuts[q + 1] - 1]
             ghost.append(sigma * g)
         return np.array(own), np.array(ghost)
+
+
+PARTS = ("pair", "list", "cells")
+
+
+def parts_rows(workload, record, runs, scene):
+    """Per run and part of the device time (rank_times.csv's device_PART_s, and other = the rest): the P ranks' sum
+    against the one-rank recording's over the intervals both have (additivity), and the mean absolute relative error
+    of each rank's part predicted as the recording's part times the rank's share of the elements."""
+    if workload.slice_elements is None or not os.path.exists(os.path.join(record, "rank_times.csv")):
+        return []
+    one = rank_times(record)
+    if not one or "device_pair_s" not in next(iter(one.values()))[0]:
+        return []
+    def part(r, name):
+        return r["device_s"] - sum(r[f"device_{p}_s"] for p in PARTS) if name == "other" else r[f"device_{name}_s"]
+    out = []
+    for policy, ranks, launch, d in runs:
+        rt, bounds = rank_times(d), trace_boundaries(d)
+        if "device_pair_s" not in next(iter(rt.values()))[0]:
+            continue
+        for name in PARTS + ("other",):
+            total = single = 0.0
+            errors = []
+            for step, rs in rt.items():
+                if step not in one or step not in workload.at or step not in bounds:
+                    continue
+                i = workload.at[step]
+                n = workload.slice_elements[i]
+                cuts = [0] + list(bounds[step]) + [len(n)]
+                ref = part(one[step][0], name)
+                total += sum(part(r, name) for r in rs)
+                single += ref
+                for q, r in enumerate(rs):
+                    m = part(r, name)
+                    if m > 0:
+                        errors.append(abs(ref * n[cuts[q]:cuts[q + 1]].sum() / n.sum() - m) / m)
+            if single > 0:
+                out.append((scene, policy, ranks, launch, name, total, single, total / single - 1,
+                            float(np.mean(errors)) if errors else float("nan")))
+    return out
 
 
 def model_rows(workload, run):
@@ -277,6 +322,11 @@ def main():
     if not os.path.exists(record):
         return
     w = Workload(record)
+    parts = parts_rows(w, os.path.dirname(record), runs, a.scene)
+    if parts:
+        write_csv(os.path.join(a.out, "parts_additivity.csv"),
+                  ["scene", "policy", "ranks", "launch", "part", "ranks_sum_s", "one_rank_s", "relative_difference",
+                   "by_elements_mean_abs_rel_error"], parts)
     fitted = {(p, r, l) for p, r, l, _ in runs if p == "static" and l == 1}
     fit_rows = np.vstack([model_rows(w, d) for p, r, l, d in runs if (p, r, l) in fitted])
     g, c = fit_time_model(fit_rows)
