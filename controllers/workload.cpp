@@ -12,6 +12,7 @@ namespace semlb {
 namespace {
 
 constexpr const char* kFormat = "semlb-workload";
+constexpr size_t kParts = 4;  // WorkloadEvent::part_seconds: pair forces, list builds, cell stage, the rest
 
 [[noreturn]] void fail(const std::string& file, const std::string& field, const std::string& why) {
   throw InputError(file + ": field '" + field + "': " + why);
@@ -43,9 +44,13 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
     fail(file, "cost_regions", "must be in [0, slices], got " + std::to_string(w.cost_regions));
   const bool measured = !w.events.front().slice_seconds.empty();
   if (measured && w.cost_regions < 1) fail(file, "cost_regions", "must be >= 1 when the events carry slice_seconds");
-  for (const auto& e : w.events)
+  const bool parts = !w.events.front().part_seconds.empty();
+  for (const auto& e : w.events) {
     if (e.slice_seconds.empty() == measured)
       fail(file, "slice_seconds", "present at some events and not at others");
+    if (e.part_seconds.empty() == parts) fail(file, "part_seconds", "present at some events and not at others");
+  }
+  if (parts && !measured) fail(file, "part_seconds", "present without slice_seconds");
   const size_t S = static_cast<size_t>(w.slices);
   for (size_t t = 0; t < w.events.size(); ++t) {
     const WorkloadEvent& e = w.events[t];
@@ -67,6 +72,27 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
       for (double x : e.slice_seconds)
         if (!(x >= 0) || !std::isfinite(x))
           fail(file, "slice_seconds", "event " + std::to_string(i) + ": " + format_real(x) + " is not a finite non-negative number");
+    }
+    if (parts) {
+      if (e.part_seconds.size() != kParts)
+        fail(file, "part_seconds", "event " + std::to_string(i) + " has " + std::to_string(e.part_seconds.size()) +
+                                       " entries, expected " + std::to_string(kParts));
+      double sum = 0;
+      for (double x : e.part_seconds) {
+        if (!(x >= 0) || !std::isfinite(x))
+          fail(file, "part_seconds", "event " + std::to_string(i) + ": " + format_real(x) + " is not a finite non-negative number");
+        sum += x;
+      }
+      if (std::abs(sum - e.interval_s) > 1e-9 * std::max(sum, e.interval_s))
+        fail(file, "part_seconds", "event " + std::to_string(i) + ": sums to " + format_real(sum) + ", but interval_s is " +
+                                       format_real(e.interval_s));
+      if (e.cell_stage_changes.size() != S)
+        fail(file, "cell_stage_changes", "event " + std::to_string(i) + " has " + std::to_string(e.cell_stage_changes.size()) +
+                                             " entries, expected " + std::to_string(S));
+      for (int64_t m : e.cell_stage_changes)
+        if (m < 0) fail(file, "cell_stage_changes", "event " + std::to_string(i) + ": " + std::to_string(m) + " is negative (bits 0-62 only)");
+    } else if (!e.cell_stage_changes.empty()) {
+      fail(file, "cell_stage_changes", "event " + std::to_string(i) + ": present without part_seconds");
     }
     double n = 0;
     for (double x : e.slice_elements) n += x;
@@ -90,8 +116,8 @@ void write_workload(const std::string& path, const EngineWorkload& w) {
     auto f = h5::File::create_in_memory(path);  // built in memory, then one checked atomic write (a full disk: one line)
     f.set_deflate(6);
     f.write_attr("format", std::string(kFormat));
-    const bool measured = has_measured_cost(w);
-    f.write_attr("version", measured ? EngineWorkload::kVersion : 1L);
+    const bool measured = has_measured_cost(w), parts = !w.events.front().part_seconds.empty();
+    f.write_attr("version", parts ? EngineWorkload::kVersion : measured ? 2L : 1L);
     if (measured) f.write_attr("cost_regions", static_cast<long>(w.cost_regions));
     f.write_attr("slices", static_cast<long>(w.slices));
     f.write_attr("min_width", static_cast<long>(w.min_width));
@@ -138,6 +164,16 @@ void write_workload(const std::string& path, const EngineWorkload& w) {
       for (const auto& e : w.events) seconds.insert(seconds.end(), e.slice_seconds.begin(), e.slice_seconds.end());
       f.write("events/slice_seconds", {E, S}, seconds);
     }
+    if (parts) {
+      std::vector<double> seconds;
+      std::vector<int64_t> changes;
+      for (const auto& e : w.events) {
+        seconds.insert(seconds.end(), e.part_seconds.begin(), e.part_seconds.end());
+        changes.insert(changes.end(), e.cell_stage_changes.begin(), e.cell_stage_changes.end());
+      }
+      f.write("events/part_seconds", {E, kParts}, seconds);
+      f.write("events/cell_stage_changes", {E, S}, changes);
+    }
     image = f.image();
   }
   write_file_atomically(path, image);
@@ -153,7 +189,7 @@ EngineWorkload read_workload(const std::string& path) {
   }
   if (format != kFormat) fail(path, "format", "is '" + format + "', expected '" + kFormat + "'");
   const long version = f.read_int_attr("version");
-  if (version != 1 && version != 2) fail(path, "version", std::to_string(version) + " (this semlb reads versions 1 and 2)");
+  if (version < 1 || version > 3) fail(path, "version", std::to_string(version) + " (this semlb reads versions 1, 2 and 3)");
   EngineWorkload w;
   auto integer_attr = [&](const char* name, long lo, long hi) {
     const long v = f.read_int_attr(name);
@@ -203,13 +239,24 @@ EngineWorkload read_workload(const std::string& path) {
   const auto phase = column("growth_phase", false), event = column("growth_event", true), interval = column("interval_s", false);
   const auto work = matrix("slice_work", S), slice_elements = matrix("slice_elements", S);
   const auto below = matrix("band_below", S - 1), above = matrix("band_above", S - 1);
-  std::vector<double> seconds;
-  if (version == 2) {
-    if (H5Aexists(f.id(), "cost_regions") <= 0) fail(path, "cost_regions", "missing (a version 2 file holds measured seconds)");
+  std::vector<double> seconds, parts;
+  std::vector<int64_t> changes;
+  if (version >= 2) {
+    if (H5Aexists(f.id(), "cost_regions") <= 0)
+      fail(path, "cost_regions", "missing (a version " + std::to_string(version) + " file holds measured seconds)");
     w.cost_regions = static_cast<int>(integer_attr("cost_regions", 1, w.slices));
     seconds = series("slice_seconds", false);
     if (dims.size() != 2 || dims[0] != E || dims[1] != S)
       fail(path, "slice_seconds", "must be events x " + std::to_string(S) + " (" + std::to_string(E) + " x " + std::to_string(S) + ")");
+  }
+  if (version == 3) {
+    parts = series("part_seconds", false);
+    if (dims.size() != 2 || dims[0] != E || dims[1] != kParts)
+      fail(path, "part_seconds", "must be events x " + std::to_string(kParts) + " (" + std::to_string(E) + " x " + std::to_string(kParts) + ")");
+    if (!f.has("events/cell_stage_changes")) fail(path, "cell_stage_changes", "missing (dataset /events/cell_stage_changes)");
+    changes = f.read_ints("events/cell_stage_changes", dims);  // bit masks: read as integers, not through doubles
+    if (dims.size() != 2 || dims[0] != E || dims[1] != S)
+      fail(path, "cell_stage_changes", "must be events x " + std::to_string(S) + " (" + std::to_string(E) + " x " + std::to_string(S) + ")");
   }
   for (size_t t = 0; t < E; ++t) {
     WorkloadEvent e;
@@ -226,6 +273,10 @@ EngineWorkload read_workload(const std::string& path) {
     e.band_below.assign(below.begin() + t * (S - 1), below.begin() + (t + 1) * (S - 1));
     e.band_above.assign(above.begin() + t * (S - 1), above.begin() + (t + 1) * (S - 1));
     if (!seconds.empty()) e.slice_seconds.assign(seconds.begin() + t * S, seconds.begin() + (t + 1) * S);
+    if (!parts.empty()) {
+      e.part_seconds.assign(parts.begin() + t * kParts, parts.begin() + (t + 1) * kParts);
+      e.cell_stage_changes.assign(changes.begin() + t * S, changes.begin() + (t + 1) * S);
+    }
     w.events.push_back(std::move(e));
   }
   validate_workload(w, path);

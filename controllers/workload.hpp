@@ -1,5 +1,6 @@
 // Engine workload files (HDF5, versioned; docs/controllers.md "Workload files"): the per-event workload of one run.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -25,11 +26,19 @@ struct WorkloadEvent {
   // split over regions of the tissue by timed launches, each region's share over its slices by W_s, the rest of the
   // step kernels by elements. Sums to the interval's device seconds.
   std::vector<double> slice_seconds;
+  // [4] or empty (version 3 files): the interval's device seconds by part (engine Backend::device_parts): the local
+  // pair forces, the neighbour list's builds, the cell stage, the rest; summed over the ranks, so they sum to interval_s.
+  std::vector<double> part_seconds;
+  // [slices] or empty (version 3 files): bit j (0 <= j < 63; the 63rd and later stages share bit 62) is set when the
+  // slice's W_s changed at the interval's j-th cell stage: an element was added or removed within its reach, so a
+  // rank holding the slice rebuilt its neighbour list then (a rank whose elements did not change keeps its list).
+  std::vector<int64_t> cell_stage_changes;
 };
 
 struct EngineWorkload {
-  // 1: W_s only; 2: with the measured slice_seconds of every event (and cost_regions). Both are read.
-  static constexpr long kVersion = 2;
+  // 1: W_s only; 2: with the measured slice_seconds of every event (and cost_regions); 3: version 2 with the
+  // part_seconds and cell_stage_changes of every event. All three are read.
+  static constexpr long kVersion = 3;
   int cost_regions = 0;  // version 2: the regions the pair forces were timed over (0: no measured cost)
   int slices = 0, min_width = 1;
   double x0_um = 0, slice_width_um = 1, cutoff_um = 0, ghost_reach_um = 0;
@@ -45,9 +54,10 @@ bool has_measured_cost(const EngineWorkload& w);
 // "FILE: field 'NAME': reason" (FILE = `file`).
 void validate_workload(const EngineWorkload& w, const std::string& file);
 // Writes `w` to `path` atomically (built in memory, then write_file_atomically), deflate-compressed; validates first.
-// Version 2 (with /events/slice_seconds and the cost_regions attribute) when the events carry measured seconds, else 1.
+// Version 3 when the events carry part_seconds (/events/part_seconds, /events/cell_stage_changes), version 2 (with
+// /events/slice_seconds and the cost_regions attribute) when they carry measured seconds only, else 1.
 void write_workload(const std::string& path, const EngineWorkload& w);
-// Reads a workload file strictly: format "semlb-workload", version 1 or 2 (another is refused by name), every
+// Reads a workload file strictly: format "semlb-workload", version 1, 2 or 3 (another is refused by name), every
 // dataset present with its shape and type, then validate_workload. InputError "FILE: field 'NAME': reason".
 EngineWorkload read_workload(const std::string& path);
 

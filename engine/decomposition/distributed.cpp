@@ -74,6 +74,7 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
     sim_->progress = [this] { pending_.progress(); };
   }
   sim_->after_cells = [this] { migrate_cells(); };
+  if (tracks_stages()) sim_->before_cells = [this] { stage_work_before(); };
   // Every rank opens the file here, before the collectives that follow the construction: none can have removed it
   // (at its end) before the last one opens it.
   if (dec_.device_sharing == "turns") {
@@ -197,6 +198,7 @@ void DistributedSimulation::finish_exchange() {
 void DistributedSimulation::migrate_cells() {
   const auto t0 = std::chrono::steady_clock::now();
   Backend& b = sim_->backend();
+  if (tracks_stages()) stage_work_after();
   PhaseScope phase(b, "migration");
   if (step() % dec_.rebalance_every == 0) decide(measure());  // new boundaries first
   State leavers;
@@ -238,8 +240,27 @@ Grid DistributedSimulation::work_grid_all_ranks() {
   return work_grid(lo, hi, scene_->cutoff);
 }
 
-std::vector<double> DistributedSimulation::global_slice_work() {
-  const Grid g = work_grid_all_ranks();
+bool DistributedSimulation::tracks_stages() const { return scene_->record_workload && sim_->backend().has_device_timers(); }
+
+void DistributedSimulation::stage_work_before() {
+  PhaseScope phase(sim_->backend(), "workload");  // outside the step's timers
+  stage_grid_ = work_grid_all_ranks();  // one grid for both counts: the stage's refit must not change the bins
+  stage_work_ = global_slice_work(stage_grid_);
+}
+
+void DistributedSimulation::stage_work_after() {
+  PhaseScope phase(sim_->backend(), "workload");
+  const std::vector<double> after = global_slice_work(stage_grid_);
+  if (stage_changes_.empty()) stage_changes_.assign(dec_.slices, 0);
+  const int64_t bit = int64_t{1} << std::min(stage_, 62);
+  for (int s = 0; s < dec_.slices; ++s)
+    if (after[s] != stage_work_[s]) stage_changes_[s] |= bit;
+  ++stage_;
+}
+
+std::vector<double> DistributedSimulation::global_slice_work() { return global_slice_work(work_grid_all_ranks()); }
+
+std::vector<double> DistributedSimulation::global_slice_work(const Grid& g) {
   CountReduce reduce;
   if (mpi_->size() > 1) reduce = [this](std::vector<int>& counts) { mpi_->allreduce_sum(counts); };
   auto work = sim_->backend().slice_work(sim_->state(), dec_, g, reduce);
@@ -285,7 +306,18 @@ Measurement DistributedSimulation::measure() {
     e.slice_work = work;
     for (double t : m.times) e.interval_s += t;  // measured, before decomposition.timing: modelled replaces them
     count_elements(e);
-    if (b.has_device_timers()) e.slice_seconds = measured_slice_seconds(e, work, kernels, iv.device[mpi_->rank()]);
+    if (b.has_device_timers()) {
+      e.slice_seconds = measured_slice_seconds(e, work, kernels, iv.device[mpi_->rank()]);
+      e.part_seconds.assign(4, 0.0);
+      for (int r = 0; r < mpi_->size(); ++r) {
+        const double parts[3] = {iv.device_pair[r], iv.device_list[r], iv.device_cells[r]};
+        for (int k = 0; k < 3; ++k) e.part_seconds[k] += parts[k];
+      }
+      e.part_seconds[3] = std::max(0.0, e.interval_s - e.part_seconds[0] - e.part_seconds[1] - e.part_seconds[2]);
+      e.cell_stage_changes = stage_changes_.empty() ? std::vector<int64_t>(dec_.slices, 0) : stage_changes_;
+      stage_changes_.assign(dec_.slices, 0);
+      stage_ = 0;
+    }
     if (mpi_->rank() == 0) workload_.push_back(std::move(e));
   }
   if (dec_.timing == "modelled") m.times = rank_sums(work, balancer_->boundaries());

@@ -67,6 +67,7 @@ class DistributedSimulation {
   // W_s of the whole tissue (backends/backend.hpp, slice_workload's rule) on every rank: the grid over every rank's
   // elements, the owned elements' bin counts summed over the ranks, each rank's cells' w_i summed per slice.
   std::vector<double> global_slice_work();
+  std::vector<double> global_slice_work(const Grid& g);
   Grid work_grid_all_ranks();
   void decide(const Measurement& m);
   void write_trace(const TraceEvent& e);
@@ -98,6 +99,15 @@ class DistributedSimulation {
   std::vector<WorkloadEvent> workload_;  // output.workload: rank 0's record of every event
   // Elements per slice and the edge ghost bands of the whole tissue (collective), into the event `e`.
   void count_elements(WorkloadEvent& e);
+  // A recording run with device timers (WorkloadEvent::cell_stage_changes): W_s on one grid before and after each
+  // cell stage; the slices whose W_s changed get the stage's bit.
+  bool tracks_stages() const;
+  void stage_work_before();
+  void stage_work_after();
+  Grid stage_grid_;
+  std::vector<double> stage_work_;        // W_s before the current cell stage
+  std::vector<int64_t> stage_changes_;    // per slice, this interval's bits so far
+  int stage_ = 0;                         // cell stages in this interval so far
   int fault_rank_ = -1;  // SEMLB_FAULT_INJECT=RANK:STEP: throws on that rank alone at that step (tests)
   long fault_step_ = -1;
 };

@@ -126,6 +126,7 @@ void Simulation::step_once() {
       PhaseScope checking(*backend_, "check");
       failure_check ? failure_check() : check();
     }
+    if (before_cells) before_cells();
     timed(phase, [&] { update_cells(); });
     if (after_cells) after_cells();
   }

@@ -64,6 +64,7 @@ class Simulation {
   std::function<void()> before_forces, post_exchange, before_nonlocal_forces;
   // Called while the device computes a phase (when `profile` waits for it): MPI progress of the ghost bands.
   std::function<void()> progress;
+  std::function<void()> before_cells;   // before each cell update (a recording run's W_s before the stage)
   std::function<void()> after_cells;    // after each cell update (cell migration)
   std::function<void()> failure_check;  // replaces check() (a collective check across ranks)
   // Ranks sharing one device (decomposition.device_sharing: turns): when set, every piece of device work of this

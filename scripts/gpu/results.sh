@@ -78,7 +78,7 @@ run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run her
       bash "$here/scripts/gpu/measured_all.sh" "$S" "$OUT/measured_time" "$OUT/measured_time/tables"
       provenance "$OUT/measured_time" "scripts/gpu/results.sh measured_time (scripts/gpu/measured_all.sh)";;
     workload:*)
-      MEASURED=1 bash "$here/scripts/gpu/workload_library.sh" "$S" "$OUT/workloads" "${1#workload:}"  # version 2: measured seconds
+      MEASURED=1 bash "$here/scripts/gpu/workload_library.sh" "$S" "$OUT/workloads" "${1#workload:}"  # version 3: measured seconds
       $PY - "$OUT/workloads/provenance.json" "${1#workload:}" "$commit" "$(date -u +%F)" "$device" <<'EOF'
 import json, os, sys
 path, name, commit, date, device = sys.argv[1:]

@@ -103,6 +103,63 @@ TEST(Workload, MeasuredSecondsRoundTripAsVersionTwo) {
   EXPECT_FALSE(has_measured_cost(read_workload(path)));
 }
 
+// measured() with the parts (version 3): interval_s is 0.5 s at both events; bit 62 holds the 63rd and later stages.
+EngineWorkload with_parts() {
+  EngineWorkload w = measured();
+  w.events[0].part_seconds = {0.25, 0.0625, 0.125, 0.0625};
+  w.events[1].part_seconds = {0.375, 0, 0.0625, 0.0625};
+  w.events[0].cell_stage_changes = {1, 0, 3};
+  w.events[1].cell_stage_changes = {int64_t{1} << 62 | 5, 2, 0};
+  return w;
+}
+
+TEST(Workload, PartsAndCellStageChangesRoundTripAsVersionThree) {
+  const auto path = tmp_path("parts.h5");
+  write_workload(path, with_parts());
+  EXPECT_EQ(h5::File::open_read(path).read_int_attr("version"), 3);
+  const auto w = read_workload(path);
+  EXPECT_TRUE(has_measured_cost(w));
+  for (size_t t = 0; t < 2; ++t) {
+    EXPECT_EQ(w.events[t].part_seconds, with_parts().events[t].part_seconds);
+    EXPECT_EQ(w.events[t].cell_stage_changes, with_parts().events[t].cell_stage_changes) << "bit masks kept exactly";
+  }
+  struct Case {
+    std::function<void(EngineWorkload&)> spoil;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {[](EngineWorkload& w) { w.events[1].part_seconds[3] = 0.25; }, "field 'part_seconds': event 1: sums to 0.6875, but interval_s is 0.5"},
+      {[](EngineWorkload& w) { w.events[0].part_seconds[1] = -0.0625, w.events[0].part_seconds[3] = 0.1875; },
+       "field 'part_seconds': event 0: -0.0625 is not a finite non-negative number"},
+      {[](EngineWorkload& w) { w.events[1].part_seconds.pop_back(); }, "field 'part_seconds': event 1 has 3 entries, expected 4"},
+      {[](EngineWorkload& w) { w.events[1].part_seconds.clear(); }, "field 'part_seconds': present at some events and not at others"},
+      {[](EngineWorkload& w) { w.events[0].cell_stage_changes[1] = -1; }, "field 'cell_stage_changes': event 0: -1 is negative"},
+      {[](EngineWorkload& w) { w.events[0].cell_stage_changes.pop_back(); }, "field 'cell_stage_changes': event 0 has 2 entries, expected 3"},
+      {[](EngineWorkload& w) {
+         for (auto& e : w.events) e.slice_seconds.clear();
+         w.cost_regions = 0;
+       },
+       "field 'part_seconds': present without slice_seconds"},
+  };
+  for (const auto& c : cases) {
+    auto w = with_parts();
+    c.spoil(w);
+    std::filesystem::remove(path);
+    EXPECT_NE(error_of([&] { write_workload(path, w); }).find(c.message), std::string::npos) << c.message;
+    EXPECT_FALSE(std::filesystem::exists(path)) << "nothing written for " << c.message;
+  }
+  auto w2 = measured();
+  w2.events[0].cell_stage_changes = {1, 0, 0};
+  EXPECT_NE(error_of([&] { write_workload(path, w2); }).find("field 'cell_stage_changes': event 0: present without part_seconds"),
+            std::string::npos);
+  write_workload(path, with_parts());
+  {
+    auto f = h5::File::open_write(path);
+    H5Ldelete(f.id(), "events/cell_stage_changes", H5P_DEFAULT);
+  }
+  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'cell_stage_changes': missing"), std::string::npos);
+}
+
 TEST(Workload, MeasuredSecondsAreReadStrictly) {
   struct Case {
     std::function<void(EngineWorkload&)> spoil;
@@ -191,9 +248,9 @@ TEST(Workload, FilesOfAnotherFormatVersionOrShapeAreRefused) {
       << "version 2 without its measured seconds";
   rewrite([](h5::File& f) {
     H5Adelete(f.id(), "version");
-    f.write_attr("version", 3L);
+    f.write_attr("version", 4L);
   });
-  EXPECT_NE(error_of([&] { read_workload(path); }).find(path + ": field 'version': 3 (this semlb reads versions 1 and 2)"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_workload(path); }).find(path + ": field 'version': 4 (this semlb reads versions 1, 2 and 3)"), std::string::npos);
   rewrite([](h5::File& f) {
     H5Adelete(f.id(), "format");
     f.write_attr("format", std::string("semlb-state"));

@@ -211,7 +211,17 @@ TEST(Decomposition, DeviceTimersAndTurnsKeepTheStateAndFeedTheDecisions) {
         double ranks_sum = 0;
         for (double d : device.at(w.events[e].step)) ranks_sum += d;
         EXPECT_NEAR(w.events[e].interval_s, ranks_sum, 1e-9 * ranks_sum) << "interval_s: the ranks' device seconds";
+        ASSERT_EQ(w.events[e].part_seconds.size(), 4u) << out;
+        EXPECT_GT(w.events[e].part_seconds[0], 0) << "pair forces";
+        EXPECT_GT(w.events[e].part_seconds[2], 0) << "cell stage";
+        EXPECT_EQ(w.events[e].part_seconds[1] > 0, skin != "0") << "list builds with a list only";
       }
+      // the tissue grows: some slice changed at some cell stage (2 per interval: bits 0-1), none beyond
+      int64_t any = 0;
+      for (const auto& e : w.events)
+        for (int64_t m : e.cell_stage_changes) any |= m;
+      EXPECT_NE(any, 0) << out;
+      EXPECT_EQ(any & ~int64_t{3}, 0) << out;
     }
   }
 }
