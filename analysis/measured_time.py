@@ -109,6 +109,10 @@ class Workload:
             self.above = e["band_above"][:].astype(float)
             self.elements = e["elements"][:].astype(float)
             self.slice_elements = e["slice_elements"][:].astype(float) if "slice_elements" in e else None
+            # version 3: the list builds leave the slices and go to the ranks whose slices changed (the replay's
+            # model_times, surrogate/workload_replay.hpp)
+            self.list_s = e["part_seconds"][:, 1] if "part_seconds" in e else None
+            self.changes = e["cell_stage_changes"][:] if "cell_stage_changes" in e else None
         self.at = {s: i for i, s in enumerate(self.steps)}
 
     def terms(self, step, boundaries):
@@ -116,9 +120,18 @@ class Workload:
         i = self.at[step]
         cuts = [0] + list(boundaries) + [self.seconds.shape[1]]
         sigma = self.seconds[i].sum() / self.elements[i] if self.elements[i] > 0 else 0.0
+        seconds, builds = self.seconds[i], np.zeros(len(cuts) - 1)
+        if self.list_s is not None:
+            n = self.slice_elements[i]
+            seconds = np.maximum(0.0, seconds - self.list_s[i] * n / n.sum()) if n.sum() > 0 else seconds
+            stages = lambda bits: bin(int(np.bitwise_or.reduce(bits)) if len(bits) else 0).count("1")
+            k = stages(self.changes[i])
+            for q in range(len(cuts) - 1):
+                share = stages(self.changes[i][cuts[q]:cuts[q + 1]]) / k if k > 0 else 1.0
+                builds[q] = self.list_s[i] * n[cuts[q]:cuts[q + 1]].sum() / n.sum() * share if n.sum() > 0 else 0.0
         own, ghost = [], []
         for q in range(len(cuts) - 1):
-            own.append(self.seconds[i][cuts[q]:cuts[q + 1]].sum())
+            own.append(seconds[cuts[q]:cuts[q + 1]].sum() + builds[q])
             g = 0.0
             if q > 0:
                 g += self.below[i][cuts[q] - 1]

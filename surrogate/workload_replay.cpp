@@ -2,6 +2,7 @@
 #include "workload_replay.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 
@@ -29,6 +30,12 @@ std::vector<double> coarse(const std::vector<double>& v, int k, int n) {  // n c
 std::vector<double> coarse_edges(const std::vector<double>& v, int k, int n) {  // coarse edge j = fine edge j k
   std::vector<double> out(n - 1);
   for (int j = 1; j < n; ++j) out[j - 1] = v[static_cast<size_t>(j) * k - 1];
+  return out;
+}
+
+std::vector<int64_t> coarse_bits(const std::vector<int64_t>& v, int k, int n) {  // OR of each coarse slice's bits
+  std::vector<int64_t> out(n, 0);
+  for (size_t i = 0; i < v.size(); ++i) out[std::min<size_t>(i / k, n - 1)] |= v[i];
   return out;
 }
 
@@ -95,6 +102,14 @@ ReplayTrack replay_track(const EngineWorkload& w, const WorkloadReplay& r, const
       double total = 0;
       for (double x : ev.slice_seconds) total += x;
       t.seconds_per_element.push_back(ev.elements > 0 ? total / static_cast<double>(ev.elements) : 0.0);
+      if (!ev.part_seconds.empty()) {  // the list builds leave the slices, where they were spread by elements
+        const double list = ev.part_seconds[1], n = static_cast<double>(ev.elements);
+        t.list_s.push_back(list);
+        t.elements.push_back(coarse(ev.slice_elements, r.coarsen, t.slices));
+        t.changes.push_back(coarse_bits(ev.cell_stage_changes, r.coarsen, t.slices));
+        auto& sec = t.seconds.back();
+        for (int s = 0; s < t.slices; ++s) sec[s] = std::max(0.0, sec[s] - (n > 0 ? list * t.elements.back()[s] / n : 0.0));
+      }
     }
   }
   t.seconds_per_work = r.model.seconds_per_work > 0 ? r.model.seconds_per_work : (work > 0 ? seconds / work : 1.0);
@@ -110,6 +125,22 @@ std::vector<double> speed_factors(int ranks, uint64_t seed, double spread) {
 std::vector<double> model_times(const ReplayTrack& t, int event, const std::vector<int>& b, const std::vector<double>& speed,
                                 const TimeModel& m) {
   auto times = rank_sums(t.measured ? t.seconds[event] : t.work[event], b);
+  if (!t.list_s.empty()) {  // the list builds of the ranks whose slices changed (version 3)
+    const auto& n = t.elements[event];
+    const auto& bits = t.changes[event];
+    int64_t any = 0;
+    double total = 0;
+    for (int s = 0; s < t.slices; ++s) any |= bits[s], total += n[s];
+    const int k = std::popcount(static_cast<uint64_t>(any));
+    for (size_t q = 0; q < times.size(); ++q) {
+      const int lo = q == 0 ? 0 : b[q - 1], hi = q + 1 < times.size() ? b[q] : t.slices;
+      int64_t mine = 0;
+      double nq = 0;
+      for (int s = lo; s < hi; ++s) mine |= bits[s], nq += n[s];
+      const double share = k > 0 ? static_cast<double>(std::popcount(static_cast<uint64_t>(mine))) / k : 1.0;
+      if (total > 0) times[q] += t.list_s[event] * nq / total * share;
+    }
+  }
   // seconds per unit of what `times` holds, and per received ghost element in those units
   const double scale = t.measured ? 1.0 : t.seconds_per_work;
   const double ghost = m.ghost_weight * (t.measured ? t.seconds_per_element[event] : t.per_element[event]);

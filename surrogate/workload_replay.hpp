@@ -27,7 +27,10 @@ namespace semlb::surrogate {
 // by what the device took: with S_r the measured seconds of rank r's slices and sigma = sum of slice_seconds /
 // elements (seconds per element of the event),
 //   T_r = s_r * (S_r + ghost_weight * sigma * G_r + rank_overhead_s),
-// while the policy still sees W_s (as on a machine). `truth` chooses: auto (measured when the file has it), work, or
+// while the policy still sees W_s (as on a machine). A version 3 file (WorkloadEvent::part_seconds and
+// cell_stage_changes) places the neighbour list's builds where they happen: its list seconds L leave the slices
+// (where they were spread by elements n_s) and rank r gets L n_r / N k_r / k, with k_r the cell stages at which one of
+// its slices changed and k those at which any slice did (a rank whose elements did not change keeps its list). `truth` chooses: auto (measured when the file has it), work, or
 // measured (an InputError for a file without it). rank_overhead_s (seconds per interval and rank: the fixed cost of
 // a rank's launches) is added under either truth.
 struct TimeModel {
@@ -78,6 +81,10 @@ struct ReplayTrack {
   bool measured = false;                                // the truth is the file's measured seconds
   std::vector<std::vector<double>> seconds;             // [events][slices] measured seconds (when measured)
   std::vector<double> seconds_per_element;              // sigma per event (when measured)
+  // version 3 files (else empty): per event the list builds' seconds, per slice its elements and its cell stages' bits
+  std::vector<double> list_s;
+  std::vector<std::vector<double>> elements;
+  std::vector<std::vector<int64_t>> changes;
   std::vector<double> phase;
   std::vector<bool> growth;
   double seconds_per_work = 0;

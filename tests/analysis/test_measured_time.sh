@@ -63,6 +63,26 @@ summary = {(r["policy"], r["ranks"]): r for r in csv.DictReader(open(f"{out}/end
 assert summary[("static", "2")]["launches"] == "2" and float(summary[("static", "2")]["loop_s_ci95"]) == 0
 print("hand runs: ok")
 PYEOF
+# A version 3 workload: the list builds go to the ranks whose slices changed, as the replay's hand case
+# (tests/surrogate/test_workload_replay.cpp ListBuildsGoToTheRanksWhoseSlicesChanged): 2.0 | 5.6, then 3.9 | 2.0
+"$PY" - "$src/analysis" "$work/v3.h5" <<'PYEOF'
+import sys
+import h5py, numpy as np
+sys.path.insert(0, sys.argv[1])
+import measured_time as mt
+with h5py.File(sys.argv[2], "w") as f:
+    f["events/step"] = np.array([10, 20]); f["events/elements"] = np.array([8, 8])
+    f["events/slice_seconds"] = np.array([[1.0, 1, 3, 3], [2, 2, 1, 1]])
+    f["events/slice_elements"] = np.full((2, 4), 2)
+    f["events/band_below"] = np.ones((2, 3), np.int64); f["events/band_above"] = np.ones((2, 3), np.int64)
+    f["events/part_seconds"] = np.array([[0.1, 0.8, 0.05, 0.05], [0.1, 0.4, 0.1, 0.4]])
+    f["events/cell_stage_changes"] = np.array([[3, 3, 0, 0], [1, 0, 0, 3]], np.int64)
+w = mt.Workload(sys.argv[2])
+for step, want in ((10, (2.0, 5.6)), (20, (3.9, 2.0))):
+    own, _ = w.terms(step, [2])
+    assert np.allclose(own, want, atol=1e-12), (step, own)
+print("version 3: ok")
+PYEOF
 # The script on PoCL, every stage, then every table
 PLATFORM=Portable CELLS=300 STEPS=40 LAUNCHES=2 RANKS="2" POLICIES="static reactive" ROUNDS=1 \
   GROWTH="--set effects.growth.front.x0=75 --set effects.growth.front.speed=0" \

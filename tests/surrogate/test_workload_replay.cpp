@@ -79,6 +79,37 @@ TEST(WorkloadReplay, MeasuredSecondsAreTheTruthWhenTheFileHasThem) {
   }
 }
 
+// hand_measured() as version 3: 0.8 s of event 0's seconds were list builds (0.2 per slice of 2 elements), made at
+// the interval's two cell stages by the left half (bits 0-1 of slices 0 and 1) and none by the right; event 1's
+// builds (0.4 s) at stage 0 by slices 0 and 3 and at stage 1 by slice 3.
+EngineWorkload hand_parts() {
+  EngineWorkload w = hand_measured();
+  for (auto& e : w.events) e.part_seconds = {0.1, 0, 0.1, e.interval_s - 0.2};
+  w.events[0].part_seconds = {0.1, 0.8, 0.05, 0.05};
+  w.events[1].part_seconds[1] = 0.4, w.events[1].part_seconds[3] -= 0.4;
+  w.events[0].cell_stage_changes = {3, 3, 0, 0};
+  w.events[1].cell_stage_changes = {1, 0, 0, 3};
+  return w;
+}
+
+TEST(WorkloadReplay, ListBuildsGoToTheRanksWhoseSlicesChanged) {
+  // P=2 at [2], no ghosts, no overhead. Event 0: the slices keep 0.8, 0.8, 2.8, 2.8; the left rank made both builds
+  // of the whole list's 0.8 s over its half of the elements: 1.6 + 0.8 * 4/8 * 2/2 = 2.0, the right 5.6 + 0 = 5.6.
+  // Event 1: 1.9, 1.9, 0.9, 0.9; stages 0-1 changed somewhere (k = 2): left k_r = 1 (stage 0), right 2:
+  // 3.8 + 0.4 * 1/2 * 1/2 = 3.9, 1.8 + 0.4 * 1/2 * 2/2 = 2.0.
+  auto model = exact(2);
+  model.model.ghost_weight = 0;
+  auto policy = make_policy("static");
+  auto w = hand_parts();
+  const auto r = replay_workload(w, model, *policy, "static", "hand.h5");
+  EXPECT_TRUE(r.measured);
+  EXPECT_NEAR(r.compute_s, 5.6 + 3.9, 1e-12);
+  EXPECT_NEAR(r.ideal_s, (2.0 + 5.6) / 2 + (3.9 + 2.0) / 2, 1e-12);
+  // a version 2 file (no parts) spreads them by elements, as recorded: 2 + 6 and 4 + 2
+  const auto v2 = replay_workload(hand_measured(), model, *policy, "static", "hand.h5");
+  EXPECT_NEAR(v2.compute_s, 6 + 4, 1e-12);
+}
+
 TEST(WorkloadReplay, TheOracleSeesTheNextMeasuredSeconds) {
   // oracle_work is the next event's measured seconds: at event 0 it sees 2, 2, 1, 1 and moves the boundary to 1
   // (2 | 4 -> max 4 at [2] or [1]: the partition of the least maximum, found by chains; either gives T_max 4 + ghosts).
