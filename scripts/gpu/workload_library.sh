@@ -60,11 +60,20 @@ record() {  # NAME SCENE STEPS EXTRA: one variant into OUT
   cp "$run/scene.yaml" "$OUT/$name.scene.yaml"
   rm -rf "$run"
 }
+# the variants named, in the order named (default: every variant but small_*, in the order above)
+order=()
+if [ ${#want[@]} -eq 0 ]; then
+  for v in "${variants[@]}"; do [[ $v == small_* ]] || order+=("$v"); done
+else
+  for name in "${want[@]}"; do
+    found=
+    for v in "${variants[@]}"; do [[ $v == "$name|"* ]] && order+=("$v") && found=1; done
+    [ -n "$found" ] || { echo "workload_library.sh: unknown variant '$name'" >&2; exit 2; }
+  done
+fi
 running=0 failed=0
-for v in "${variants[@]}"; do
+for v in "${order[@]}"; do
   IFS='|' read -r name scene steps extra <<<"$v"
-  if [ ${#want[@]} -gt 0 ] && [[ " ${want[*]} " != *" $name "* ]]; then continue; fi
-  if [ ${#want[@]} -eq 0 ] && [[ $name == small_* ]]; then continue; fi
   if [ "$JOBS" -le 1 ]; then record "$name" "$scene" "$steps" "$extra"; continue; fi
   if [ "$running" -ge "$JOBS" ]; then wait -n || failed=1; running=$((running - 1)); fi
   record "$name" "$scene" "$steps" "$extra" &
