@@ -3,6 +3,9 @@
 
 Usage: measured_time.py RUNS OUT [--semlb SEMLB] [--scene NAME] [--nvlink-gbs 450] [--seeds 0-2] [--no-replay]
        measured_time.py --combine ROOT   (ROOT/SCENE/*.csv of several scenes into ROOT/*.csv)
+       measured_time.py --check-regions FILE... [--limit 3]   (exit 1 naming the file, event and region when a region's
+                        timed pair forces are more than LIMIT times the median region's, per unit of W_s: another
+                        job's device work overlapped the timed launch; scripts/gpu/workload_library.sh runs it)
 
 RUNS is the script's OUT folder (tissue/, cost/, turns/, record/, e2e/); OUT receives:
 - timer_cost.csv: the loop's wall seconds with decomposition.timing measured and device, per round;
@@ -239,9 +242,58 @@ def combine(root):
             write_csv(os.path.join(root, name), header, rows)
 
 
+def region_outliers(path, limit):
+    """(event, region, ratio to the median region) of every timed region of a measured workload whose pair-force
+    seconds per unit of W_s exceed `limit` times the event's median region (the regions as the engine cuts them:
+    contiguous slices of about equal elements, distributed.cpp measured_slice_seconds)."""
+    with h5py.File(path, "r") as f:
+        if "events/slice_seconds" not in f:
+            return []
+        K = int(f.attrs["cost_regions"])
+        e = f["events"]
+        seconds, work = e["slice_seconds"][:], e["slice_work"][:].astype(float)
+        n, interval = e["slice_elements"][:].astype(float), e["interval_s"][:]
+        pair = e["part_seconds"][:, 0] if "part_seconds" in e else None
+    out = []
+    for i in range(len(seconds)):
+        total = n[i].sum()
+        if total <= 0:
+            continue
+        mid = np.cumsum(n[i]) - n[i] / 2
+        region = np.minimum(K - 1, (mid * K / total).astype(int))
+        # the pair forces alone where the file has the parts (the rest was spread by elements)
+        s = seconds[i] - (interval[i] - pair[i]) * n[i] / total if pair is not None else seconds[i]
+        per = [(s[region == k].sum(), work[i][region == k].sum()) for k in range(K)]
+        ratio = np.array([a / w if w > 0 else np.nan for a, w in per])
+        med = np.nanmedian(ratio)
+        for k, r in enumerate(ratio):
+            if med > 0 and np.isfinite(r) and r > limit * med:
+                out.append((i, k, float(r / med)))
+    return out
+
+
+def check_regions(args):
+    ap = argparse.ArgumentParser(prog="measured_time.py --check-regions")
+    ap.add_argument("files", nargs="+")
+    ap.add_argument("--limit", type=float, default=3.0)
+    a = ap.parse_args(args)
+    bad = 0
+    for path in a.files:
+        found = region_outliers(path, a.limit)
+        if found:
+            event, region, r = found[0]
+            print(f"{path}: field 'slice_seconds': event {event}: region {region} timed {r:.1f}x the median region per "
+                  f"unit of W_s ({len(found)} such regions): another job's device work overlapped the timed launches",
+                  file=sys.stderr)
+            bad = 1
+    return bad
+
+
 def main():
     if len(sys.argv) == 3 and sys.argv[1] == "--combine":
         return combine(sys.argv[2])
+    if len(sys.argv) > 1 and sys.argv[1] == "--check-regions":
+        sys.exit(check_regions(sys.argv[2:]))
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("runs")
     ap.add_argument("out")

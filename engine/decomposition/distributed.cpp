@@ -224,7 +224,8 @@ void DistributedSimulation::migrate_cells() {
 
 Grid DistributedSimulation::work_grid_all_ranks() {
   const auto [cells, elements] = sim_->counts();
-  const auto b = elements > 0 ? sim_->backend().bounds() : std::array<std::array<double, 3>, 2>{};
+  std::array<std::array<double, 3>, 2> b{};
+  if (elements > 0) alone_in_turn([&] { b = sim_->backend().bounds(); });
   const auto all = mpi_->allgather({elements > 0 ? 1.0 : 0.0, b[0][0], b[0][1], b[0][2], b[1][0], b[1][1], b[1][2]});
   std::array<double, 3> lo{}, hi{};
   bool any = false;
@@ -263,7 +264,8 @@ std::vector<double> DistributedSimulation::global_slice_work() { return global_s
 std::vector<double> DistributedSimulation::global_slice_work(const Grid& g) {
   CountReduce reduce;
   if (mpi_->size() > 1) reduce = [this](std::vector<int>& counts) { mpi_->allreduce_sum(counts); };
-  auto work = sim_->backend().slice_work(sim_->state(), dec_, g, reduce);
+  std::vector<double> work;
+  alone_in_turn([&] { work = sim_->backend().slice_work(sim_->state(), dec_, g, reduce); });
   mpi_->allreduce_sum(work);  // integers below 2^53: exact in any order
   return work;
 }

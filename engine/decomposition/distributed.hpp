@@ -66,6 +66,15 @@ class DistributedSimulation {
   Measurement measure();
   // W_s of the whole tissue (backends/backend.hpp, slice_workload's rule) on every rank: the grid over every rank's
   // elements, the owned elements' bin counts summed over the ranks, each rank's cells' w_i summed per slice.
+  // f() in a turn when this run is one rank (its device work untimed, but another job sharing the device, as the
+  // recordings of scripts/gpu/workload_library.sh with JOBS > 1, times its kernels meanwhile: they must not overlap);
+  // on P ranks f() holds collectives, which a rank may not wait for inside its turn, and runs as it is (every rank is
+  // then between its step's turns, in the same collective).
+  template <class F>
+  void alone_in_turn(F&& f) {
+    if (mpi_->size() == 1) sim_->in_turn(f);
+    else f();
+  }
   std::vector<double> global_slice_work();
   std::vector<double> global_slice_work(const Grid& g);
   Grid work_grid_all_ranks();

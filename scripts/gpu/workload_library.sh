@@ -7,7 +7,8 @@
 # Usage: bash scripts/gpu/workload_library.sh SEMLB OUT [VARIANT ...]   (default: every variant below but small_*)
 # JOBS=N runs N variants at once (default 1). With MEASURED=1 they take turns on the device
 # (decomposition.device_sharing: turns, one lock for this script's children): each run's device timers time its own
-# kernels alone, while the host parts (the per-event download and counting) overlap.
+# kernels alone, while the host parts (the per-event download and counting) overlap. Each measured file is checked
+# (analysis/measured_time.py --check-regions: no timed region far above the others) before it is kept.
 set -euo pipefail
 S=$1; OUT=$2; shift 2
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
@@ -55,6 +56,9 @@ record() {  # NAME SCENE STEPS EXTRA: one variant into OUT
   # shellcheck disable=SC2086
   "$S" sim --scene "$scene" --out "$run" --steps "$steps" "${common[@]}" "${size[@]}" "${timing[@]}" "${skin[@]}" $extra
   echo "$name: $(( $(date +%s) - start )) s wall"
+  if [ -n "${MEASURED:-}" ] && ! "${PYTHON:-/usr/bin/python3}" "$here/analysis/measured_time.py" --check-regions "$run/workload.h5"; then
+    rm -rf "$run"; return 1  # a timed region overlapped other device work: not kept
+  fi
   cp "$run/workload.h5" "$OUT/$name.h5"
   cp "$run/run.csv" "$OUT/$name.run.csv"
   cp "$run/scene.yaml" "$OUT/$name.scene.yaml"

@@ -83,6 +83,23 @@ for step, want in ((10, (2.0, 5.6)), (20, (3.9, 2.0))):
     assert np.allclose(own, want, atol=1e-12), (step, own)
 print("version 3: ok")
 PYEOF
+# --check-regions: 4 regions of one slice each, W_s 4 each; even seconds pass, one region at 5x the others exits 1
+# naming the file, the event and the region
+check() {  # SECONDS of events 0 and 1 (python lists)
+  "$PY" - "$work/regions.h5" "$1" <<'PYEOF'
+import ast, sys
+import h5py, numpy as np
+with h5py.File(sys.argv[1], "w") as f:
+    f.attrs["cost_regions"] = 4
+    f["events/slice_seconds"] = np.array(ast.literal_eval(sys.argv[2]), float)
+    f["events/slice_work"] = np.full((2, 4), 4); f["events/slice_elements"] = np.full((2, 4), 2)
+    f["events/interval_s"] = np.array([4.0, 4.0])
+PYEOF
+  "$PY" "$src/analysis/measured_time.py" --check-regions "$work/regions.h5" 2> "$work/check.err"
+}
+check "[[1, 1, 1, 1], [1, 2, 1, 1]]" || { cat "$work/check.err"; echo "an even file was refused"; exit 1; }
+if check "[[1, 1, 1, 1], [1, 1, 1, 5]]"; then echo "a spike passed"; exit 1; fi
+grep -q "regions.h5: field 'slice_seconds': event 1: region 3 timed 5.0x" "$work/check.err" || { cat "$work/check.err"; exit 1; }
 # The script on PoCL, every stage, then every table
 PLATFORM=Portable CELLS=300 STEPS=40 LAUNCHES=2 RANKS="2" POLICIES="static reactive" ROUNDS=1 \
   GROWTH="--set effects.growth.front.x0=75 --set effects.growth.front.speed=0" \
