@@ -304,9 +304,9 @@ class ObservablesRunner final : public Runner {
   mutable std::map<std::string, std::vector<Observables>> cache_;
 };
 
-const RunnerRegistrar timing("engine_timing", [] { return std::make_unique<TimingRunner>(); });
-const RunnerRegistrar accuracy("engine_accuracy", [] { return std::make_unique<AccuracyRunner>(); });
-const RunnerRegistrar observables("engine_observables", [] { return std::make_unique<ObservablesRunner>(); });
+const Registrar<RunnerInfo> timing("engine_timing", {[] { return std::make_unique<TimingRunner>(); }});
+const Registrar<RunnerInfo> accuracy("engine_accuracy", {[] { return std::make_unique<AccuracyRunner>(); }});
+const Registrar<RunnerInfo> observables("engine_observables", {[] { return std::make_unique<ObservablesRunner>(); }});
 
 }  // namespace
 }  // namespace semlb::experiments

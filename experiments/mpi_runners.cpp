@@ -316,9 +316,9 @@ class MpiIntervalsRunner final : public Runner {
   }
 };
 
-const RunnerRegistrar sim("mpi_sim", [] { return std::make_unique<MpiSimRunner>(); });
-const RunnerRegistrar intervals("mpi_intervals", [] { return std::make_unique<MpiIntervalsRunner>(); });
-const RunnerRegistrar end_to_end("mpi_end_to_end", [] { return std::make_unique<MpiEndToEndRunner>(); });
+const Registrar<RunnerInfo> sim("mpi_sim", {[] { return std::make_unique<MpiSimRunner>(); }});
+const Registrar<RunnerInfo> intervals("mpi_intervals", {[] { return std::make_unique<MpiIntervalsRunner>(); }});
+const Registrar<RunnerInfo> end_to_end("mpi_end_to_end", {[] { return std::make_unique<MpiEndToEndRunner>(); }});
 
 }  // namespace
 }  // namespace semlb::experiments

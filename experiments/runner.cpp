@@ -6,17 +6,10 @@
 #include <map>
 
 #include "common/errors.hpp"
-#include "common/registry.hpp"
 #include "engine/model/scene.hpp"
 #include "surrogate/evaluate.hpp"
 
 namespace semlb::experiments {
-namespace {
-Registry<std::function<std::unique_ptr<Runner>()>>& registry() {
-  static Registry<std::function<std::unique_ptr<Runner>()>> r;
-  return r;
-}
-}  // namespace
 
 std::string resolve_path(const std::string& base_dir, const std::string& file) {
   const std::filesystem::path p(file);
@@ -94,17 +87,11 @@ void check_policy_params(const Job& job, const std::string& manifest) {
   }
 }
 
-RunnerRegistrar::RunnerRegistrar(const std::string& name, std::function<std::unique_ptr<Runner>()> factory) {
-  registry().add(name, std::move(factory));
-}
-
 std::unique_ptr<Runner> make_runner(const std::string& name, const std::string& manifest) {
-  const auto* factory = registry().find(name);
-  if (!factory)
-    throw InputError(where(manifest, 0, "runner") + "unknown runner '" + name + "' (known: " + registry().known() + ")");
-  return (*factory)();
+  const RunnerInfo* info = Runners::find(name);
+  if (!info)
+    throw InputError(where(manifest, 0, "runner") + "unknown runner '" + name + "' (known: " + Runners::known() + ")");
+  return info->make();
 }
-
-std::vector<std::string> runner_names() { return registry().names(); }
 
 }  // namespace semlb::experiments

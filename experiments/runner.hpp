@@ -77,12 +77,14 @@ std::map<std::string, PolicyParams> policy_params(const Job& job, const std::str
 // a bad parameter is refused before anything runs; InputError names the parameter's line.
 void check_policy_params(const Job& job, const std::string& manifest);
 
-struct RunnerRegistrar {
-  RunnerRegistrar(const std::string& name, std::function<std::unique_ptr<Runner>()> factory);
+// A registered runner: `const Registrar<RunnerInfo> registrar("name", {factory});` (common/registry.hpp).
+struct RunnerInfo {
+  static constexpr const char* kKind = "runner";
+  static constexpr const char* kListed = "runners";
+  std::function<std::unique_ptr<Runner>()> make;
 };
+using Runners = PluginKind<RunnerInfo>;
 
 std::unique_ptr<Runner> make_runner(const std::string& name, const std::string& manifest);
-// The registered runner names, in name order (`semlb list runners`).
-std::vector<std::string> runner_names();
 
 }  // namespace semlb::experiments

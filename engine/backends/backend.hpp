@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "backends/cpu_physics.hpp"
+#include "common/registry.hpp"
 #include "decomposition/slices.hpp"
 #include "model/scene.hpp"
 #include "model/state.hpp"
@@ -248,10 +249,13 @@ class PhaseScope {
 };
 
 using BackendFactory = std::function<std::unique_ptr<Backend>(const BackendConfig&)>;
-struct BackendRegistrar {
-  BackendRegistrar(const std::string& name, BackendFactory factory);
+// A registered backend: `const Registrar<BackendInfo> registrar("name", {factory});` (common/registry.hpp).
+struct BackendInfo {
+  static constexpr const char* kKind = "backend";
+  static constexpr const char* kListed = "backends";
+  BackendFactory make;
 };
+using Backends = PluginKind<BackendInfo>;
 std::unique_ptr<Backend> make_backend(const BackendConfig& config);  // InputError names the known ones
-std::vector<std::string> backend_names();
 
 }  // namespace semlb::engine

@@ -106,7 +106,7 @@ std::unique_ptr<Backend> make(const BackendConfig& c) {
   if (c.precision == "float") return std::make_unique<CpuBinnedBackend<float>>(c.threads);
   return std::make_unique<CpuBinnedBackend<double>>(c.threads);
 }
-const BackendRegistrar registrar("cpu-binned", make);
+const Registrar<BackendInfo> registrar("cpu-binned", {make});
 
 }  // namespace
 }  // namespace semlb::engine

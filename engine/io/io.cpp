@@ -213,8 +213,8 @@ State read_state(const std::string& path) {
   // refused here (no effect would own it: a misspelling or a file of another program), not carried unread.
   for (const auto& name : f.list("/cells/fields")) {
     const std::string set = "/cells/fields/" + name;
-    if (!find_cell_field(name))
-      throw InputError(path + ": dataset " + set + ": unknown cell field (known: " + known_cell_fields() + ")");
+    if (!CellFields::find(name))
+      throw InputError(path + ": dataset " + set + ": unknown cell field (known: " + CellFields::known() + ")");
     s.cell_fields[name] = f.read(set, dims);
     need_length(path, set, dims, ids.size(), "cell");
     for (size_t c = 0; c < ids.size(); ++c)

@@ -56,7 +56,7 @@ TEST(Cells, CoincidentElementsSplitInHalvesBySlot) {
   s.reindex();
   s.cell_fields["division.depth"] = {0};  // the record: one field, the division's depth at index 0
   CellRules r{};
-  const auto rules = division_rule_names();
+  const auto rules = DivisionRules::names();
   r.growth = r.growth_field = -1;
   r.division = static_cast<int>(std::find(rules.begin(), rules.end(), "long_axis") - rules.begin());
   r.division_p[0] = 1;   // basal only

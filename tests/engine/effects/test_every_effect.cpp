@@ -29,13 +29,13 @@ struct Case {
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name << ": " << c.section; }  // gtest's name for the case
 std::vector<Case> cases() {
   std::vector<Case> out;
-  for (const auto& name : effect_names())
+  for (const auto& name : Effects::names())
     if (name == "growth")
-      for (const auto& law : growth_law_names()) out.push_back({name, growth_law(law).example, name + "_" + law});
+      for (const auto& law : GrowthLaws::names()) out.push_back({name, GrowthLaws::at(law).example, name + "_" + law});
     else if (name == "division")
-      for (const auto& rule : division_rule_names()) out.push_back({name, division_rule(rule).example, name + "_" + rule});
+      for (const auto& rule : DivisionRules::names()) out.push_back({name, DivisionRules::at(rule).example, name + "_" + rule});
     else
-      out.push_back({name, effect_example(name), name});
+      out.push_back({name, Effects::at(name).example, name});
   return out;
 }
 
@@ -45,7 +45,7 @@ class EveryEffect : public ::testing::TestWithParam<Case> {
  protected:
   const std::string& effect() const { return GetParam().effect; }
   bool pair() const {
-    const auto names = pair_term_names();
+    const auto names = PairTerms::names();
     return std::find(names.begin(), names.end(), effect()) != names.end();
   }
   std::string scene() const {

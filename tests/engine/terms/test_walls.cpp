@@ -13,7 +13,7 @@
 namespace semlb::engine {
 namespace {
 
-std::vector<double> params(const std::string& yaml) { return testing::section_params("walls", yaml, element_term("walls").read); }
+std::vector<double> params(const std::string& yaml) { return testing::section_params("walls", yaml, ElementTerms::at("walls").read); }
 
 // The force on one element at (x, y, 5) from the walls of `yaml`, on the serial backend (double).
 std::array<double, 3> force_at(double x, double y, const std::string& yaml) {
