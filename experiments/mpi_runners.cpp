@@ -131,7 +131,7 @@ Launch launch(const Job& job, const RunOptions& o) {
     argv.push_back("-np");
   }
   argv.insert(argv.end(), {job.text("ranks", "1"), fs::read_symlink("/proc/self/exe").string(), "sim", "--quiet", "--scene", scene,
-                           "--out", dir.string(), "--set", "backend.threads=1"});
+                           "--out", dir.string(), "--set", "backend.cpu-binned.threads=1"});
   auto overrides = scene_overrides(job, kSceneNames, "");
   const std::string policy = row_policy(job, "", o).first;
   for (const auto& [k, s] : job.settings)

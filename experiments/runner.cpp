@@ -6,6 +6,7 @@
 #include <map>
 
 #include "common/errors.hpp"
+#include "engine/backends/backend.hpp"
 #include "engine/model/scene.hpp"
 #include "surrogate/evaluate.hpp"
 
@@ -32,7 +33,9 @@ engine::Scene job_scene(const Job& job, const std::vector<std::string>& names, c
   if (!file) throw InputError(where(manifest, 0, "scene") + "missing (engine runners need a scene file)");
   const auto overrides = scene_overrides(job, names, manifest);  // its errors name their own settings
   try {
-    return engine::load_scene(resolve_path(base_dir, file->value), overrides);
+    engine::Scene scene = engine::load_scene(resolve_path(base_dir, file->value), overrides);
+    (void)engine::backend_settings(scene.backend);  // the backend's own keys, checked before anything runs
+    return scene;
   } catch (const InputError& e) {
     throw InputError(where_of(*file, manifest, "scene") + e.what());
   }

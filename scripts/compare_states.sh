@@ -10,12 +10,13 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 W=${TMPDIR:-/tmp}/compare_states; rm -rf "$W"; mkdir -p "$W"
 same=0; different=0
 run() {  # SCENE BACKEND PRECISION
-  local tag v bin
+  local tag v bin platform=()
   tag="$(basename "$1" .yaml)_$2_$3"
+  case $2 in opencl*) platform=(--platform "$PLATFORM");; esac  # the OpenCL backends' setting: the others refuse it
   for v in old new; do
     bin=$OLD; [ "$v" = new ] && bin=$NEW
     "$bin" sim --scene "$here/scenes/$1" --out "$W/$v/$tag" --steps "$STEPS" --backend "$2" --precision "$3" \
-      --platform "$PLATFORM" --quiet --set output.snapshot_every=0 --set output.checkpoint_every=0 > "$W/$v.$tag.log" 2>&1 ||
+      "${platform[@]}" --quiet --set output.snapshot_every=0 --set output.checkpoint_every=0 > "$W/$v.$tag.log" 2>&1 ||
       { echo "$v $tag failed:"; tail -3 "$W/$v.$tag.log"; }
   done
   if h5diff "$W/old/$tag/final.h5" "$W/new/$tag/final.h5" /elements > /dev/null 2>&1 &&

@@ -11,10 +11,30 @@ std::string Failure::quantity() const {
   return code == 1 ? "position is not finite" : "displacement exceeds time.max_displacement";
 }
 
+BackendConfig backend_settings(const BackendConfig& config) {
+  const BackendInfo* chosen = Backends::find(config.name);
+  if (!chosen) throw InputError("backend '" + config.name + "' is unknown (known: " + Backends::known() + ")");
+  BackendConfig c = config;
+  if (!config.settings) return c;
+  const Section top = *config.settings;  // a copy: what it marks read is this call's, whichever backend runs next
+  for (const auto& name : Backends::names()) {
+    if (!top.has(name)) continue;
+    const Section own = top.child(name);
+    BackendConfig checked = c;
+    if (const auto& read = Backends::at(name).read) read(own, name == c.name ? c : checked);
+    own.finish("backend '" + name + "' does not use it");
+  }
+  if (chosen->read) chosen->read(top, c);
+  for (const auto& key : top.unread()) {
+    if (top.find(key)->kind == Settings::Kind::map) top.fail(key, "is not a backend (known: " + Backends::known() + ")");
+    top.fail(key, "backend '" + c.name + "' does not use it");
+  }
+  return c;
+}
+
 std::unique_ptr<Backend> make_backend(const BackendConfig& config) {
-  const BackendInfo* info = Backends::find(config.name);
-  if (!info) throw InputError("backend '" + config.name + "' is unknown (known: " + Backends::known() + ")");
-  return info->make(config);
+  const BackendConfig c = backend_settings(config);
+  return Backends::at(c.name).make(c);
 }
 
 Traffic Backend::traffic_total() const {

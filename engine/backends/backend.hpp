@@ -249,13 +249,23 @@ class PhaseScope {
 };
 
 using BackendFactory = std::function<std::unique_ptr<Backend>(const BackendConfig&)>;
-// A registered backend: `const Registrar<BackendInfo> registrar("name", {factory});` (common/registry.hpp).
+// A registered backend: `const Registrar<BackendInfo> registrar("name", {factory, read});` (common/registry.hpp).
 struct BackendInfo {
   static constexpr const char* kKind = "backend";
   static constexpr const char* kListed = "backends";
   BackendFactory make;
+  // Reads the backend's own settings from a section of the scene's `backend` map into the config (each key with the
+  // config's value as its fallback); nullptr: it has none. A key it does not read is an error (backend_settings).
+  std::function<void(const Section&, BackendConfig&)> read;
 };
 using Backends = PluginKind<BackendInfo>;
-std::unique_ptr<Backend> make_backend(const BackendConfig& config);  // InputError names the known ones
+// `config` with its backend's settings read from config.settings (the scene's `backend` map; a null one: `config` as
+// it is): first each registered backend NAME's own map `backend.NAME` that the scene has, read by NAME (the chosen
+// one's into the result, another's only checked), then the map's keys beside name, precision and those maps, read by
+// the chosen backend (they override its map: the flags --platform and --device, --set backend.KEY). Every key a
+// backend does not read is an InputError naming the file, line and field ("backend 'cpu-binned' does not use it");
+// an unknown backend is one naming the known ones.
+BackendConfig backend_settings(const BackendConfig& config);
+std::unique_ptr<Backend> make_backend(const BackendConfig& config);  // backend_settings, then the backend's factory
 
 }  // namespace semlb::engine

@@ -424,8 +424,16 @@ std::unique_ptr<Backend> make(const BackendConfig& c) {
   if (c.precision == "float") return std::make_unique<OpenClBackend<float>>(c, Binned);
   return std::make_unique<OpenClBackend<double>>(c, Binned);
 }
-const Registrar<BackendInfo> allpairs("opencl-allpairs", {make<false>});
-const Registrar<BackendInfo> binned("opencl-binned", {make<true>});
+// backend: {name: opencl-allpairs | opencl-binned, platform: NAME substring, device: index, skin: um (opencl-binned's
+// neighbour list, 0: none)}.
+template <bool Binned>
+void read(const Section& s, BackendConfig& c) {
+  c.platform = s.text("platform", c.platform);
+  c.device = static_cast<int>(s.integer("device", c.device, 0, 1024));
+  if (Binned) c.skin = s.real("skin", c.skin, 0, 1e3);
+}
+const Registrar<BackendInfo> allpairs("opencl-allpairs", {make<false>, read<false>});
+const Registrar<BackendInfo> binned("opencl-binned", {make<true>, read<true>});
 
 }  // namespace
 }  // namespace semlb::engine

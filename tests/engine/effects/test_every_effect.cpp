@@ -97,7 +97,7 @@ TEST_P(EveryEffect, SameStateOnEveryBackend) {
 TEST_P(EveryEffect, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
   // 400 cells over ~140 um in x: room for 4 slabs; rebalanced every 20 steps, so cells migrate.
   std::string args = " --scene " + scene() +
-                     " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=20"
+                     " --quiet --set tissue.cells=400 --set backend.cpu-binned.threads=1 --set decomposition.rebalance_every=20"
                      " --set time.cell_update_every=10 --steps 60";
   for (const auto& s : set()) args += " --set '" + s + "'";
   const std::string dir = test::fresh_dir("every_effect_" + GetParam().name);
