@@ -15,7 +15,7 @@
 #include "common/text_io.hpp"
 #include "engine/run/bench.hpp"
 #include "engine/decomposition/decomposition.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "engine/model/tissue.hpp"
 #include "runner.hpp"
 

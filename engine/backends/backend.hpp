@@ -9,15 +9,15 @@
 #include <string>
 #include <vector>
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "common/registry.hpp"
-#include "decomposition/slices.hpp"
+#include "model/slices.hpp"
 #include "model/scene.hpp"
 #include "model/state.hpp"
 
 namespace semlb::engine {
 
-// The scene's cell effects as one set of rules (backends/cells.h): growth and division (fate rules: fates/fate.hpp).
+// The scene's cell effects as one set of rules (physics/cells.h): growth and division (fate rules: fates/fate.hpp).
 using CellRules = cellrules::semlb_cell_rules;
 
 // The cell stage on the host State (cells.cpp): the reference. Growth and division of every
@@ -203,7 +203,7 @@ class Backend {
     (void)group, (void)groups;
     return {};
   }
-  // Where the backend's device is, for ranks that take turns on it (run/device_turns.hpp): "PLATFORM#INDEX" for an
+  // Where the backend's device is, for ranks that take turns on it (simulation/device_turns.hpp): "PLATFORM#INDEX" for an
   // OpenCL device; empty for the C++ backends (no device to share).
   virtual std::string device_key() const { return ""; }
   // Bytes moved host<->device since construction, per phase (set_phase names it; "other" before the first).

@@ -5,7 +5,7 @@
 #include <numeric>
 
 #include "backend.hpp"
-#include "cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "pairs/pair_term.hpp"
 #include "terms/term.hpp"
 

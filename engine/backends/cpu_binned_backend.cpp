@@ -2,7 +2,7 @@
 #include <omp.h>
 
 #include "cpu_backend.hpp"
-#include "decomposition/stencil.h"
+#include "physics/stencil.h"
 
 namespace semlb::engine {
 namespace {

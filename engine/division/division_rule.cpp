@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "effects/cell_fields.hpp"
 #include "effects/cell_types.hpp"
 #include "effects/chosen_rule.hpp"

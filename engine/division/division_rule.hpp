@@ -1,7 +1,7 @@
 // Division rules: whether a cell divides at a cell stage and the normal of its split plane (the division effect,
 // `effects.division: {rule: NAME, ...}`), each written once as a C99 evaluator header (division/NAME.h) and registered
 // by name. The split itself (the gyration tensor, the halves on either side of the plane through the centroid, the
-// daughter's id from division.depth, state.hpp) is the core's (backends/cells.h), run on the host by the C++ backends
+// daughter's id from division.depth, state.hpp) is the core's (physics/cells.h), run on the host by the C++ backends
 // and by the OpenCL kernel cells_plan, which calls the scene's rule by its index.
 #pragma once
 #include <functional>

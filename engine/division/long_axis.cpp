@@ -2,7 +2,7 @@
 // long_axis.h); the division rule a scene gets when it names none.
 #include "division_rule.hpp"
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 
 namespace semlb::engine::cellrules {
 #include "division/long_axis.h"

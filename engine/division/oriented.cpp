@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "common/text_io.hpp"
 
 namespace semlb::engine::cellrules {

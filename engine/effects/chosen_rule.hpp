@@ -1,5 +1,5 @@
 // The growth law or division rule a cell effect's section names (the `law` / `rule` key), read once: its name, its
-// index in the registry's name order (what the cell stage's rules carry, backends/cells.h) and its parameters.
+// index in the registry's name order (what the cell stage's rules carry, physics/cells.h) and its parameters.
 #pragma once
 #include <algorithm>
 #include <stdexcept>

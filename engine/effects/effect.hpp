@@ -1,6 +1,6 @@
 // Effects register by name and run only when a scene lists them: element effects add forces or
 // displacements on the backend every step; cell effects contribute their parameters to the cell stage's rules
-// (backends/cells.h), which the backend runs every cell update.
+// (physics/cells.h), which the backend runs every cell update.
 #pragma once
 #include <functional>
 #include <memory>

@@ -2,7 +2,7 @@
 // differentiation.h). The type selects the adhesion set of the pair term.
 #include "fate.hpp"
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "effects/cell_fields.hpp"
 
 namespace semlb::engine::cellrules {

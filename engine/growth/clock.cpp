@@ -2,7 +2,7 @@
 // cells of the listed types; with `front: {x0, speed}` only behind a proliferative front (evaluator: clock.h).
 #include "growth_law.hpp"
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "effects/cell_fields.hpp"
 #include "effects/cell_types.hpp"
 

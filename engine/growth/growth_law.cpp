@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "effects/cell_fields.hpp"
 #include "effects/chosen_rule.hpp"
 #include "effects/effect.hpp"

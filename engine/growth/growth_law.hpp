@@ -1,6 +1,6 @@
 // Growth laws: how many elements a cell adds at a cell stage (the growth effect, `effects.growth: {law: NAME, ...}`),
 // each written once as a C99 evaluator header (growth/NAME.h) and registered by name; the stage around it (newborns
-// placed at `offset` um from the centroid, the scans and the rewrite) is the core's (backends/cells.h), run on the
+// placed at `offset` um from the centroid, the scans and the rewrite) is the core's (physics/cells.h), run on the
 // host by the C++ backends and by the OpenCL kernel cells_plan, which calls the scene's law by its index.
 #pragma once
 #include <functional>

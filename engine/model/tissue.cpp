@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <tuple>
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "common/text_io.hpp"
 #include "io/io.hpp"
 

@@ -1,7 +1,7 @@
 // "desquamation": cells whose centroid rises above `height` um are shed (evaluator: desquamation.h).
 #include "removal.hpp"
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 
 namespace semlb::engine::cellrules {
 #include "removal/desquamation.h"

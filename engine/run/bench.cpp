@@ -4,8 +4,8 @@
 #include <chrono>
 
 #include "common/errors.hpp"
-#include "decomposition/stencil.h"
-#include "simulation.hpp"
+#include "physics/stencil.h"
+#include "simulation/simulation.hpp"
 #include "model/tissue.hpp"
 
 namespace semlb::engine {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "common/registry.hpp"
 #include "model/scene.hpp"
 #include "model/state.hpp"

@@ -17,7 +17,7 @@
 #include "engine/model/state.hpp"
 #include "engine/pairs/pair_term.hpp"
 #include "engine/io/io.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../run_command.hpp"
 
 namespace semlb::engine::testing {

@@ -9,10 +9,10 @@
 #include <fstream>
 #include <map>
 
-#include "engine/backends/cpu_physics.hpp"
+#include "engine/physics/cpu_physics.hpp"
 #include "engine/effects/cell_types.hpp"
 #include "engine/effects/effect.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"
 #include "../../run_command.hpp"
 

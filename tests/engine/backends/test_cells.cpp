@@ -1,4 +1,4 @@
-// The cell stage's core (backends/cells.h) piece by piece, and the device cell stage (OpenCL on PoCL)
+// The cell stage's core (physics/cells.h) piece by piece, and the device cell stage (OpenCL on PoCL)
 // against the host reference (serial) over a run in which cells grow, divide and differentiate.
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include "engine/backends/backend.hpp"
 #include "engine/division/division_rule.hpp"
 #include "engine/model/tissue.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"
 
 namespace semlb::engine {

@@ -5,8 +5,8 @@
 
 #include <algorithm>
 
-#include "engine/backends/cpu_physics.hpp"
-#include "engine/decomposition/slices.hpp"
+#include "engine/physics/cpu_physics.hpp"
+#include "engine/model/slices.hpp"
 #include "engine/effects/cell_fields.hpp"
 #include "engine/model/tissue.hpp"
 #include "../engine_fixtures.hpp"

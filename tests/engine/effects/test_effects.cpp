@@ -11,7 +11,7 @@
 #include "engine/effects/cell_fields.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/fates/fate.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "engine/model/tissue.hpp"
 #include "../engine_fixtures.hpp"
 

@@ -15,7 +15,7 @@
 #include "engine/growth/growth_law.hpp"
 #include "engine/model/tissue.hpp"
 #include "engine/pairs/pair_term.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"
 
 namespace semlb::engine {

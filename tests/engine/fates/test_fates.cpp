@@ -6,7 +6,7 @@
 #include <algorithm>
 
 #include "engine/backends/backend.hpp"
-#include "engine/backends/cpu_physics.hpp"
+#include "engine/physics/cpu_physics.hpp"
 #include "engine/effects/cell_fields.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/fates/fate.hpp"

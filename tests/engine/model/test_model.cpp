@@ -7,7 +7,7 @@
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
 #include "engine/backends/backend.hpp"
-#include "engine/backends/cpu_physics.hpp"
+#include "engine/physics/cpu_physics.hpp"
 #include "engine/model/scene.hpp"
 #include "engine/model/state.hpp"
 #include "engine/model/tissue.hpp"

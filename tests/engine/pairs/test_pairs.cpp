@@ -11,7 +11,7 @@
 
 #include "engine/effects/effect.hpp"
 #include "engine/pairs/pair_term.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"
 
 namespace semlb::engine {

@@ -9,7 +9,7 @@
 #include "engine/effects/effect.hpp"
 #include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"
 
 namespace semlb::engine {

@@ -8,7 +8,7 @@
 
 #include "engine/backends/backend.hpp"
 #include "engine/effects/effect.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "engine/terms/term.hpp"
 #include "../engine_fixtures.hpp"
 

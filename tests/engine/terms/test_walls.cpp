@@ -6,7 +6,7 @@
 
 #include "common/errors.hpp"
 #include "engine/backends/backend.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "engine/terms/term.hpp"
 #include "../engine_fixtures.hpp"
 
