@@ -16,6 +16,7 @@
 #include "engine/run/bench.hpp"
 #include "engine/decomposition/decomposition.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
 #include "runner.hpp"
 

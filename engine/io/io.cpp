@@ -10,6 +10,7 @@
 #include "common/h5.hpp"
 #include "common/text_io.hpp"
 #include "effects/cell_fields.hpp"
+#include "model/tissue.hpp"
 
 namespace semlb::engine {
 
@@ -252,5 +253,7 @@ void write_xdmf(const std::string& path, const std::vector<Snapshot>& snapshots)
   x << "  </Grid>\n </Domain>\n</Xdmf>\n";
   write_file_atomically(path, x.str());
 }
+
+State make_tissue(Scene& scene) { return make_tissue(scene, read_state); }
 
 }  // namespace semlb::engine

@@ -6,6 +6,7 @@
 #include "common/errors.hpp"
 #include "physics/stencil.h"
 #include "simulation/simulation.hpp"
+#include "io/io.hpp"
 #include "model/tissue.hpp"
 
 namespace semlb::engine {

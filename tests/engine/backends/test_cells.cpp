@@ -7,6 +7,7 @@
 
 #include "engine/backends/backend.hpp"
 #include "engine/division/division_rule.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"

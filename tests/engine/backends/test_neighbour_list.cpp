@@ -9,6 +9,7 @@
 #include <random>
 
 #include "engine/physics/cpu_physics.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"

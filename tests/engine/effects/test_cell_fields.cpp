@@ -8,6 +8,7 @@
 #include "engine/physics/cpu_physics.hpp"
 #include "engine/model/slices.hpp"
 #include "engine/effects/cell_fields.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
 #include "../engine_fixtures.hpp"
 

@@ -12,6 +12,7 @@
 #include "engine/effects/effect.hpp"
 #include "engine/fates/fate.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
 #include "../engine_fixtures.hpp"
 

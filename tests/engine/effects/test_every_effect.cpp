@@ -13,6 +13,7 @@
 #include "engine/division/division_rule.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/growth/growth_law.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
 #include "engine/pairs/pair_term.hpp"
 #include "engine/simulation/simulation.hpp"

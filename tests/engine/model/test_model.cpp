@@ -10,6 +10,7 @@
 #include "engine/physics/cpu_physics.hpp"
 #include "engine/model/scene.hpp"
 #include "engine/model/state.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
 
 namespace semlb::engine {
