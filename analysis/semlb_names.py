@@ -3,17 +3,14 @@ backend and cell-type names instead of typing them again."""
 import json
 import subprocess
 
-# The kinds `semlb list` takes (cli/cmd_list.cpp).
-KINDS = ("policies", "engine-policies", "effects", "backends", "cell-types", "runners", "launchers")
-
 
 class NamesError(Exception):
     """The binary could not list a kind; str() is one line naming the command and what went wrong."""
 
 
 def names(semlb, kind):
-    """The names the binary SEMLB registers for KIND (one of KINDS), in its order (by type index for cell-types, by
-    name otherwise): `semlb list KIND --json`. Raises NamesError naming the binary when it is missing, fails or prints
+    """The names the binary SEMLB registers for KIND (one of kinds(SEMLB)), in its order (by type index for
+    cell-types, by name otherwise): `semlb list KIND --json`. Raises NamesError naming the binary when it is missing, fails or prints
     something other than a JSON array of strings."""
     cmd = f"{semlb} list {kind} --json"
     try:
@@ -31,3 +28,9 @@ def names(semlb, kind):
     if not isinstance(got, list) or not all(isinstance(n, str) for n in got):
         raise NamesError(f"{cmd}: not a JSON array of names: {out.stdout.strip()[:80]!r}")
     return got
+
+
+def kinds(semlb):
+    """The kinds the binary SEMLB lists (`semlb list kinds --json`: its catalogue of registries, e.g. policies,
+    backends, pair-terms), in name order; NamesError as names()."""
+    return names(semlb, "kinds")

@@ -1,24 +1,15 @@
-// `semlb list WHAT [--json]`: what the registries hold (policies, the policies a simulation can run, effects and
-// the plug-in kinds among them, backends, cell types, runners, launchers, cell fields).
+// `semlb list WHAT [--json]`: what the registries hold, every kind read from the catalogue of kinds
+// (common/registry.hpp listed_kinds: each plug-in kind, the policies a simulation can run, the cell types);
+// `semlb list kinds` names the kinds.
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
 #include "common/errors.hpp"
+#include "common/registry.hpp"
 #include "controllers/policy.hpp"
-#include "engine/backends/backend.hpp"
 #include "engine/decomposition/decomposition.hpp"
-#include "engine/effects/cell_fields.hpp"
-#include "engine/division/division_rule.hpp"
-#include "engine/effects/effect.hpp"
-#include "engine/fates/fate.hpp"
-#include "engine/growth/growth_law.hpp"
-#include "engine/pairs/pair_term.hpp"
-#include "engine/removal/removal.hpp"
-#include "engine/terms/term.hpp"
 #include "engine/model/state.hpp"
-#include "experiments/runner.hpp"
-#include "experiments/sweep.hpp"
 
 namespace semlb::cli {
 namespace {
@@ -44,25 +35,16 @@ std::vector<std::string> cell_types() {
   return out;
 }
 
-// Every kind `semlb list` knows, in the order its help names them: its name and the function giving its names.
-struct Kind {
-  const char* name;
-  std::vector<std::string> (*names)();
-};
-const Kind kKinds[] = {{"policies", policy_names},          {"engine-policies", engine_policies},
-                       {"effects", engine::effect_names},    {"backends", engine::backend_names},
-                       {"cell-types", cell_types},           {"runners", experiments::runner_names},
-                       {"launchers", experiments::launcher_names}, {"cell-fields", engine::cell_field_names},
-                       {"pair-terms", engine::pair_term_names},   {"element-terms", engine::element_term_names},
-                       {"fate-rules", engine::fate_rule_names},   {"removal-rules", engine::removal_rule_names},
-                       {"growth-laws", engine::growth_law_names}, {"division-rules", engine::division_rule_names}};
+// The two lists that are no registry: in the catalogue of kinds beside the registries (common/registry.hpp).
+const ListedKind engine_policies_kind("engine-policies", engine_policies);
+const ListedKind cell_types_kind("cell-types", cell_types);
 
 }  // namespace
 
 std::vector<std::string> registered(const std::string& what) {
-  for (const auto& k : kKinds)
-    if (what == k.name) return k.names();
-  throw std::logic_error("semlb list: no kind '" + what + "'");  // callers pass one of kKinds
+  if (what == "kinds") return listed_kinds().names();
+  if (const KindNames* names = listed_kinds().find(what)) return (*names)();
+  throw std::logic_error("semlb list: no kind '" + what + "'");  // callers pass one of listed_kinds()
 }
 
 std::string registered_list(const std::string& what) {
@@ -77,14 +59,15 @@ Action add_list(CLI::App& app) {
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
-  std::vector<std::string> kinds;
-  for (const auto& k : kKinds) kinds.push_back(k.name);
+  std::vector<std::string> kinds = listed_kinds().names();
+  kinds.insert(kinds.begin(), "kinds");
   auto* sub = app.add_subcommand("list", "List what the registries hold, one name per line (or a JSON array)");
   sub->add_option("what", o->what,
-                  "policies, engine-policies (those a simulation can run: no true work needed), effects, backends, "
-                  "cell-types (by type index), runners, launchers, cell-fields (the per-cell fields effects declare), "
-                  "the effects of one plug-in kind: pair-terms (a scene lists one), element-terms, fate-rules, removal-rules, "
-                  "or the values of effects.growth.law (growth-laws) and effects.division.rule (division-rules)")
+                  "kinds (every kind this list knows), or one kind: " + listed_kinds().known() +
+                      ". engine-policies are the policies a simulation can run (no true work needed), cell-types are by "
+                      "type index, cell-fields the per-cell fields effects declare; pair-terms, element-terms, "
+                      "fate-rules and removal-rules are effects of one plug-in kind (a scene lists one pair term); "
+                      "growth-laws and division-rules are the values of effects.growth.law and effects.division.rule")
       ->required()
       ->check(CLI::IsMember(kinds));
   sub->add_flag("--json", o->json, "Print a JSON array of the names");

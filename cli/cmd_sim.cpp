@@ -11,7 +11,7 @@
 #include "engine/run/driver.hpp"
 #include "engine/decomposition/mpi.hpp"
 #include "engine/backends/opencl.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 
 namespace semlb::cli {
 

@@ -38,7 +38,7 @@ Action add_sweep(CLI::App& app) {
   sub->add_flag("--keep-runs", o->keep_runs,
                 "Keep each job's run files (engine MPI runs: scene.yaml, run.csv, rank_times.csv, trace.jsonl) under runs/ beside the CSV");
   std::string names;
-  for (const auto& n : experiments::launcher_names()) names += (names.empty() ? "" : ", ") + n;
+  for (const auto& n : experiments::Launchers::names()) names += (names.empty() ? "" : ", ") + n;
   sub->add_option("--launcher", o->launcher, "Where the jobs run: " + names)->capture_default_str();
   const std::string slurm = "Slurm (--launcher slurm)";
   std::vector<CLI::Option*> slurm_only = {

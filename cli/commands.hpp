@@ -19,10 +19,9 @@ Action add_train(CLI::App& app);
 Action add_sim(CLI::App& app);
 Action add_list(CLI::App& app);
 
-// The names a registry holds (any of the 14 kinds of cmd_list.cpp's kKinds: policies, engine-policies, effects,
-// backends, cell-types, runners, launchers, cell-fields, pair-terms, element-terms, fate-rules, removal-rules,
-// growth-laws, division-rules), as `semlb list WHAT` prints them, and as "a, b, c" for --help texts;
-// std::logic_error for another WHAT.
+// The names a registry holds (any kind of the catalogue common/registry.hpp listed_kinds, e.g. policies, backends,
+// pair-terms, or "kinds" for the kinds themselves), as `semlb list WHAT` prints them, and as "a, b, c" for --help
+// texts; std::logic_error for another WHAT.
 std::vector<std::string> registered(const std::string& what);
 std::string registered_list(const std::string& what);
 

@@ -1,9 +1,14 @@
-// A by-name registry filled by static registrar objects: policies, effects, backends, runners, launchers.
+// A by-name registry filled by static registrar objects, one per plug-in kind (PluginKind: policies, effects, backends,
+// runners, launchers, cell fields, the engine's terms and cell rules), and the catalogue of the kinds that `semlb list`
+// shows (listed_kinds).
 #pragma once
+#include <algorithm>
 #include <cctype>
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace semlb {
@@ -42,6 +47,67 @@ class Registry {
 
  private:
   std::map<std::string, T> entries_;
+};
+
+// Every kind `semlb list` shows, by the name it is listed under ("pair-terms"), with the function that gives its names:
+// each PluginKind adds itself when its first entry registers; a list that is no registry (the cell types by index)
+// adds itself with a ListedKind.
+using KindNames = std::vector<std::string> (*)();
+Registry<KindNames>& listed_kinds();
+struct ListedKind {
+  ListedKind(const std::string& kind, KindNames names) { listed_kinds().add(kind, names); }
+};
+
+namespace detail {
+template <class T, class = void>
+struct has_registering : std::false_type {};
+template <class T>
+struct has_registering<T, std::void_t<decltype(T::registering(std::declval<const std::string&>(), std::declval<const T&>()))>>
+    : std::true_type {};
+}  // namespace detail
+
+// One plug-in kind: the entries T (what a plug-in of the kind registers) by name, filled at static initialisation by
+// Registrar<T>. T names its kind with two members, and may check each registration with a third:
+//   static constexpr const char* kKind = "pair term";     // in messages: "no pair term 'x' (known: a, b)"
+//   static constexpr const char* kListed = "pair-terms";  // its name in `semlb list`
+//   static void registering(const std::string& name, const T& entry);  // optional: run before the entry is added
+//                                                                       // (checks; an effect of the same name)
+template <class T>
+class PluginKind {
+ public:
+  static void add(const std::string& name, T entry) {
+    if constexpr (detail::has_registering<T>::value) T::registering(name, entry);
+    entries().add(name, std::move(entry));
+  }
+  // The entry registered under `name`, or nullptr.
+  static const T* find(const std::string& name) { return entries().find(name); }
+  // The entry registered under `name`; std::logic_error "no KIND 'NAME' (known: ...)" when there is none (for names
+  // checked already: a scene's names are checked where they are read, with the file and line).
+  static const T& at(const std::string& name) { return entries().at(T::kKind, name); }
+  // The registered names, in name order.
+  static std::vector<std::string> names() { return entries().names(); }
+  // "a, b, c": for "unknown X 'y' (known: a, b, c)" messages.
+  static std::string known() { return entries().known(); }
+  // The position of `name` in names() (what generated code dispatches on), or -1.
+  static int index(const std::string& name) {
+    const auto all = names();
+    const auto it = std::find(all.begin(), all.end(), name);
+    return it == all.end() ? -1 : static_cast<int>(it - all.begin());
+  }
+
+ private:
+  static Registry<T>& entries() {
+    static Registry<T> r = (listed_kinds().add(T::kListed, &PluginKind::names), Registry<T>{});
+    return r;
+  }
+};
+
+// A plug-in file registers itself with one line at namespace scope, whatever its kind:
+//   const Registrar<PairTerm> registrar("mechanics", {10, read, ...});
+// std::logic_error when the name is registered twice or T::registering refuses it.
+template <class T>
+struct Registrar {
+  Registrar(const std::string& name, T entry) { PluginKind<T>::add(name, std::move(entry)); }
 };
 
 // True when `name` is a C identifier ([A-Za-z_][A-Za-z0-9_]*): plug-ins whose name also names generated code (the

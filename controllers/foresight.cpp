@@ -147,9 +147,9 @@ std::vector<int> ForesightPolicy::decide(const Observation&) {
 }
 
 namespace {
-const Registrar foresight_registrar("foresight", [](PolicyParams& p) {
+const Registrar<PolicyInfo> foresight_registrar("foresight", {[](PolicyParams& p) {
   return std::make_unique<ForesightPolicy>(p.real("lambda", 0.001, 0.0, 1e6));
-}, PolicyNeeds{.true_work = true});
+}, PolicyNeeds{.true_work = true}});
 }  // namespace
 
 }  // namespace semlb

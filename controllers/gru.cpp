@@ -222,7 +222,7 @@ class GruPolicy final : public Policy {
   Eigen::MatrixXd hidden_;  // H x B: one hidden state per boundary
 };
 
-const Registrar gru_registrar("gru", [](PolicyParams& params) {
+const Registrar<PolicyInfo> gru_registrar("gru", {[](PolicyParams& params) {
   ReactiveParams p;
   p.tau = params.real("tau", p.tau, 0.0, kMaxThreshold);
   p.alpha = params.real("alpha", p.alpha, 0.0, 2.0, true, true);
@@ -231,7 +231,7 @@ const Registrar gru_registrar("gru", [](PolicyParams& params) {
     throw InputError("policy 'gru': no --weights given and the shipped default " + default_gru_weights_path() +
                      " does not exist (train one with `semlb train`)");
   return std::make_unique<GruPolicy>(load_gru_weights(resolve_gru_weights(path)), p);
-});
+}});
 
 }  // namespace
 

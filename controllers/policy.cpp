@@ -4,24 +4,13 @@
 #include <algorithm>
 
 #include "common/errors.hpp"
-#include "common/registry.hpp"
 
 namespace semlb {
 namespace {
 
-struct Entry {
-  PolicyFactory factory;
-  PolicyNeeds needs;
-};
-
-Registry<Entry>& registry() {
-  static Registry<Entry> r;
-  return r;
-}
-
-const Entry& entry(const std::string& name) {
-  const Entry* e = registry().find(name);
-  if (!e) throw InputError("unknown policy '" + name + "' (known: " + registry().known() + ")");
+const PolicyInfo& entry(const std::string& name) {
+  const PolicyInfo* e = PluginKind<PolicyInfo>::find(name);
+  if (!e) throw InputError("unknown policy '" + name + "' (known: " + PluginKind<PolicyInfo>::known() + ")");
   return *e;
 }
 
@@ -41,10 +30,6 @@ void Policy::load_state(const PolicyState& s) {
   if (!s.empty()) throw InputError("policy state: this policy keeps no history, the checkpoint has '" + s.begin()->first + "'");
 }
 
-Registrar::Registrar(const std::string& name, PolicyFactory factory, PolicyNeeds needs) {
-  registry().add(name, {std::move(factory), needs});
-}
-
 PolicyNeeds policy_needs(const std::string& name) { return entry(name).needs; }
 
 std::unique_ptr<Policy> make_policy(const std::string& name, PolicyParams params) {
@@ -53,6 +38,6 @@ std::unique_ptr<Policy> make_policy(const std::string& name, PolicyParams params
   return policy;
 }
 
-std::vector<std::string> policy_names() { return registry().names(); }
+std::vector<std::string> policy_names() { return PluginKind<PolicyInfo>::names(); }
 
 }  // namespace semlb

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/registry.hpp"
 #include "common/settings.hpp"
 #include "observation.hpp"
 
@@ -69,9 +70,12 @@ class PolicyParams {
 
 using PolicyFactory = std::function<std::unique_ptr<Policy>(PolicyParams&)>;
 
-// Registers a factory at static-initialisation time: `static Registrar reg("name", factory);`.
-struct Registrar {
-  Registrar(const std::string& name, PolicyFactory factory, PolicyNeeds needs = {});
+// A registered policy: `const Registrar<PolicyInfo> registrar("name", {factory, needs});` (common/registry.hpp).
+struct PolicyInfo {
+  static constexpr const char* kKind = "policy";
+  static constexpr const char* kListed = "policies";
+  PolicyFactory factory;
+  PolicyNeeds needs = {};
 };
 
 // Builds a registered policy; throws InputError for an unknown name or an unknown/invalid parameter.

@@ -65,17 +65,15 @@ class LazyOraclePolicy final : public Policy {
 constexpr PolicyNeeds kSliceWork{.slice_work = true};
 constexpr PolicyNeeds kTrueWork{.true_work = true};
 
-const Registrar persistence_registrar(
-    "persistence", [](PolicyParams&) { return std::make_unique<PersistencePolicy>(); }, kSliceWork);
+const Registrar<PolicyInfo> persistence_registrar("persistence", {[](PolicyParams&) { return std::make_unique<PersistencePolicy>(); }, kSliceWork});
 // Defaults chosen on training seeds only (experiments/holt_tuning.yaml; docs/controllers.md).
-const Registrar holt_registrar("holt", [](PolicyParams& p) {
+const Registrar<PolicyInfo> holt_registrar("holt", {[](PolicyParams& p) {
   return std::make_unique<HoltPolicy>(p.real("alpha", 0.2, 0.0, 1.0, true), p.real("beta", 0.0, 0.0, 1.0));
-}, kSliceWork);
-const Registrar oracle_registrar(
-    "oracle", [](PolicyParams&) { return std::make_unique<OraclePolicy>(); }, kTrueWork);
-const Registrar lazy_oracle_registrar("lazy_oracle", [](PolicyParams& p) {
+}, kSliceWork});
+const Registrar<PolicyInfo> oracle_registrar("oracle", {[](PolicyParams&) { return std::make_unique<OraclePolicy>(); }, kTrueWork});
+const Registrar<PolicyInfo> lazy_oracle_registrar("lazy_oracle", {[](PolicyParams& p) {
   return std::make_unique<LazyOraclePolicy>(p.real("tau", 0.1, 0.0, kMaxThreshold), p.real("slack", 0.0, 0.0, 10.0));
-}, kTrueWork);
+}, kTrueWork});
 
 }  // namespace
 }  // namespace semlb

@@ -15,7 +15,8 @@
 #include "common/text_io.hpp"
 #include "engine/run/bench.hpp"
 #include "engine/decomposition/decomposition.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
 #include "runner.hpp"
 
@@ -304,9 +305,9 @@ class ObservablesRunner final : public Runner {
   mutable std::map<std::string, std::vector<Observables>> cache_;
 };
 
-const RunnerRegistrar timing("engine_timing", [] { return std::make_unique<TimingRunner>(); });
-const RunnerRegistrar accuracy("engine_accuracy", [] { return std::make_unique<AccuracyRunner>(); });
-const RunnerRegistrar observables("engine_observables", [] { return std::make_unique<ObservablesRunner>(); });
+const Registrar<RunnerInfo> timing("engine_timing", {[] { return std::make_unique<TimingRunner>(); }});
+const Registrar<RunnerInfo> accuracy("engine_accuracy", {[] { return std::make_unique<AccuracyRunner>(); }});
+const Registrar<RunnerInfo> observables("engine_observables", {[] { return std::make_unique<ObservablesRunner>(); }});
 
 }  // namespace
 }  // namespace semlb::experiments

@@ -131,7 +131,7 @@ Launch launch(const Job& job, const RunOptions& o) {
     argv.push_back("-np");
   }
   argv.insert(argv.end(), {job.text("ranks", "1"), fs::read_symlink("/proc/self/exe").string(), "sim", "--quiet", "--scene", scene,
-                           "--out", dir.string(), "--set", "backend.threads=1"});
+                           "--out", dir.string(), "--set", "backend.cpu-binned.threads=1"});
   auto overrides = scene_overrides(job, kSceneNames, "");
   const std::string policy = row_policy(job, "", o).first;
   for (const auto& [k, s] : job.settings)
@@ -316,9 +316,9 @@ class MpiIntervalsRunner final : public Runner {
   }
 };
 
-const RunnerRegistrar sim("mpi_sim", [] { return std::make_unique<MpiSimRunner>(); });
-const RunnerRegistrar intervals("mpi_intervals", [] { return std::make_unique<MpiIntervalsRunner>(); });
-const RunnerRegistrar end_to_end("mpi_end_to_end", [] { return std::make_unique<MpiEndToEndRunner>(); });
+const Registrar<RunnerInfo> sim("mpi_sim", {[] { return std::make_unique<MpiSimRunner>(); }});
+const Registrar<RunnerInfo> intervals("mpi_intervals", {[] { return std::make_unique<MpiIntervalsRunner>(); }});
+const Registrar<RunnerInfo> end_to_end("mpi_end_to_end", {[] { return std::make_unique<MpiEndToEndRunner>(); }});
 
 }  // namespace
 }  // namespace semlb::experiments

@@ -98,7 +98,7 @@ class ReplayScoreRunner final : public Runner {
   }
 };
 
-const RunnerRegistrar registrar("replay_score", [] { return std::make_unique<ReplayScoreRunner>(); });
+const Registrar<RunnerInfo> registrar("replay_score", {[] { return std::make_unique<ReplayScoreRunner>(); }});
 
 }  // namespace
 }  // namespace semlb::experiments

@@ -6,17 +6,11 @@
 #include <map>
 
 #include "common/errors.hpp"
-#include "common/registry.hpp"
+#include "engine/backends/backend.hpp"
 #include "engine/model/scene.hpp"
 #include "surrogate/evaluate.hpp"
 
 namespace semlb::experiments {
-namespace {
-Registry<std::function<std::unique_ptr<Runner>()>>& registry() {
-  static Registry<std::function<std::unique_ptr<Runner>()>> r;
-  return r;
-}
-}  // namespace
 
 std::string resolve_path(const std::string& base_dir, const std::string& file) {
   const std::filesystem::path p(file);
@@ -39,7 +33,9 @@ engine::Scene job_scene(const Job& job, const std::vector<std::string>& names, c
   if (!file) throw InputError(where(manifest, 0, "scene") + "missing (engine runners need a scene file)");
   const auto overrides = scene_overrides(job, names, manifest);  // its errors name their own settings
   try {
-    return engine::load_scene(resolve_path(base_dir, file->value), overrides);
+    engine::Scene scene = engine::load_scene(resolve_path(base_dir, file->value), overrides);
+    (void)engine::backend_settings(scene.backend);  // the backend's own keys, checked before anything runs
+    return scene;
   } catch (const InputError& e) {
     throw InputError(where_of(*file, manifest, "scene") + e.what());
   }
@@ -94,17 +90,11 @@ void check_policy_params(const Job& job, const std::string& manifest) {
   }
 }
 
-RunnerRegistrar::RunnerRegistrar(const std::string& name, std::function<std::unique_ptr<Runner>()> factory) {
-  registry().add(name, std::move(factory));
-}
-
 std::unique_ptr<Runner> make_runner(const std::string& name, const std::string& manifest) {
-  const auto* factory = registry().find(name);
-  if (!factory)
-    throw InputError(where(manifest, 0, "runner") + "unknown runner '" + name + "' (known: " + registry().known() + ")");
-  return (*factory)();
+  const RunnerInfo* info = Runners::find(name);
+  if (!info)
+    throw InputError(where(manifest, 0, "runner") + "unknown runner '" + name + "' (known: " + Runners::known() + ")");
+  return info->make();
 }
-
-std::vector<std::string> runner_names() { return registry().names(); }
 
 }  // namespace semlb::experiments

@@ -52,7 +52,8 @@ std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::
 // BASE_DIR, the manifest's folder), with scene_overrides(job, names, manifest) applied. InputError "MANIFEST: field
 // 'scene': missing (...)" without a `scene` setting; a mistyped override is scene_overrides' InputError (naming the
 // override's line); an InputError about the file or what an override sets in it is prefixed with where `scene` was
-// set ("m.yaml:7: field 'scene': scene.yaml:3: field 'tiem': unknown setting").
+// set ("m.yaml:7: field 'scene': scene.yaml:3: field 'tiem': unknown setting"), as is a key of the `backend` map the
+// row's backend does not use (engine::backend_settings).
 engine::Scene job_scene(const Job& job, const std::vector<std::string>& names, const std::string& manifest, const std::string& base_dir);
 
 // "KEY=VALUE;" for every setting, in the job's order: a key for caches and scratch folders (the same settings give
@@ -77,12 +78,14 @@ std::map<std::string, PolicyParams> policy_params(const Job& job, const std::str
 // a bad parameter is refused before anything runs; InputError names the parameter's line.
 void check_policy_params(const Job& job, const std::string& manifest);
 
-struct RunnerRegistrar {
-  RunnerRegistrar(const std::string& name, std::function<std::unique_ptr<Runner>()> factory);
+// A registered runner: `const Registrar<RunnerInfo> registrar("name", {factory});` (common/registry.hpp).
+struct RunnerInfo {
+  static constexpr const char* kKind = "runner";
+  static constexpr const char* kListed = "runners";
+  std::function<std::unique_ptr<Runner>()> make;
 };
+using Runners = PluginKind<RunnerInfo>;
 
 std::unique_ptr<Runner> make_runner(const std::string& name, const std::string& manifest);
-// The registered runner names, in name order (`semlb list runners`).
-std::vector<std::string> runner_names();
 
 }  // namespace semlb::experiments

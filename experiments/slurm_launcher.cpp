@@ -336,7 +336,7 @@ SweepSummary run_slurm(const Manifest& m, const std::vector<std::string>& overri
   return sum;
 }
 
-const LauncherRegistrar slurm("slurm", run_slurm);
+const Registrar<LauncherInfo> slurm("slurm", {run_slurm});
 
 }  // namespace
 }  // namespace semlb::experiments

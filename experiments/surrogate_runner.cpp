@@ -60,7 +60,7 @@ class SurrogateRunner final : public Runner {
   }
 };
 
-const RunnerRegistrar registrar("surrogate", [] { return std::make_unique<SurrogateRunner>(); });
+const Registrar<RunnerInfo> registrar("surrogate", {[] { return std::make_unique<SurrogateRunner>(); }});
 
 }  // namespace
 }  // namespace semlb::experiments

@@ -378,11 +378,6 @@ void SweepPlan::finish(const std::vector<std::string>& overrides, const SweepOpt
 
 namespace {
 
-Registry<Launcher>& launchers() {
-  static Registry<Launcher> r;
-  return r;
-}
-
 // The local launcher: worker threads on this machine, one OUTPUT.partial append per finished job.
 SweepSummary run_local(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o) {
   SweepPlan plan(m, o);
@@ -427,21 +422,17 @@ SweepSummary run_local(const Manifest& m, const std::vector<std::string>& overri
   return sum;
 }
 
-const LauncherRegistrar local("local", run_local);
+const Registrar<LauncherInfo> local("local", {run_local});
 
 }  // namespace
 
-LauncherRegistrar::LauncherRegistrar(const std::string& name, Launcher launcher) { launchers().add(name, std::move(launcher)); }
-
-std::vector<std::string> launcher_names() { return launchers().names(); }
-
 SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o) {
-  const Launcher* launcher = launchers().find(o.launcher);
-  if (!launcher) throw InputError("--launcher: unknown launcher '" + o.launcher + "' (known: " + launchers().known() + ")");
+  const LauncherInfo* launcher = Launchers::find(o.launcher);
+  if (!launcher) throw InputError("--launcher: unknown launcher '" + o.launcher + "' (known: " + Launchers::known() + ")");
   // A SIGINT, SIGTERM or SIGHUP of the sweep stops the rows' children (mpiexec and its ranks), removes their run
   // folders and the results folder's lock, then ends the sweep by that signal (docs/experiments.md, "Signals").
   const SignalCleanup cleanup;
-  return (*launcher)(m, overrides, o);
+  return launcher->launch(m, overrides, o);
 }
 
 }  // namespace semlb::experiments

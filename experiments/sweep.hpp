@@ -116,9 +116,12 @@ SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overri
 
 // Launchers by name (`--launcher`): "local" (worker threads on this machine) and "slurm" (slurm_launcher.cpp).
 using Launcher = std::function<SweepSummary(const Manifest&, const std::vector<std::string>&, const SweepOptions&)>;
-struct LauncherRegistrar {
-  LauncherRegistrar(const std::string& name, Launcher launcher);
+// A registered launcher: `const Registrar<LauncherInfo> registrar("name", {launcher});` (common/registry.hpp).
+struct LauncherInfo {
+  static constexpr const char* kKind = "launcher";
+  static constexpr const char* kListed = "launchers";
+  Launcher launch;
 };
-std::vector<std::string> launcher_names();
+using Launchers = PluginKind<LauncherInfo>;
 
 }  // namespace semlb::experiments

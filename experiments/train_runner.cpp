@@ -72,7 +72,7 @@ class TrainRunner final : public Runner {
   }
 };
 
-const RunnerRegistrar registrar("train", [] { return std::make_unique<TrainRunner>(); });
+const Registrar<RunnerInfo> registrar("train", {[] { return std::make_unique<TrainRunner>(); }});
 
 }  // namespace
 }  // namespace semlb::experiments

@@ -91,7 +91,7 @@ class WorkloadEvalRunner final : public Runner {
   }
 };
 
-const RunnerRegistrar registrar("workload_eval", [] { return std::make_unique<WorkloadEvalRunner>(); });
+const Registrar<RunnerInfo> registrar("workload_eval", {[] { return std::make_unique<WorkloadEvalRunner>(); }});
 
 }  // namespace
 }  // namespace semlb::experiments

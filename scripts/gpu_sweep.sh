@@ -12,4 +12,5 @@ if [[ ! -x $BUILD/cli/semlb ]]; then
   cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DSEMLB_BUILD_TESTS=OFF -DSEMLB_WITH_TORCH=OFF >/dev/null
   cmake --build "$BUILD" -j"$(nproc)" --target semlb >/dev/null
 fi
-exec "$BUILD/cli/semlb" sweep "$@" --profile paper --set scene.backend.platform=NVIDIA --set scene.backend.precision=float
+exec "$BUILD/cli/semlb" sweep "$@" --profile paper --set scene.backend.opencl-allpairs.platform=NVIDIA \
+  --set scene.backend.opencl-binned.platform=NVIDIA --set scene.backend.precision=float

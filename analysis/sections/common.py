@@ -277,8 +277,8 @@ class Context:
         return default
 
     def names(self, kind):
-        """The names the binary registers for KIND (semlb_names.names: policies, engine-policies, effects,
-        backends, cell-types, runners, launchers), asked once per kind; semlb_names.NamesError (one line) when the
+        """The names the binary registers for KIND (semlb_names.names: any kind of semlb_names.kinds, e.g. policies,
+        engine-policies, effects, backends, cell-types), asked once per kind; semlb_names.NamesError (one line) when the
         binary cannot list them."""
         if kind not in self._names:
             self._names[kind] = semlb_names.names(self.semlb, kind)

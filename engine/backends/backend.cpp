@@ -2,33 +2,39 @@
 #include "backend.hpp"
 
 #include "common/errors.hpp"
-#include "common/registry.hpp"
 #include "fates/fate.hpp"
 #include "removal/removal.hpp"
 
 namespace semlb::engine {
-namespace {
-Registry<BackendFactory>& registry() {
-  static Registry<BackendFactory> r;
-  return r;
-}
-}  // namespace
-
 std::string Failure::quantity() const {
   if (code == 3) return "force sum beyond the fixed-point range";
   return code == 1 ? "position is not finite" : "displacement exceeds time.max_displacement";
 }
 
-BackendRegistrar::BackendRegistrar(const std::string& name, BackendFactory factory) {
-  registry().add(name, std::move(factory));
+BackendConfig backend_settings(const BackendConfig& config) {
+  const BackendInfo* chosen = Backends::find(config.name);
+  if (!chosen) throw InputError("backend '" + config.name + "' is unknown (known: " + Backends::known() + ")");
+  BackendConfig c = config;
+  if (!config.settings) return c;
+  const Section top = *config.settings;  // a copy: what it marks read is this call's, whichever backend runs next
+  for (const auto& name : Backends::names()) {
+    if (!top.has(name)) continue;
+    const Section own = top.child(name);
+    BackendConfig checked = c;
+    if (const auto& read = Backends::at(name).read) read(own, name == c.name ? c : checked);
+    own.finish("backend '" + name + "' does not use it");
+  }
+  if (chosen->read) chosen->read(top, c);
+  for (const auto& key : top.unread()) {
+    if (top.find(key)->kind == Settings::Kind::map) top.fail(key, "is not a backend (known: " + Backends::known() + ")");
+    top.fail(key, "backend '" + c.name + "' does not use it");
+  }
+  return c;
 }
 
-std::vector<std::string> backend_names() { return registry().names(); }
-
 std::unique_ptr<Backend> make_backend(const BackendConfig& config) {
-  const BackendFactory* factory = registry().find(config.name);
-  if (!factory) throw InputError("backend '" + config.name + "' is unknown (known: " + registry().known() + ")");
-  return (*factory)(config);
+  const BackendConfig c = backend_settings(config);
+  return Backends::at(c.name).make(c);
 }
 
 Traffic Backend::traffic_total() const {
@@ -70,7 +76,7 @@ void Backend::take_leavers(State& host, const SliceMap& map, const std::vector<i
 }
 
 long Backend::remove_cells(State& host, const std::string& rule, const std::vector<double>& params) {
-  const RemovalEvaluator removes = removal_rule(rule).removes;
+  const RemovalEvaluator removes = RemovalRules::at(rule).removes;
   download(host);
   State kept = empty_like(host);
   long removed = 0;
@@ -87,7 +93,7 @@ long Backend::remove_cells(State& host, const std::string& rule, const std::vect
 }
 
 void Backend::cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field, double elapsed_h) {
-  const FateEvaluator decides = fate_rule(rule).decides;
+  const FateEvaluator decides = FateRules::at(rule).decides;
   download(host);
   std::vector<double>* column = host.cell_field_at(field);
   for (long c = 0; c < host.cells(); ++c) {

@@ -9,14 +9,15 @@
 #include <string>
 #include <vector>
 
-#include "backends/cpu_physics.hpp"
-#include "decomposition/slices.hpp"
+#include "physics/cpu_physics.hpp"
+#include "common/registry.hpp"
+#include "model/slices.hpp"
 #include "model/scene.hpp"
 #include "model/state.hpp"
 
 namespace semlb::engine {
 
-// The scene's cell effects as one set of rules (backends/cells.h): growth and division (fate rules: fates/fate.hpp).
+// The scene's cell effects as one set of rules (physics/cells.h): growth and division (fate rules: fates/fate.hpp).
 using CellRules = cellrules::semlb_cell_rules;
 
 // The cell stage on the host State (cells.cpp): the reference. Growth and division of every
@@ -212,7 +213,7 @@ class Backend {
     (void)group, (void)groups;
     return {};
   }
-  // Where the backend's device is, for ranks that take turns on it (run/device_turns.hpp): "PLATFORM#INDEX" for an
+  // Where the backend's device is, for ranks that take turns on it (simulation/device_turns.hpp): "PLATFORM#INDEX" for an
   // OpenCL device; empty for the C++ backends (no device to share).
   virtual std::string device_key() const { return ""; }
   // Bytes moved host<->device since construction, per phase (set_phase names it; "other" before the first).
@@ -258,10 +259,23 @@ class PhaseScope {
 };
 
 using BackendFactory = std::function<std::unique_ptr<Backend>(const BackendConfig&)>;
-struct BackendRegistrar {
-  BackendRegistrar(const std::string& name, BackendFactory factory);
+// A registered backend: `const Registrar<BackendInfo> registrar("name", {factory, read});` (common/registry.hpp).
+struct BackendInfo {
+  static constexpr const char* kKind = "backend";
+  static constexpr const char* kListed = "backends";
+  BackendFactory make;
+  // Reads the backend's own settings from a section of the scene's `backend` map into the config (each key with the
+  // config's value as its fallback); nullptr: it has none. A key it does not read is an error (backend_settings).
+  std::function<void(const Section&, BackendConfig&)> read;
 };
-std::unique_ptr<Backend> make_backend(const BackendConfig& config);  // InputError names the known ones
-std::vector<std::string> backend_names();
+using Backends = PluginKind<BackendInfo>;
+// `config` with its backend's settings read from config.settings (the scene's `backend` map; a null one: `config` as
+// it is): first each registered backend NAME's own map `backend.NAME` that the scene has, read by NAME (the chosen
+// one's into the result, another's only checked), then the map's keys beside name, precision and those maps, read by
+// the chosen backend (they override its map: the flags --platform and --device, --set backend.KEY). Every key a
+// backend does not read is an InputError naming the file, line and field ("backend 'cpu-binned' does not use it");
+// an unknown backend is one naming the known ones.
+BackendConfig backend_settings(const BackendConfig& config);
+std::unique_ptr<Backend> make_backend(const BackendConfig& config);  // backend_settings, then the backend's factory
 
 }  // namespace semlb::engine

@@ -113,7 +113,7 @@ __kernel void cells_rewrite(int n, semlb_cell_rules r, ulong seed, ulong step, _
 
 /* ---- The decomposition on the device: W_s (a reduction) and migration (owners, packing, compaction). ---- */
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
-/* Grid::bin_of, SliceMap::slice_of, owner_of and the 27-bin count of W_s (decomposition/slices.hpp) in double. */
+/* Grid::bin_of, SliceMap::slice_of, owner_of and the 27-bin count of W_s (model/slices.hpp) in double. */
 #define SEMLB_FLOOR floor
 #define SEMLB_GLOBAL __global
 #include "slices.h"

@@ -31,13 +31,14 @@ std::vector<double>* column(const std::vector<std::vector<double>*>& rec, int k,
     throw std::logic_error(std::string("the cell rules' ") + rule + " field index " + std::to_string(k) + " is not in the record");
   return k < 0 ? nullptr : rec[k];
 }
-// The plug-in at `index` of `names` (the rules' index of the scene's law or rule), or nullptr for -1.
-template <class T, class Lookup>
-const T* plugin_at(int index, const std::vector<std::string>& names, Lookup lookup, const char* kind) {
+// The plug-in of kind T at `index` of its names (the rules' index of the scene's law or rule), or nullptr for -1.
+template <class T>
+const T* plugin_at(int index) {
   if (index == -1) return nullptr;
+  const auto names = PluginKind<T>::names();
   if (index < 0 || index >= static_cast<int>(names.size()))
-    throw std::logic_error(std::string("the cell rules' ") + kind + " index " + std::to_string(index) + " is not registered");
-  return &lookup(names[index]);
+    throw std::logic_error(std::string("the cell rules' ") + T::kKind + " index " + std::to_string(index) + " is not registered");
+  return &PluginKind<T>::at(names[index]);
 }
 }  // namespace
 
@@ -53,8 +54,8 @@ bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_
   using namespace cellrules;
   const long n = s.cells();
   const auto rec = record(s, r);
-  const GrowthLaw* law = plugin_at<GrowthLaw>(r.growth, growth_law_names(), growth_law, "growth law");
-  const DivisionRule* rule = plugin_at<DivisionRule>(r.division, division_rule_names(), division_rule, "division rule");
+  const GrowthLaw* law = plugin_at<GrowthLaw>(r.growth);
+  const DivisionRule* rule = plugin_at<DivisionRule>(r.division);
   std::vector<double>* field = column(rec, r.growth_field, law && !law->field.empty(), "growth");
   std::vector<double>* depth = column(rec, r.depth_field, rule != nullptr, "division");
   std::vector<int> births(n, 0);
@@ -70,7 +71,7 @@ bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_
     semlb_cell_centroid(s.position.data(), s.cell_first[c], s.cell_count[c], old_centroid[c].data());
     if (law) births[c] = law->births(s.cell_type[c], s.cell_count[c], ctr, r.time, elapsed_h, r.growth_p, &f);
     if (births[c] < 0 || s.cell_count[c] + births[c] > kMaxSlots - 1)
-      throw std::runtime_error("cell " + std::to_string(s.cell_id[c]) + ": growth law '" + growth_law_names()[r.growth] +
+      throw std::runtime_error("cell " + std::to_string(s.cell_id[c]) + ": growth law '" + GrowthLaws::names()[r.growth] +
                                "' gave births outside 0 to " + std::to_string(kMaxSlots - 1 - s.cell_count[c]) + " to its " +
                                std::to_string(s.cell_count[c]) + " elements (a cell holds at most " + std::to_string(kMaxSlots - 1) + ")");
     if (field) (*field)[c] = f;

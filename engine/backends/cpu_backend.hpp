@@ -5,7 +5,7 @@
 #include <numeric>
 
 #include "backend.hpp"
-#include "cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "pairs/pair_term.hpp"
 #include "terms/term.hpp"
 
@@ -101,7 +101,7 @@ class CpuBackend : public Backend {
     std::vector<Real> p;
     Real c2;
     explicit PairLoop(const PairForces& f) : p(f.params.begin(), f.params.end()), c2(static_cast<Real>(f.cutoff * f.cutoff)) {
-      if constexpr (std::is_same_v<Real, double>) law = pair_term(f.term).f64; else law = pair_term(f.term).f32;
+      if constexpr (std::is_same_v<Real, double>) law = PairTerms::at(f.term).f64; else law = PairTerms::at(f.term).f32;
     }
     void add(Real dx, Real dy, Real dz, int ii, int ij, uint64_t ki, uint64_t kj, int64_t* acc) const {
       if (!(dx * dx + dy * dy + dz * dz >= c2)) law(dx, dy, dz, ii, ij, ki, kj, p.data(), c2, acc);
@@ -109,7 +109,7 @@ class CpuBackend : public Backend {
   };
 
   void element_term(const std::string& name, const std::vector<double>& params) override {
-    const ElementTerm& term = engine::element_term(name);
+    const ElementTerm& term = engine::ElementTerms::at(name);
     TermEvaluator<Real> evaluate;
     if constexpr (std::is_same_v<Real, double>) evaluate = term.f64; else evaluate = term.f32;
     count(name);

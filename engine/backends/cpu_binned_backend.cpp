@@ -2,7 +2,7 @@
 #include <omp.h>
 
 #include "cpu_backend.hpp"
-#include "decomposition/stencil.h"
+#include "physics/stencil.h"
 
 namespace semlb::engine {
 namespace {
@@ -106,7 +106,9 @@ std::unique_ptr<Backend> make(const BackendConfig& c) {
   if (c.precision == "float") return std::make_unique<CpuBinnedBackend<float>>(c.threads);
   return std::make_unique<CpuBinnedBackend<double>>(c.threads);
 }
-const BackendRegistrar registrar("cpu-binned", make);
+// backend: {name: cpu-binned, threads: N (0: all hardware threads)}.
+void read(const Section& s, BackendConfig& c) { c.threads = static_cast<int>(s.integer("threads", c.threads, 0, 4096)); }
+const Registrar<BackendInfo> registrar("cpu-binned", {make, read});
 
 }  // namespace
 }  // namespace semlb::engine

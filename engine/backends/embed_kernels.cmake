@@ -1,5 +1,5 @@
 # Writes OUT: a C++ string holding KERNELS with each `#include "PART"` replaced by that file of PARTS
-# ('|'-separated: the .cl parts of backends/ and the headers they include), then `#include "evaluator.h"` and
+# ('|'-separated: the .cl parts of backends/ and the physics/ headers they include), then `#include "evaluator.h"` and
 # `#include "cells.h"` by EVALUATOR and CELLS, and the plug-ins' markers by their code: `#include "pair_terms.cl"` by
 # every header pairs/NAME.h of PAIRS ('|'-separated; no template); `#include "element_terms.cl"` by, for each header
 # terms/NAME.h of TERMS ('|'-separated), the header and then TERM_TEMPLATE with NAME for @TERM@ (terms/term.hpp);
@@ -80,7 +80,7 @@ endfunction()
 expand_choice(growth_laws.cl "${GROWTHS}" ${GROWTH_TEMPLATE} growth_order)
 expand_choice(division_rules.cl "${DIVISIONS}" ${DIVISION_TEMPLATE} division_order)
 
-file(WRITE ${OUT} "// Generated from engine/backends/*.cl, evaluator.h, cells.h, engine/pairs, engine/terms, engine/removal, engine/fates, engine/growth and engine/division: do not edit.\n"
+file(WRITE ${OUT} "// Generated from engine/backends/*.cl, engine/physics, engine/pairs, engine/terms, engine/removal, engine/fates, engine/growth and engine/division: do not edit.\n"
   "namespace semlb::engine {\nextern const char* const kKernelSource;\n"
   "extern const char* const kGrowthLawOrder;\nextern const char* const kDivisionRuleOrder;\n"
   "const char* const kKernelSource = R\"SEMLBCL(${source})SEMLBCL\";\n"

@@ -37,7 +37,7 @@ OpenClBackend<Real>::OpenClBackend(const BackendConfig& c, bool binned)
   capture_ = cl::KernelCapture::from_env();                      // one launch written for replay (opencl.hpp)
   queue_ = cl::Queue(clCreateCommandQueue(ctx_.get(), dev_.device, profile_ || device_timing_ ? CL_QUEUE_PROFILING_ENABLE : 0, &err));
   cl::check(err, "clCreateCommandQueue");
-  (void)engine::pair_term(c.pair_term);  // std::logic_error for an unregistered term, not a program that fails to build
+  (void)engine::PairTerms::at(c.pair_term);  // std::logic_error for an unregistered term, not a program that fails to build
   build(c.pair_term);
   if (!capture_.kernel().empty() && !kernels_.count(capture_.kernel())) {
     std::string known;
@@ -158,7 +158,7 @@ void OpenClBackend<Real>::bands(double below, double above, Ghosts& down, Ghosts
 template <class Real>
 void OpenClBackend<Real>::use_pair_term(const PairForces& f) {
   if (f.term != pair_term_) {
-    (void)engine::pair_term(f.term);  // std::logic_error for an unregistered term, before any rebuild
+    (void)engine::PairTerms::at(f.term);  // std::logic_error for an unregistered term, before any rebuild
     finish();
     build(f.term);
   }
@@ -268,7 +268,7 @@ std::vector<double> OpenClBackend<Real>::pair_force_seconds(const std::vector<in
 
 template <class Real>
 void OpenClBackend<Real>::element_term(const std::string& name, const std::vector<double>& params) {
-  engine::element_term(name);  // std::logic_error for an unregistered name
+  engine::ElementTerms::at(name);  // std::logic_error for an unregistered name
   ++terms_;  // its bound, added by integrate
   launch(name.c_str(), owned_, kGroup, pos_.get(), plugin_parameters<Real>(term_params_, name, params), force_.get(), owned());
 }
@@ -307,8 +307,8 @@ void OpenClBackend<Real>::build(const std::string& pair_term) {
   pair_term_ = pair_term;
   // The kernels call the scene's growth law and division rule by their index among the registered ones: the headers
   // the build found must be the registered plug-ins, in the same order (a header without its NAME.cpp, or the reverse).
-  for (const auto& [generated, names, kind] : {std::tuple{kGrowthLawOrder, growth_law_names(), "growth laws"},
-                                               std::tuple{kDivisionRuleOrder, division_rule_names(), "division rules"}}) {
+  for (const auto& [generated, names, kind] : {std::tuple{kGrowthLawOrder, GrowthLaws::names(), "growth laws"},
+                                               std::tuple{kDivisionRuleOrder, DivisionRules::names(), "division rules"}}) {
     std::string registered;
     for (const auto& n : names) registered += (registered.empty() ? "" : ",") + n;
     if (registered != generated)
@@ -335,18 +335,18 @@ void OpenClBackend<Real>::build(const std::string& pair_term) {
     kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
     cl::check(err, k);
   }
-  for (const std::string& k : element_term_names()) {  // one kernel per element term (terms/element_term.cl)
+  for (const std::string& k : ElementTerms::names()) {  // one kernel per element term (terms/element_term.cl)
     kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k.c_str(), &err));
     cl::check(err, k.c_str());
   }
   if (has_fp64_)
-    for (const std::string& r : fate_rule_names()) {  // one kernel per fate rule (fates/fate_rule.cl)
+    for (const std::string& r : FateRules::names()) {  // one kernel per fate rule (fates/fate_rule.cl)
       const std::string k = "fate_" + r;
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k.c_str(), &err));
       cl::check(err, k.c_str());
     }
   if (has_fp64_)
-    for (const std::string& r : removal_rule_names()) {  // one kernel per removal rule (removal/removal_rule.cl)
+    for (const std::string& r : RemovalRules::names()) {  // one kernel per removal rule (removal/removal_rule.cl)
       const std::string k = "remove_" + r;
       kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k.c_str(), &err));
       cl::check(err, k.c_str());
@@ -424,8 +424,16 @@ std::unique_ptr<Backend> make(const BackendConfig& c) {
   if (c.precision == "float") return std::make_unique<OpenClBackend<float>>(c, Binned);
   return std::make_unique<OpenClBackend<double>>(c, Binned);
 }
-const BackendRegistrar allpairs("opencl-allpairs", make<false>);
-const BackendRegistrar binned("opencl-binned", make<true>);
+// backend: {name: opencl-allpairs | opencl-binned, platform: NAME substring, device: index, skin: um (opencl-binned's
+// neighbour list, 0: none)}.
+template <bool Binned>
+void read(const Section& s, BackendConfig& c) {
+  c.platform = s.text("platform", c.platform);
+  c.device = static_cast<int>(s.integer("device", c.device, 0, 1024));
+  if (Binned) c.skin = s.real("skin", c.skin, 0, 1e3);
+}
+const Registrar<BackendInfo> allpairs("opencl-allpairs", {make<false>, read<false>});
+const Registrar<BackendInfo> binned("opencl-binned", {make<true>, read<true>});
 
 }  // namespace
 }  // namespace semlb::engine

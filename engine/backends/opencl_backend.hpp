@@ -12,7 +12,7 @@
 #include "backend.hpp"
 #include "common/errors.hpp"
 #include "common/registry.hpp"
-#include "cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "model/tissue.hpp"
 #include "neighbour_list.hpp"
 #include "opencl.hpp"

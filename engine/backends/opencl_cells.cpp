@@ -159,7 +159,7 @@ bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t 
     if (rules.depth_field >= 0) read(cell_.fields, &depth, sizeof depth, (c * nf() + rules.depth_field) * sizeof depth);
     if (ids)
       throw std::runtime_error(ids_exhausted(id, static_cast<int>(depth), step));
-    throw std::runtime_error("cell " + std::to_string(id) + ": growth law '" + growth_law_names().at(rules.growth) +
+    throw std::runtime_error("cell " + std::to_string(id) + ": growth law '" + GrowthLaws::names().at(rules.growth) +
                              "' gave births outside 0 to " + std::to_string(kMaxSlots - 1 - count) + " to its " +
                              std::to_string(count) + " elements (a cell holds at most " + std::to_string(kMaxSlots - 1) + ")");
   }
@@ -279,7 +279,7 @@ std::array<long, 2> OpenClBackend<Real>::split_cells(long n) {
 template <class Real>
 long OpenClBackend<Real>::remove_cells(State& host, const std::string& rule, const std::vector<double>& params) {
   if (!has_fp64_) return Backend::remove_cells(host, rule, params);
-  removal_rule(rule);  // std::logic_error for an unregistered rule
+  RemovalRules::at(rule);  // std::logic_error for an unregistered rule
   near_valid_ = false;
   n_ = owned_;  // the ghosts go
   const long n = cells_;
@@ -294,7 +294,7 @@ template <class Real>
 void OpenClBackend<Real>::cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field,
                                     double elapsed_h) {
   if (!has_fp64_) return Backend::cell_fate(host, rule, params, field, elapsed_h);
-  fate_rule(rule);  // std::logic_error for an unregistered rule
+  FateRules::at(rule);  // std::logic_error for an unregistered rule
   host.cell_field_at(field);  // std::logic_error for an index outside the record (the device holds the same fields)
   const long n = cells_;
   if (n == 0) return;

@@ -42,7 +42,7 @@ std::unique_ptr<Backend> make(const BackendConfig& c) {
   if (c.precision == "float") return std::make_unique<SerialBackend<float>>();
   return std::make_unique<SerialBackend<double>>();
 }
-const BackendRegistrar registrar("serial", make);
+const Registrar<BackendInfo> registrar("serial", {make, nullptr});  // no settings of its own
 
 }  // namespace
 }  // namespace semlb::engine

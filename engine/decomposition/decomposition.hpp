@@ -20,7 +20,7 @@ struct Decomposition : SliceMap {
   // units), so that decisions are the same in every launch (tests, studies that need reproducible decisions);
   // device: the device execution time of its step kernels (Backend::step_device_seconds; OpenCL backends only)
   std::string timing = "measured";
-  // none: each rank has its device; turns: ranks on one device take turns for their device work (run/device_turns.hpp),
+  // none: each rank has its device; turns: ranks on one device take turns for their device work (simulation/device_turns.hpp),
   // so that device timers measure each rank as if it had the device alone (OpenCL backends; overlap off)
   std::string device_sharing = "none";
   long rebalance_every = 100;
@@ -40,7 +40,7 @@ struct Decomposition : SliceMap {
 // Decomposition::from_scene and the sweep's engine runners (before anything runs) both refuse through it.
 void check_engine_policy(const std::string& policy);
 
-// SliceMap, owner_of, split_by_owner and slice_workload (W_s): decomposition/slices.hpp.
+// SliceMap, owner_of, split_by_owner and slice_workload (W_s): model/slices.hpp.
 
 
 }  // namespace semlb::engine

@@ -17,10 +17,10 @@
 #include "controllers/partition.hpp"
 #include "common/text_io.hpp"
 #include "controllers/trace.hpp"
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "effects/effect.hpp"
 #include "model/tissue.hpp"
-#include "run/device_turns.hpp"
+#include "simulation/device_turns.hpp"
 #include "wire.hpp"
 
 namespace semlb::engine {

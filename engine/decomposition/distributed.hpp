@@ -15,7 +15,7 @@
 #include "decomposition.hpp"
 #include "io/io.hpp"
 #include "mpi.hpp"
-#include "run/simulation.hpp"
+#include "simulation/simulation.hpp"
 
 namespace semlb::engine {
 

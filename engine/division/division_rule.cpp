@@ -3,8 +3,7 @@
 
 #include <algorithm>
 
-#include "backends/cpu_physics.hpp"
-#include "common/registry.hpp"
+#include "physics/cpu_physics.hpp"
 #include "effects/cell_fields.hpp"
 #include "effects/cell_types.hpp"
 #include "effects/chosen_rule.hpp"
@@ -13,16 +12,11 @@
 namespace semlb::engine {
 namespace {
 
-Registry<DivisionRule>& registry() {
-  static Registry<DivisionRule> r;
-  return r;
-}
-
 // effects.division: {rule: NAME (default long_axis), the rule's keys}.
 class Division final : public Effect {
  public:
   explicit Division(const Section& s)
-      : rule_(ChosenRule::read(registry(), s, "rule", "long_axis", "division rule", SEMLB_CELL_RULE_PARAMS)) {}
+      : rule_(ChosenRule::read<DivisionRule>(s, "rule", "long_axis", SEMLB_CELL_RULE_PARAMS)) {}
   std::string name() const override { return "division"; }
   bool changes_cells() const override { return true; }
 
@@ -36,19 +30,10 @@ class Division final : public Effect {
   ChosenRule rule_;
 };
 
-const CellFieldRegistrar depth("division.depth", {"division", 0.0, "divisions of the cell's lineage so far (an integer: the daughter id's bit)"});
-const EffectRegistrar effect("division", {50, [](const Section& s, const Scene&) { return std::make_unique<Division>(s); }});
+const Registrar<CellFieldInfo> depth("division.depth", {"division", 0.0, "divisions of the cell's lineage so far (an integer: the daughter id's bit)"});
+const Registrar<EffectInfo> effect("division", {50, [](const Section& s, const Scene&) { return std::make_unique<Division>(s); }});
 
 }  // namespace
-
-DivisionRuleRegistrar::DivisionRuleRegistrar(const std::string& name, DivisionRule rule) {
-  check_plugin_name("division rule", name);
-  registry().add(name, std::move(rule));
-}
-
-const DivisionRule& division_rule(const std::string& name) { return registry().at("division rule", name); }
-
-std::vector<std::string> division_rule_names() { return registry().names(); }
 
 std::vector<double> read_size_trigger(const Section& s) {
   const long at = s.integer("at_elements", 20, 2, kMaxSlots - 1);

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "common/text_io.hpp"
 
 namespace semlb::engine::cellrules {
@@ -28,7 +28,7 @@ std::vector<double> read(const Section& s) {
   return p;
 }
 
-const DivisionRuleRegistrar registrar("oriented", {read, cellrules::semlb_divides_oriented, cellrules::semlb_division_axis_oriented,
+const Registrar<DivisionRule> registrar("oriented", {read, cellrules::semlb_divides_oriented, cellrules::semlb_division_axis_oriented,
                                                    "{rule: oriented, axis: [0, 0, 1], at_elements: 14}"});
 
 }  // namespace

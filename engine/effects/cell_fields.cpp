@@ -3,29 +3,16 @@
 
 #include <stdexcept>
 
-#include "common/registry.hpp"
-
 namespace semlb::engine {
-namespace {
-Registry<CellFieldInfo>& registry() {
-  static Registry<CellFieldInfo> r;
-  return r;
-}
-}  // namespace
 
-CellFieldRegistrar::CellFieldRegistrar(const std::string& name, CellFieldInfo info) {
+void CellFieldInfo::registering(const std::string& name, const CellFieldInfo& info) {
   if (info.effect.empty() || name.rfind(info.effect + ".", 0) != 0 || name.size() == info.effect.size() + 1)
     throw std::logic_error("cell field '" + name + "': the name must be '" + info.effect + ".NAME' (its effect, a dot, a name)");
-  registry().add(name, std::move(info));
 }
 
-std::vector<std::string> cell_field_names() { return registry().names(); }
-std::string known_cell_fields() { return registry().known(); }
-const CellFieldInfo* find_cell_field(const std::string& name) { return registry().find(name); }
-
 void declare_cell_fields(State& s, const std::vector<std::string>& effects) {
-  for (const auto& name : registry().names()) {
-    const CellFieldInfo& info = *registry().find(name);
+  for (const auto& name : CellFields::names()) {
+    const CellFieldInfo& info = CellFields::at(name);
     for (const auto& e : effects)
       if (e == info.effect && !s.cell_fields.count(name)) s.cell_fields[name].assign(s.cell_id.size(), info.initial);
   }

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "common/registry.hpp"
 #include "model/state.hpp"
 
 namespace semlb::engine {
@@ -11,23 +12,17 @@ namespace semlb::engine {
 // One per-cell field: a double per cell that the owning effect's cell rule reads and writes, carried by every
 // backend (the OpenCL device's record), the migration and the ghosts' wire format, the state files and checkpoints.
 struct CellFieldInfo {
+  static constexpr const char* kKind = "cell field";
+  static constexpr const char* kListed = "cell-fields";
   std::string effect;   // the effect that declares it: the field exists in a run that lists this effect
   double initial = 0;   // the value of a cell that has none (a generated tissue, a file without the dataset)
   std::string meaning;  // one line with the unit, for `semlb list` and error messages
-};
 
-// Registers the field `name` ("EFFECT.what", e.g. "growth.clock") of effect info.effect at static initialisation.
-// std::logic_error when the name does not start with "EFFECT." or is registered twice.
-struct CellFieldRegistrar {
-  CellFieldRegistrar(const std::string& name, CellFieldInfo info);
+  // A field is registered as `name` = "EFFECT.what" (e.g. "growth.clock") of effect info.effect: std::logic_error
+  // when the name does not start with "EFFECT.".
+  static void registering(const std::string& name, const CellFieldInfo& info);
 };
-
-// Every registered field's name, in name order.
-std::vector<std::string> cell_field_names();
-// "a, b, c": the registered names, for "unknown cell field" messages.
-std::string known_cell_fields();
-// The registered field `name`, or nullptr.
-const CellFieldInfo* find_cell_field(const std::string& name);
+using CellFields = PluginKind<CellFieldInfo>;
 
 // Adds to `s` each field that an effect in `effects` declares and `s` lacks, one `initial` per cell; a field
 // `s` has already (a restart, an effect's own prepare()) is kept. std::logic_error when a field `s` has holds

@@ -6,37 +6,21 @@
 #include <stdexcept>
 
 #include "common/errors.hpp"
-#include "common/registry.hpp"
 
 namespace semlb::engine {
-namespace {
-Registry<EffectInfo>& registry() {
-  static Registry<EffectInfo> r;
-  return r;
-}
-}  // namespace
 
-EffectRegistrar::EffectRegistrar(const std::string& name, EffectInfo info) {
+void EffectInfo::registering(const std::string& name, const EffectInfo&) {
   // An effect's phase column NAME_s in run.csv must not be one of the driver's own (run_header: wall_s, and the
   // integrate_s and cells_s phases). A name registered twice: Registry::add.
   if (name == "wall" || name == "integrate" || name == "cells")
     throw std::logic_error("effect '" + name + "': the name is taken (run.csv has a column " + name + "_s of its own)");
-  registry().add(name, std::move(info));
-}
-
-std::vector<std::string> effect_names() { return registry().names(); }
-
-const std::string& effect_example(const std::string& name) {
-  const EffectInfo* info = registry().find(name);
-  if (!info) throw std::logic_error("no effect '" + name + "' (known: " + registry().known() + ")");
-  return info->example;
 }
 
 std::vector<std::unique_ptr<Effect>> make_effects(const Scene& scene) {
   std::vector<std::pair<int, std::unique_ptr<Effect>>> made;
   for (const auto& [name, section] : scene.effects) {
-    const EffectInfo* info = registry().find(name);
-    if (!info) section.fail("", "effect '" + name + "' is unknown (known: " + registry().known() + ")");
+    const EffectInfo* info = Effects::find(name);
+    if (!info) section.fail("", "effect '" + name + "' is unknown (known: " + Effects::known() + ")");
     made.emplace_back(info->order, info->make(section, scene));
     section.finish();
   }

@@ -1,6 +1,6 @@
 // Effects register by name and run only when a scene lists them: element effects add forces or
 // displacements on the backend every step; cell effects contribute their parameters to the cell stage's rules
-// (backends/cells.h), which the backend runs every cell update.
+// (physics/cells.h), which the backend runs every cell update.
 #pragma once
 #include <functional>
 #include <memory>
@@ -41,33 +41,32 @@ class Effect {
 };
 
 struct EffectInfo {
+  static constexpr const char* kKind = "effect";
+  static constexpr const char* kListed = "effects";
   int order;  // effects run in this order whatever the scene's order
   std::function<std::unique_ptr<Effect>(const Section&, const Scene&)> make;
   // A valid section for it (YAML flow map) on the shipped scenes' tissues: what the suites that iterate
-  // effect_names() run it with (tests/engine/effects/test_every_effect.cpp).
+  // Effects::names() run it with (tests/engine/effects/test_every_effect.cpp).
   std::string example = "{}";
+
+  // std::logic_error when `name` is one that run.csv's phase columns NAME_s take already (wall, integrate, cells).
+  static void registering(const std::string& name, const EffectInfo&);
 };
-struct EffectRegistrar {
-  EffectRegistrar(const std::string& name, EffectInfo info);
-};
-// Registers the plug-in `entry` (an element term, pair term, fate or removal rule: a struct with `order` and `example`)
-// in `registry` under `name`, which names its generated code and so must be a C identifier, and as the effect `name`
-// that `make` constructs. std::logic_error on a name that is not a C identifier or is registered twice.
+using Effects = PluginKind<EffectInfo>;
+
+// The registration of a plug-in (an element term, pair term, fate or removal rule: a struct with `order` and
+// `example`, of kind KIND) under `name` that is also the effect `name` that `make` constructs: `name` names its
+// generated code and so must be a C identifier. Called from the kind's `registering`. std::logic_error on a name that
+// is not a C identifier or is an effect already.
 template <class T>
-void register_plugin(Registry<T>& registry, const std::string& kind, const std::string& name, T entry,
-                     std::function<std::unique_ptr<Effect>(const Section&, const Scene&)> make) {
+void register_plugin_effect(const std::string& kind, const std::string& name, const T& entry,
+                            std::function<std::unique_ptr<Effect>(const Section&, const Scene&)> make) {
   check_plugin_name(kind, name);
-  const int order = entry.order;
-  std::string example = entry.example;
-  registry.add(name, std::move(entry));
-  EffectRegistrar(name, {order, std::move(make), std::move(example)});
+  Effects::add(name, {entry.order, std::move(make), entry.example});
 }
 
 // The scene's effects, constructed (parameters checked) and sorted by their registered order.
 std::vector<std::unique_ptr<Effect>> make_effects(const Scene& scene);
-std::vector<std::string> effect_names();
-// The registered example section of effect `name` (EffectInfo::example); std::logic_error when unregistered.
-const std::string& effect_example(const std::string& name);
 
 // The cell stage's rules of the effects that change cells (in their order) for the per-cell fields of `s`: the field
 // record holds s.cell_fields.size() doubles per cell, a field no listed effect owns has index -1; rules.single as given.

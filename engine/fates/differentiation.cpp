@@ -2,7 +2,7 @@
 // differentiation.h). The type selects the adhesion set of the pair term.
 #include "fate.hpp"
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "effects/cell_fields.hpp"
 
 namespace semlb::engine::cellrules {
@@ -17,8 +17,8 @@ std::vector<double> read(const Section& s) {
   return {s.real("basal_height", 8.0, 0, 1e9), s.real("granular_after", 40.0, 0, 1e12)};
 }
 
-const CellFieldRegistrar age("differentiation.age", {"differentiation", 0.0, "h since the cell's type last changed"});
-const FateRuleRegistrar registrar("differentiation",
+const Registrar<CellFieldInfo> age("differentiation.age", {"differentiation", 0.0, "h since the cell's type last changed"});
+const Registrar<FateRule> registrar("differentiation",
                                   {60, read, cellrules::semlb_fate_differentiation, "differentiation.age", "{basal_height: 6}"});
 
 }  // namespace

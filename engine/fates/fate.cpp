@@ -1,17 +1,11 @@
 // The fate-rule registry, and each rule as a cell effect that decides cell types through Backend::cell_fate.
 #include "fate.hpp"
 
-#include "common/registry.hpp"
 #include "effects/cell_fields.hpp"
 #include "effects/effect.hpp"
 
 namespace semlb::engine {
 namespace {
-
-Registry<FateRule>& registry() {
-  static Registry<FateRule> r;
-  return r;
-}
 
 // A fate rule listed in the scene: its parameters read once; after each cell stage's growth and division the backend
 // applies it to every cell, with the time one stage covers (Scene::cell_stage_h, as the stage's rules).
@@ -22,7 +16,7 @@ class FateEffect final : public Effect {
   std::string name() const override { return name_; }
   bool changes_cells() const override { return true; }
   bool after_cell_stage(Backend& b, State& host) override {
-    const std::string& field = fate_rule(name_).field;
+    const std::string& field = FateRules::at(name_).field;
     b.cell_fate(host, name_, params_, field.empty() ? -1 : cell_field_index(host, field), elapsed_h_);
     return false;  // types and fields only: no element moved, none was added
   }
@@ -35,14 +29,11 @@ class FateEffect final : public Effect {
 
 }  // namespace
 
-FateRuleRegistrar::FateRuleRegistrar(const std::string& name, FateRule rule) {
-  register_plugin(registry(), "fate rule", name, std::move(rule), [name](const Section& s, const Scene& scene) {
-    return std::make_unique<FateEffect>(name, checked_plugin_params("fate rule", name, fate_rule(name).read(s)), scene.cell_stage_h());
+void FateRule::registering(const std::string& name, const FateRule& rule) {
+  register_plugin_effect(FateRule::kKind, name, rule, [name](const Section& s, const Scene& scene) {
+    return std::make_unique<FateEffect>(name, checked_plugin_params(FateRule::kKind, name, FateRules::at(name).read(s)),
+                                        scene.cell_stage_h());
   });
 }
-
-const FateRule& fate_rule(const std::string& name) { return registry().at("fate rule", name); }
-
-std::vector<std::string> fate_rule_names() { return registry().names(); }
 
 }  // namespace semlb::engine

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/registry.hpp"
 #include "model/scene.hpp"
 
 namespace semlb::engine {
@@ -21,24 +22,22 @@ using FateEvaluator = int (*)(double cx, double cy, double cz, int count, double
 
 // A registered fate rule. Its name is its scene key (`effects.NAME`), the stem of its evaluator header fates/NAME.h
 // and, prefixed `fate_`, its OpenCL kernel's name in launches(). fates/NAME.cpp includes fates/NAME.h inside
-// namespace cellrules (cpu_physics.hpp), registers its field (if any) with CellFieldRegistrar and the rule.
+// namespace cellrules (cpu_physics.hpp), registers its field (if any) with Registrar<CellFieldInfo> and the rule.
 struct FateRule {
+  static constexpr const char* kKind = "fate rule";
+  static constexpr const char* kListed = "fate-rules";
   int order = 60;  // its place among the effects (effect.hpp EffectInfo::order): after growth and division
   // The derived parameters (at most 64 doubles) from the scene's section; its errors name file, line and field.
   std::function<std::vector<double>(const Section&)> read;
   FateEvaluator decides = nullptr;
   std::string field;  // the per-cell field it keeps ("NAME.FIELD", effects/cell_fields.hpp), or "" for none
-  // A valid section for it (YAML flow map): what the suites that iterate fate_rule_names() run it with.
+  // A valid section for it (YAML flow map): what the suites that iterate FateRules::names() run it with.
   std::string example = "{}";
-};
 
-// Registers `rule` under `name` (a C identifier) as a fate rule and as an effect (effect.hpp: a cell effect whose
-// after_cell_stage calls Backend::cell_fate). std::logic_error on a bad or repeated name.
-struct FateRuleRegistrar {
-  FateRuleRegistrar(const std::string& name, FateRule rule);
+  // Registering `name` (a C identifier) also registers the effect `name` (effect.hpp: a cell effect whose
+  // after_cell_stage calls Backend::cell_fate). std::logic_error on a name that is not a C identifier.
+  static void registering(const std::string& name, const FateRule& rule);
 };
-// The rule registered under `name`; std::logic_error when there is none.
-const FateRule& fate_rule(const std::string& name);
-std::vector<std::string> fate_rule_names();
+using FateRules = PluginKind<FateRule>;
 
 }  // namespace semlb::engine

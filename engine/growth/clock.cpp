@@ -2,7 +2,7 @@
 // cells of the listed types; with `front: {x0, speed}` only behind a proliferative front (evaluator: clock.h).
 #include "growth_law.hpp"
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "effects/cell_fields.hpp"
 #include "effects/cell_types.hpp"
 
@@ -32,8 +32,8 @@ std::vector<double> read(const Section& s) {
   return {cycle / static_cast<double>(max - min), static_cast<double>(types), static_cast<double>(max), front, x0, speed, cycle};
 }
 
-const CellFieldRegistrar clock("growth.clock", {"growth", 0.0, "h since the cell last added an element (starts at a random phase)"});
-const GrowthLawRegistrar registrar("clock", {read, cellrules::semlb_growth_clock, "growth.clock",
+const Registrar<CellFieldInfo> clock("growth.clock", {"growth", 0.0, "h since the cell last added an element (starts at a random phase)"});
+const Registrar<GrowthLaw> registrar("clock", {read, cellrules::semlb_growth_clock, "growth.clock",
                                              [](const std::vector<double>& p, double u) { return p[0] * u; },
                                              [](const std::vector<double>& p) { return p[6]; }, "{law: clock, cycle_time: 2}"});
 

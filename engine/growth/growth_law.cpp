@@ -4,8 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "backends/cpu_physics.hpp"
-#include "common/registry.hpp"
+#include "physics/cpu_physics.hpp"
 #include "effects/cell_fields.hpp"
 #include "effects/chosen_rule.hpp"
 #include "effects/effect.hpp"
@@ -13,28 +12,23 @@
 namespace semlb::engine {
 namespace {
 
-Registry<GrowthLaw>& registry() {
-  static Registry<GrowthLaw> r;
-  return r;
-}
-
 // effects.growth: {law: NAME (default clock), offset: um (1), the law's keys}.
 class Growth final : public Effect {
  public:
   explicit Growth(const Section& s)
-      : law_(ChosenRule::read(registry(), s, "law", "clock", "growth law", SEMLB_CELL_RULE_PARAMS)),
+      : law_(ChosenRule::read<GrowthLaw>(s, "law", "clock", SEMLB_CELL_RULE_PARAMS)),
         offset_(s.real("offset", 1.0, 0, 1e6)) {}
   std::string name() const override { return "growth"; }
   bool changes_cells() const override { return true; }
   std::optional<double> growth_phase(double time) const override {
-    const auto& cycle = growth_law(law_.name).cycle;
+    const auto& cycle = GrowthLaws::at(law_.name).cycle;
     if (!cycle) return std::nullopt;
     const double t = cycle(law_.params);
     return std::fmod(time, t) / t;
   }
 
   void prepare(State& s) override {  // the law's field at its initial value per cell (e.g. a random phase)
-    const GrowthLaw& law = growth_law(law_.name);
+    const GrowthLaw& law = GrowthLaws::at(law_.name);
     if (law.field.empty() || !law.initial) return;
     auto& f = s.cell_fields[law.field];
     if (f.size() == s.cell_id.size()) return;  // restored from a file
@@ -44,7 +38,7 @@ class Growth final : public Effect {
 
   void cell_rules(CellRules& r, const State& s) const override {
     r.growth = law_.index;
-    const std::string& field = growth_law(law_.name).field;
+    const std::string& field = GrowthLaws::at(law_.name).field;
     r.growth_field = field.empty() ? -1 : cell_field_index(s, field);
     std::copy(law_.params.begin(), law_.params.end(), r.growth_p);
     r.offset = offset_;
@@ -55,17 +49,8 @@ class Growth final : public Effect {
   double offset_;
 };
 
-const EffectRegistrar effect("growth", {40, [](const Section& s, const Scene&) { return std::make_unique<Growth>(s); }});
+const Registrar<EffectInfo> effect("growth", {40, [](const Section& s, const Scene&) { return std::make_unique<Growth>(s); }});
 
 }  // namespace
-
-GrowthLawRegistrar::GrowthLawRegistrar(const std::string& name, GrowthLaw law) {
-  check_plugin_name("growth law", name);
-  registry().add(name, std::move(law));
-}
-
-const GrowthLaw& growth_law(const std::string& name) { return registry().at("growth law", name); }
-
-std::vector<std::string> growth_law_names() { return registry().names(); }
 
 }  // namespace semlb::engine

@@ -1,12 +1,13 @@
 // Growth laws: how many elements a cell adds at a cell stage (the growth effect, `effects.growth: {law: NAME, ...}`),
 // each written once as a C99 evaluator header (growth/NAME.h) and registered by name; the stage around it (newborns
-// placed at `offset` um from the centroid, the scans and the rewrite) is the core's (backends/cells.h), run on the
+// placed at `offset` um from the centroid, the scans and the rewrite) is the core's (physics/cells.h), run on the
 // host by the C++ backends and by the OpenCL kernel cells_plan, which calls the scene's law by its index.
 #pragma once
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "common/registry.hpp"
 #include "model/scene.hpp"
 
 namespace semlb::engine {
@@ -20,10 +21,12 @@ using GrowthEvaluator = int (*)(int type, int count, const double* centroid, dou
                                 double* field);
 
 // A registered growth law. Its name is the value of `effects.growth.law`, the stem of its header growth/NAME.h; the
-// OpenCL kernels call it by its index in growth_law_names() (the generated dispatch semlb_growth_law, in name order
+// OpenCL kernels call it by its index in GrowthLaws::names() (the generated dispatch semlb_growth_law, in name order
 // too). growth/NAME.cpp includes growth/NAME.h inside namespace cellrules (cpu_physics.hpp), registers its field (if
-// any, "growth.WHAT": a field of the growth effect) with CellFieldRegistrar and the law.
+// any, "growth.WHAT": a field of the growth effect) with Registrar<CellFieldInfo> and the law.
 struct GrowthLaw {
+  static constexpr const char* kKind = "growth law";
+  static constexpr const char* kListed = "growth-laws";
   // The derived parameters (at most SEMLB_CELL_RULE_PARAMS doubles) from the growth section, whose `law` and
   // `offset` keys are the effect's; its errors name file, line and field.
   std::function<std::vector<double>(const Section&)> read;
@@ -34,17 +37,13 @@ struct GrowthLaw {
   std::function<double(const std::vector<double>& p, double u)> initial;
   // The length in h of the growth cycle (Effect::growth_phase, what the controllers see), or nullptr for none.
   std::function<double(const std::vector<double>& p)> cycle;
-  // A valid growth section for it (YAML flow map, `law` included): what the suites that iterate growth_law_names()
+  // A valid growth section for it (YAML flow map, `law` included): what the suites that iterate GrowthLaws::names()
   // run it with.
   std::string example = "{}";
-};
 
-// Registers `law` under `name` (a C identifier). std::logic_error on a bad or repeated name.
-struct GrowthLawRegistrar {
-  GrowthLawRegistrar(const std::string& name, GrowthLaw law);
+  // std::logic_error unless `name` is a C identifier.
+  static void registering(const std::string& name, const GrowthLaw&) { check_plugin_name(kKind, name); }
 };
-// The law registered under `name`; std::logic_error when there is none.
-const GrowthLaw& growth_law(const std::string& name);
-std::vector<std::string> growth_law_names();
+using GrowthLaws = PluginKind<GrowthLaw>;
 
 }  // namespace semlb::engine

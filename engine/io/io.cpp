@@ -10,6 +10,7 @@
 #include "common/h5.hpp"
 #include "common/text_io.hpp"
 #include "effects/cell_fields.hpp"
+#include "model/tissue.hpp"
 
 namespace semlb::engine {
 
@@ -213,8 +214,8 @@ State read_state(const std::string& path) {
   // refused here (no effect would own it: a misspelling or a file of another program), not carried unread.
   for (const auto& name : f.list("/cells/fields")) {
     const std::string set = "/cells/fields/" + name;
-    if (!find_cell_field(name))
-      throw InputError(path + ": dataset " + set + ": unknown cell field (known: " + known_cell_fields() + ")");
+    if (!CellFields::find(name))
+      throw InputError(path + ": dataset " + set + ": unknown cell field (known: " + CellFields::known() + ")");
     s.cell_fields[name] = f.read(set, dims);
     need_length(path, set, dims, ids.size(), "cell");
     for (size_t c = 0; c < ids.size(); ++c)
@@ -252,5 +253,7 @@ void write_xdmf(const std::string& path, const std::vector<Snapshot>& snapshots)
   x << "  </Grid>\n </Domain>\n</Xdmf>\n";
   write_file_atomically(path, x.str());
 }
+
+State make_tissue(Scene& scene) { return make_tissue(scene, read_state); }
 
 }  // namespace semlb::engine

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "controllers/balancer.hpp"
+#include "model/scene.hpp"
 #include "model/state.hpp"
 
 namespace semlb::engine {
@@ -34,6 +35,8 @@ void write_state(const std::string& path, const State& state, const std::map<std
 std::optional<DecompositionCheckpoint> read_decomposition(const std::string& path);
 // Reads and validates a state file; InputError names the file and the dataset.
 State read_state(const std::string& path);
+// The initial tissue of `scene` (model/tissue.hpp), a `tissue.file` read by read_state. Throws InputError.
+State make_tissue(Scene& scene);
 
 struct Snapshot {
   long step;

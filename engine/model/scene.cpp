@@ -85,15 +85,12 @@ void apply_override(YAML::Node root, const std::string& assignment, std::set<std
   overridden.insert(path);
 }
 
+// The keys every backend has; the rest of the map is the chosen backend's (backends/backend.hpp backend_settings).
 void read_backend(const Section& s, BackendConfig& b) {
   b.name = s.text("name", b.name);
   b.precision = s.text("precision", b.precision);
   if (b.precision != "double" && b.precision != "float") s.fail("precision", "must be double or float");
-  b.threads = static_cast<int>(s.integer("threads", 0, 0, 4096));
-  b.platform = s.text("platform", "");
-  b.device = static_cast<int>(s.integer("device", 0, 0, 1024));
-  b.skin = s.real("skin", b.skin, 0, 1e3);
-  s.finish();
+  b.settings = std::make_shared<const Section>(s);
 }
 
 }  // namespace

@@ -32,14 +32,20 @@ class Section : public Settings {
   std::shared_ptr<const std::set<std::string>> overridden_;
 };
 
+// The backend a scene runs on: `backend.name` and `backend.precision`, read with the scene; every other key of the
+// `backend` map is the chosen backend's own, read by that backend when it is made (backends/backend.hpp
+// backend_settings: a key it does not use is an error naming it).
 struct BackendConfig {
   std::string name = "cpu-binned";
   std::string precision = "double";  // double | float
-  int threads = 0;                    // cpu-binned: 0 = all hardware threads
-  std::string platform;               // OpenCL platform name substring; empty: see docs/engine.md
-  int device = 0;                     // device index within the chosen platform
+  int threads = 0;                    // cpu-binned's `threads`: 0 = all hardware threads
+  std::string platform;               // the OpenCL backends' `platform`: a platform name substring; empty: see docs/engine.md
+  int device = 0;                     // the OpenCL backends' `device`: the index within the chosen platform
   int local_rank = 0;                 // added to `device` (one device per local MPI rank)
-  double skin = 0.0;                  // um, opencl-binned's neighbour list (docs/engine.md); 0: none, bins every step
+  double skin = 0.0;                  // um, opencl-binned's `skin`: its neighbour list (docs/engine.md); 0: none, bins every step
+  // The scene's `backend` map (null: a config made in code, its fields as set), whose keys beside name and precision
+  // the backend reads (backend_settings).
+  std::shared_ptr<const Section> settings;
   // Not a scene key: the pair term the scene lists (pairs/pair_term.hpp scene_pair_term, set by Simulation), which
   // the OpenCL backends build their program for; another term asked for later rebuilds it.
   std::string pair_term = "mechanics";

@@ -6,7 +6,7 @@
 #include <iterator>
 #include <stdexcept>
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 
 namespace semlb::engine {
 
@@ -111,6 +111,12 @@ std::vector<double>* State::cell_field_at(int index) {
     throw std::logic_error("cell field index " + std::to_string(index) + " is not in the record of " +
                            std::to_string(cell_fields.size()) + " fields");
   return &std::next(cell_fields.begin(), index)->second;
+}
+
+std::array<double, 3> centroid(const State& s, long cell) {
+  std::array<double, 3> c{};
+  cellrules::semlb_cell_centroid(s.position.data(), s.cell_first[cell], s.cell_count[cell], c.data());
+  return c;
 }
 
 }  // namespace semlb::engine

@@ -1,5 +1,6 @@
 // The simulated tissue on the host: elements in canonical (cell, slot) order, cells, effect-owned fields.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -37,7 +38,7 @@ struct State {
   std::vector<int> cell_count;
   // Per-cell fields (one double per cell each) that effects declare (effects/cell_fields.hpp: "growth.clock",
   // "differentiation.age", ...): absent unless their effect is listed or a state file holds them. Every backend keeps
-  // them in this (name) order as one record per cell (backends/cells.h).
+  // them in this (name) order as one record per cell (physics/cells.h).
   std::map<std::string, std::vector<double>> cell_fields;
   // The values of the per-cell field at record index `index` (cell_fields in name order: the index a cell rule reads),
   // or nullptr for -1 (a rule without one); std::logic_error for any other index outside the record.
@@ -48,7 +49,7 @@ struct State {
 
   long elements() const { return static_cast<long>(position.size() / 3); }
   long cells() const { return static_cast<long>(cell_id.size()); }
-  // Packed info (semlb_info_pack(cell index, type), backends/evaluator.h) and key per element, in element order.
+  // Packed info (semlb_info_pack(cell index, type), physics/evaluator.h) and key per element, in element order.
   std::vector<int> element_info() const;
   std::vector<uint64_t> element_keys() const;
   // Recomputes cell_first from cell_count; throws std::logic_error when sizes disagree.
@@ -67,5 +68,9 @@ State empty_like(const State& s);
 // Appends cell c of `from` (id, type, count, positions) to `to`, with the fields `to` lists (0 where `from` lacks
 // one); call to.reindex() afterwards.
 void copy_cell(const State& from, long c, State& to);
+
+// The mean position of cell `cell`'s elements (um): the cell stage's rule (physics/cells.h), so the host and the device
+// agree on it bit for bit (ownership, W_s, removal rules).
+std::array<double, 3> centroid(const State& s, long cell);
 
 }  // namespace semlb::engine

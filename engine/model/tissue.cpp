@@ -7,9 +7,8 @@
 #include <filesystem>
 #include <tuple>
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "common/text_io.hpp"
-#include "io/io.hpp"
 
 namespace semlb::engine {
 namespace {
@@ -86,14 +85,14 @@ void fit_box(Scene& scene, const State& s) {
   std::tie(scene.box_lo, scene.box_hi) = tissue_box(s, scene.cutoff);
 }
 
-State make_tissue(Scene& scene) {
+State make_tissue(Scene& scene, const std::function<State(const std::string& path)>& read_file) {
   const Section& t = *scene.tissue;
   State s;
   const std::string file = t.text("file", "");
   const std::string generator = t.text("generator", file.empty() ? "epidermal_sheet" : "");
   if (!file.empty()) {
     const auto path = std::filesystem::path(scene.path).parent_path() / file;
-    s = read_state(std::filesystem::path(file).is_absolute() ? file : path.string());
+    s = read_file(std::filesystem::path(file).is_absolute() ? file : path.string());
   } else if (generator == "epidermal_sheet") {
     s = epidermal_sheet(t, scene.seed);
   } else {

@@ -1,12 +1,17 @@
-// The initial tissue of a scene: the epidermal-sheet generator or an HDF5 state (`tissue.file`).
+// The initial tissue of a scene: the epidermal-sheet generator or an HDF5 state (`tissue.file`, read by the reader
+// it is given: io/io.hpp make_tissue gives read_state), and the boxes around a tissue.
 #pragma once
+#include <functional>
+#include <string>
+
 #include "scene.hpp"
 #include "state.hpp"
 
 namespace semlb::engine {
 
-// Builds the tissue and, for `domain: auto`, sets the scene's box around it. Throws InputError.
-State make_tissue(Scene& scene);
+// Builds the tissue (`tissue.file`, relative to the scene, read by `read_file`) and, for `domain: auto`, sets the
+// scene's box around it. Throws InputError.
+State make_tissue(Scene& scene, const std::function<State(const std::string& path)>& read_file);
 // The elements' bounding box over finite coordinates ({lo, hi} in um; zeros when there are none), as Backend::bounds().
 std::pair<std::array<double, 3>, std::array<double, 3>> element_bounds(const State& state);
 // The box `domain: auto` gives a tissue: its extent plus one cutoff, from z = -cutoff, with headroom above.

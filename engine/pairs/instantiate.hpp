@@ -1,8 +1,8 @@
 // The pair term of SEMLB_PAIR_HEADER (a string literal) and SEMLB_PAIR_NAME (its name, an identifier) compiled for the
-// C++ backends in both precisions, with the pair loop's body (backends/pair_force.h) over its law: namespaces
+// C++ backends in both precisions, with the pair loop's body (physics/pair_force.h) over its law: namespaces
 // phys64::NAME (double) and phys32::NAME (float) of cpu_physics.hpp, each with `pair`, a PairEvaluator. A term's
 // NAME.cpp includes this file once. No include guard: one inclusion per term file.
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 
 #if !defined(SEMLB_PAIR_HEADER) || !defined(SEMLB_PAIR_NAME)
 #error "define SEMLB_PAIR_HEADER and SEMLB_PAIR_NAME before including pairs/instantiate.hpp"
@@ -18,12 +18,12 @@
 
 namespace semlb::engine::phys64::SEMLB_PAIR_NAME {
 #include SEMLB_PAIR_HEADER
-#include "backends/pair_force.h"
+#include "physics/pair_force.h"
 SEMLB_PAIR_INSTANCE
 }  // namespace semlb::engine::phys64::SEMLB_PAIR_NAME
 namespace semlb::engine::phys32::SEMLB_PAIR_NAME {
 #include SEMLB_PAIR_HEADER
-#include "backends/pair_force.h"
+#include "physics/pair_force.h"
 SEMLB_PAIR_INSTANCE
 }  // namespace semlb::engine::phys32::SEMLB_PAIR_NAME
 #undef SEMLB_PAIR_INSTANCE

@@ -53,7 +53,7 @@ std::vector<double> read(const Section& s, double /*cutoff*/) {
 
 static_assert(SEMLB_MORSE_TYPES == kCellTypes, "mechanics.h's table holds one inter set per pair of cell types");
 
-const PairTermRegistrar registrar("mechanics", {10, read, phys64::mechanics::pair, phys32::mechanics::pair,
+const Registrar<PairTerm> registrar("mechanics", {10, read, phys64::mechanics::pair, phys32::mechanics::pair,
                                                 "{intra: {V0: 1.2}, pairs: {basal-spinous: {V0: 0.3}}}"});
 
 }  // namespace

@@ -2,26 +2,20 @@
 #include "pair_term.hpp"
 
 #include "common/errors.hpp"
-#include "common/registry.hpp"
 #include "effects/effect.hpp"
 
 namespace semlb::engine {
 namespace {
-
-Registry<PairTerm>& registry() {
-  static Registry<PairTerm> r;
-  return r;
-}
 
 // A pair term listed in the scene: its parameters read once; each step the local part (owned on owned) while the
 // ghosts travel, the non-local part (ghosts on owned) after they arrived.
 class PairTermEffect final : public Effect {
  public:
   PairTermEffect(const std::string& name, const Section& s, const Scene& scene)
-      : forces_{name, checked_plugin_params("pair term", name, pair_term(name).read(s, scene.cutoff)), scene.cutoff} {
+      : forces_{name, checked_plugin_params(PairTerm::kKind, name, PairTerms::at(name).read(s, scene.cutoff)), scene.cutoff} {
     for (const auto& [other, section] : scene.effects) {  // the later-listed term is the one refused
       if (other == name) break;
-      if (registry().find(other)) throw InputError(s.where("") + "a scene lists one pair term, and '" + other + "' is listed already");
+      if (PairTerms::find(other)) throw InputError(s.where("") + "a scene lists one pair term, and '" + other + "' is listed already");
     }
   }
   std::string name() const override { return forces_.term; }
@@ -35,18 +29,14 @@ class PairTermEffect final : public Effect {
 
 }  // namespace
 
-PairTermRegistrar::PairTermRegistrar(const std::string& name, PairTerm term) {
-  register_plugin(registry(), "pair term", name, std::move(term),
-                  [name](const Section& s, const Scene& scene) { return std::make_unique<PairTermEffect>(name, s, scene); });
+void PairTerm::registering(const std::string& name, const PairTerm& term) {
+  register_plugin_effect(PairTerm::kKind, name, term,
+                         [name](const Section& s, const Scene& scene) { return std::make_unique<PairTermEffect>(name, s, scene); });
 }
-
-const PairTerm& pair_term(const std::string& name) { return registry().at("pair term", name); }
-
-std::vector<std::string> pair_term_names() { return registry().names(); }
 
 std::string scene_pair_term(const Scene& scene) {
   for (const auto& [name, section] : scene.effects)
-    if (registry().find(name)) return name;
+    if (PairTerms::find(name)) return name;
   return "";
 }
 

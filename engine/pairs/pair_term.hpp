@@ -7,11 +7,12 @@
 #include <string>
 #include <vector>
 
+#include "common/registry.hpp"
 #include "model/scene.hpp"
 
 namespace semlb::engine {
 
-// The force on element i from element j added to acc[0..2] in fixed point (backends/pair_force.h: semlb_pair_force,
+// The force on element i from element j added to acc[0..2] in fixed point (physics/pair_force.h: semlb_pair_force,
 // with the coincident fallback): d = Y_i - Y_j (um), the elements' packed infos and keys, `p` the term's derived
 // parameters, cutoff2 the squared cutoff (um^2). The C++ instantiation of one term in one precision
 // (pairs/instantiate.hpp).
@@ -25,26 +26,23 @@ using PairEvaluator = void (*)(Real dx, Real dy, Real dz, int info_i, int info_j
 // compiles it in both precisions (#define SEMLB_PAIR_HEADER "pairs/NAME.h" and SEMLB_PAIR_NAME NAME, then
 // #include "pairs/instantiate.hpp") and registers phys64::NAME::pair and phys32::NAME::pair as f64 and f32.
 struct PairTerm {
+  static constexpr const char* kKind = "pair term";
+  static constexpr const char* kListed = "pair-terms";
   int order = 10;  // its place among the effects (effect.hpp EffectInfo::order)
   // The derived parameters (reals, at most kMaxPluginParams) from the scene's section and the scene's cutoff (um);
   // the section's errors name file, line and field.
   std::function<std::vector<double>(const Section&, double cutoff)> read;
   PairEvaluator<double> f64 = nullptr;
   PairEvaluator<float> f32 = nullptr;
-  // A valid section for it (YAML flow map): what the suites that iterate pair_term_names() run it with.
+  // A valid section for it (YAML flow map): what the suites that iterate PairTerms::names() run it with.
   std::string example = "{}";
-};
 
-// Registers `term` under `name` (a C identifier: the OpenCL program is built with -DSEMLB_PAIR_TERM=semlb_pair_NAME)
-// as a pair term and as an effect that adds the pair forces (both parts: local and non-local). A scene lists one
-// pair term at most (InputError naming the second). std::logic_error on a name that is not a C identifier or is
-// registered twice.
-struct PairTermRegistrar {
-  PairTermRegistrar(const std::string& name, PairTerm term);
+  // Registering `name` (a C identifier: the OpenCL program is built with -DSEMLB_PAIR_TERM=semlb_pair_NAME) also
+  // registers the effect `name` that adds the pair forces (both parts: local and non-local). A scene lists one pair
+  // term at most (InputError naming the second). std::logic_error on a name that is not a C identifier.
+  static void registering(const std::string& name, const PairTerm& term);
 };
-// The term registered under `name`; std::logic_error when there is none (the effect registry checks scene names).
-const PairTerm& pair_term(const std::string& name);
-std::vector<std::string> pair_term_names();
+using PairTerms = PluginKind<PairTerm>;
 // The pair term `scene` lists ("" when none): what the OpenCL backends build their program for (BackendConfig::pair_term).
 std::string scene_pair_term(const Scene& scene);
 

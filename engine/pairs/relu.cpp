@@ -34,7 +34,7 @@ std::vector<double> read(const Section& s, double cutoff) {
   return p;
 }
 
-const PairTermRegistrar registrar("relu", {10, read, phys64::relu::pair, phys32::relu::pair,
+const Registrar<PairTerm> registrar("relu", {10, read, phys64::relu::pair, phys32::relu::pair,
                                            "{intra: {k_rep: 2, k_adh: 0.5, r0: 4, r_max: 6}, inter: {k_adh: 0.1}}"});
 
 }  // namespace

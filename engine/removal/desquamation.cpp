@@ -1,7 +1,7 @@
 // "desquamation": cells whose centroid rises above `height` um are shed (evaluator: desquamation.h).
 #include "removal.hpp"
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 
 namespace semlb::engine::cellrules {
 #include "removal/desquamation.h"
@@ -19,7 +19,7 @@ std::vector<double> read(const Section& s) {
   return {s.real("height", 0, 0, 1e9)};
 }
 
-const RemovalRuleRegistrar registrar("desquamation", {70, read, cellrules::semlb_remove_desquamation, "{height: 12}"});
+const Registrar<RemovalRule> registrar("desquamation", {70, read, cellrules::semlb_remove_desquamation, "{height: 12}"});
 
 }  // namespace
 }  // namespace semlb::engine

@@ -1,16 +1,10 @@
 // The removal-rule registry, and each rule as a cell effect that removes cells through Backend::remove_cells.
 #include "removal.hpp"
 
-#include "common/registry.hpp"
 #include "effects/effect.hpp"
 
 namespace semlb::engine {
 namespace {
-
-Registry<RemovalRule>& registry() {
-  static Registry<RemovalRule> r;
-  return r;
-}
 
 // A removal rule listed in the scene: its parameters read once; after each cell stage's rules the backend
 // removes the cells it flags.
@@ -28,14 +22,10 @@ class RemovalEffect final : public Effect {
 
 }  // namespace
 
-RemovalRuleRegistrar::RemovalRuleRegistrar(const std::string& name, RemovalRule rule) {
-  register_plugin(registry(), "removal rule", name, std::move(rule), [name](const Section& s, const Scene&) {
-    return std::make_unique<RemovalEffect>(name, checked_plugin_params("removal rule", name, removal_rule(name).read(s)));
+void RemovalRule::registering(const std::string& name, const RemovalRule& rule) {
+  register_plugin_effect(RemovalRule::kKind, name, rule, [name](const Section& s, const Scene&) {
+    return std::make_unique<RemovalEffect>(name, checked_plugin_params(RemovalRule::kKind, name, RemovalRules::at(name).read(s)));
   });
 }
-
-const RemovalRule& removal_rule(const std::string& name) { return registry().at("removal rule", name); }
-
-std::vector<std::string> removal_rule_names() { return registry().names(); }
 
 }  // namespace semlb::engine

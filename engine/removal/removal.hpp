@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/registry.hpp"
 #include "model/scene.hpp"
 
 namespace semlb::engine {
@@ -21,21 +22,19 @@ using RemovalEvaluator = int (*)(double cx, double cy, double cz, int type, int 
 // removal/NAME.h and, prefixed `remove_`, its OpenCL kernel's name in launches(). removal/NAME.cpp includes
 // removal/NAME.h inside namespace cellrules (cpu_physics.hpp) and registers cellrules::semlb_remove_NAME.
 struct RemovalRule {
+  static constexpr const char* kKind = "removal rule";
+  static constexpr const char* kListed = "removal-rules";
   int order = 70;  // its place among the effects (effect.hpp EffectInfo::order): after the cell rules
   // The derived parameters (at most 64 doubles) from the scene's section; its errors name file, line and field.
   std::function<std::vector<double>(const Section&)> read;
   RemovalEvaluator removes = nullptr;
-  // A valid section for it (YAML flow map): what the suites that iterate removal_rule_names() run it with.
+  // A valid section for it (YAML flow map): what the suites that iterate RemovalRules::names() run it with.
   std::string example = "{}";
-};
 
-// Registers `rule` under `name` (a C identifier) as a removal rule and as an effect (effect.hpp: a cell effect
-// whose after_cell_stage calls Backend::remove_cells). std::logic_error on a bad or repeated name.
-struct RemovalRuleRegistrar {
-  RemovalRuleRegistrar(const std::string& name, RemovalRule rule);
+  // Registering `name` (a C identifier) also registers the effect `name` (effect.hpp: a cell effect whose
+  // after_cell_stage calls Backend::remove_cells). std::logic_error on a name that is not a C identifier.
+  static void registering(const std::string& name, const RemovalRule& rule);
 };
-// The rule registered under `name`; std::logic_error when there is none.
-const RemovalRule& removal_rule(const std::string& name);
-std::vector<std::string> removal_rule_names();
+using RemovalRules = PluginKind<RemovalRule>;
 
 }  // namespace semlb::engine

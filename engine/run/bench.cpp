@@ -4,8 +4,9 @@
 #include <chrono>
 
 #include "common/errors.hpp"
-#include "decomposition/stencil.h"
-#include "simulation.hpp"
+#include "physics/stencil.h"
+#include "simulation/simulation.hpp"
+#include "io/io.hpp"
 #include "model/tissue.hpp"
 
 namespace semlb::engine {

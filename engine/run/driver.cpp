@@ -19,7 +19,7 @@
 #include "common/text_io.hpp"
 #include "decomposition/distributed.hpp"
 #include "io/io.hpp"
-#include "simulation.hpp"
+#include "simulation/simulation.hpp"
 #include "model/tissue.hpp"
 
 namespace semlb::engine {

@@ -2,7 +2,7 @@
 // precisions, inside namespaces phys64 (double) and phys32 (float) of cpu_physics.hpp: a term's NAME.cpp defines
 // SEMLB_TERM_HEADER "terms/NAME.h" and includes this file once, then registers phys64::semlb_term_NAME and
 // phys32::semlb_term_NAME. No include guard: one inclusion per term file.
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 
 #ifndef SEMLB_TERM_HEADER
 #error "define SEMLB_TERM_HEADER (the term's evaluator header) before including terms/instantiate.hpp"

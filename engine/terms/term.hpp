@@ -6,7 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
+#include "common/registry.hpp"
 #include "model/scene.hpp"
 #include "model/state.hpp"
 
@@ -23,26 +24,23 @@ using TermEvaluator = void (*)(Real x, Real y, Real z, int type, const Real* p, 
 // terms/NAME.cpp compiles terms/NAME.h in both precisions (#define SEMLB_TERM_HEADER "terms/NAME.h", then
 // #include "terms/instantiate.hpp") and registers phys64::semlb_term_NAME and phys32::semlb_term_NAME as f64 and f32.
 struct ElementTerm {
+  static constexpr const char* kKind = "element term";
+  static constexpr const char* kListed = "element-terms";
   int order = 20;  // its place among the effects (effect.hpp EffectInfo::order)
   // The derived parameters (reals) from the scene's section; the section's errors name file, line and field.
   std::function<std::vector<double>(const Section&)> read;
   TermEvaluator<double> f64 = nullptr;
   TermEvaluator<float> f32 = nullptr;
-  // A valid section for it (YAML flow map): what the suites that iterate element_term_names() run it with.
+  // A valid section for it (YAML flow map): what the suites that iterate ElementTerms::names() run it with.
   std::string example = "{}";
   // Optional: what is wrong with the initial state under these parameters (empty: nothing), e.g. elements behind a
   // wall; the effect then refuses the state with InputError naming the section.
   std::function<std::string(const State&, const std::vector<double>&)> check;
-};
 
-// Registers `term` under `name` (a C identifier: it names the OpenCL kernel) as an element term and as an
-// effect (effect.hpp: adds_forces, the local part). std::logic_error on a name that is not a C identifier or is
-// registered twice.
-struct ElementTermRegistrar {
-  ElementTermRegistrar(const std::string& name, ElementTerm term);
+  // Registering `name` (a C identifier: it names the OpenCL kernel) also registers the effect `name` (effect.hpp:
+  // adds_forces, the local part). std::logic_error on a name that is not a C identifier.
+  static void registering(const std::string& name, const ElementTerm& term);
 };
-// The term registered under `name`; std::logic_error when there is none (the effect registry checks scene names).
-const ElementTerm& element_term(const std::string& name);
-std::vector<std::string> element_term_names();
+using ElementTerms = PluginKind<ElementTerm>;
 
 }  // namespace semlb::engine

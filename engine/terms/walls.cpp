@@ -55,7 +55,7 @@ std::string check(const State& s, const std::vector<double>& p) {
   return "";
 }
 
-const ElementTermRegistrar registrar("walls", {25, read, phys64::semlb_term_walls, phys32::semlb_term_walls,
+const Registrar<ElementTerm> registrar("walls", {25, read, phys64::semlb_term_walls, phys32::semlb_term_walls,
                                                     "{xlo: -20, xhi: 400, ylo: -20, yhi: 400, adhesion_V: 0.5, adhesion_xi: 20}", check});
 
 }  // namespace

@@ -44,7 +44,8 @@ provenance() {  # DIR [HOW]: DIR/provenance.json for what the stage made
 sweep() {  # MANIFEST: the paper profile on the NVIDIA platform in float, one job at a time (they share one GPU),
            # results under OUT/NAME/
   "$S" sweep "$here/experiments/$1.yaml" --profile paper --results "$OUT" --quiet --jobs 1 ${CHECK:+--check} \
-    --set scene.backend.platform=NVIDIA --set scene.backend.precision=float
+    --set scene.backend.opencl-allpairs.platform=NVIDIA --set scene.backend.opencl-binned.platform=NVIDIA \
+    --set scene.backend.precision=float
 }
 check_stage() {  # STAGE: what CHECK=1 verifies without a GPU
   case $1 in

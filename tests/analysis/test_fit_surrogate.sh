@@ -80,6 +80,9 @@ got = semlb_names.names(semlb, "engine-policies")
 assert got == json.loads(subprocess.run([semlb, "list", "engine-policies", "--json"], capture_output=True, text=True).stdout), got
 assert {"static", "reactive", "gru", "gromacs_dlb"} <= set(got) and not {"oracle", "lazy_oracle", "foresight"} & set(got), got
 assert set(got) < set(semlb_names.names(semlb, "policies")), got
+kinds = semlb_names.kinds(semlb)  # every kind the binary lists, from its catalogue, none typed here
+assert {"engine-policies", "policies", "backends", "pair-terms", "division-rules", "cell-types"} <= set(kinds), kinds
+assert all(semlb_names.names(semlb, k) for k in kinds), kinds
 try:
     semlb_names.names("/nonexistent/semlb", "policies")
     raise SystemExit("FAIL: no error without the binary")

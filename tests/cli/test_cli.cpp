@@ -247,6 +247,18 @@ TEST(Cli, ListPrintsTheRegistries) {
     EXPECT_EQ(r.out.rfind("[\"", 0), 0u) << what << ": " << r.out;
   }
   expect_bad_input("list nothing", "nothing");
+  // the kinds come from the catalogue every registry adds itself to (common/registry.hpp listed_kinds)
+  const auto kinds = run(semlb_bin() + " list kinds --json");
+  ASSERT_EQ(kinds.rc, 0) << kinds.out;
+  EXPECT_EQ(kinds.out, "[\"backends\",\"cell-fields\",\"cell-types\",\"division-rules\",\"effects\",\"element-terms\","
+                       "\"engine-policies\",\"fate-rules\",\"growth-laws\",\"launchers\",\"pair-terms\",\"policies\","
+                       "\"removal-rules\",\"runners\"]\n");
+  for (const auto& what : semlb::split(run(semlb_bin() + " list kinds").out, '\n')) {
+    if (what.empty()) continue;
+    const auto r = run(semlb_bin() + " list " + what + " --json");
+    EXPECT_EQ(r.rc, 0) << what << ": " << r.out;
+    EXPECT_EQ(r.out.rfind("[\"", 0), 0u) << what << ": " << r.out;
+  }
 }
 
 TEST(Cli, HelpListsEveryRegisteredName) {

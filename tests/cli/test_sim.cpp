@@ -83,6 +83,13 @@ TEST(CliSim, BadInputExitsTwoWithOneLineAndWritesNothing) {
   r = run(semlb_bin() + " sim --scene " + source("scenes/mechanics.yaml") + " --out " + dir + "/out --set effects.growht={}");
   EXPECT_EQ(r.rc, 2) << r.out;
   EXPECT_FALSE(fs::exists(dir + "/out"));
+  // an OpenCL setting on a CPU backend: the backend does not use it
+  r = run(semlb_bin() + " sim --scene " + source("scenes/mechanics.yaml") + " --out " + dir + "/out --backend cpu-binned --platform Portable");
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_NE(r.out.find("backend 'cpu-binned' does not use it"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("platform"), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  EXPECT_FALSE(fs::exists(dir + "/out"));
 }
 
 TEST(CliSim, NumericalFailureExitsOneNamingStepElementQuantityAndKeepsTheState) {
@@ -106,7 +113,7 @@ TEST(CliSim, BenchEnginePrintsElementStepsPerSecond) {
 
 // opencl-binned with a neighbour list: the skin and the builds per step beside ms/step, and a line with its figures.
 TEST(CliSim, BenchEnginePrintsTheSkinAndTheListBuilds) {
-  const auto r = run(semlb_bin() + " bench engine --backends opencl-binned --cells 20 --steps 40 --warmup 1 --set backend.skin=0.5");
+  const auto r = run(semlb_bin() + " bench engine --backends opencl-binned --cells 20 --steps 40 --warmup 1 --set backend.opencl-binned.skin=0.5");
   if (r.rc != 0) GTEST_SKIP() << "no OpenCL platform? " << r.out;
   const size_t at = r.out.find("\nopencl-binned ");
   ASSERT_NE(at, std::string::npos) << r.out;

@@ -17,7 +17,7 @@
 #include "engine/model/state.hpp"
 #include "engine/pairs/pair_term.hpp"
 #include "engine/io/io.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../run_command.hpp"
 
 namespace semlb::engine::testing {
@@ -102,13 +102,13 @@ std::vector<double> section_params(const std::string& name, const std::string& y
 // The forces of the registered pair term `name` with the YAML map `yaml` read as its section effects.NAME (every key
 // read), at `cutoff` um.
 inline PairForces pair_forces(const std::string& name, const std::string& yaml, double cutoff) {
-  return {name, section_params(name, yaml, [&](const Section& s) { return pair_term(name).read(s, cutoff); }), cutoff};
+  return {name, section_params(name, yaml, [&](const Section& s) { return PairTerms::at(name).read(s, cutoff); }), cutoff};
 }
 // The force (force units) of pair term f.term on element i (info_i) from element j (info_j) at distance r um along
 // +x (double), its fixed-point sum read back: its x component (the others must be 0).
 inline double pair_force_x(const PairForces& f, double r, int info_i, int info_j) {
   int64_t acc[4] = {0, 0, 0, 0};
-  pair_term(f.term).f64(r, 0, 0, info_i, info_j, 1, 2, f.params.data(), f.cutoff * f.cutoff, acc);
+  PairTerms::at(f.term).f64(r, 0, 0, info_i, info_j, 1, 2, f.params.data(), f.cutoff * f.cutoff, acc);
   EXPECT_EQ(acc[1], 0);
   EXPECT_EQ(acc[2], 0);
   return static_cast<double>(acc[0]) * SEMLB_FIXED_INV;

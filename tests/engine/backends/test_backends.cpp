@@ -9,10 +9,10 @@
 #include <fstream>
 #include <map>
 
-#include "engine/backends/cpu_physics.hpp"
+#include "engine/physics/cpu_physics.hpp"
 #include "engine/effects/cell_types.hpp"
 #include "engine/effects/effect.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"
 #include "../../run_command.hpp"
 
@@ -28,8 +28,8 @@ using testing::scene_from;
 State run(const std::string& backend, const std::string& precision, State s, long steps, int threads = 0, double side = 40,
           const std::string& skin = "1") {
   auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.precision=" + precision,
-                                                    "backend.threads=" + std::to_string(threads), "effects.membrane={}",
-                                                    "backend.skin=" + skin});
+                                                    "backend.cpu-binned.threads=" + std::to_string(threads), "effects.membrane={}",
+                                                    "backend.opencl-binned.skin=" + skin});
   scene.box_lo = {0, 0, 0};
   scene.box_hi = {side, side, side};
   Simulation sim(scene, std::move(s));
@@ -72,7 +72,7 @@ TEST(Backends, OpenClMatchesTheCppReference) {
 // at the failing step when the run stops.
 State run_wide(const std::string& backend, const std::string& precision, State s, long steps, const std::string& skin = "1") {
   auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.precision=" + precision,
-                                                    "backend.skin=" + skin});
+                                                    "backend.opencl-binned.skin=" + skin});
   scene.box_lo = {0, 0, 0};
   scene.box_hi = {200, 200, 200};
   Simulation sim(scene, std::move(s));
@@ -478,6 +478,58 @@ TEST(Backends, UnknownBackendIsRefusedWithTheKnownOnes) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("known: cpu-binned"), std::string::npos) << e.what();
   }
+}
+
+// Each backend reads its own keys of the scene's `backend` map (backend_settings): beside name and precision for the
+// chosen one, and in its own map `backend.NAME` (checked whichever backend runs); a key it does not use is an
+// InputError naming the file, line and field.
+TEST(Backends, EachBackendReadsItsOwnSettingsAndRefusesTheOthers) {
+  std::string yaml = testing::kMechanicsYaml;
+  yaml.erase(yaml.find("backend:"), yaml.find('\n', yaml.find("backend:")) + 1 - yaml.find("backend:"));
+  yaml += "backend:\n  name: NAME\n  KEY: VALUE\n";
+  const auto settings = [&](const std::string& name, const std::string& key, const std::string& value) {
+    std::string y = yaml;
+    y.replace(y.find("NAME"), 4, name);
+    y.replace(y.find("KEY"), 3, key);
+    y.replace(y.find("VALUE"), 5, value);
+    return backend_settings(scene_from(y).backend);
+  };
+  const auto refused = [&](const std::string& name, const std::string& key, const std::string& value) {
+    try {
+      settings(name, key, value);
+      return std::string("accepted");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+  };
+  EXPECT_EQ(settings("cpu-binned", "threads", "3").threads, 3);
+  EXPECT_EQ(settings("opencl-allpairs", "platform", "Portable").platform, "Portable");
+  EXPECT_EQ(settings("opencl-binned", "device", "1").device, 1);
+  EXPECT_EQ(settings("opencl-binned", "skin", "0.5").skin, 0.5);
+  // the key a backend does not use: named with the file and line, whichever backend it is another's
+  const int line = static_cast<int>(std::count(yaml.begin(), yaml.begin() + yaml.find("KEY"), '\n')) + 1;
+  const std::string at = "test.yaml:" + std::to_string(line) + ": field 'backend.";
+  EXPECT_EQ(refused("cpu-binned", "skin", "0.5"), at + "skin': backend 'cpu-binned' does not use it");
+  EXPECT_EQ(refused("serial", "threads", "1"), at + "threads': backend 'serial' does not use it");
+  EXPECT_EQ(refused("cpu-binned", "platform", "Portable"), at + "platform': backend 'cpu-binned' does not use it");
+  EXPECT_EQ(refused("opencl-allpairs", "skin", "0.5"), at + "skin': backend 'opencl-allpairs' does not use it");
+  EXPECT_EQ(refused("opencl-binned", "threads", "1"), at + "threads': backend 'opencl-binned' does not use it");
+  EXPECT_NE(refused("cpu-binned", "cpu-binnd", "{threads: 1}").find("field 'backend.cpu-binnd': is not a backend (known: "),
+            std::string::npos);
+  // a backend's own map: applied when it runs, checked when another does; the flat keys override it
+  EXPECT_EQ(settings("opencl-binned", "opencl-binned", "{skin: 0.5}").skin, 0.5);
+  EXPECT_EQ(settings("cpu-binned", "opencl-binned", "{skin: 0.5}").skin, 0.0);
+  EXPECT_EQ(settings("cpu-binned", "cpu-binned", "{threads: 2}").threads, 2);
+  EXPECT_EQ(refused("cpu-binned", "opencl-binned", "{threads: 1}"),
+            at + "opencl-binned.threads': backend 'opencl-binned' does not use it");
+  EXPECT_EQ(refused("cpu-binned", "serial", "{threads: 1}"), at + "serial.threads': backend 'serial' does not use it");
+  EXPECT_NE(refused("cpu-binned", "threads", "-1").find("threads"), std::string::npos);  // its range, as before
+  EXPECT_EQ(backend_settings(scene_from(yaml.substr(0, yaml.find("backend:")) + "backend:\n  name: opencl-binned\n"
+                                        "  skin: 1\n  opencl-binned: {skin: 0.5}\n").backend).skin, 1.0);
+  // every shipped scene on every backend
+  for (const char* file : {"scenes/epidermis.yaml", "scenes/mechanics.yaml", "scenes/epidermis_development.yaml"})
+    for (const auto& name : Backends::names())
+      EXPECT_NO_THROW(backend_settings(load_scene(test::source(file), {"backend.name=" + name}).backend)) << file << " " << name;
 }
 
 TEST(Backends, OpenClPlatformIsChosenByNameNotIndex) {

@@ -1,4 +1,4 @@
-// The cell stage's core (backends/cells.h) piece by piece, and the device cell stage (OpenCL on PoCL)
+// The cell stage's core (physics/cells.h) piece by piece, and the device cell stage (OpenCL on PoCL)
 // against the host reference (serial) over a run in which cells grow, divide and differentiate.
 #include <gtest/gtest.h>
 
@@ -7,8 +7,9 @@
 
 #include "engine/backends/backend.hpp"
 #include "engine/division/division_rule.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"
 
 namespace semlb::engine {
@@ -56,7 +57,7 @@ TEST(Cells, CoincidentElementsSplitInHalvesBySlot) {
   s.reindex();
   s.cell_fields["division.depth"] = {0};  // the record: one field, the division's depth at index 0
   CellRules r{};
-  const auto rules = division_rule_names();
+  const auto rules = DivisionRules::names();
   r.growth = r.growth_field = -1;
   r.division = static_cast<int>(std::find(rules.begin(), rules.end(), "long_axis") - rules.begin());
   r.division_p[0] = 1;   // basal only

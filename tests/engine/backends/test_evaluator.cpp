@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "engine/backends/cpu_physics.hpp"
+#include "engine/physics/cpu_physics.hpp"
 
 namespace semlb::engine {
 namespace {

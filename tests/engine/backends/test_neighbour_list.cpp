@@ -8,9 +8,10 @@
 #include <map>
 #include <random>
 
-#include "engine/backends/cpu_physics.hpp"
+#include "engine/physics/cpu_physics.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"
 
 namespace semlb::engine {
@@ -163,7 +164,7 @@ effects:
     for (const std::string v : {"opencl-allpairs", "opencl-binned", "opencl-binned skin"}) {
       const bool list = v == "opencl-binned skin";
       auto scene = scene_from(yaml, {"backend.name=" + v.substr(0, v.find(' ')), std::string("backend.precision=") + precision,
-                                     "backend.skin=" + std::string(list ? "0.5" : "0")});
+                                     "backend.opencl-binned.skin=" + std::string(list ? "0.5" : "0")});
       Simulation sim(scene, make_tissue(scene));
       cells0 = sim.host_state().cells();
       sim.advance(60);
@@ -178,9 +179,15 @@ effects:
 }
 
 TEST(NeighbourList, SkinIsANonNegativeLength) {
-  EXPECT_THROW(scene_from(testing::kMechanicsYaml, {"backend.skin=-1"}), InputError);
-  EXPECT_EQ(scene_from(testing::kMechanicsYaml, {"backend.skin=0"}).backend.skin, 0.0);
-  EXPECT_EQ(scene_from(testing::kMechanicsYaml).backend.skin, 0.0);  // no list unless a scene asks for one
+  const auto skin = [](const std::vector<std::string>& sets) {
+    return backend_settings(scene_from(testing::kMechanicsYaml, sets).backend).skin;
+  };
+  EXPECT_THROW(skin({"backend.name=opencl-binned", "backend.skin=-1"}), InputError);
+  EXPECT_THROW(skin({"backend.opencl-binned.skin=-1"}), InputError);  // checked whichever backend runs
+  EXPECT_EQ(skin({"backend.name=opencl-binned", "backend.skin=0.5"}), 0.5);
+  EXPECT_EQ(skin({"backend.name=opencl-binned", "backend.opencl-binned.skin=0.5"}), 0.5);
+  EXPECT_EQ(skin({"backend.opencl-binned.skin=0.5"}), 0.0);  // cpu-binned: opencl-binned's map only checked
+  EXPECT_EQ(skin({"backend.name=opencl-binned"}), 0.0);  // no list unless a scene asks for one
 }
 
 // What a step launches with the list: its check from the second step on (the first builds unasked), the gated build

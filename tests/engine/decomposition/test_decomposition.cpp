@@ -28,7 +28,7 @@ using test::within;
 
 // 400 cells over ~180 um in x: room for 4 slabs of min_width (3 cutoffs); one thread per rank.
 const std::string kArgs = " --scene " + source("scenes/epidermis.yaml") +
-                          " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=50";
+                          " --quiet --set tissue.cells=400 --set backend.cpu-binned.threads=1 --set decomposition.rebalance_every=50";
 
 using testing::mpirun_sim;  // every run bounded: a hang fails the test
 
@@ -57,23 +57,6 @@ TEST(Decomposition, SliceWorkloadMatchesBruteForceCompactAndSpread) {
     }
     EXPECT_EQ(slice_workload(s, d, cutoff), want) << "gap " << gap << ", " << g.bins() << " bins";
   }
-}
-
-// A box of more bins than Grid::kMaxBins (2^24), even 2e15 along one axis (2e9 um in bins of 1e-6 um) or an element
-// at 1e300 um, gets fewer, larger bins: never an int overflow, every bin edge still >= the cutoff.
-TEST(Decomposition, BinCountsStayWithinThirtyTwoBitsWithBinsOfAtLeastTheCutoff) {
-  const std::array<double, 3> o{0, 0, 0};
-  for (const auto& [hi, cutoff] : {std::pair{std::array<double, 3>{2e9, 2e9, 2e9}, 1e-6}, {{1e300, 10, 10}, 8.75},
-                                   {{2e3, 2e3, 2e3}, 1.0}, {{1e9, 1, 1}, 1e-3}}) {
-    const Grid g = Grid::cover(o, hi, cutoff);
-    EXPECT_LE(g.bins(), Grid::kMaxBins) << hi[0] << " / " << cutoff;
-    for (int d = 0; d < 3; ++d) {
-      EXPECT_GE(g.dims[d], 1);
-      EXPECT_GE(g.size[d], cutoff) << d;
-      EXPECT_GE(g.size[d] * g.dims[d], hi[d] * (1 - 1e-12)) << d;
-    }
-  }
-  EXPECT_EQ(Grid::cover(o, {200, 200, 200}, 1.0).bins(), 199L * 199 * 199);  // below the limit: bins of the cutoff
 }
 
 TEST(Decomposition, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
@@ -138,14 +121,14 @@ TEST(Decomposition, OpenClRanksMatchOneOpenClDevice) {
   const std::string workload = workload_of(dir + "/single/workload.h5");
   // With backend.skin, opencl-binned's neighbour list takes the local pairs (on each rank its owned elements) and the
   // stencil the ghosts: one device and 2 and 4 ranks with the list give the state of one device without it.
-  r = run(semlb_bin() + " sim" + args + " --set backend.skin=1 --out " + dir + "/single_list");
+  r = run(semlb_bin() + " sim" + args + " --set backend.opencl-binned.skin=1 --out " + dir + "/single_list");
   ASSERT_EQ(r.rc, 0) << r.out;
   EXPECT_EQ(read_state(dir + "/single_list/final.h5").hash(), reference) << "one device with the list";
   // 2 ranks overlapped and blocking; 4 ranks: the middle ones select both bands in one pass
   for (const std::string variant : {"np2", "np2_blocking", "np4", "np2_skin", "np4_skin"}) {
     const std::string extra = variant == "np2_blocking" ? " --set decomposition.overlap=false"
-                              : variant == "np2_skin"   ? " --set backend.skin=0.3"  // rebuilt often
-                              : variant == "np4_skin"   ? " --set backend.skin=1"
+                              : variant == "np2_skin"   ? " --set backend.opencl-binned.skin=0.3"  // rebuilt often
+                              : variant == "np4_skin"   ? " --set backend.opencl-binned.skin=1"
                                                         : "";
     r = run(mpirun_sim(variant.rfind("np4", 0) == 0 ? 4 : 2) + args + extra + " --out " + dir + "/" + variant);
     ASSERT_EQ(r.rc, 0) << r.out;
@@ -173,7 +156,7 @@ TEST(Decomposition, DeviceTimersAndTurnsKeepTheStateAndFeedTheDecisions) {
   for (int ranks : {2, 4}) {
     for (const std::string skin : {"0", "0.5"}) {  // the stencil and the neighbour list (timed over regions alike)
       const std::string out = dir + "/np" + std::to_string(ranks) + "_skin" + skin;
-      r = run(mpirun_sim(ranks) + args + timed + " --set backend.skin=" + skin + " --out " + out);
+      r = run(mpirun_sim(ranks) + args + timed + " --set backend.opencl-binned.skin=" + skin + " --out " + out);
       ASSERT_EQ(r.rc, 0) << r.out;
       EXPECT_EQ(read_state(out + "/final.h5").hash(), reference) << out;
       const auto rows = rank_time_rows(out);
@@ -359,7 +342,7 @@ TEST(Decomposition, AFailingRankStopsEveryRankNamingRankStepAndCause) {
 TEST(Decomposition, MechanicsOnlyScenesRebalanceToo) {
   const auto dir = fresh_dir("decomposition_mechanics");
   const auto r = run(mpirun_sim(2) + " --scene " + source("scenes/mechanics.yaml") +
-                     " --quiet --set tissue.cells=400 --set backend.threads=1 --steps 100 --set decomposition.rebalance_every=50 --out " + dir);
+                     " --quiet --set tissue.cells=400 --set backend.cpu-binned.threads=1 --steps 100 --set decomposition.rebalance_every=50 --out " + dir);
   ASSERT_EQ(r.rc, 0) << r.out;
   EXPECT_EQ(split(read_file(dir + "/rank_times.csv"), '\n').size(), 2 + 2u * 2) << read_file(dir + "/rank_times.csv");
   EXPECT_EQ(split(read_file(dir + "/trace.jsonl"), '\n').size(), 3u);
@@ -465,7 +448,7 @@ TEST(Decomposition, AnErrorOnOneRankAloneEndsTheJobNamingTheRank) {
 TEST(Decomposition, FailureStateIsTheFailingStepOnAnyRankCount) {
   const auto dir = fresh_dir("decomposition_failure_state");
   const std::string args = " --scene " + source("scenes/epidermis.yaml") +
-                           " --quiet --set time.dt=0.2 --set tissue.cells=60 --set backend.threads=1";
+                           " --quiet --set time.dt=0.2 --set tissue.cells=60 --set backend.cpu-binned.threads=1";
   std::vector<State> states;
   for (const std::string steps : {"5", "100"}) {
     const std::string out = dir + "/single_" + steps;

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/backends/cpu_physics.hpp"
+#include "engine/physics/cpu_physics.hpp"
 #include "engine/division/division_rule.hpp"
 #include "../engine_fixtures.hpp"
 
@@ -25,17 +25,17 @@ std::array<double, 3> axis_of(const std::string& name, const State& s, long c, c
     for (int i = 0; i < 6; ++i) g[i] += terms[i] / s.cell_count[c];
   }
   std::array<double, 3> axis{};
-  division_rule(name).axis(g, ctr.data(), p, axis.data());
+  DivisionRules::at(name).axis(g, ctr.data(), p, axis.data());
   return axis;
 }
 
 TEST(DivisionRules, EveryRuleOnEveryBackendSplitsAsItsEvaluatorSays) {
-  ASSERT_FALSE(division_rule_names().empty());
-  for (const auto& name : division_rule_names()) {
-    const DivisionRule& rule = division_rule(name);
+  ASSERT_FALSE(DivisionRules::names().empty());
+  for (const auto& name : DivisionRules::names()) {
+    const DivisionRule& rule = DivisionRules::at(name);
     State s = testing::random_state(30, 16, 24.0, 11);  // 16 elements: above the examples' at_elements
     const CellRules rules = testing::rules_of("  division: " + rule.example + "\n", s);
-    ASSERT_EQ(division_rule_names().at(rules.division), name);
+    ASSERT_EQ(DivisionRules::names().at(rules.division), name);
     for (const auto& [backend, precision] : testing::backend_precisions()) {
       auto b = testing::backend(backend, precision);
       b->upload(s);
@@ -74,7 +74,7 @@ TEST(DivisionRules, EveryRuleOnEveryBackendSplitsAsItsEvaluatorSays) {
 // cell stage naming the step, the cell, the limit and the way out, not an id that would collide.
 TEST(DivisionRules, ALineageOutOfIdsStopsNamingStepCellAndLimit) {
   State s = testing::random_state(30, 16, 24.0, 11);
-  const CellRules rules = testing::rules_of("  division: " + division_rule("long_axis").example + "\n", s);
+  const CellRules rules = testing::rules_of("  division: " + DivisionRules::at("long_axis").example + "\n", s);
   for (double& d : s.cell_fields.at("division.depth")) d = kMaxDivisionDepth;
   for (const auto& [backend, precision] : testing::backend_precisions()) {
     auto b = testing::backend(backend, precision);

@@ -5,9 +5,10 @@
 
 #include <algorithm>
 
-#include "engine/backends/cpu_physics.hpp"
-#include "engine/decomposition/slices.hpp"
+#include "engine/physics/cpu_physics.hpp"
+#include "engine/model/slices.hpp"
 #include "engine/effects/cell_fields.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
 #include "../engine_fixtures.hpp"
 
@@ -16,7 +17,7 @@ namespace {
 
 // A field of an effect that is not shipped, registered by this test binary only (its cells are tagged by hand).
 // "clonal.mark" sorts before every shipped field, so every rule's index in the record moves by one.
-const CellFieldRegistrar clonal("clonal.mark", {"clonal", -1.0, "the lineage's root id / 4 (test only)"});
+const Registrar<CellFieldInfo> clonal("clonal.mark", {"clonal", -1.0, "the lineage's root id / 4 (test only)"});
 
 // What clonal.mark holds for a cell of `id`: its lineage's root id / 4, which its daughters inherit.
 double mark_of(uint64_t id) { return static_cast<double>(id & ((uint64_t{1} << kRootIdBits) - 1)) / 4; }
@@ -28,16 +29,16 @@ void expect_marked(const State& s, const std::string& where) {
 }
 
 TEST(CellFields, TheRegistryHoldsTheShippedFieldsAndRefusesBadNames) {
-  const auto names = cell_field_names();
+  const auto names = CellFields::names();
   for (const char* n : {"differentiation.age", "division.depth", "growth.clock"})
     EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
-  EXPECT_EQ(find_cell_field("division.depth")->effect, "division");
-  EXPECT_EQ(find_cell_field("no.such"), nullptr);
-  EXPECT_NE(known_cell_fields().find("division.depth, growth.clock"), std::string::npos) << known_cell_fields();
-  EXPECT_THROW(CellFieldRegistrar("clock", {"growth", 0.0, ""}), std::logic_error);           // no "EFFECT." prefix
-  EXPECT_THROW(CellFieldRegistrar("growth.", {"growth", 0.0, ""}), std::logic_error);         // no name after it
-  EXPECT_THROW(CellFieldRegistrar("division.clock", {"growth", 0.0, ""}), std::logic_error);  // another effect's prefix
-  EXPECT_THROW(CellFieldRegistrar("growth.clock", {"growth", 0.0, ""}), std::logic_error);    // registered twice
+  EXPECT_EQ(CellFields::find("division.depth")->effect, "division");
+  EXPECT_EQ(CellFields::find("no.such"), nullptr);
+  EXPECT_NE(CellFields::known().find("division.depth, growth.clock"), std::string::npos) << CellFields::known();
+  EXPECT_THROW(Registrar<CellFieldInfo>("clock", {"growth", 0.0, ""}), std::logic_error);           // no "EFFECT." prefix
+  EXPECT_THROW(Registrar<CellFieldInfo>("growth.", {"growth", 0.0, ""}), std::logic_error);         // no name after it
+  EXPECT_THROW(Registrar<CellFieldInfo>("division.clock", {"growth", 0.0, ""}), std::logic_error);  // another effect's prefix
+  EXPECT_THROW(Registrar<CellFieldInfo>("growth.clock", {"growth", 0.0, ""}), std::logic_error);    // registered twice
 }
 
 TEST(CellFields, ARunDeclaresTheFieldsOfItsListedEffectsAndKeepsRestoredOnes) {

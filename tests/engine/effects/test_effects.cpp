@@ -11,7 +11,8 @@
 #include "engine/effects/cell_fields.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/fates/fate.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
 #include "../engine_fixtures.hpp"
 
@@ -151,7 +152,7 @@ TEST(Effects, DivisionOfACoincidentClumpStillHalvesIt) {
 // The fate rule on every backend: `stages` cell stages of `elapsed` h each (Backend::cell_fate) of state s.
 void fates(State& s, const std::string& yaml, double elapsed, int stages, const std::string& backend) {
   if (!s.cell_fields.count("differentiation.age")) rules_of(yaml, s);  // declares differentiation.age (0 h)
-  const auto params = testing::section_params("differentiation", yaml.substr(yaml.find('{')), fate_rule("differentiation").read);
+  const auto params = testing::section_params("differentiation", yaml.substr(yaml.find('{')), FateRules::at("differentiation").read);
   auto b = testing::backend(backend, "double");
   b->upload(s);
   for (int k = 0; k < stages; ++k) b->cell_fate(s, "differentiation", params, cell_field_index(s, "differentiation.age"), elapsed);

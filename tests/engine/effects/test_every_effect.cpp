@@ -13,9 +13,10 @@
 #include "engine/division/division_rule.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/growth/growth_law.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
 #include "engine/pairs/pair_term.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"
 
 namespace semlb::engine {
@@ -29,13 +30,13 @@ struct Case {
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name << ": " << c.section; }  // gtest's name for the case
 std::vector<Case> cases() {
   std::vector<Case> out;
-  for (const auto& name : effect_names())
+  for (const auto& name : Effects::names())
     if (name == "growth")
-      for (const auto& law : growth_law_names()) out.push_back({name, growth_law(law).example, name + "_" + law});
+      for (const auto& law : GrowthLaws::names()) out.push_back({name, GrowthLaws::at(law).example, name + "_" + law});
     else if (name == "division")
-      for (const auto& rule : division_rule_names()) out.push_back({name, division_rule(rule).example, name + "_" + rule});
+      for (const auto& rule : DivisionRules::names()) out.push_back({name, DivisionRules::at(rule).example, name + "_" + rule});
     else
-      out.push_back({name, effect_example(name), name});
+      out.push_back({name, Effects::at(name).example, name});
   return out;
 }
 
@@ -45,7 +46,7 @@ class EveryEffect : public ::testing::TestWithParam<Case> {
  protected:
   const std::string& effect() const { return GetParam().effect; }
   bool pair() const {
-    const auto names = pair_term_names();
+    const auto names = PairTerms::names();
     return std::find(names.begin(), names.end(), effect()) != names.end();
   }
   std::string scene() const {
@@ -97,7 +98,7 @@ TEST_P(EveryEffect, SameStateOnEveryBackend) {
 TEST_P(EveryEffect, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
   // 400 cells over ~140 um in x: room for 4 slabs; rebalanced every 20 steps, so cells migrate.
   std::string args = " --scene " + scene() +
-                     " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=20"
+                     " --quiet --set tissue.cells=400 --set backend.cpu-binned.threads=1 --set decomposition.rebalance_every=20"
                      " --set time.cell_update_every=10 --steps 60";
   for (const auto& s : set()) args += " --set '" + s + "'";
   const std::string dir = test::fresh_dir("every_effect_" + GetParam().name);

@@ -6,7 +6,7 @@
 #include <algorithm>
 
 #include "engine/backends/backend.hpp"
-#include "engine/backends/cpu_physics.hpp"
+#include "engine/physics/cpu_physics.hpp"
 #include "engine/effects/cell_fields.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/fates/fate.hpp"
@@ -21,22 +21,22 @@ State decided_by(const std::string& name, State s, const std::vector<double>& pa
   for (long c = 0; c < s.cells(); ++c) {
     const auto ctr = centroid(s, c);
     double f = column ? (*column)[c] : 0.0;
-    fate_rule(name).decides(ctr[0], ctr[1], ctr[2], s.cell_count[c], elapsed, params.data(), &s.cell_type[c], &f);
+    FateRules::at(name).decides(ctr[0], ctr[1], ctr[2], s.cell_count[c], elapsed, params.data(), &s.cell_type[c], &f);
     if (column) (*column)[c] = f;
   }
   return s;
 }
 
 TEST(FateRules, EveryRuleOnEveryBackendDecidesWhatItsEvaluatorDecides) {
-  ASSERT_FALSE(fate_rule_names().empty());
+  ASSERT_FALSE(FateRules::names().empty());
   State s = testing::random_state(60, 8, 24.0, 31);
   s.cell_fields["growth.clock"] = std::vector<double>(s.cells());
   s.cell_fields["division.depth"] = std::vector<double>(s.cells());
   for (long c = 0; c < s.cells(); ++c) s.cell_fields["growth.clock"][c] = 0.25 * c, s.cell_fields["division.depth"][c] = c % 5;
-  for (const auto& name : fate_rule_names()) {
-    const auto names = effect_names();
+  for (const auto& name : FateRules::names()) {
+    const auto names = Effects::names();
     EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name << " is not an effect";
-    const FateRule& rule = fate_rule(name);
+    const FateRule& rule = FateRules::at(name);
     State start = s;
     if (!rule.field.empty()) {
       start.cell_fields[rule.field] = std::vector<double>(s.cells());

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/backends/cpu_physics.hpp"
+#include "engine/physics/cpu_physics.hpp"
 #include "engine/growth/growth_law.hpp"
 #include "../engine_fixtures.hpp"
 
@@ -14,12 +14,12 @@ namespace semlb::engine {
 namespace {
 
 TEST(GrowthLaws, EveryLawOnEveryBackendGrowsWhatItsEvaluatorGives) {
-  ASSERT_FALSE(growth_law_names().empty());
-  for (const auto& name : growth_law_names()) {
-    const GrowthLaw& law = growth_law(name);
+  ASSERT_FALSE(GrowthLaws::names().empty());
+  for (const auto& name : GrowthLaws::names()) {
+    const GrowthLaw& law = GrowthLaws::at(name);
     State s = testing::random_state(60, 8, 24.0, 31);
     const CellRules rules = testing::rules_of("  growth: " + law.example + "\n", s);
-    ASSERT_EQ(growth_law_names().at(rules.growth), name) << "the scene's law is the one the rules call";
+    ASSERT_EQ(GrowthLaws::names().at(rules.growth), name) << "the scene's law is the one the rules call";
     for (const auto& [backend, precision] : testing::backend_precisions()) {
       CellRules r = rules;
       r.single = precision == "float";
@@ -61,7 +61,7 @@ TEST(GrowthLaws, EveryLawOnEveryBackendGrowsWhatItsEvaluatorGives) {
 
 // clock.h by hand (its C++ instantiation, as registered): p = (period 2 h, basal only, max 20, front, x0, speed, cycle).
 TEST(GrowthLaws, ClockFollowsTheClockStopsAtTheMaximumAndWaitsForTheFront) {
-  const GrowthEvaluator clock_law = growth_law("clock").births;
+  const GrowthEvaluator clock_law = GrowthLaws::at("clock").births;
   const double p[7] = {2, 1, 20, 0, 0, 0, 20}, centre[3] = {20, 0, 0};
   double clock = 1.5;
   EXPECT_EQ(clock_law(0, 10, centre, 0, 5.0, p, &clock), 3);  // 6.5 h: three periods, 0.5 h left
@@ -82,7 +82,7 @@ TEST(GrowthLaws, ClockFollowsTheClockStopsAtTheMaximumAndWaitsForTheFront) {
 // A huge but finite clock (an edited state, a checkpoint of a slow cycle restarted with a fast one) takes closed-form
 // time: births capped by the room left, the clock reduced modulo the period; below 64 periods the loop's own bits.
 TEST(GrowthLaws, ClockOfAnyMagnitudeEndsInBoundedTime) {
-  const GrowthEvaluator clock_law = growth_law("clock").births;
+  const GrowthEvaluator clock_law = GrowthLaws::at("clock").births;
   const double p[7] = {2, 1, 20, 0, 0, 0, 20}, centre[3] = {20, 0, 0};
   double clock = 1e300;  // 1e300 - 2 == 1e300: a loop that subtracts the period never ends
   EXPECT_EQ(clock_law(0, 10, centre, 0, 5.0, p, &clock), 10);

@@ -10,7 +10,7 @@ py=${PYTHON:-/usr/bin/python3}
 check() { timeout 300 "$py" "$src/tests/engine/io/paraview_check.py" "$@"; }
 snaps() { local dir=$1; shift; for s in "$@"; do printf '%s/snapshots/step_%09d.h5\n' "$dir" "$s"; done; }
 once() { [ "$(grep -c "Name=\"step_$2\"" "$1")" = 1 ] || { echo "FAIL: $1 lists step $2 $(grep -c "Name=\"step_$2\"" "$1") times"; exit 1; }; }
-run=(--scene "$src/scenes/epidermis.yaml" --quiet --set backend.threads=1
+run=(--scene "$src/scenes/epidermis.yaml" --quiet --set backend.cpu-binned.threads=1
      --set output.snapshot_every=10 --set output.checkpoint_every=10)
 
 a=$work/single

@@ -6,9 +6,11 @@
 
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
-#include "engine/backends/cpu_physics.hpp"
+#include "engine/backends/backend.hpp"
+#include "engine/physics/cpu_physics.hpp"
 #include "engine/model/scene.hpp"
 #include "engine/model/state.hpp"
+#include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
 
 namespace semlb::engine {
@@ -46,7 +48,7 @@ TEST(Model, ElementInfoPacksTheCellIndexAndType) {
 TEST(Model, SceneSettingsSetTheirKeysWithTypedValues) {
   const std::vector<std::pair<std::string, std::string>> given = {
       {"cells", "40"},         {"steps", "7"},        {"dt", "0.005"},        {"cutoff", "9.5"},
-      {"seed", "3"},           {"backend", "serial"}, {"precision", "float"}, {"platform", "Portable"},
+      {"seed", "3"},           {"backend", "opencl-allpairs"}, {"precision", "float"}, {"platform", "Portable"},
       {"device", "2"},         {"policy", "holt"},    {"initial", "uniform"}, {"rebalance_every", "25"},
       {"timing", "modelled"}};
   ASSERT_EQ(given.size(), scene_settings().size());
@@ -58,10 +60,11 @@ TEST(Model, SceneSettingsSetTheirKeysWithTypedValues) {
   EXPECT_EQ(s.dt, 0.005);
   EXPECT_EQ(s.cutoff, 9.5);
   EXPECT_EQ(s.seed, 3u);
-  EXPECT_EQ(s.backend.name, "serial");
+  EXPECT_EQ(s.backend.name, "opencl-allpairs");
   EXPECT_EQ(s.backend.precision, "float");
-  EXPECT_EQ(s.backend.platform, "Portable");
-  EXPECT_EQ(s.backend.device, 2);
+  const BackendConfig backend = backend_settings(s.backend);  // the backend's own keys, read by it
+  EXPECT_EQ(backend.platform, "Portable");
+  EXPECT_EQ(backend.device, 2);
   EXPECT_EQ(s.decomposition->text("policy", ""), "holt");
   EXPECT_EQ(s.decomposition->text("initial", ""), "uniform");
   EXPECT_EQ(s.decomposition->integer("rebalance_every", 0, 0, 1000), 25);

@@ -32,7 +32,7 @@ TEST(Mechanics, MorseForceByHandVanishesAtTheDocumentedEquilibrium) {
   EXPECT_EQ(pair_force_x(f, 8.75, a, a), 0.0);  // at the cutoff: no force
   // Coincident: |F| = f(0) = U0/xi1 - V0/xi2 = 2.36 for the intra set.
   int64_t acc[4];
-  EXPECT_NEAR(testing::coincident_kick(pair_term("mechanics").f64, f.params, f.cutoff * f.cutoff, a, 100, 101, acc), 2.86 - 0.5, 1e-6);
+  EXPECT_NEAR(testing::coincident_kick(PairTerms::at("mechanics").f64, f.params, f.cutoff * f.cutoff, a, 100, 101, acc), 2.86 - 0.5, 1e-6);
 }
 
 TEST(Mechanics, BadSectionsNameTheField) {

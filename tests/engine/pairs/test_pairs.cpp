@@ -11,7 +11,7 @@
 
 #include "engine/effects/effect.hpp"
 #include "engine/pairs/pair_term.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"
 
 namespace semlb::engine {
@@ -19,11 +19,11 @@ namespace {
 
 constexpr double kCutoff = 8.75;
 
-PairForces example(const std::string& name) { return testing::pair_forces(name, pair_term(name).example, kCutoff); }
+PairForces example(const std::string& name) { return testing::pair_forces(name, PairTerms::at(name).example, kCutoff); }
 
 template <class Real>
 PairEvaluator<Real> law(const std::string& name) {
-  if constexpr (std::is_same_v<Real, double>) return pair_term(name).f64; else return pair_term(name).f32;
+  if constexpr (std::is_same_v<Real, double>) return PairTerms::at(name).f64; else return PairTerms::at(name).f32;
 }
 
 template <class Real>
@@ -68,8 +68,8 @@ void antisymmetric_and_order_independent(const std::string& name) {
 }
 
 TEST(PairTerms, ExactlyAntisymmetricAndOrderIndependent) {
-  ASSERT_GE(pair_term_names().size(), 2u);
-  for (const auto& name : pair_term_names()) {
+  ASSERT_GE(PairTerms::names().size(), 2u);
+  for (const auto& name : PairTerms::names()) {
     antisymmetric_and_order_independent<double>(name);
     antisymmetric_and_order_independent<float>(name);
   }
@@ -103,7 +103,7 @@ TEST(PairTerms, EveryTermOnEveryBackendAddsWhatItsEvaluatorGives) {
   State s = testing::random_state(60, 8, 36.0, 21);
   s.position[3] = s.position[0], s.position[4] = s.position[1], s.position[5] = s.position[2];  // a coincident pair
   const Grid grid = Grid::cover({0, 0, 0}, {36, 36, 36}, kCutoff);
-  for (const auto& name : pair_term_names()) {
+  for (const auto& name : PairTerms::names()) {
     const PairForces f = example(name);
     for (const auto& [backend, precision] : testing::backend_precisions())
       for (const double skin : backend == "opencl-binned" ? std::vector<double>{0.0, 1.0} : std::vector<double>{0.0}) {
@@ -134,13 +134,13 @@ TEST(PairTerms, EveryTermOnEveryBackendAddsWhatItsEvaluatorGives) {
 // The scene's effects with `name`'s example as its only pair term (kMechanicsYaml lists mechanics).
 std::string scene_with(const std::string& name, const std::string& extra = "") {
   std::string yaml = testing::kMechanicsYaml;
-  yaml = yaml.substr(0, yaml.find("effects:")) + "effects:\n  " + name + ": " + pair_term(name).example + "\n" + extra;
+  yaml = yaml.substr(0, yaml.find("effects:")) + "effects:\n  " + name + ": " + PairTerms::at(name).example + "\n" + extra;
   return yaml;
 }
 
 TEST(PairTerms, EachIsAnEffectThatRunsAlone) {
-  for (const auto& name : pair_term_names()) {
-    const auto effects = effect_names();
+  for (const auto& name : PairTerms::names()) {
+    const auto effects = Effects::names();
     ASSERT_NE(std::find(effects.begin(), effects.end(), name), effects.end()) << name;
     for (const auto& backend : testing::available_backends()) {
       auto scene = testing::scene_from(scene_with(name), {"backend.name=" + backend});
@@ -155,11 +155,11 @@ TEST(PairTerms, EachIsAnEffectThatRunsAlone) {
 }
 
 TEST(PairTerms, AScenelistsOnePairTerm) {
-  const auto names = pair_term_names();
+  const auto names = PairTerms::names();
   ASSERT_GE(names.size(), 2u);
   const std::string second = names[0] == "mechanics" ? names[1] : names[0];
   // kMechanicsYaml lists mechanics; the term --set adds after it is the one refused, blamed on that flag.
-  const std::string message = testing::scene_error({"effects." + second + "=" + pair_term(second).example});
+  const std::string message = testing::scene_error({"effects." + second + "=" + PairTerms::at(second).example});
   EXPECT_NE(message.find("a scene lists one pair term, and 'mechanics' is listed already"), std::string::npos) << message;
   EXPECT_NE(message.find("--set effects." + second), std::string::npos) << message;
 }

@@ -26,11 +26,11 @@ TEST(Relu, PiecewiseLinearForceByHand) {
   EXPECT_EQ(pair_force_x(f, 7.0, a, b), 0.0);
   // the force is along d = Y_i - Y_j: repulsion pushes i away from j, in any direction
   int64_t acc[4] = {0, 0, 0, 0};
-  pair_term("relu").f64(0, -3.0, 0, a, a, 1, 2, f.params.data(), f.cutoff * f.cutoff, acc);
+  PairTerms::at("relu").f64(0, -3.0, 0, a, a, 1, 2, f.params.data(), f.cutoff * f.cutoff, acc);
   EXPECT_NEAR(static_cast<double>(acc[1]) * SEMLB_FIXED_INV, -2.0, 1e-9);
   // coincident: |F| = f(0) = k_rep r0 = 8
   int64_t c[4];
-  EXPECT_NEAR(testing::coincident_kick(pair_term("relu").f64, f.params, f.cutoff * f.cutoff, a, 100, 101, c), 8.0, 1e-6);
+  EXPECT_NEAR(testing::coincident_kick(PairTerms::at("relu").f64, f.params, f.cutoff * f.cutoff, a, 100, 101, c), 8.0, 1e-6);
 }
 
 // A scene with relu as its pair term and `set` overriding its section.

@@ -9,7 +9,7 @@
 #include "engine/effects/effect.hpp"
 #include "engine/io/io.hpp"
 #include "engine/model/tissue.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"
 
 namespace semlb::engine {
@@ -74,7 +74,7 @@ TEST(Desquamation, SameCellsOnEveryBackend) {
 TEST(Desquamation, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
   const auto dir = fresh_dir("desquamation_ranks");
   const std::string args = " --scene " + source("scenes/epidermis.yaml") +
-                           " --quiet --set tissue.cells=400 --set backend.threads=1 --set decomposition.rebalance_every=50"
+                           " --quiet --set tissue.cells=400 --set backend.cpu-binned.threads=1 --set decomposition.rebalance_every=50"
                            " --steps 150";
   const State single = testing::expect_same_state_on_ranks(args + " --set 'effects.desquamation={height: " + kHeight + "}'", dir);
   const auto plain = run(semlb_bin() + " sim" + args + " --out " + dir + "/plain");

@@ -6,7 +6,7 @@
 #include <algorithm>
 
 #include "engine/backends/backend.hpp"
-#include "engine/backends/cpu_physics.hpp"
+#include "engine/physics/cpu_physics.hpp"
 #include "engine/effects/effect.hpp"
 #include "engine/removal/removal.hpp"
 #include "../engine_fixtures.hpp"
@@ -19,22 +19,22 @@ State kept_by(const std::string& name, const State& s, const std::vector<double>
   State out = empty_like(s);
   for (long c = 0; c < s.cells(); ++c) {
     const auto ctr = centroid(s, c);
-    if (!removal_rule(name).removes(ctr[0], ctr[1], ctr[2], s.cell_type[c], s.cell_count[c], params.data())) copy_cell(s, c, out);
+    if (!RemovalRules::at(name).removes(ctr[0], ctr[1], ctr[2], s.cell_type[c], s.cell_count[c], params.data())) copy_cell(s, c, out);
   }
   out.reindex();
   return out;
 }
 
 TEST(RemovalRules, EveryRuleOnEveryBackendRemovesWhatItsEvaluatorFlags) {
-  if (removal_rule_names().empty()) GTEST_SKIP() << "no removal rule registered";
+  if (RemovalRules::names().empty()) GTEST_SKIP() << "no removal rule registered";
   State s = testing::random_state(60, 8, 24.0, 31);
   s.cell_fields["growth.clock"] = std::vector<double>(s.cells());
   s.cell_fields["division.depth"] = std::vector<double>(s.cells());
   for (long c = 0; c < s.cells(); ++c) s.cell_fields["growth.clock"][c] = 0.25 * c, s.cell_fields["division.depth"][c] = c % 5;
-  for (const auto& name : removal_rule_names()) {
-    const auto names = effect_names();
+  for (const auto& name : RemovalRules::names()) {
+    const auto names = Effects::names();
     EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name << " is not an effect";
-    const auto params = testing::section_params(name, removal_rule(name).example, removal_rule(name).read);
+    const auto params = testing::section_params(name, RemovalRules::at(name).example, RemovalRules::at(name).read);
     for (const auto& [backend, precision] : testing::backend_precisions()) {
       auto b = testing::backend(backend, precision);
       b->upload(s);

@@ -8,7 +8,7 @@
 
 #include "engine/backends/backend.hpp"
 #include "engine/effects/effect.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "engine/terms/term.hpp"
 #include "../engine_fixtures.hpp"
 
@@ -19,7 +19,7 @@ namespace {
 template <class Real>
 std::vector<int64_t> reference(const std::string& name, const State& s, const std::vector<double>& params) {
   TermEvaluator<Real> evaluate;
-  if constexpr (std::is_same_v<Real, double>) evaluate = element_term(name).f64; else evaluate = element_term(name).f32;
+  if constexpr (std::is_same_v<Real, double>) evaluate = ElementTerms::at(name).f64; else evaluate = ElementTerms::at(name).f32;
   const std::vector<Real> p(params.begin(), params.end());
   const auto info = s.element_info();
   std::vector<int64_t> out;
@@ -33,10 +33,10 @@ std::vector<int64_t> reference(const std::string& name, const State& s, const st
 }
 
 TEST(ElementTerms, EveryTermOnEveryBackendAddsWhatItsEvaluatorGives) {
-  ASSERT_FALSE(element_term_names().empty());
+  ASSERT_FALSE(ElementTerms::names().empty());
   const State s = testing::random_state(40, 8, 40.0, 21);
-  for (const auto& name : element_term_names()) {
-    const auto params = testing::section_params(name, element_term(name).example, element_term(name).read);
+  for (const auto& name : ElementTerms::names()) {
+    const auto params = testing::section_params(name, ElementTerms::at(name).example, ElementTerms::at(name).read);
     for (const auto& [backend, precision] : testing::backend_precisions()) {
       auto b = testing::backend(backend, precision);
       b->upload(s);
@@ -62,17 +62,17 @@ TEST(ElementTerms, EveryTermOnEveryBackendAddsWhatItsEvaluatorGives) {
 }
 
 TEST(ElementTerms, EachIsAnEffectThatLaunchesOnlyItsOwnKernel) {
-  for (const auto& name : element_term_names()) {
-    const auto names = effect_names();
+  for (const auto& name : ElementTerms::names()) {
+    const auto names = Effects::names();
     ASSERT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
-    auto scene = testing::scene_from(testing::kMechanicsYaml, {"effects." + name + "=" + element_term(name).example});
+    auto scene = testing::scene_from(testing::kMechanicsYaml, {"effects." + name + "=" + ElementTerms::at(name).example});
     State s = testing::random_state(20, 6, 30.0, 5);
     for (long e = 0; e < s.elements(); ++e) s.position[3 * e] += 5, s.position[3 * e + 1] += 5;  // inside the examples' faces
     Simulation sim(scene, std::move(s));
     sim.advance(3);
     const auto& launched = sim.backend().launches();
     EXPECT_EQ(launched.at(name), 3) << name;
-    for (const auto& other : element_term_names())
+    for (const auto& other : ElementTerms::names())
       if (other != name) {
         EXPECT_EQ(launched.count(other), 0u) << other << " launched in a scene listing only " << name;
       }

@@ -6,14 +6,14 @@
 
 #include "common/errors.hpp"
 #include "engine/backends/backend.hpp"
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "engine/terms/term.hpp"
 #include "../engine_fixtures.hpp"
 
 namespace semlb::engine {
 namespace {
 
-std::vector<double> params(const std::string& yaml) { return testing::section_params("walls", yaml, element_term("walls").read); }
+std::vector<double> params(const std::string& yaml) { return testing::section_params("walls", yaml, ElementTerms::at("walls").read); }
 
 // The force on one element at (x, y, 5) from the walls of `yaml`, on the serial backend (double).
 std::array<double, 3> force_at(double x, double y, const std::string& yaml) {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "backends/cpu_physics.hpp"
+#include "physics/cpu_physics.hpp"
 #include "common/errors.hpp"
 #include "model/tissue.hpp"
 
@@ -14,7 +14,7 @@ namespace semlb::engine {
 namespace arith {
 #define SEMLB_FLOOR std::floor
 #define SEMLB_GLOBAL
-#include "decomposition/slices.h"
+#include "physics/slices.h"
 #undef SEMLB_FLOOR
 #undef SEMLB_GLOBAL
 }  // namespace arith

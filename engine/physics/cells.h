@@ -32,8 +32,8 @@ typedef struct {
   double division_p[SEMLB_CELL_RULE_PARAMS]; /* the division rule's (division/division_rule.hpp) */
   double offset;         /* um from the centroid to a newborn element */
   double time;           /* h: the stage's time, what a law may read (semlb_cell_stage_at) */
-  int growth;            /* the growth law's index in growth_law_names(), -1: no growth */
-  int division;          /* the division rule's index in division_rule_names(), -1: no division */
+  int growth;            /* the growth law's index in GrowthLaws::names(), -1: no growth */
+  int division;          /* the division rule's index in DivisionRules::names(), -1: no division */
   int single; /* 1: positions are float (newborns rounded to float before division sees them) */
   /* The per-cell fields (effects/cell_fields.hpp) as one record of `fields` doubles per cell, the State's
    * cell_fields in name order; the core reads two at their record index (-1: absent, read as 0 and not written).

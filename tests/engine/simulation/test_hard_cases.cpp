@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "engine/run/simulation.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"
 
 namespace semlb::engine {
@@ -110,7 +110,7 @@ TEST(HardCases, ForceSumsThatCouldLeaveInt64StopNamingTheElement) {
     // dt 0.01: every element also moves too far, and the force sums' stop still wins (the cause, not the symptom)
     for (const auto& [precision, dt] : {std::pair{"double", "0.01"}, std::pair{"float", "1e-12"}}) {
       auto scene = scene_from(testing::kMechanicsYaml,
-                              {"backend.name=" + backend, "backend.skin=" + skin, std::string("backend.precision=") + precision,
+                              {"backend.name=" + backend, "backend.opencl-binned.skin=" + skin, std::string("backend.precision=") + precision,
                                std::string("time.dt=") + dt, "effects.mechanics={intra: {U0: 1e7, V0: 0}, inter: {U0: 1e7, V0: 0}}"});
       Simulation sim(scene, s);
       try {
@@ -123,7 +123,7 @@ TEST(HardCases, ForceSumsThatCouldLeaveInt64StopNamingTheElement) {
         EXPECT_NE(m.find("more than 2^30 force units"), std::string::npos) << m;
       }
     }
-    auto weak = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.skin=" + skin, "time.dt=1e-6"});
+    auto weak = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.opencl-binned.skin=" + skin, "time.dt=1e-6"});
     Simulation ok(weak, s);
     EXPECT_NO_THROW(ok.advance(2)) << backend;
   }

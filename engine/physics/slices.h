@@ -1,6 +1,6 @@
 /* The decomposition's arithmetic written once (C99 subset, no include guard): the slice of an x, the bin of a
  * coordinate, a slice's owner and the element count of the 27 bins around a bin (n_N of paper eq. 3), in double.
- * Used by decomposition/slices.cpp (SliceMap::slice_of, Grid::bin_of, owner_of, cell_work) and by the W_s and
+ * Used by model/slices.cpp (SliceMap::slice_of, Grid::bin_of, owner_of, cell_work) and by the W_s and
  * migration kernels of backends/cells.cl. The includer defines SEMLB_FLOOR (floor of a double) and SEMLB_GLOBAL
  * (the address space of the boundary and count arrays). */
 

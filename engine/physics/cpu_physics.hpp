@@ -1,10 +1,9 @@
-// The evaluator header compiled for the C++ backends, once per precision (Physics<float|double>).
+// The evaluator header compiled for the C++ backends, once per precision (Physics<float|double>), and the cell stage's
+// rules on the host's arrays: the ground floor of the engine, which every other part includes and which includes none.
 #pragma once
 #include <cmath>
 #include <array>
 #include <cstdint>
-
-#include "model/state.hpp"
 
 #define SEMLB_LONG int64_t
 #define SEMLB_ULONG uint64_t
@@ -56,14 +55,6 @@ struct Physics;
 SEMLB_PHYSICS(double, phys64)
 SEMLB_PHYSICS(float, phys32)
 #undef SEMLB_PHYSICS
-
-// The mean position of cell `cell`'s elements (um): the cell stage's rule (cells.h), so the host and the device
-// agree on it bit for bit (ownership, W_s, removal rules).
-inline std::array<double, 3> centroid(const State& s, long cell) {
-  std::array<double, 3> c{};
-  cellrules::semlb_cell_centroid(s.position.data(), s.cell_first[cell], s.cell_count[cell], c.data());
-  return c;
-}
 
 // Counter-based random numbers for host-side effects (growth, tissue generator): the same generator.
 inline double uniform01(uint64_t seed, uint64_t key, uint64_t step, uint64_t stream) {

@@ -1,5 +1,5 @@
 // The maps of the decomposition and of the bins, and the per-slice workload W_s, on the host: the bin grid, the
-// slices along x, slice owners, the ownership split of cells; their arithmetic is decomposition/slices.h, which
+// slices along x, slice owners, the ownership split of cells; their arithmetic is physics/slices.h, which
 // the W_s and migration kernels (backends/cells.cl) use too.
 #pragma once
 #include <array>
