@@ -107,8 +107,9 @@ ReplayTrack replay_track(const EngineWorkload& w, const WorkloadReplay& r, const
         t.list_s.push_back(list);
         t.elements.push_back(coarse(ev.slice_elements, r.coarsen, t.slices));
         t.changes.push_back(coarse_bits(ev.cell_stage_changes, r.coarsen, t.slices));
-        auto& sec = t.seconds.back();
+        auto sec = t.seconds.back();
         for (int s = 0; s < t.slices; ++s) sec[s] = std::max(0.0, sec[s] - (n > 0 ? list * t.elements.back()[s] / n : 0.0));
+        t.without_list.push_back(std::move(sec));
       }
     }
   }
@@ -124,7 +125,7 @@ std::vector<double> speed_factors(int ranks, uint64_t seed, double spread) {
 
 std::vector<double> model_times(const ReplayTrack& t, int event, const std::vector<int>& b, const std::vector<double>& speed,
                                 const TimeModel& m) {
-  auto times = rank_sums(t.measured ? t.seconds[event] : t.work[event], b);
+  auto times = rank_sums(!t.list_s.empty() ? t.without_list[event] : t.measured ? t.seconds[event] : t.work[event], b);
   if (!t.list_s.empty()) {  // the list builds of the ranks whose slices changed (version 3)
     const auto& n = t.elements[event];
     const auto& bits = t.changes[event];

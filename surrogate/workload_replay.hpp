@@ -80,6 +80,9 @@ struct ReplayTrack {
   std::vector<double> per_element;                      // rho per event (W_s per element)
   bool measured = false;                                // the truth is the file's measured seconds
   std::vector<std::vector<double>> seconds;             // [events][slices] measured seconds (when measured)
+  // version 3: seconds without the list builds (model_times adds them per rank); the oracles and foresight see
+  // `seconds`, additive over slices
+  std::vector<std::vector<double>> without_list;
   std::vector<double> seconds_per_element;              // sigma per event (when measured)
   // version 3 files (else empty): per event the list builds' seconds, per slice its elements and its cell stages' bits
   std::vector<double> list_s;

@@ -198,7 +198,7 @@ void DistributedSimulation::finish_exchange() {
 void DistributedSimulation::migrate_cells() {
   const auto t0 = std::chrono::steady_clock::now();
   Backend& b = sim_->backend();
-  if (tracks_stages()) stage_work_after();
+  if (stage_pending_) stage_work_after();  // a cell stage ran (an event between cell stages has none)
   PhaseScope phase(b, "migration");
   if (step() % dec_.rebalance_every == 0) decide(measure());  // new boundaries first
   State leavers;
@@ -247,6 +247,7 @@ void DistributedSimulation::stage_work_before() {
   PhaseScope phase(sim_->backend(), "workload");  // outside the step's timers
   stage_grid_ = work_grid_all_ranks();  // one grid for both counts: the stage's refit must not change the bins
   stage_work_ = global_slice_work(stage_grid_);
+  stage_pending_ = true;
 }
 
 void DistributedSimulation::stage_work_after() {
@@ -257,6 +258,7 @@ void DistributedSimulation::stage_work_after() {
   for (int s = 0; s < dec_.slices; ++s)
     if (after[s] != stage_work_[s]) stage_changes_[s] |= bit;
   ++stage_;
+  stage_pending_ = false;
 }
 
 std::vector<double> DistributedSimulation::global_slice_work() { return global_slice_work(work_grid_all_ranks()); }

@@ -117,6 +117,7 @@ class DistributedSimulation {
   std::vector<double> stage_work_;        // W_s before the current cell stage
   std::vector<int64_t> stage_changes_;    // per slice, this interval's bits so far
   int stage_ = 0;                         // cell stages in this interval so far
+  bool stage_pending_ = false;            // stage_work_before ran, its cell stage's after-count not yet
   int fault_rank_ = -1;  // SEMLB_FAULT_INJECT=RANK:STEP: throws on that rank alone at that step (tests)
   long fault_step_ = -1;
 };

@@ -108,6 +108,13 @@ TEST(WorkloadReplay, ListBuildsGoToTheRanksWhoseSlicesChanged) {
   // a version 2 file (no parts) spreads them by elements, as recorded: 2 + 6 and 4 + 2
   const auto v2 = replay_workload(hand_measured(), model, *policy, "static", "hand.h5");
   EXPECT_NEAR(v2.compute_s, 6 + 4, 1e-12);
+  // the oracles and foresight see the recorded seconds per slice (additive), as in version 2: the same decisions
+  for (const std::string name : {"oracle", "foresight"}) {
+    auto a = make_policy(name), b = make_policy(name);
+    EXPECT_EQ(replay_workload(w, model, *a, name, "hand.h5").migration,
+              replay_workload(hand_measured(), model, *b, name, "hand.h5").migration)
+        << name;
+  }
 }
 
 TEST(WorkloadReplay, TheOracleSeesTheNextMeasuredSeconds) {

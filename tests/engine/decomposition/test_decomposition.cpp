@@ -209,6 +209,27 @@ TEST(Decomposition, DeviceTimersAndTurnsKeepTheStateAndFeedTheDecisions) {
   }
 }
 
+// Events between cell stages (rebalance every 15 steps, cell stages every 10): a recording's cell-stage bits mark
+// only the stages that ran in each interval (10 | 20, 30 | 40: bits 0 | 0-1 | 0), and no event reads a stage that
+// did not run.
+TEST(Decomposition, CellStageChangesMarkOnlyTheStagesThatRan) {
+  if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL platform";
+  const auto dir = fresh_dir("decomposition_stage_bits");
+  const auto r = run(semlb_bin() + " sim" + kArgs + " --steps 45 --set backend.name=opencl-binned --set decomposition.rebalance_every=15" +
+                     " --set decomposition.timing=device --set output.workload=true --out " + dir + "/out");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const auto w = read_workload(dir + "/out/workload.h5");
+  ASSERT_EQ(w.events.size(), 3u);
+  const int64_t allowed[3] = {1, 3, 1};
+  int64_t any = 0;
+  for (size_t e = 0; e < 3; ++e)
+    for (int64_t m : w.events[e].cell_stage_changes) {
+      EXPECT_EQ(m & ~allowed[e], 0) << "event " << e;
+      any |= m;
+    }
+  EXPECT_NE(any, 0) << "the tissue grows at some stage";
+}
+
 // A rank whose slabs hold no element launches no force work: its device time is near zero (a domain twice as wide
 // as the tissue, split uniformly and never rebalanced).
 TEST(Decomposition, ARankWithoutElementsHasNearZeroDeviceTime) {
