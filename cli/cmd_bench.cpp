@@ -48,18 +48,48 @@ int bench_policies(int ranks, int events, int repeats, uint64_t seed, const std:
   return 0;
 }
 
-// Runs `fn` on the scene with each backend and tissue size, flushing the table after each.
+// One row's scene: the file with the flags, the backend and the tissue size; its backend's own keys checked.
+engine::Scene bench_scene(const std::string& scene_file, const std::string& backend, long cells, const SceneFlags& flags) {
+  auto o = scene_overrides(flags);
+  o.push_back(engine::scene_override("backend", backend, "--backends: "));
+  o.push_back(engine::scene_override("cells", std::to_string(cells), "--cells: "));
+  auto scene = engine::load_scene(scene_file, o);
+  engine::backend_settings(scene.backend);
+  return scene;
+}
+
+// Prints header(), then runs `fn` on the scene with each backend and tissue size, flushing the table after each. Every row's scene and
+// backend settings are read first, so a bad one prints nothing; --platform and --device apply to the rows whose
+// backend reads them (the OpenCL ones) and are refused only when no row's does.
 void for_each_scene(const std::string& scene_file, const std::string& backends, const std::string& cells,
-                    const SceneFlags& flags, const std::function<void(engine::Scene&, const std::string&)>& fn) {
+                    const SceneFlags& flags, const std::function<void()>& header,
+                    const std::function<void(engine::Scene&, const std::string&)>& fn) {
+  SceneFlags host = flags;  // without the device selection, for the rows whose backend has none
+  host.platform.clear();
+  host.device = -1;
+  const bool device_flags = host.platform != flags.platform || host.device != flags.device;
+  std::vector<std::pair<engine::Scene, std::string>> rows;
+  bool device_used = !device_flags;
   for (const auto& backend : split(backends, ','))
     for (long n : surrogate::parse_int_list(cells, "--cells")) {
-      auto o = scene_overrides(flags);
-      o.push_back(engine::scene_override("backend", backend, "--backends: "));
-      o.push_back(engine::scene_override("cells", std::to_string(n), "--cells: "));
-      auto scene = engine::load_scene(scene_file, o);
-      fn(scene, backend);
-      std::fflush(stdout);
+      if (!device_flags) {
+        rows.emplace_back(bench_scene(scene_file, backend, n, flags), backend);
+        continue;
+      }
+      try {
+        rows.emplace_back(bench_scene(scene_file, backend, n, flags), backend);
+        device_used = true;
+      } catch (const InputError&) {  // a backend without a device (or a bad scene: then it fails again below)
+        rows.emplace_back(bench_scene(scene_file, backend, n, host), backend);
+      }
     }
+  if (!device_used)  // no row takes --platform/--device: the first row's error says why
+    bench_scene(scene_file, split(backends, ',').front(), surrogate::parse_int_list(cells, "--cells").front(), flags);
+  header();
+  for (auto& [scene, backend] : rows) {
+    fn(scene, backend);
+    std::fflush(stdout);
+  }
 }
 
 // Element-steps per second and ms per step of a scene per backend and tissue size, with the tissue's
@@ -76,12 +106,14 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
       throw InputError("--previous: " + std::to_string(before.size()) + " figures for " + std::to_string(rows) +
                        " rows (backends x cells)");
   }
-  std::printf("# semlb bench engine: %s, %ld timed steps after %ld warm-up steps\n", scene_file.c_str(), steps, warmup);
-  std::printf("%-16s %-9s %9s %10s %10s %14s %10s %6s %9s %8s %9s %9s %9s  %s\n", "backend", "precision", "cells",
-              "elements", "seconds", "elem-steps/s", "ms/step", "skin", "builds/st", "ratio", "per_cube", "candid.",
-              "neighb.", "device");
+  auto header = [&] {
+    std::printf("# semlb bench engine: %s, %ld timed steps after %ld warm-up steps\n", scene_file.c_str(), steps, warmup);
+    std::printf("%-16s %-9s %9s %10s %10s %14s %10s %6s %9s %8s %9s %9s %9s  %s\n", "backend", "precision", "cells",
+                "elements", "seconds", "elem-steps/s", "ms/step", "skin", "builds/st", "ratio", "per_cube", "candid.",
+                "neighb.", "device");
+  };
   size_t row = 0;
-  for_each_scene(scene_file, backends, cells, flags, [&](engine::Scene& scene, const std::string& backend) {
+  for_each_scene(scene_file, backends, cells, flags, header, [&](engine::Scene& scene, const std::string& backend) {
     const auto t = engine::time_scene(scene, steps, warmup);
     const auto& stats = t.stats;
     const double ms = 1e3 * t.seconds / static_cast<double>(steps);
@@ -103,8 +135,10 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
 // Milliseconds per cell update of each part of the host cell stage, per backend and tissue size.
 int bench_cells(const std::string& scene_file, const std::string& backends, const std::string& cells, long updates,
                 const SceneFlags& flags) {
-  std::printf("# semlb bench cells: %s, ms per cell update (mean of %ld, after one untimed)\n", scene_file.c_str(), updates);
-  for_each_scene(scene_file, backends, cells, flags, [&](engine::Scene& scene, const std::string& backend) {
+  auto header = [&] {
+    std::printf("# semlb bench cells: %s, ms per cell update (mean of %ld, after one untimed)\n", scene_file.c_str(), updates);
+  };
+  for_each_scene(scene_file, backends, cells, flags, header, [&](engine::Scene& scene, const std::string& backend) {
     const auto t = engine::time_cell_stage(scene, updates);
     double total = 0;
     for (const auto& [part, secs] : t.parts) total += secs;

@@ -111,6 +111,23 @@ TEST(CliSim, BenchEnginePrintsElementStepsPerSecond) {
   EXPECT_NE(r.out.find("\ncpu-binned "), std::string::npos) << r.out;
 }
 
+// --platform goes to the rows whose backend has a device (docs/cli.md's mixed command); a key no row's backend reads
+// is refused before anything is printed; --platform with no OpenCL row is refused naming it.
+TEST(CliSim, BenchEngineGivesThePlatformToTheOpenClRowsAndChecksEveryRowFirst) {
+  const auto mixed = run(semlb_bin() + " bench engine --backends cpu-binned,opencl-binned --cells 20 --steps 2 --warmup 1 --platform Portable");
+  if (mixed.rc == 0) {  // with PoCL: both rows
+    EXPECT_NE(mixed.out.find("\ncpu-binned "), std::string::npos) << mixed.out;
+    EXPECT_NE(mixed.out.find("\nopencl-binned "), std::string::npos) << mixed.out;
+  }
+  const auto bad = run(semlb_bin() + " bench engine --backends serial,cpu-binned --cells 20 --steps 2 --set backend.bogus=1");
+  EXPECT_EQ(bad.rc, 2) << bad.out;
+  EXPECT_EQ(bad.out.find("semlb bench engine:"), std::string::npos) << "nothing printed before the error: " << bad.out;
+  EXPECT_NE(bad.out.find("backend.bogus: backend 'serial' does not use it"), std::string::npos) << bad.out;
+  const auto host = run(semlb_bin() + " bench engine --backends cpu-binned --cells 20 --steps 2 --platform Portable");
+  EXPECT_EQ(host.rc, 2) << host.out;
+  EXPECT_NE(host.out.find("backend.platform"), std::string::npos) << host.out;
+}
+
 // opencl-binned with a neighbour list: the skin and the builds per step beside ms/step, and a line with its figures.
 TEST(CliSim, BenchEnginePrintsTheSkinAndTheListBuilds) {
   const auto r = run(semlb_bin() + " bench engine --backends opencl-binned --cells 20 --steps 40 --warmup 1 --set backend.opencl-binned.skin=0.5");
