@@ -272,14 +272,31 @@ def region_outliers(path, limit):
     return out
 
 
+def limit_value(text):
+    """--limit: a finite number above 1 (argparse type)."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number")
+    if not (np.isfinite(v) and v > 1):
+        raise argparse.ArgumentTypeError(f"{text} must be a finite number above 1")
+    return v
+
+
 def check_regions(args):
+    """Exit status of --check-regions: 0 when every file passes, 1 when one has an outlier region (one line each on
+    stderr), 2 for a file that cannot be read as a measured workload (one line naming it)."""
     ap = argparse.ArgumentParser(prog="measured_time.py --check-regions")
     ap.add_argument("files", nargs="+")
-    ap.add_argument("--limit", type=float, default=3.0)
+    ap.add_argument("--limit", type=limit_value, default=3.0)
     a = ap.parse_args(args)
     bad = 0
     for path in a.files:
-        found = region_outliers(path, a.limit)
+        try:
+            found = region_outliers(path, a.limit)
+        except (OSError, KeyError, TypeError, ValueError) as err:
+            print(f"{path}: not a measured workload file ({type(err).__name__}: {err})", file=sys.stderr)
+            return 2
         if found:
             event, region, r = found[0]
             print(f"{path}: field 'slice_seconds': event {event}: region {region} timed {r:.1f}x the median region per "

@@ -37,8 +37,9 @@ Action add_replay(CLI::App& app) {
   sub->add_option("--first-event", o->first_event, "With --workload: the first event replayed")->check(strict_integer(0, 1 << 30));
   sub->add_option("--events", o->events, "With --workload: events replayed (0: to the end)")->check(strict_integer(0, 1 << 30));
   sub->add_option("--coarsen", o->coarsen, "With --workload: adjacent slices merged into one")->check(strict_integer(1, 1 << 20));
-  sub->add_option("--time-model", o->model, "With --workload: KEY=VALUE of the time model (ghost_weight, speed_spread, "
-                                            "jitter, migrate_s_per_slice, seconds_per_work; repeatable)");
+  std::string keys;
+  for (const auto& k : surrogate::time_model_keys()) keys += (keys.empty() ? "" : ", ") + k;
+  sub->add_option("--time-model", o->model, "With --workload: KEY=VALUE of the time model (" + keys + "; repeatable)");
   sub->add_option("--weights", o->weights, "GRU weights file (HDF5)");
   sub->add_option("--param", o->params, "Policy parameter POLICY.KEY=VALUE (repeatable)");
   sub->add_flag("--score", o->score,

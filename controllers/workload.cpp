@@ -69,9 +69,15 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
       if (e.slice_seconds.size() != S)
         fail(file, "slice_seconds", "event " + std::to_string(i) + " has " + std::to_string(e.slice_seconds.size()) +
                                         " entries, expected " + std::to_string(S));
-      for (double x : e.slice_seconds)
+      double sum = 0;
+      for (double x : e.slice_seconds) {
         if (!(x >= 0) || !std::isfinite(x))
           fail(file, "slice_seconds", "event " + std::to_string(i) + ": " + format_real(x) + " is not a finite non-negative number");
+        sum += x;
+      }
+      if (std::abs(sum - e.interval_s) > 1e-9 * std::max(sum, e.interval_s))
+        fail(file, "slice_seconds", "event " + std::to_string(i) + ": sums to " + format_real(sum) + ", but interval_s is " +
+                                        format_real(e.interval_s));
     }
     if (parts) {
       if (e.part_seconds.size() != kParts)

@@ -10,7 +10,10 @@
 # kernels alone, while the host parts (the per-event download and counting) overlap. Each measured file is checked
 # (analysis/measured_time.py --check-regions: no timed region far above the others) before it is kept.
 set -euo pipefail
+if [ $# -lt 2 ]; then echo "usage: bash scripts/gpu/workload_library.sh SEMLB OUT [VARIANT ...]" >&2; exit 2; fi
 S=$1; OUT=$2; shift 2
+JOBS=${JOBS:-1}
+[[ $JOBS =~ ^[1-9][0-9]*$ ]] || { echo "workload_library.sh: JOBS='$JOBS' is not a whole number >= 1" >&2; exit 2; }
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 here=$(cd "$(dirname "$0")/../.." && pwd)
 dev="$here/scenes/epidermis_development.yaml"
@@ -19,7 +22,6 @@ common=(--quiet --set output.snapshot_every=0 --set output.checkpoint_every=0 --
 # MEASURED=1: measured seconds per slice too (decomposition.timing: device, workload version 3; docs/measured_time.md),
 # with opencl-binned's neighbour list (backend.skin 0.5 unless the scene sets one): the fastest engine, the same tissue
 read -ra timing <<< "${MEASURED:+--set decomposition.timing=device}"
-JOBS=${JOBS:-1}
 [ -n "${MEASURED:-}" ] && [ "$JOBS" -gt 1 ] && timing+=(--set decomposition.device_sharing=turns)
 gpu=(--backend opencl-binned --platform NVIDIA --precision float --set tissue.cells=435661)
 cpu=(--backend cpu-binned --precision double)
@@ -46,7 +48,6 @@ variants=(
   "small_epidermis_s1|$epi|1000|--set tissue.cells=4900 --set decomposition.rebalance_every=50"
 )
 want=("$@")
-mkdir -p "$OUT"
 record() {  # NAME SCENE STEPS EXTRA: one variant into OUT
   local name=$1 scene=$2 steps=$3 extra=$4 run start size skin
   if [[ $name == small_* ]]; then size=("${cpu[@]}"); else size=("${gpu[@]}"); fi
@@ -75,6 +76,7 @@ else
     [ -n "$found" ] || { echo "workload_library.sh: unknown variant '$name'" >&2; exit 2; }
   done
 fi
+mkdir -p "$OUT"
 running=0 failed=0
 for v in "${order[@]}"; do
   IFS='|' read -r name scene steps extra <<<"$v"

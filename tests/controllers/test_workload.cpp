@@ -81,12 +81,13 @@ TEST(Workload, RoundTripKeepsEveryField) {
   }
 }
 
-// small() with measured seconds (version 2): event 0's sum 0.5 s, event 1's 0.75 s.
+// small() with measured seconds (version 2): event 0's sum 0.5 s, event 1's 0.75 s, each its interval_s.
 EngineWorkload measured() {
   EngineWorkload w = small();
   w.cost_regions = 2;
   w.events[0].slice_seconds = {0.125, 0, 0.375};
   w.events[1].slice_seconds = {0.25, 0.125, 0.375};
+  w.events[1].interval_s = 0.75;
   return w;
 }
 
@@ -103,11 +104,11 @@ TEST(Workload, MeasuredSecondsRoundTripAsVersionTwo) {
   EXPECT_FALSE(has_measured_cost(read_workload(path)));
 }
 
-// measured() with the parts (version 3): interval_s is 0.5 s at both events; bit 62 holds the 63rd and later stages.
+// measured() with the parts (version 3): interval_s is 0.5 s and 0.75 s; bit 62 holds the 63rd and later stages.
 EngineWorkload with_parts() {
   EngineWorkload w = measured();
   w.events[0].part_seconds = {0.25, 0.0625, 0.125, 0.0625};
-  w.events[1].part_seconds = {0.375, 0, 0.0625, 0.0625};
+  w.events[1].part_seconds = {0.375, 0, 0.0625, 0.3125};
   w.events[0].cell_stage_changes = {1, 0, 3};
   w.events[1].cell_stage_changes = {int64_t{1} << 62 | 5, 2, 0};
   return w;
@@ -128,7 +129,7 @@ TEST(Workload, PartsAndCellStageChangesRoundTripAsVersionThree) {
     std::string message;
   };
   const std::vector<Case> cases = {
-      {[](EngineWorkload& w) { w.events[1].part_seconds[3] = 0.25; }, "field 'part_seconds': event 1: sums to 0.6875, but interval_s is 0.5"},
+      {[](EngineWorkload& w) { w.events[1].part_seconds[3] = 0.25; }, "field 'part_seconds': event 1: sums to 0.6875, but interval_s is 0.75"},
       {[](EngineWorkload& w) { w.events[0].part_seconds[1] = -0.0625, w.events[0].part_seconds[3] = 0.1875; },
        "field 'part_seconds': event 0: -0.0625 is not a finite non-negative number"},
       {[](EngineWorkload& w) { w.events[1].part_seconds.pop_back(); }, "field 'part_seconds': event 1 has 3 entries, expected 4"},
@@ -172,6 +173,7 @@ TEST(Workload, MeasuredSecondsAreReadStrictly) {
       {[](EngineWorkload& w) { w.events[1].slice_seconds.pop_back(); }, "field 'slice_seconds': event 1 has 2 entries, expected 3"},
       {[](EngineWorkload& w) { w.events[1].slice_seconds.clear(); }, "field 'slice_seconds': present at some events and not at others"},
       {[](EngineWorkload& w) { w.cost_regions = 0; }, "field 'cost_regions': must be >= 1 when the events carry slice_seconds"},
+      {[](EngineWorkload& w) { w.events[0].slice_seconds[0] = 0.25; }, "field 'slice_seconds': event 0: sums to 0.625, but interval_s is 0.5"},
       {[](EngineWorkload& w) { w.cost_regions = 4; }, "field 'cost_regions': must be in [0, slices], got 4"},
   };
   for (const auto& c : cases) {
