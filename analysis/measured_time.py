@@ -308,6 +308,9 @@ def check_regions(args):
 
 def main():
     if len(sys.argv) == 3 and sys.argv[1] == "--combine":
+        if not os.path.isdir(sys.argv[2]):
+            print(f"measured_time.py: --combine {sys.argv[2]}: not a folder", file=sys.stderr)
+            sys.exit(2)
         return combine(sys.argv[2])
     if len(sys.argv) > 1 and sys.argv[1] == "--check-regions":
         sys.exit(check_regions(sys.argv[2:]))
@@ -320,6 +323,9 @@ def main():
     ap.add_argument("--seeds", default="0-2", help="replay seeds A-B for policy_order.csv")
     ap.add_argument("--no-replay", action="store_true", help="no policy_order.csv (no `semlb replay` runs)")
     a = ap.parse_args()
+    if not os.path.isdir(a.runs):
+        print(f"measured_time.py: {a.runs}: not a folder (scripts/gpu/measured_time.sh's OUT)", file=sys.stderr)
+        sys.exit(2)
     os.makedirs(a.out, exist_ok=True)
 
     cost = []

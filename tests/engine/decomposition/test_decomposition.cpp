@@ -173,8 +173,7 @@ TEST(Decomposition, DeviceTimersAndTurnsKeepTheStateAndFeedTheDecisions) {
                      cells = parse_real(row.at("device_cells_s"), "device_cells_s");
         EXPECT_GT(pair, 0) << out;
         EXPECT_GT(cells, 0) << out;
-        if (skin == "0") EXPECT_EQ(list, 0) << out;
-        else EXPECT_GT(list, 0) << out;
+        EXPECT_EQ(list > 0, skin != "0") << out << ": list " << list;
         EXPECT_LT(pair + list + cells, d) << out << ": the parts leave integration and the terms";
         device[parse_integer(row.at("step"), "step")].push_back(d);
       }
@@ -246,8 +245,9 @@ TEST(Decomposition, ARankWithoutElementsHasNearZeroDeviceTime) {
     const double busy = parse_real(row.at("device_s"), "device_s");
     EXPECT_GT(busy, 0);
     for (const auto& other : rank_time_rows(dir + "/out"))
-      if (other.at("rank") == "1" && other.at("step") == row.at("step"))
+      if (other.at("rank") == "1" && other.at("step") == row.at("step")) {
         EXPECT_LT(parse_real(other.at("device_s"), "device_s"), 0.2 * busy) << "step " << row.at("step");
+      }
   }
 }
 
