@@ -28,6 +28,20 @@ void check_counts(const std::vector<double>& v, size_t n, const std::string& fil
   }
 }
 
+// Measured seconds of one event: n finite non-negative entries summing to the event's interval_s (relative 1e-9).
+void check_seconds(const std::vector<double>& v, size_t n, double interval_s, const std::string& file, const std::string& field,
+                   long event) {
+  const std::string at = "event " + std::to_string(event);
+  if (v.size() != n) fail(file, field, at + " has " + std::to_string(v.size()) + " entries, expected " + std::to_string(n));
+  double sum = 0;
+  for (double x : v) {
+    if (!(x >= 0) || !std::isfinite(x)) fail(file, field, at + ": " + format_real(x) + " is not a finite non-negative number");
+    sum += x;
+  }
+  if (std::abs(sum - interval_s) > 1e-9 * std::max(sum, interval_s))
+    fail(file, field, at + ": sums to " + format_real(sum) + ", but interval_s is " + format_real(interval_s));
+}
+
 }  // namespace
 
 void validate_workload(const EngineWorkload& w, const std::string& file) {
@@ -66,32 +80,10 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
     check_counts(e.band_below, S - 1, file, "band_below", i);
     check_counts(e.band_above, S - 1, file, "band_above", i);
     if (!e.slice_seconds.empty() || w.cost_regions > 0) {
-      if (e.slice_seconds.size() != S)
-        fail(file, "slice_seconds", "event " + std::to_string(i) + " has " + std::to_string(e.slice_seconds.size()) +
-                                        " entries, expected " + std::to_string(S));
-      double sum = 0;
-      for (double x : e.slice_seconds) {
-        if (!(x >= 0) || !std::isfinite(x))
-          fail(file, "slice_seconds", "event " + std::to_string(i) + ": " + format_real(x) + " is not a finite non-negative number");
-        sum += x;
-      }
-      if (std::abs(sum - e.interval_s) > 1e-9 * std::max(sum, e.interval_s))
-        fail(file, "slice_seconds", "event " + std::to_string(i) + ": sums to " + format_real(sum) + ", but interval_s is " +
-                                        format_real(e.interval_s));
+      check_seconds(e.slice_seconds, S, e.interval_s, file, "slice_seconds", i);
     }
     if (parts) {
-      if (e.part_seconds.size() != kParts)
-        fail(file, "part_seconds", "event " + std::to_string(i) + " has " + std::to_string(e.part_seconds.size()) +
-                                       " entries, expected " + std::to_string(kParts));
-      double sum = 0;
-      for (double x : e.part_seconds) {
-        if (!(x >= 0) || !std::isfinite(x))
-          fail(file, "part_seconds", "event " + std::to_string(i) + ": " + format_real(x) + " is not a finite non-negative number");
-        sum += x;
-      }
-      if (std::abs(sum - e.interval_s) > 1e-9 * std::max(sum, e.interval_s))
-        fail(file, "part_seconds", "event " + std::to_string(i) + ": sums to " + format_real(sum) + ", but interval_s is " +
-                                       format_real(e.interval_s));
+      check_seconds(e.part_seconds, kParts, e.interval_s, file, "part_seconds", i);
       if (e.cell_stage_changes.size() != S)
         fail(file, "cell_stage_changes", "event " + std::to_string(i) + " has " + std::to_string(e.cell_stage_changes.size()) +
                                              " entries, expected " + std::to_string(S));
