@@ -1,6 +1,7 @@
 // `semlb replay`: apply a policy to a recorded trace, event after event, printing its decisions; with --score,
 // run it on the trace's recorded work and print one JSON line of metrics (docs/controllers.md "Replay").
 #include <iostream>
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
@@ -64,9 +65,11 @@ Action add_replay(CLI::App& app) {
       r.first_event = o->first_event;
       r.events = o->events;
       r.coarsen = o->coarsen;
+      std::set<std::string> given;
       for (const auto& kv : o->model) {
         const auto eq = kv.find('=');
         if (eq == std::string::npos) throw InputError("--time-model: expected KEY=VALUE, got '" + kv + "'");
+        if (!given.insert(kv.substr(0, eq)).second) throw InputError("--time-model " + kv.substr(0, eq) + ": given twice");
         surrogate::set_time_model(r.model, kv.substr(0, eq), kv.substr(eq + 1), "--time-model ");
       }
       const auto w = read_workload(o->workload);

@@ -97,6 +97,8 @@ TEST(Replay, WorkloadAtARankCountThroughTheTimeModel) {
   expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 5", "5 ranks of at least 1 slices do not fit in 4 slices");
   expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model jitter=lots", "--time-model jitter: 'lots' is not a number");
   expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model speed=1", "unknown time model key 'speed'");
+  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model truth=work --time-model truth=auto",
+                   "--time-model truth: given twice");
   expect_bad_input("replay --policy static --workload " + dir + "/t.jsonl --ranks 2", "t.jsonl");
   expect_bad_input("replay --policy static", "give --trace or --workload");
   expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --score", "--score is for --trace");
