@@ -69,21 +69,18 @@ void for_each_scene(const std::string& scene_file, const std::string& backends, 
   host.device = -1;
   const bool device_flags = host.platform != flags.platform || host.device != flags.device;
   std::vector<std::pair<engine::Scene, std::string>> rows;
-  bool device_used = !device_flags;
+  bool device_used = false;
   for (const auto& backend : split(backends, ','))
     for (long n : surrogate::parse_int_list(cells, "--cells")) {
-      if (!device_flags) {
-        rows.emplace_back(bench_scene(scene_file, backend, n, flags), backend);
-        continue;
-      }
       try {
         rows.emplace_back(bench_scene(scene_file, backend, n, flags), backend);
         device_used = true;
-      } catch (const InputError&) {  // a backend without a device (or a bad scene: then it fails again below)
+      } catch (const InputError&) {  // a backend without a device (or a bad scene: then it fails again here)
+        if (!device_flags) throw;
         rows.emplace_back(bench_scene(scene_file, backend, n, host), backend);
       }
     }
-  if (!device_used)  // no row takes --platform/--device: the first row's error says why
+  if (device_flags && !device_used)  // no row takes --platform/--device: the first row's error says why
     bench_scene(scene_file, split(backends, ',').front(), surrogate::parse_int_list(cells, "--cells").front(), flags);
   header();
   for (auto& [scene, backend] : rows) {

@@ -311,7 +311,7 @@ Measurement DistributedSimulation::measure() {
     for (double t : m.times) e.interval_s += t;  // measured, before decomposition.timing: modelled replaces them
     count_elements(e);
     if (b.has_device_timers()) {
-      e.slice_seconds = measured_slice_seconds(e, work, kernels, iv.device[mpi_->rank()]);
+      e.slice_seconds = measured_slice_seconds(e, work, parts.pair, iv.device[mpi_->rank()]);
       e.part_seconds.assign(4, 0.0);
       for (int r = 0; r < mpi_->size(); ++r) {
         const double parts[3] = {iv.device_pair[r], iv.device_list[r], iv.device_cells[r]};
@@ -364,7 +364,7 @@ void DistributedSimulation::count_elements(WorkloadEvent& e) {
 }
 
 std::vector<double> DistributedSimulation::measured_slice_seconds(const WorkloadEvent& e, const std::vector<double>& work,
-                                                                  const std::map<std::string, double>& kernels, double device_s) {
+                                                                  double pair, double device_s) {
   const int S = dec_.slices, K = std::min(kCostRegions, S);
   // Regions: contiguous slices of about equal elements (the global counts: the same regions on every rank).
   std::vector<int> region(S);
@@ -385,7 +385,6 @@ std::vector<double> DistributedSimulation::measured_slice_seconds(const Workload
     sim_->in_turn([&] { sums = b.pair_force_seconds(group, K); });
   }
   sums.resize(K, 0.0);
-  const double pair = Backend::device_parts(kernels).pair;
   sums.push_back(pair);
   sums.push_back(std::max(0.0, device_s - pair));
   mpi_->allreduce_sum(sums);

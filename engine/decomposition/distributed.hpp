@@ -97,9 +97,10 @@ class DistributedSimulation {
   std::map<std::string, double> kernels_at_event_;  // Backend::step_kernel_seconds at the last event
   std::unique_ptr<DeviceTurns> turns_;              // decomposition.device_sharing: turns
   // With output.workload and device timers: the event's measured seconds per slice (WorkloadEvent::slice_seconds),
-  // collective. `work`: the global W_s; `kernels`: this rank's step kernel seconds since the last event.
-  std::vector<double> measured_slice_seconds(const WorkloadEvent& e, const std::vector<double>& work,
-                                             const std::map<std::string, double>& kernels, double device_s);
+  // collective. `work`: the global W_s; `pair_s`, `device_s`: this rank's pair-force and device seconds since the
+  // last event (Backend::device_parts).
+  std::vector<double> measured_slice_seconds(const WorkloadEvent& e, const std::vector<double>& work, double pair_s,
+                                             double device_s);
   // The bands in flight between start_exchange() and finish_exchange(); the buffers are declared first so that
   // they outlive the requests.
   std::vector<char> send_left_, send_right_, from_above_, from_below_;
