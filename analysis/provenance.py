@@ -4,8 +4,10 @@ A result folder under results/gpu/ holds a `provenance.json`:
     {"semlb_commit": "<40 hex>", "date": "YYYY-MM-DD", "how": "how the commit is known", "note": "optional",
      "files": {"name.csv": {"semlb_commit": ..., "date": ..., "how": ..., "note": ...}}}
 `files` overrides the folder's record for single files (results/gpu/provenance.json records the loose files there).
-A result is stale when a commit after its own changed the engine's kernels or the controllers (KERNEL_PATHS);
-unknown when git cannot say (a tarball without history, or a commit this clone does not hold).
+An optional `"depends": "kernels"` says the result times the engine only (no controller decides anything in it).
+A result is stale when a commit after its own changed the engine's kernels or the controllers (KERNEL_PATHS; only
+ENGINE_PATHS for a result that depends on the kernels alone); unknown when git cannot say (a tarball without
+history, or a commit this clone does not hold).
 Usage: provenance.py [--results DIR] [--check]   (prints one line per record: path, commit, date, status)
 """
 import argparse
@@ -18,8 +20,9 @@ REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 # The paths whose changes make a committed timing or controller result stale: the kernels and their host code, the
 # per-pair and per-cell plug-ins, the decomposition (exchange, migration) and the controllers.
-KERNEL_PATHS = ["engine/backends", "engine/pairs", "engine/terms", "engine/effects", "engine/growth",
-                "engine/division", "engine/fates", "engine/removal", "engine/decomposition", "controllers"]
+ENGINE_PATHS = ["engine/backends", "engine/pairs", "engine/terms", "engine/effects", "engine/growth",
+                "engine/division", "engine/fates", "engine/removal", "engine/decomposition"]
+KERNEL_PATHS = ENGINE_PATHS + ["controllers"]
 
 # Changes a reader knows the engine by: a result made before one of them is labelled "before <name>".
 MILESTONES = [("the GPU-resident engine", "52e041256476e6d0e0f70823a8511537cca1cdd0"),
@@ -63,16 +66,16 @@ def record(path, root=None):
         folder = os.path.dirname(folder)
 
 
-def status(commit, repo=REPO):
-    """(FRESH | STALE | UNKNOWN, detail): STALE when a commit after COMMIT changed KERNEL_PATHS (detail: the latest
-    such commit, 'abc1234 YYYY-MM-DD'); UNKNOWN when git cannot tell (detail: why)."""
+def status(commit, repo=REPO, paths=None):
+    """(FRESH | STALE | UNKNOWN, detail): STALE when a commit after COMMIT changed PATHS (default KERNEL_PATHS; detail:
+    the latest such commit, 'abc1234 YYYY-MM-DD'); UNKNOWN when git cannot tell (detail: why)."""
     if not commit:
         return UNKNOWN, "no commit recorded"
     if _git("rev-parse", "--git-dir", repo=repo) is None:
         return UNKNOWN, "no git history here"
     if _git("cat-file", "-e", f"{commit}^{{commit}}", repo=repo) is None:
         return UNKNOWN, f"commit {commit[:7]} is not in this clone"
-    later = _git("log", "-1", "--format=%h %cs", f"{commit}..HEAD", "--", *KERNEL_PATHS, repo=repo)
+    later = _git("log", "-1", "--format=%h %cs", f"{commit}..HEAD", "--", *(paths or KERNEL_PATHS), repo=repo)
     if later is None:
         return UNKNOWN, "git log failed"
     return (STALE, later) if later else (FRESH, "")
@@ -96,7 +99,7 @@ def describe(path, repo=REPO):
     if rec is None:
         return {"commit": "", "date": "", "status": UNKNOWN, "detail": "no provenance.json", "before": [], "note": ""}
     commit = rec.get("semlb_commit", "")
-    st, detail = status(commit, repo)
+    st, detail = status(commit, repo, ENGINE_PATHS if rec.get("depends") == "kernels" else KERNEL_PATHS)
     return {"commit": commit, "date": rec.get("date", ""), "status": st, "detail": detail,
             "before": before(commit, repo) if commit else [], "note": rec.get("note", "")}
 

@@ -34,10 +34,12 @@ if [ ! -x "$S" ]; then
 fi
 device=$(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null | head -1 || echo "?")
 
-provenance() {  # DIR [HOW]: DIR/provenance.json for what the stage made
+provenance() {  # DIR [HOW [DEPENDS]]: DIR/provenance.json for what the stage made; DEPENDS=kernels for a result that
+               # times the engine alone (a later controller change leaves it current: analysis/provenance.py)
   mkdir -p "$1"
-  printf '{"semlb_commit": "%s", "date": "%s", "how": "%s", "device": "%s"%s}\n' "$commit" "$(date -u +%F)" \
-    "${2:-scripts/gpu/results.sh}" "$device" "${dirty:+, \"note\": \"uncommitted changes under engine/ or controllers/\"}" \
+  printf '{"semlb_commit": "%s", "date": "%s", "how": "%s", "device": "%s"%s%s}\n' "$commit" "$(date -u +%F)" \
+    "${2:-scripts/gpu/results.sh}" "$device" "${3:+, \"depends\": \"$3\"}" \
+    "${dirty:+, \"note\": \"uncommitted changes under engine/ or controllers/\"}" \
     > "$1/provenance.json.tmp"
   mv "$1/provenance.json.tmp" "$1/provenance.json"
 }
@@ -62,18 +64,18 @@ check_stage() {  # STAGE: what CHECK=1 verifies without a GPU
 run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run here (and says why)
   case $1 in
     single_device|effects_cost|accuracy_vs_time)
-      sweep "$1" && provenance "$OUT/$1" "scripts/gpu/results.sh $1 (semlb sweep experiments/$1.yaml --profile paper)";;
+      sweep "$1" && provenance "$OUT/$1" "scripts/gpu/results.sh $1 (semlb sweep experiments/$1.yaml --profile paper)" kernels;;
     development)  # Day 0-5 at the paper's size on one GPU (scripts/gpu/neighbour_list.sh dev): a fresh CSV row
       rm -rf "$OUT/development.tmp"
       bash "$here/scripts/gpu/neighbour_list.sh" "$S" "$OUT/development.tmp" dev "0 0.5 1 1.5 2" "1"
       rm -rf "$OUT/development"; mv "$OUT/development.tmp" "$OUT/development"
-      provenance "$OUT/development" "scripts/gpu/results.sh development (scripts/gpu/neighbour_list.sh dev)";;
+      provenance "$OUT/development" "scripts/gpu/results.sh development (scripts/gpu/neighbour_list.sh dev)" kernels;;
     peer_yalla)
       [ -n "${YALLA:-}" ] || { echo "gpu-results: peer_yalla needs YALLA=DIR holding a ya||a clone as DIR/yalla"; return 77; }
       mkdir -p "$OUT/peer_yalla"
       bash "$here/scripts/gpu/peer_yalla/run.sh" "$S" "$here/scenes/mechanics.yaml" > "$OUT/peer_yalla/peer_yalla.log" 2>&1
       $PY "$here/analysis/peer_yalla.py" --machine "$device" "$OUT/peer_yalla/peer_yalla.log" > "$OUT/peer_yalla/peer_yalla.csv"
-      provenance "$OUT/peer_yalla" "scripts/gpu/results.sh peer_yalla (scripts/gpu/peer_yalla/run.sh)";;
+      provenance "$OUT/peer_yalla" "scripts/gpu/results.sh peer_yalla (scripts/gpu/peer_yalla/run.sh)" kernels;;
     measured_time)  # the measured end-to-end of the measured-time issue, when its script is in this tree
       [ -f "$here/scripts/gpu/measured_all.sh" ] || { echo "gpu-results: no scripts/gpu/measured_all.sh in this tree"; return 77; }
       bash "$here/scripts/gpu/measured_all.sh" "$S" "$OUT/measured_time" "$OUT/measured_time/tables"
