@@ -43,15 +43,18 @@ provenance() {  # DIR [HOW [DEPENDS]]: DIR/provenance.json for what the stage ma
     > "$1/provenance.json.tmp"
   mv "$1/provenance.json.tmp" "$1/provenance.json"
 }
-sweep() {  # MANIFEST: the paper profile on the NVIDIA platform in float, one job at a time (they share one GPU),
-           # results under OUT/NAME/
-  "$S" sweep "$here/experiments/$1.yaml" --profile paper --results "$OUT" --quiet --jobs 1 ${CHECK:+--check} \
+sweep() {  # MANIFEST [--set ...]: the paper profile on the NVIDIA platform in float, one job at a time (they share one
+           # GPU), results under OUT/NAME/
+  local m=$1; shift
+  "$S" sweep "$here/experiments/$m.yaml" --profile paper --results "$OUT" --quiet --jobs 1 ${CHECK:+--check} "$@" \
     --set scene.backend.opencl-allpairs.platform=NVIDIA --set scene.backend.opencl-binned.platform=NVIDIA \
     --set scene.backend.precision=float
 }
+GPU_ONLY="--set backend=opencl-allpairs,opencl-binned"
 check_stage() {  # STAGE: what CHECK=1 verifies without a GPU
   case $1 in
-    single_device|effects_cost|accuracy_vs_time) sweep "$1";;
+    single_device) sweep "$1" $GPU_ONLY;;
+    effects_cost|accuracy_vs_time) sweep "$1";;
     development) [ -f "$here/scripts/gpu/neighbour_list.sh" ];;
     peer_yalla) [ -f "$here/scripts/gpu/peer_yalla/run.sh" ] && [ -f "$here/analysis/peer_yalla.py" ];;
     measured_time) [ -f "$here/scripts/gpu/measured_all.sh" ] || echo "gpu-results: measured_time: no script yet (skipped)";;
@@ -63,7 +66,9 @@ check_stage() {  # STAGE: what CHECK=1 verifies without a GPU
 
 run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run here (and says why)
   case $1 in
-    single_device|effects_cost|accuracy_vs_time)
+    single_device)  # the device backends only: serial all-pairs at 2000 cells is 20 min of one host core
+      sweep "$1" $GPU_ONLY && provenance "$OUT/$1" "scripts/gpu/results.sh $1 (semlb sweep experiments/$1.yaml --profile paper $GPU_ONLY)" kernels;;
+    effects_cost|accuracy_vs_time)
       sweep "$1" && provenance "$OUT/$1" "scripts/gpu/results.sh $1 (semlb sweep experiments/$1.yaml --profile paper)" kernels;;
     development)  # Day 0-5 at the paper's size on one GPU (scripts/gpu/neighbour_list.sh dev): a fresh CSV row
       rm -rf "$OUT/development.tmp"
