@@ -16,6 +16,7 @@ Action add_replay(CLI::App& app);
 Action add_sweep(CLI::App& app);
 Action add_bench(CLI::App& app);
 Action add_train(CLI::App& app);
+Action add_fit(CLI::App& app);
 Action add_sim(CLI::App& app);
 Action add_list(CLI::App& app);
 

@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
 #ifdef SEMLB_WITH_TORCH
   actions.push_back(add_train(app));
 #endif
+#ifdef SEMLB_WITH_FIT
+  actions.push_back(add_fit(app));
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

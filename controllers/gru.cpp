@@ -166,12 +166,7 @@ std::string default_gru_weights_path() {
   return SEMLB_DEFAULT_WEIGHTS;
 }
 
-std::string resolve_gru_weights(const std::string& path) {
-  if (path.empty()) return default_gru_weights_path();
-  if (path.find('/') != std::string::npos || std::filesystem::exists(path)) return path;
-  const auto shipped = std::filesystem::path(SEMLB_DEFAULT_WEIGHTS).parent_path() / path;
-  return std::filesystem::exists(shipped) ? shipped.string() : path;
-}
+std::string resolve_gru_weights(const std::string& path) { return resolve_weights_file(path, default_gru_weights_path()); }
 
 namespace {
 

@@ -55,6 +55,25 @@ std::vector<int> apply_targets(std::span<const int> boundaries, std::span<const 
   return apply_moves(boundaries, moves, slices, min_width);
 }
 
+std::vector<double> equal_share_targets(std::span<const double> work, int ranks) {
+  const int S = static_cast<int>(work.size());
+  double total = 0;
+  for (double w : work) total += w;
+  std::vector<double> t(ranks > 1 ? ranks - 1 : 0);
+  if (!(total > 0)) {
+    for (int k = 1; k < ranks; ++k) t[k - 1] = static_cast<double>(S) * k / ranks;
+    return t;
+  }
+  double cum = 0;
+  int s = 0;
+  for (int k = 1; k < ranks; ++k) {
+    const double goal = total * k / ranks;
+    while (s < S && cum + work[s] < goal) cum += work[s++];
+    t[k - 1] = s < S && work[s] > 0 ? s + (goal - cum) / work[s] : static_cast<double>(s);
+  }
+  return t;
+}
+
 long migration(std::span<const int> before, std::span<const int> after) {
   long m = 0;
   for (size_t i = 0; i < before.size(); ++i) m += std::labs(static_cast<long>(after[i]) - before[i]);

@@ -21,6 +21,11 @@ std::vector<int> apply_moves(std::span<const int> boundaries, std::span<const lo
 std::vector<int> apply_targets(std::span<const int> boundaries, std::span<const double> targets, int slices,
                                int min_width);
 
+// Where the cumulative work reaches k/P of its total, k = 1..P-1, in slices (real: linear within the slice that
+// crosses it): the equal-share cut a prefix sum finds in O(S) (the boundaries optimal_partition places "closest to
+// the equal share" without its bottleneck search). work: [S], non-negative; all zero gives the uniform positions.
+std::vector<double> equal_share_targets(std::span<const double> work, int ranks);
+
 // Migration of one rebalancing event: sum over boundaries of |b_new - b_old| (slices moved).
 long migration(std::span<const int> before, std::span<const int> after);
 

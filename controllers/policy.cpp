@@ -2,6 +2,7 @@
 #include "policy.hpp"
 
 #include <algorithm>
+#include <filesystem>
 
 #include "common/errors.hpp"
 
@@ -39,5 +40,12 @@ std::unique_ptr<Policy> make_policy(const std::string& name, PolicyParams params
 }
 
 std::vector<std::string> policy_names() { return PluginKind<PolicyInfo>::names(); }
+
+std::string resolve_weights_file(const std::string& path, const std::string& fallback) {
+  if (path.empty()) return fallback;
+  if (path.find('/') != std::string::npos || std::filesystem::exists(path)) return path;
+  const auto shipped = std::filesystem::path(fallback).parent_path() / path;
+  return std::filesystem::exists(shipped) ? shipped.string() : path;
+}
 
 }  // namespace semlb

@@ -68,6 +68,11 @@ class PolicyParams {
   Settings values_;
 };
 
+// The file a policy's `weights` parameter names: empty -> `fallback` (the shipped default); a bare file name that does
+// not exist here -> that name in the folder of `fallback` if it is there; anything else as given (its loader reports
+// a missing file).
+std::string resolve_weights_file(const std::string& path, const std::string& fallback);
+
 using PolicyFactory = std::function<std::unique_ptr<Policy>(PolicyParams&)>;
 
 // A registered policy: `const Registrar<PolicyInfo> registrar("name", {factory, needs});` (common/registry.hpp).

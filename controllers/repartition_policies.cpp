@@ -11,12 +11,19 @@
 namespace semlb {
 namespace {
 
+// cut=optimal: the exact minimum-bottleneck partition of W_s (milliseconds at thousands of slices); cut=quantile: the
+// equal-share cut from a prefix sum (microseconds), the base rule of learned_repartition.
 class PersistencePolicy final : public Policy {
  public:
+  explicit PersistencePolicy(bool quantile) : quantile_(quantile) {}
   std::vector<int> decide(const Observation& obs) override {
-    return optimal_partition(require_field(obs.slice_work, obs, "persistence", "slice_work"), obs.ranks(),
-                             obs.min_width);
+    const auto& work = require_field(obs.slice_work, obs, "persistence", "slice_work");
+    if (quantile_) return apply_targets(obs.boundaries, equal_share_targets(work, obs.ranks()), obs.slices, obs.min_width);
+    return optimal_partition(work, obs.ranks(), obs.min_width);
   }
+
+ private:
+  bool quantile_;
 };
 
 class HoltPolicy final : public Policy {
@@ -65,7 +72,12 @@ class LazyOraclePolicy final : public Policy {
 constexpr PolicyNeeds kSliceWork{.slice_work = true};
 constexpr PolicyNeeds kTrueWork{.true_work = true};
 
-const Registrar<PolicyInfo> persistence_registrar("persistence", {[](PolicyParams&) { return std::make_unique<PersistencePolicy>(); }, kSliceWork});
+const Registrar<PolicyInfo> persistence_registrar("persistence", {[](PolicyParams& p) {
+  const std::string cut = p.text("cut", "optimal");
+  if (cut != "optimal" && cut != "quantile")
+    throw InputError("policy parameter 'cut': must be optimal or quantile, got '" + cut + "'");
+  return std::make_unique<PersistencePolicy>(cut == "quantile");
+}, kSliceWork});
 // Defaults chosen on training seeds only (experiments/holt_tuning.yaml; docs/controllers.md).
 const Registrar<PolicyInfo> holt_registrar("holt", {[](PolicyParams& p) {
   return std::make_unique<HoltPolicy>(p.real("alpha", 0.2, 0.0, 1.0, true), p.real("beta", 0.0, 0.0, 1.0));

@@ -1,0 +1,43 @@
+// `semlb fit`: fit learned_repartition's parameters offline (NLopt) on recorded workloads and synthetic scenarios.
+#include <cstdio>
+
+#include "commands.hpp"
+#include "surrogate/fit/fit.hpp"
+
+namespace semlb::cli {
+
+Action add_fit(CLI::App& app) {
+  struct Opts {
+    std::string config, out, log;
+    std::vector<std::string> sets;
+    bool quiet = false;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* sub = app.add_subcommand("fit", "Fit the learned_repartition controller offline (NLopt) and write its weights");
+  sub->add_option("--config", o->config, "Fit config (YAML), e.g. surrogate/fit/learned_repartition.yaml");
+  sub->add_option("--set", o->sets, "Override KEY=VALUE (repeatable), e.g. --set evaluations=50");
+  sub->add_option("--out", o->out, "Weights file to write (HDF5)")->required();
+  sub->add_option("--log", o->log, "CSV of every evaluation (default: OUT with .log.csv)");
+  sub->add_flag("--quiet", o->quiet, "No progress line");
+  return [o, sub] {
+    if (!*sub) return -1;  // not the chosen subcommand
+    const auto config = fit::load_fit_config(o->config, o->sets);
+    fit::FitOptions opts;
+    opts.out = o->out;
+    opts.log = o->log;
+    opts.git_revision = SEMLB_GIT_REVISION;
+    opts.progress = !o->quiet;
+    const auto res = fit::run_fit(config, opts);
+    for (size_t i = 0; i < res.candidates.size(); ++i) {
+      const auto& c = res.candidates[i];
+      std::fprintf(stderr, "fit: %-8s train %.5f validation %.5f%s\n", c.name.c_str(), c.train, c.validation,
+                   i == res.chosen ? "  (chosen)" : "");
+    }
+    const auto& p = res.candidates[res.chosen].params;
+    std::fprintf(stderr, "fit: wrote %s after %ld evaluations in %.1f s: gain %.4g trend %.4g deadband %.4g move_cost %.4g fixed_cost %.4g\n",
+                 o->out.c_str(), res.evaluations, res.seconds, p.gain, p.trend, p.deadband, p.move_cost, p.fixed_cost);
+    return 0;
+  };
+}
+
+}  // namespace semlb::cli

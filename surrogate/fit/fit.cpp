@@ -1,0 +1,251 @@
+// Offline fit of learned_repartition: episode sets, their objective, NLopt's search and the choice on validation.
+#include "fit.hpp"
+
+#include <nlopt.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "common/errors.hpp"
+#include "common/settings.hpp"
+#include "common/text_io.hpp"
+#include "common/yaml.hpp"
+#include "controllers/policy.hpp"
+#include "controllers/workload.hpp"
+#include "surrogate/evaluate.hpp"
+#include "surrogate/rollout.hpp"
+#include "surrogate/scenario.hpp"
+#include "surrogate/workload_replay.hpp"
+
+namespace semlb::fit {
+namespace {
+
+// The search box of each parameter (inside its allowed range, repartition_params()): [0, upper].
+const std::map<std::string, double> kUpper{{"gain", 1.0}, {"trend", 1.0}, {"deadband", 0.3}, {"move_cost", 0.5},
+                                           {"fixed_cost", 0.2}};
+
+RepartitionParams from_unit(const std::vector<double>& x) {
+  RepartitionParams p;
+  size_t i = 0;
+  for (const auto& d : repartition_params()) p.*d.field = std::clamp(x[i++], 0.0, 1.0) * kUpper.at(d.name);
+  return p;
+}
+
+std::vector<std::string> split_files(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string f; std::getline(in, f, ',');)
+    if (!f.empty()) out.push_back(f);
+  return out;
+}
+
+}  // namespace
+
+FitConfig load_fit_config(const std::string& path, const std::vector<std::string>& overrides) {
+  Settings s("", Origin{path, 0, "", ""});
+  if (!path.empty()) {
+    const YAML::Node root = load_yaml_file(path, "fit config");
+    if (root && !root.IsNull()) {
+      if (!root.IsMap()) throw InputError(path + ": a fit config must be a YAML mapping");
+      for (const auto& kv : root) {
+        if (!kv.second.IsScalar())
+          throw InputError(where(path, kv.first.Mark().line + 1, kv.first.Scalar()) + "must be a single value");
+        s.set(kv.first.Scalar(), kv.second.Scalar(), Origin{path, kv.first.Mark().line + 1, "", ""});
+      }
+    }
+  }
+  for (const auto& o : overrides) {
+    const size_t eq = o.find('=');
+    if (eq == std::string::npos || eq == 0) throw InputError("--set: '" + o + "' is not KEY=VALUE");
+    s.set(o.substr(0, eq), o.substr(eq + 1), Origin{"", 0, "--set " + o.substr(0, eq), ""});
+  }
+  FitConfig c;
+  for (auto [key, files] : {std::pair{"workloads", &c.workloads}, std::pair{"validation", &c.validation}}) {
+    *files = split_files(s.text(key, ""));
+    for (const auto& f : *files)
+      if (!std::filesystem::is_regular_file(f)) s.fail(key, "no such workload file '" + f + "'");
+  }
+  c.ranks = s.text("ranks", c.ranks);
+  c.replay_seeds = s.text("replay_seeds", c.replay_seeds);
+  c.validation_surrogate_seeds = s.text("validation_surrogate_seeds", c.validation_surrogate_seeds);
+  c.surrogate_episodes = s.integer("surrogate_episodes", c.surrogate_episodes, 0, 8000);
+  c.surrogate_events = s.integer("surrogate_events", c.surrogate_events, 2, 100000);
+  c.surrogate_weight = s.real("surrogate_weight", c.surrogate_weight, 0, 1);
+  c.evaluations = s.integer("evaluations", c.evaluations, 0, 1000000);
+  c.polish = s.integer("polish", c.polish, 0, 1000000);
+  c.seed = s.integer("seed", c.seed, 0, std::numeric_limits<long>::max());
+  c.threads = s.integer("threads", c.threads, 1, 1024);
+  s.finish("unknown fit setting");
+  for (long r : surrogate::parse_int_list(c.ranks, s.where("ranks")))
+    if (r < 2 || r > 64) s.fail("ranks", "each must be in [2, 64]");
+  for (long seed : surrogate::parse_int_list(c.replay_seeds, s.where("replay_seeds")))
+    if (seed < 0) s.fail("replay_seeds", "must be >= 0");
+  for (long seed : surrogate::parse_int_list(c.validation_surrogate_seeds, s.where("validation_surrogate_seeds")))
+    if (!surrogate::kValidationSeeds.contains(seed))
+      s.fail("validation_surrogate_seeds", "must lie in the validation range 8000-8999");
+  if (c.workloads.empty() && c.surrogate_episodes == 0) s.fail("workloads", "nothing to fit on: no workloads and no surrogate_episodes");
+  return c;
+}
+
+struct EpisodeSet::WorkloadEpisode {
+  std::shared_ptr<const EngineWorkload> workload;
+  std::string file;
+  surrogate::WorkloadReplay replay;
+};
+struct EpisodeSet::SurrogateEpisode {
+  surrogate::Scenario scenario;
+  long events;
+};
+
+EpisodeSet::EpisodeSet(const FitConfig& c, bool validation) : c_(c) {
+  const auto ranks = surrogate::parse_int_list(c.ranks, "ranks");
+  for (const auto& f : validation ? c.validation : c.workloads) {
+    auto w = std::make_shared<const EngineWorkload>(read_workload(f));
+    for (long p : ranks)
+      for (long seed : surrogate::parse_int_list(c.replay_seeds, "replay_seeds")) {
+        surrogate::WorkloadReplay r;
+        r.ranks = static_cast<int>(p);
+        r.seed = static_cast<uint64_t>(seed);
+        workload_episodes_.push_back(std::make_shared<const WorkloadEpisode>(WorkloadEpisode{w, f, r}));
+      }
+  }
+  std::vector<long> seeds;
+  if (validation) seeds = surrogate::parse_int_list(c.validation_surrogate_seeds, "validation_surrogate_seeds");
+  else
+    for (long i = 0; i < c.surrogate_episodes; ++i) seeds.push_back(i);
+  for (size_t i = 0; i < seeds.size(); ++i)
+    surrogate_episodes_.push_back(std::make_shared<const SurrogateEpisode>(
+        SurrogateEpisode{surrogate::make_scenario(seeds[i], static_cast<int>(ranks[i % ranks.size()])), c.surrogate_events}));
+  base_ = losses(RepartitionParams{});
+}
+
+std::vector<double> EpisodeSet::losses(const RepartitionParams& p) const {
+  const size_t nw = workload_episodes_.size(), n = size();
+  std::vector<double> out(n, 0.0);
+  std::atomic<size_t> next{0};
+  std::vector<std::string> errors(n);
+  auto work = [&] {
+    for (size_t i; (i = next++) < n;) {
+      try {
+        auto policy = make_learned_repartition(p);
+        if (i < nw) {
+          const auto& e = *workload_episodes_[i];
+          out[i] = surrogate::replay_workload(*e.workload, e.replay, *policy, "learned_repartition", e.file).loop_s;
+        } else {
+          const auto& e = *surrogate_episodes_[i - nw];
+          const auto r = surrogate::rollout(e.scenario, *policy, static_cast<int>(e.events));
+          out[i] = static_cast<double>(r.events) * (1.0 + r.mean_max_over_mean) +
+                   static_cast<double>(r.migration) * e.scenario.ranks / e.scenario.slices;
+        }
+      } catch (const std::exception& err) {
+        errors[i] = err.what();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (long t = 1; t < c_.threads; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  for (const auto& e : errors)
+    if (!e.empty()) throw InputError(e);
+  return out;
+}
+
+double EpisodeSet::objective(const RepartitionParams& p) const {
+  const auto l = losses(p);
+  const size_t nw = workload_episodes_.size(), ns = surrogate_episodes_.size();
+  double w = 0, s = 0;
+  for (size_t i = 0; i < nw; ++i) w += l[i] / base_[i];
+  for (size_t i = nw; i < nw + ns; ++i) s += l[i] / base_[i];
+  if (ns == 0) return w / nw;
+  if (nw == 0) return s / ns;
+  return (1 - c_.surrogate_weight) * w / nw + c_.surrogate_weight * s / ns;
+}
+
+FitResult run_fit(const FitConfig& c, const FitOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  const EpisodeSet train(c, false);
+  const EpisodeSet valid(c, true);
+  const std::string log_path = o.log.empty() ? std::filesystem::path(o.out).replace_extension(".log.csv").string() : o.log;
+  std::ofstream log(log_path + ".tmp");
+  if (!log) throw InputError(log_path + ": cannot write the fit log");
+  log << "evaluation,phase";
+  for (const auto& d : repartition_params()) log << "," << d.name;
+  log << ",train_objective\n";
+  FitResult res;
+  const size_t n = repartition_params().size();
+  std::string phase;
+  double best = HUGE_VAL;
+  std::vector<double> best_x(n, 0.0);
+  auto f = [&](const std::vector<double>& x) {
+    const auto p = from_unit(x);
+    const double v = train.objective(p);
+    ++res.evaluations;
+    log << res.evaluations << "," << phase;
+    for (const auto& d : repartition_params()) log << "," << format_real(p.*d.field);
+    log << "," << format_real(v) << "\n";
+    if (v < best) best = v, best_x = x;
+    if (o.progress && res.evaluations % 10 == 0)
+      std::fprintf(stderr, "\rfit: %s, evaluation %ld, best train objective %.5f   ", phase.c_str(), res.evaluations, best);
+    return v;
+  };
+  auto nlopt_f = [](unsigned, const double* x, double*, void* data) {
+    auto& fn = *static_cast<decltype(f)*>(data);
+    return fn(std::vector<double>(x, x + repartition_params().size()));
+  };
+  res.candidates.push_back({"base", RepartitionParams{}, 1.0, 0});
+  phase = "base";
+  f(std::vector<double>(n, 0.0));
+  nlopt::srand(static_cast<unsigned long>(c.seed));
+  if (c.evaluations > 0) {
+    phase = "global";
+    nlopt::opt g(nlopt::GN_CRS2_LM, static_cast<unsigned>(n));
+    g.set_lower_bounds(0.0), g.set_upper_bounds(1.0), g.set_maxeval(static_cast<int>(c.evaluations));
+    g.set_min_objective(nlopt_f, &f);
+    std::vector<double> x(n, 0.1);
+    double v = 0;
+    try { g.optimize(x, v); } catch (const nlopt::roundoff_limited&) {}
+    res.candidates.push_back({"global", from_unit(best_x), best, 0});
+  }
+  if (c.polish > 0) {
+    phase = "polish";
+    nlopt::opt l(nlopt::LN_SBPLX, static_cast<unsigned>(n));
+    l.set_lower_bounds(0.0), l.set_upper_bounds(1.0), l.set_maxeval(static_cast<int>(c.polish));
+    l.set_initial_step(0.05);
+    l.set_min_objective(nlopt_f, &f);
+    std::vector<double> x = best_x;
+    double v = 0;
+    try { l.optimize(x, v); } catch (const nlopt::roundoff_limited&) {}
+    res.candidates.push_back({"polished", from_unit(best_x), best, 0});
+  }
+  if (o.progress) std::fprintf(stderr, "\n");
+  for (auto& cand : res.candidates) {
+    cand.train = train.objective(cand.params);
+    cand.validation = valid.size() > 0 ? valid.objective(cand.params) : cand.train;
+  }
+  for (size_t i = 1; i < res.candidates.size(); ++i)
+    if (res.candidates[i].validation < res.candidates[res.chosen].validation) res.chosen = i;
+  log.close();
+  std::filesystem::rename(log_path + ".tmp", log_path);
+  const auto& ch = res.candidates[res.chosen];
+  std::ostringstream cands;
+  for (const auto& cand : res.candidates)
+    cands << cand.name << " train " << format_real(cand.train) << " validation " << format_real(cand.validation) << "; ";
+  save_repartition_weights(o.out, ch.params,
+                           {{"chosen", ch.name}, {"candidates", cands.str()}, {"git_revision", o.git_revision},
+                            {"train_objective", format_real(ch.train)}, {"validation_objective", format_real(ch.validation)},
+                            {"workloads", [&] { std::string s; for (auto& w : c.workloads) s += (s.empty() ? "" : ",") + w; return s; }()},
+                            {"validation", [&] { std::string s; for (auto& w : c.validation) s += (s.empty() ? "" : ",") + w; return s; }()},
+                            {"evaluations", std::to_string(res.evaluations)}});
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return res;
+}
+
+}  // namespace semlb::fit
