@@ -10,7 +10,7 @@ MANIFESTS := $(wildcard experiments/*.yaml)
 export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
-.PHONY: deps build test experiments gpu-measured gpu-results epidermis development analysis bench train train-fronts train-synthetic train-v1 clean surrogate-fit
+.PHONY: deps build test experiments gpu-measured gpu-results epidermis development analysis bench train train-fronts train-synthetic train-v1 fit clean surrogate-fit
 
 deps:
 	bash scripts/install-deps.sh
@@ -63,6 +63,9 @@ surrogate-fit: build
 
 # Regenerates the shipped GRU weights from the mixed family (engine workloads + synthetic scenarios, features
 # boundary-v2; docs/train.md "Engine workloads"), and its synthetic-only ablation; each resumes after an interruption.
+# learned_repartition's parameters (surrogate/fit/learned_repartition.yaml: about 3 minutes on 2 cores; docs/train.md)
+fit: build
+	$(SEMLB) fit --config surrogate/fit/learned_repartition.yaml --out controllers/weights/learned_repartition/default.h5
 train: build
 	$(SEMLB) train --config surrogate/train/engine_mixed.yaml --out controllers/weights/gru_default.h5
 train-fronts: build

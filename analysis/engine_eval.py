@@ -8,6 +8,10 @@ Targets (docs/train.md "Engine workloads"), for the shipped GRU (`gru` without g
   front:    no deployable setting (every policy but foresight) has both less-or-equal imbalance and migration, one less;
   reactive: imbalance below the reference reactive's with at most 5% more migration;
   gap:      it closes at least half the imbalance gap between the reference reactive and foresight (lambda 0).
+and for the learned controller (`learned_repartition` without a setting; docs/controllers.md "learned_repartition"):
+  learned loop:     its loop time within 1% of the best other deployable setting's (every policy but foresight, over its
+                    knobs, the GRU included) and at most static's;
+  learned reactive: less imbalance than the reference reactive with fewer slices moved.
 Usage: engine_eval.py --csv CSV [--md OUT.md]   (prints the tables; exit 2 naming the file and column on bad input).
 """
 import argparse
@@ -21,7 +25,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sections.common import md_table  # noqa: E402
 
 KNOB_PREFIXES = ("reactive.", "gromacs_dlb.", "hoomd_balance.", "all_tensor.", "lammps_shift.", "foresight.", "gru.",
-                 "holt.", "persistence.")
+                 "holt.", "persistence.", "learned_repartition.")
+LEARNED = "learned_repartition"
 
 
 def read_points(path):
@@ -94,10 +99,11 @@ def evaluate(points):
     reactive = next((p for p in points if is_reference_reactive(p)), None)
     foresight = [p for p in points if p["policy"] == "foresight"]
     floor = min(foresight, key=lambda p: p["imbalance"]) if foresight else None
-    deployable = [p for p in points if p["policy"] not in ("foresight", "gru")]
+    learned = next((p for p in points if p["policy"] == LEARNED and p["setting"] == ""), None)
+    deployable = [p for p in points if p["policy"] not in ("foresight", "gru", LEARNED)]
     rows = []
     for p in points:
-        if p["policy"] in ("static", "gru", "persistence", "holt") or is_reference_reactive(p):
+        if p["policy"] in ("static", "gru", "persistence", "holt", LEARNED) or is_reference_reactive(p):
             rows.append(p)
     families = defaultdict(list)
     for p in deployable:
@@ -125,6 +131,20 @@ def evaluate(points):
         share = (reactive["imbalance"] - gru["imbalance"]) / gap if gap > 0 else float("nan")
         targets["gap"] = (share >= 0.5, f"closes {share:.2f} of the gap ({100 * reactive['imbalance']:.2f}% -> "
                                          f"{100 * floor['imbalance']:.2f}%)")
+    static = next((p for p in points if p["policy"] == "static"), None)
+    others = [p for p in points if p["policy"] not in ("foresight", LEARNED)]
+    if learned and others and static:
+        best = min(others, key=lambda p: p["loop_s"])
+        excess = learned["loop_s"] / best["loop_s"] - 1
+        targets["learned loop"] = (excess <= 0.01 and learned["loop_s"] <= static["loop_s"],
+                                   f"{learned['loop_s']:.3f} s, {100 * excess:+.2f}% against the best other "
+                                   f"({best['policy']} {best['setting'] or 'default'} {best['loop_s']:.3f} s); static "
+                                   f"{static['loop_s']:.3f} s")
+    if learned and reactive:
+        targets["learned reactive"] = (
+            learned["imbalance"] < reactive["imbalance"] and learned["migration"] < reactive["migration"],
+            f"{100 * learned['imbalance']:.2f}% / {learned['migration']:.0f} vs reactive "
+            f"{100 * reactive['imbalance']:.2f}% / {reactive['migration']:.0f}")
     return rows, targets
 
 

@@ -28,10 +28,11 @@ Action add_fit(CLI::App& app) {
     opts.git_revision = SEMLB_GIT_REVISION;
     opts.progress = !o->quiet;
     const auto res = fit::run_fit(config, opts);
-    for (size_t i = 0; i < res.candidates.size(); ++i) {
+    for (size_t i = 0; i < res.candidates.size(); ++i) {  // the search's own and the chosen one (the log has all)
       const auto& c = res.candidates[i];
-      std::fprintf(stderr, "fit: %-8s train %.5f validation %.5f%s\n", c.name.c_str(), c.train, c.validation,
-                   i == res.chosen ? "  (chosen)" : "");
+      if (i < 3 || i == res.chosen)
+        std::fprintf(stderr, "fit: %-8s train %.5f validation %.5f%s\n", c.name.c_str(), c.train, c.validation,
+                     i == res.chosen ? "  (chosen)" : "");
     }
     const auto& p = res.candidates[res.chosen].params;
     std::fprintf(stderr, "fit: wrote %s after %ld evaluations in %.1f s: gain %.4g trend %.4g deadband %.4g move_cost %.4g fixed_cost %.4g\n",

@@ -31,11 +31,9 @@ class LearnedRepartitionPolicy final : public Policy {
     for (int s = 0; s < S; ++s) forecast[s] = trend ? std::max(0.0, est[s] + p_.trend * (est[s] - previous_[s])) : est[s];
     previous_ = std::move(est);
     auto targets = equal_share_targets(forecast, P);
-    if (p_.deadband > 0) {
-      const double band = p_.deadband * S / P;
+    if (p_.deadband > 0)
       for (int k = 0; k + 1 < P; ++k)
-        if (std::fabs(targets[k] - obs.boundaries[k]) < band) targets[k] = obs.boundaries[k];
-    }
+        if (std::fabs(targets[k] - obs.boundaries[k]) < p_.deadband * S) targets[k] = obs.boundaries[k];
     if (p_.move_cost > 0 || p_.fixed_cost > 0) gate(obs, forecast, targets);
     return apply_targets(obs.boundaries, targets, S, obs.min_width);
   }
@@ -82,7 +80,8 @@ class LearnedRepartitionPolicy final : public Policy {
       for (int k = 0; k + 1 < P; ++k) targets[k] = obs.boundaries[k];
   }
 
-  // c_s *= (t_r / sum_{s in r} w_s c_s)^gain per rank, clipped, then sum w c rescaled to sum w.
+  // c_s *= exp(gain soft(log(t_r / sum_{s in r} w_s c_s), noise_floor)) per rank, clipped, then sum w c rescaled to
+  // sum w.
   void correct(const Observation& obs, const std::vector<double>& w) {
     const int P = obs.ranks(), S = obs.slices;
     for (int r = 0; r < P; ++r) {
@@ -90,7 +89,10 @@ class LearnedRepartitionPolicy final : public Policy {
       double predicted = 0;
       for (int s = lo; s < hi; ++s) predicted += w[s] * correction_[s];
       if (!(predicted > 0) || !(obs.times[r] > 0)) continue;
-      const double f = std::pow(obs.times[r] / predicted, p_.gain);
+      const double gap = std::log(obs.times[r] / predicted);  // soft-thresholded: a gap within the noise floor is noise
+      const double beyond = std::copysign(std::max(std::fabs(gap) - p_.noise_floor, 0.0), gap);
+      if (beyond == 0) continue;
+      const double f = std::exp(p_.gain * beyond);
       for (int s = lo; s < hi; ++s) correction_[s] = std::clamp(correction_[s] * f, kMinCorrection, kMaxCorrection);
     }
     double weighted = 0, total = 0;
@@ -115,8 +117,9 @@ const Registrar<PolicyInfo> registrar("learned_repartition", {[](PolicyParams& p
 
 }  // namespace
 
-const std::array<RepartitionParam, 5>& repartition_params() {
-  static const std::array<RepartitionParam, 5> params{{{"gain", &RepartitionParams::gain, 0, 1},
+const std::array<RepartitionParam, 6>& repartition_params() {
+  static const std::array<RepartitionParam, 6> params{{{"gain", &RepartitionParams::gain, 0, 1},
+                                                       {"noise_floor", &RepartitionParams::noise_floor, 0, 1},
                                                        {"trend", &RepartitionParams::trend, 0, 2},
                                                        {"deadband", &RepartitionParams::deadband, 0, 1},
                                                        {"move_cost", &RepartitionParams::move_cost, 0, 10},

@@ -3,6 +3,7 @@
 
 #include <nlopt.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -28,13 +29,17 @@ namespace semlb::fit {
 namespace {
 
 // The search box of each parameter (inside its allowed range, repartition_params()): [0, upper].
-const std::map<std::string, double> kUpper{{"gain", 1.0}, {"trend", 1.0}, {"deadband", 0.3}, {"move_cost", 0.5},
+const std::map<std::string, double> kUpper{{"gain", 1.0}, {"noise_floor", 0.15}, {"trend", 1.0}, {"deadband", 0.005}, {"move_cost", 0.5},
                                            {"fixed_cost", 0.2}};
 
-RepartitionParams from_unit(const std::vector<double>& x) {
+constexpr size_t kShortlist = 12;  // points of the search besides its best that validation chooses among
+
+// The parameters of `free` from a point of the unit box (in the order of `free`); the others stay 0.
+RepartitionParams from_unit(const std::vector<double>& x, const std::vector<std::string>& free) {
   RepartitionParams p;
-  size_t i = 0;
-  for (const auto& d : repartition_params()) p.*d.field = std::clamp(x[i++], 0.0, 1.0) * kUpper.at(d.name);
+  for (size_t i = 0; i < free.size(); ++i)
+    for (const auto& d : repartition_params())
+      if (free[i] == d.name) p.*d.field = std::clamp(x[i], 0.0, 1.0) * kUpper.at(d.name);
   return p;
 }
 
@@ -78,10 +83,17 @@ FitConfig load_fit_config(const std::string& path, const std::vector<std::string
   c.surrogate_episodes = s.integer("surrogate_episodes", c.surrogate_episodes, 0, 8000);
   c.surrogate_events = s.integer("surrogate_events", c.surrogate_events, 2, 100000);
   c.surrogate_weight = s.real("surrogate_weight", c.surrogate_weight, 0, 1);
+  c.regret_weight = s.real("regret_weight", c.regret_weight, 0, 1000);
   c.evaluations = s.integer("evaluations", c.evaluations, 0, 1000000);
   c.polish = s.integer("polish", c.polish, 0, 1000000);
   c.seed = s.integer("seed", c.seed, 0, std::numeric_limits<long>::max());
   c.threads = s.integer("threads", c.threads, 1, 1024);
+  c.grid = s.boolean("grid", c.grid);
+  c.free = split_files(s.text("free", ""));
+  if (c.free.empty())
+    for (const auto& d : repartition_params()) c.free.push_back(d.name);
+  for (const auto& name : c.free)
+    if (!kUpper.count(name)) s.fail("free", "'" + name + "' is not a learned_repartition parameter");
   s.finish("unknown fit setting");
   for (long r : surrogate::parse_int_list(c.ranks, s.where("ranks")))
     if (r < 2 || r > 64) s.fail("ranks", "each must be in [2, 64]");
@@ -123,10 +135,12 @@ EpisodeSet::EpisodeSet(const FitConfig& c, bool validation) : c_(c) {
   for (size_t i = 0; i < seeds.size(); ++i)
     surrogate_episodes_.push_back(std::make_shared<const SurrogateEpisode>(
         SurrogateEpisode{surrogate::make_scenario(seeds[i], static_cast<int>(ranks[i % ranks.size()])), c.surrogate_events}));
-  base_ = losses(RepartitionParams{});
+  base_ = losses([] { return make_learned_repartition(RepartitionParams{}); });
+  const auto fixed = losses([] { return make_policy("static"); });
+  for (size_t i = 0; i < base_.size(); ++i) base_[i] = std::min(base_[i], fixed[i]);
 }
 
-std::vector<double> EpisodeSet::losses(const RepartitionParams& p) const {
+std::vector<double> EpisodeSet::losses(const std::function<std::unique_ptr<Policy>()>& make) const {
   const size_t nw = workload_episodes_.size(), n = size();
   std::vector<double> out(n, 0.0);
   std::atomic<size_t> next{0};
@@ -134,7 +148,7 @@ std::vector<double> EpisodeSet::losses(const RepartitionParams& p) const {
   auto work = [&] {
     for (size_t i; (i = next++) < n;) {
       try {
-        auto policy = make_learned_repartition(p);
+        auto policy = make();
         if (i < nw) {
           const auto& e = *workload_episodes_[i];
           out[i] = surrogate::replay_workload(*e.workload, e.replay, *policy, "learned_repartition", e.file).loop_s;
@@ -159,11 +173,15 @@ std::vector<double> EpisodeSet::losses(const RepartitionParams& p) const {
 }
 
 double EpisodeSet::objective(const RepartitionParams& p) const {
-  const auto l = losses(p);
+  const auto l = losses([&p] { return make_learned_repartition(p); });
   const size_t nw = workload_episodes_.size(), ns = surrogate_episodes_.size();
   double w = 0, s = 0;
-  for (size_t i = 0; i < nw; ++i) w += l[i] / base_[i];
-  for (size_t i = nw; i < nw + ns; ++i) s += l[i] / base_[i];
+  auto term = [&](size_t i) {  // the ratio, its excess over the reference counted regret_weight times more
+    const double r = l[i] / base_[i];
+    return r + c_.regret_weight * std::max(r - 1.0, 0.0);
+  };
+  for (size_t i = 0; i < nw; ++i) w += term(i);
+  for (size_t i = nw; i < nw + ns; ++i) s += term(i);
   if (ns == 0) return w / nw;
   if (nw == 0) return s / ns;
   return (1 - c_.surrogate_weight) * w / nw + c_.surrogate_weight * s / ns;
@@ -180,13 +198,15 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
   for (const auto& d : repartition_params()) log << "," << d.name;
   log << ",train_objective\n";
   FitResult res;
-  const size_t n = repartition_params().size();
+  const size_t n = c.free.size();
   std::string phase;
   double best = HUGE_VAL;
   std::vector<double> best_x(n, 0.0);
+  std::vector<std::pair<double, RepartitionParams>> evaluated;  // every point, for the validation shortlist
   auto f = [&](const std::vector<double>& x) {
-    const auto p = from_unit(x);
+    const auto p = from_unit(x, c.free);
     const double v = train.objective(p);
+    evaluated.emplace_back(v, p);
     ++res.evaluations;
     log << res.evaluations << "," << phase;
     for (const auto& d : repartition_params()) log << "," << format_real(p.*d.field);
@@ -196,9 +216,9 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
       std::fprintf(stderr, "\rfit: %s, evaluation %ld, best train objective %.5f   ", phase.c_str(), res.evaluations, best);
     return v;
   };
-  auto nlopt_f = [](unsigned, const double* x, double*, void* data) {
+  auto nlopt_f = [](unsigned dims, const double* x, double*, void* data) {
     auto& fn = *static_cast<decltype(f)*>(data);
-    return fn(std::vector<double>(x, x + repartition_params().size()));
+    return fn(std::vector<double>(x, x + dims));
   };
   res.candidates.push_back({"base", RepartitionParams{}, 1.0, 0});
   phase = "base";
@@ -212,7 +232,7 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
     std::vector<double> x(n, 0.1);
     double v = 0;
     try { g.optimize(x, v); } catch (const nlopt::roundoff_limited&) {}
-    res.candidates.push_back({"global", from_unit(best_x), best, 0});
+    res.candidates.push_back({"global", from_unit(best_x, c.free), best, 0});
   }
   if (c.polish > 0) {
     phase = "polish";
@@ -223,9 +243,31 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
     std::vector<double> x = best_x;
     double v = 0;
     try { l.optimize(x, v); } catch (const nlopt::roundoff_limited&) {}
-    res.candidates.push_back({"polished", from_unit(best_x), best, 0});
+    res.candidates.push_back({"polished", from_unit(best_x, c.free), best, 0});
   }
   if (o.progress) std::fprintf(stderr, "\n");
+  // The shortlist: the kShortlist best points of the search by training objective (distinct), besides the above.
+  std::stable_sort(evaluated.begin(), evaluated.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  auto same = [](const RepartitionParams& a, const RepartitionParams& b) {
+    for (const auto& d : repartition_params())
+      if (std::fabs(a.*d.field - b.*d.field) > 1e-9 * (1 + std::fabs(b.*d.field))) return false;
+    return true;
+  };
+  for (const auto& [v, p] : evaluated) {
+    if (res.candidates.size() >= 3 + kShortlist) break;
+    bool known = false;
+    for (const auto& cand : res.candidates) known = known || same(cand.params, p);
+    if (!known) res.candidates.push_back({"shortlist " + std::to_string(res.candidates.size() - 2), p, v, 0});
+  }
+  if (c.grid)  // a coarse grid over the correction and the move threshold, for validation to choose among too
+    for (double g : {0.05, 0.13, 0.3, 0.5})
+      for (double e : {0.0, 0.03, 0.06, 0.1})
+        for (double m0 : {0.0, 0.011, 0.03}) {
+          RepartitionParams p;
+          p.gain = g, p.noise_floor = e, p.fixed_cost = m0;
+          res.candidates.push_back({"grid gain " + format_real(g) + " noise_floor " + format_real(e) + " fixed_cost " +
+                                        format_real(m0), p, 0, 0});
+        }
   for (auto& cand : res.candidates) {
     cand.train = train.objective(cand.params);
     cand.validation = valid.size() > 0 ? valid.objective(cand.params) : cand.train;
@@ -243,7 +285,8 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
                             {"train_objective", format_real(ch.train)}, {"validation_objective", format_real(ch.validation)},
                             {"workloads", [&] { std::string s; for (auto& w : c.workloads) s += (s.empty() ? "" : ",") + w; return s; }()},
                             {"validation", [&] { std::string s; for (auto& w : c.validation) s += (s.empty() ? "" : ",") + w; return s; }()},
-                            {"evaluations", std::to_string(res.evaluations)}});
+                            {"evaluations", std::to_string(res.evaluations)},
+                            {"free", [&] { std::string s; for (auto& f : c.free) s += (s.empty() ? "" : ",") + f; return s; }()}});
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return res;
 }

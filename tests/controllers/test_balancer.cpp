@@ -91,6 +91,7 @@ TEST(Balancer, PoliciesDeclareWhatTheyNeed) {
   EXPECT_TRUE(policy_needs("persistence").slice_work);
   EXPECT_FALSE(policy_needs("reactive").slice_work || policy_needs("reactive").true_work);
   EXPECT_FALSE(policy_needs("gru").true_work);
+  EXPECT_TRUE(policy_needs("learned_repartition").slice_work);
   EXPECT_THROW(policy_needs("nope"), InputError);
 }
 
@@ -127,7 +128,7 @@ TEST_P(BalancerRestart, ARestoredBalancerContinuesIdentically) {
   EXPECT_TRUE(fresh_differs) << policy << ": a balancer without the saved history decided the same; the test would not see a lost state";
 }
 
-INSTANTIATE_TEST_SUITE_P(Policies, BalancerRestart, ::testing::Values("holt", "gru"));
+INSTANTIATE_TEST_SUITE_P(Policies, BalancerRestart, ::testing::Values("holt", "gru", "learned_repartition"));
 
 TEST(Balancer, RefusesAStateOfAnotherRankCount) {
   Episode run(4);

@@ -77,11 +77,19 @@ TEST(LearnedRepartition, TheCorrectionLearnsWhereWsMisjudgesTheTime) {
     if (std::string(gain) == "0") EXPECT_EQ(b, std::vector<int>{50});
     else EXPECT_NEAR(b[0], 62.5, 1.0);
   }
+  // A gap within the noise floor is left alone: the gaps at 50 are log(50 / 75) = -0.41 and log(100 / 75) = 0.29, so
+  // a floor of 0.42 keeps the cut, and one of 0.25 makes the lower slices cheaper and the upper dearer: it moves up.
+  for (const char* floor : {"0.42", "0.25"}) {
+    auto p = make_policy("learned_repartition", params({{"gain", "0.5"}, {"noise_floor", floor}}));
+    const auto b = p->decide(observe({50}, work, cost));
+    if (std::string(floor) == "0.42") EXPECT_EQ(b, std::vector<int>{50});
+    else EXPECT_GT(b[0], 50);
+  }
 }
 
 // A move of 4 slices that lowers the predicted bottleneck by 4.8 (of a total 110 over 100 slices) is taken when
 // it costs move_cost x 1.1 x 4 < 4.8 (move_cost 1.0: 4.4) and refused at move_cost 1.2 (5.28); a deadband of
-// 0.1 (5 slices) keeps the 4.17-slice target where it is, one of 0.08 (4 slices) does not.
+// 0.05 (5 of the 100 slices) keeps the 4.17-slice target where it is, one of 0.04 (4 slices) does not.
 TEST(LearnedRepartition, AMoveIsTakenWhenItsGainPaysForItsMigration) {
   std::vector<double> work(100, 1.0);
   for (int s = 50; s < 100; ++s) work[s] = 1.2;
@@ -91,8 +99,8 @@ TEST(LearnedRepartition, AMoveIsTakenWhenItsGainPaysForItsMigration) {
   EXPECT_EQ(make_policy("learned_repartition", params({{"move_cost", "1.2"}}))->decide(o), std::vector<int>{50});
   EXPECT_EQ(make_policy("learned_repartition", params({{"fixed_cost", "0.1"}}))->decide(o), std::vector<int>{50});  // 5.5
   EXPECT_EQ(make_policy("learned_repartition", params({{"fixed_cost", "0.08"}}))->decide(o), std::vector<int>{54});  // 4.4
-  EXPECT_EQ(make_policy("learned_repartition", params({{"deadband", "0.1"}}))->decide(o), std::vector<int>{50});
-  EXPECT_EQ(make_policy("learned_repartition", params({{"deadband", "0.08"}}))->decide(o), std::vector<int>{54});
+  EXPECT_EQ(make_policy("learned_repartition", params({{"deadband", "0.05"}}))->decide(o), std::vector<int>{50});
+  EXPECT_EQ(make_policy("learned_repartition", params({{"deadband", "0.04"}}))->decide(o), std::vector<int>{54});
 }
 
 // The trend extrapolates the corrected work's change: a block of work moving right by 2 slices per event is cut
@@ -128,7 +136,7 @@ TEST(LearnedRepartition, ParametersAreCheckedAndTheBaseNeedsNoFile) {
 
 TEST(LearnedRepartition, WeightsRoundTripAndRefusals) {
   const auto dir = test::fresh_dir("learned_repartition_weights");
-  const RepartitionParams p{0.25, 0.5, 0.125, 0.0625, 0.03125};
+  const RepartitionParams p{0.25, 0.01, 0.5, 0.125, 0.0625, 0.03125};
   save_repartition_weights(dir + "/w.h5", p, {{"chosen", "global"}});
   const auto q = load_repartition_weights(dir + "/w.h5");
   for (const auto& d : repartition_params()) EXPECT_EQ(q.*d.field, p.*d.field) << d.name;

@@ -302,10 +302,11 @@ TEST(Decomposition, CheckpointOnTwoRanksContinuesIdenticallyOnFour) {
 
 // With modelled rank times the decisions are reproducible, so a run split by a checkpoint makes the same
 // decisions as the run made in one go: trace.jsonl line for line (event numbers continue, the policy's
-// history continues) and the final state bit for bit, with the checkpoint at an event (holt) and between
-// two events (gru).
+// history continues) and the final state bit for bit, with the checkpoint at an event (holt, learned_repartition)
+// and between two events (gru).
 TEST(Decomposition, ARestartContinuesTheBalancerLineForLine) {
-  for (const auto& [policy, split_at] : std::vector<std::pair<std::string, int>>{{"holt", 150}, {"gru", 125}}) {
+  for (const auto& [policy, split_at] :
+       std::vector<std::pair<std::string, int>>{{"holt", 150}, {"gru", 125}, {"learned_repartition", 150}}) {
     const auto dir = fresh_dir("decomposition_balancer_" + policy);
     const std::string args = kArgs + " --set decomposition.timing=modelled --set decomposition.policy=" + policy;
     auto r = run(mpirun_sim(3) + args + " --steps 300 --out " + dir + "/straight");
@@ -349,6 +350,28 @@ TEST(Decomposition, ReplayingAnEngineTraceReproducesItsDecisions) {
   ASSERT_GE(trace.size(), 4u);
   for (size_t i = 0; i + 1 < trace.size(); ++i)
     EXPECT_EQ(nlohmann::json::parse(trace[i])["decision"], nlohmann::json::parse(replayed[i])["boundaries"]) << i;
+}
+
+// The learned controller decides in the engine as in `semlb replay` of the engine's trace (its correction state
+// built from the same times and W_s, event by event).
+TEST(Decomposition, ReplayingAnEngineTraceReproducesTheLearnedControllersDecisions) {
+  const auto dir = fresh_dir("decomposition_trace_learned");
+  const std::string params = " --set decomposition.params.gain=0.5 --set decomposition.params.move_cost=0.01";
+  auto r = run(mpirun_sim(3) + kArgs + " --steps 300 --set decomposition.policy=learned_repartition" + params +
+               " --out " + dir);
+  ASSERT_EQ(r.rc, 0) << r.out;
+  r = run(semlb_bin() + " replay --policy learned_repartition --param learned_repartition.gain=0.5 "
+          "--param learned_repartition.move_cost=0.01 --trace " + dir + "/trace.jsonl");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const auto trace = split(read_file(dir + "/trace.jsonl"), '\n'), replayed = split(r.out, '\n');
+  ASSERT_GE(trace.size(), 5u);
+  bool moved = false;
+  for (size_t i = 0; i + 1 < trace.size(); ++i) {
+    const auto a = nlohmann::json::parse(trace[i]);
+    EXPECT_EQ(a["decision"], nlohmann::json::parse(replayed[i])["boundaries"]) << i;
+    moved = moved || a["decision"] != a["boundaries"];
+  }
+  EXPECT_TRUE(moved) << "no decision moved a boundary: the test would not see a difference";
 }
 
 TEST(Decomposition, AFailingRankStopsEveryRankNamingRankStepAndCause) {
