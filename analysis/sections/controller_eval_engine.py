@@ -165,37 +165,45 @@ def choice_table(points_by_key):
                      "reactive vs static", "workloads"], rows)
 
 
-MEASURED = "gpu/measured/end_to_end_summary.csv"
+MEASURED = ("gpu/measured/end_to_end_summary.csv",  # five policies, P = 2, 4, 8 (issue 37's calls)
+            "gpu/measured/learned_repartition/end_to_end_summary.csv")  # the learned controller's own call
 SCENES = {"epidermis_half": "the paper's regime (epidermis, left half proliferating, 435,661 cells)",
           "epidermis_development": "a proliferative front (development scene, Day 2-3, paper size)"}
 
 
 def measured_choice(ctx):
-    """Per scene and P, from the measured end-to-end runs on one H200 (docs/measured_time.md): the policy with the
-    least mean projected loop time and its saving against static with the 95% interval over launches. '' when the
-    committed CSV is absent."""
-    rows = ctx.committed_rows(MEASURED)
-    if not rows:
-        return ""
-    lines = [f"**Measured on one H200** ({ctx.committed_source(MEASURED)}; P ranks taking turns, device timers, three "
-             "launches, docs/measured_time.md). Lowest mean loop time at each P, its loop time against static "
-             "(± 95% interval over launches), and the shipped GRU's:", ""]
-    for scene in sorted({r["scene"] for r in rows}, key=lambda s: list(SCENES).index(s) if s in SCENES else 99):
-        parts = []
-        for P in sorted({int(r["ranks"]) for r in rows if r["scene"] == scene}):
-            at = [r for r in rows if r["scene"] == scene and int(r["ranks"]) == P]
-            static = next((r for r in at if r["policy"] == "static"), None)
-            best = min(at, key=lambda r: float(r["loop_s"]))
-            if not static:
-                continue
-            def saving(r):
-                base = float(static["loop_s"])
-                return (f"{-100 * float(r['static_minus_loop_s']) / base:+.1f}% "
-                        f"(± {100 * float(r['static_minus_loop_s_ci95']) / base:.1f})")
-            gru = next((r for r in at if r["policy"] == "gru"), None)
-            parts.append(f"P = {P}: `{best['policy']}` {saving(best)}" + (f", gru {saving(gru)}" if gru and gru is not best else ""))
-        lines.append(f"- {SCENES.get(scene, scene)}: " + "; ".join(parts) + ".")
-    lines += ["", "Negative: faster than static. Where the interval includes zero, no policy beats static there.", ""]
+    """Per committed measured CSV, scene and P, from the measured end-to-end runs on one H200 (docs/measured_time.md):
+    the policy with the least mean loop time and its saving against static with the 95% interval over launches (runs
+    of different calls are not mixed: each CSV is one call's interleaved launches). '' when none is committed."""
+    lines = []
+    for source in MEASURED:
+        rows = ctx.committed_rows(source)
+        if not rows:
+            continue
+        policies = ", ".join(sorted({r["policy"] for r in rows}))
+        lines += [f"**Measured on one H200** ({ctx.committed_source(source)}; {policies}; P ranks taking turns, device "
+                  "timers, launches interleaved in one call, docs/measured_time.md). Lowest mean loop time at each P, "
+                  "its loop time against static (± 95% interval over launches), and the shipped GRU's:", ""]
+        for scene in sorted({r["scene"] for r in rows}, key=lambda s: list(SCENES).index(s) if s in SCENES else 99):
+            parts = []
+            for P in sorted({int(r["ranks"]) for r in rows if r["scene"] == scene}):
+                at = [r for r in rows if r["scene"] == scene and int(r["ranks"]) == P]
+                static = next((r for r in at if r["policy"] == "static"), None)
+                best = min(at, key=lambda r: float(r["loop_s"]))
+                if not static:
+                    continue
+
+                def saving(r):
+                    base = float(static["loop_s"])
+                    return (f"{-100 * float(r['static_minus_loop_s']) / base:+.1f}% "
+                            f"(± {100 * float(r['static_minus_loop_s_ci95']) / base:.1f})")
+                gru = next((r for r in at if r["policy"] == "gru"), None)
+                parts.append(f"P = {P}: `{best['policy']}` {saving(best)}" +
+                             (f", gru {saving(gru)}" if gru and gru is not best else ""))
+            lines.append(f"- {SCENES.get(scene, scene)}: " + "; ".join(parts) + ".")
+        lines.append("")
+    if lines:
+        lines += ["Negative: faster than static. Where the interval includes zero, no policy beats static there.", ""]
     return "\n".join(lines)
 
 
