@@ -27,7 +27,7 @@ PAPER_FIGURES = OrderedDict([
 ])
 
 # The paper's order of the policies it compares (its Sec. V-E); names the binary lists beyond these follow by name.
-PAPER_POLICY_ORDER = ["static", "persistence", "holt", "reactive", "gru", "oracle"]
+PAPER_POLICY_ORDER = ["static", "persistence", "holt", "reactive", "gru", "learned_repartition", "oracle"]
 
 
 class Section:
