@@ -31,7 +31,7 @@ int bench_policies(int ranks, int events, int repeats, uint64_t seed, const std:
   }
   std::printf("# semlb bench policies: P=%d, %d slices, min_width %d, %d events x %d repeats (median)\n", ranks,
               scenario.slices, scenario.min_width, events, repeats);
-  std::printf("%-12s %14s %16s\n", "policy", "us/decision", "decisions/s");
+  std::printf("%-20s %14s %16s\n", "policy", "us/decision", "decisions/s");
   for (const auto& name : policy_names()) {
     PolicyParams params;
     if (name == "gru") params.set("weights", gru_file);
@@ -42,7 +42,7 @@ int bench_policies(int ranks, int events, int repeats, uint64_t seed, const std:
     }
     std::nth_element(us.begin(), us.begin() + us.size() / 2, us.end());
     const double med = us[us.size() / 2];
-    std::printf("%-12s %14.2f %16.0f\n", name.c_str(), med, med > 0 ? 1e6 / med : 0.0);
+    std::printf("%-20s %14.2f %16.0f\n", name.c_str(), med, med > 0 ? 1e6 / med : 0.0);
   }
   if (weights.empty()) std::filesystem::remove(gru_file);
   return 0;

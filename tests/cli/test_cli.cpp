@@ -225,7 +225,9 @@ TEST(Cli, ListPrintsTheRegistries) {
     ASSERT_EQ(r.rc, 0) << r.out;
     EXPECT_EQ(r.out, want) << what;
     for (const auto& name : semlb::split(run(semlb_bin() + " list " + what).out, '\n')) {
-      if (!name.empty()) EXPECT_NE(effects.find(name + "\n"), std::string::npos) << name << " is not an effect";
+      if (!name.empty()) {
+        EXPECT_NE(effects.find(name + "\n"), std::string::npos) << name << " is not an effect";
+      }
     }
   }
   // the values of effects.growth.law and effects.division.rule
@@ -234,13 +236,13 @@ TEST(Cli, ListPrintsTheRegistries) {
   const auto policies = run(semlb_bin() + " list policies");
   ASSERT_EQ(policies.rc, 0) << policies.out;
   for (const char* p : {"static\n", "reactive\n", "persistence\n", "holt\n", "gru\n", "oracle\n", "lazy_oracle\n",
-                        "gromacs_dlb\n", "foresight\n"})
+                        "gromacs_dlb\n", "foresight\n", "learned_repartition\n"})
     EXPECT_NE(policies.out.find(p), std::string::npos) << p << policies.out;
   // engine-policies: the policies a simulation runs, the surrogate baselines that need the true work left out
   const auto engine = run(semlb_bin() + " list engine-policies --json");
   ASSERT_EQ(engine.rc, 0) << engine.out;
-  EXPECT_EQ(engine.out, "[\"all_tensor\",\"gromacs_dlb\",\"gru\",\"holt\",\"hoomd_balance\",\"lammps_shift\",\"persistence\","
-                        "\"reactive\",\"static\"]\n");
+  EXPECT_EQ(engine.out, "[\"all_tensor\",\"gromacs_dlb\",\"gru\",\"holt\",\"hoomd_balance\",\"lammps_shift\","
+                        "\"learned_repartition\",\"persistence\",\"reactive\",\"static\"]\n");
   for (const char* what : {"effects", "backends", "runners", "launchers"}) {
     const auto r = run(semlb_bin() + " list " + what + " --json");
     EXPECT_EQ(r.rc, 0) << what;
