@@ -5,8 +5,8 @@ A result folder under results/gpu/ holds a `provenance.json`:
      "files": {"name.csv": {"semlb_commit": ..., "date": ..., "how": ..., "note": ...}}}
 `files` overrides the folder's record for single files (results/gpu/provenance.json records the loose files there).
 An optional `"depends": "kernels"` says the result times the engine only (no controller decides anything in it).
-A result is stale when a commit after its own changed the engine's kernels or the controllers (KERNEL_PATHS; only
-ENGINE_PATHS for a result that depends on the kernels alone); unknown when git cannot say (a tarball without
+A result is stale when the engine's kernels or the controllers (KERNEL_PATHS; only ENGINE_PATHS for a result that
+depends on the kernels alone) differ at HEAD from its own commit; unknown when git cannot say (a tarball without
 history, or a commit this clone does not hold).
 Usage: provenance.py [--results DIR] [--check]   (prints one line per record: path, commit, date, status)
 """
@@ -67,18 +67,23 @@ def record(path, root=None):
 
 
 def status(commit, repo=REPO, paths=None):
-    """(FRESH | STALE | UNKNOWN, detail): STALE when a commit after COMMIT changed PATHS (default KERNEL_PATHS; detail:
-    the latest such commit, 'abc1234 YYYY-MM-DD'); UNKNOWN when git cannot tell (detail: why)."""
+    """(FRESH | STALE | UNKNOWN, detail): STALE when PATHS (default KERNEL_PATHS) hold something else at HEAD than at
+    COMMIT (detail: the latest commit since that touched them, 'abc1234 YYYY-MM-DD'); UNKNOWN when git cannot tell
+    (detail: why)."""
     if not commit:
         return UNKNOWN, "no commit recorded"
     if _git("rev-parse", "--git-dir", repo=repo) is None:
         return UNKNOWN, "no git history here"
     if _git("cat-file", "-e", f"{commit}^{{commit}}", repo=repo) is None:
         return UNKNOWN, f"commit {commit[:7]} is not in this clone"
-    later = _git("log", "-1", "--format=%h %cs", f"{commit}..HEAD", "--", *(paths or KERNEL_PATHS), repo=repo)
-    if later is None:
-        return UNKNOWN, "git log failed"
-    return (STALE, later) if later else (FRESH, "")
+    paths = paths or KERNEL_PATHS
+    changed = _git("diff", "--name-only", commit, "HEAD", "--", *paths, repo=repo)
+    if changed is None:
+        return UNKNOWN, "git diff failed"
+    if not changed:  # the paths hold what they held then (a change undone since leaves the result current)
+        return FRESH, ""
+    later = _git("log", "-1", "--format=%h %cs", f"{commit}..HEAD", "--", *paths, repo=repo)
+    return STALE, later or changed.splitlines()[0]
 
 
 def before(commit, repo=REPO):

@@ -34,7 +34,7 @@ class LearnedRepartitionPolicy final : public Policy {
     if (p_.deadband > 0)
       for (int k = 0; k + 1 < P; ++k)
         if (std::fabs(targets[k] - obs.boundaries[k]) < p_.deadband * S) targets[k] = obs.boundaries[k];
-    if (p_.move_cost > 0 || p_.move_seconds > 0 || p_.fixed_cost > 0) gate(obs, forecast, targets);
+    if (p_.move_cost > 0 || p_.fixed_cost > 0) gate(obs, forecast, targets);
     return apply_targets(obs.boundaries, targets, S, obs.min_width);
   }
 
@@ -54,7 +54,7 @@ class LearnedRepartitionPolicy final : public Policy {
 
  private:
   // Boundary k moves to its target only when that lowers the larger of its two ranks' forecast work (the others at
-  // their targets) by more than move_cost sum(t)/S + move_seconds per slice it moves; no boundary moves unless the gains of those
+  // their targets) by more than move_cost sum(t)/S per slice it moves; no boundary moves unless the gains of those
   // that do sum to more than fixed_cost sum(t)/P.
   void gate(const Observation& obs, const std::vector<double>& forecast, std::vector<double>& targets) const {
     const int P = obs.ranks(), S = obs.slices;
@@ -73,8 +73,7 @@ class LearnedRepartitionPolicy final : public Policy {
       }
       const double now = std::max(cum[b] - cum[lo], cum[hi] - cum[b]);
       const double next = std::max(cum[t[k]] - cum[lo], cum[hi] - cum[t[k]]);
-      const double per_slice = p_.move_cost * total / S + p_.move_seconds;
-      if (now - next > per_slice * static_cast<double>(std::labs(t[k] - b))) gained += now - next, moved = true;
+      if (now - next > p_.move_cost * total / S * static_cast<double>(std::labs(t[k] - b))) gained += now - next, moved = true;
       else targets[k] = b;
     }
     if (moved && !(gained > p_.fixed_cost * total / P))
@@ -118,13 +117,12 @@ const Registrar<PolicyInfo> registrar("learned_repartition", {[](PolicyParams& p
 
 }  // namespace
 
-const std::array<RepartitionParam, 7>& repartition_params() {
-  static const std::array<RepartitionParam, 7> params{{{"gain", &RepartitionParams::gain, 0, 1},
+const std::array<RepartitionParam, 6>& repartition_params() {
+  static const std::array<RepartitionParam, 6> params{{{"gain", &RepartitionParams::gain, 0, 1},
                                                        {"noise_floor", &RepartitionParams::noise_floor, 0, 1},
                                                        {"trend", &RepartitionParams::trend, 0, 2},
                                                        {"deadband", &RepartitionParams::deadband, 0, 1},
                                                        {"move_cost", &RepartitionParams::move_cost, 0, 10},
-                                                       {"move_seconds", &RepartitionParams::move_seconds, 0, 100},
                                                        {"fixed_cost", &RepartitionParams::fixed_cost, 0, 1}}};
   return params;
 }

@@ -19,13 +19,12 @@ inline constexpr long kRepartitionFormatVersion = 1;
 //   trend k: forecast f_s = max(0, e_s + k (e_s - e'_s)), e = w c this event, e' the last event's;
 //   deadband d: the equal-share cut of f (equal_share_targets) keeps a boundary whose target is within d S slices (a
 //     fraction of the domain, so that it means the same at any slice count);
-//   move_cost m, move_seconds ms, fixed_cost m0: boundary k moves to its target only when that lowers the larger
-//     forecast work of its two ranks (its neighbours at their targets) by more than m sum(t)/S + ms per slice it
-//     moves, and no boundary moves unless the gains of those that do exceed m0 sum(t)/P (m and m0 in slice-intervals
-//     and rank-intervals of the interval just measured, ms in seconds: a moved slice's cost on the machine, per
-//     interval it pays over; all 0: every target is taken).
+//   move_cost m, fixed_cost m0: boundary k moves to its target only when that lowers the larger forecast work of its
+//     two ranks (its neighbours at their targets) by more than m sum(t)/S per slice it moves, and no boundary moves
+//     unless the gains of those that do exceed m0 sum(t)/P (costs in slice-intervals and rank-intervals of the
+//     interval just measured; both 0: every target is taken).
 struct RepartitionParams {
-  double gain = 0, noise_floor = 0, trend = 0, deadband = 0, move_cost = 0, fixed_cost = 0, move_seconds = 0;
+  double gain = 0, noise_floor = 0, trend = 0, deadband = 0, move_cost = 0, fixed_cost = 0;
 };
 
 // One parameter's name, field and range [min, max] (weights files and policy parameters are checked against it).
@@ -34,7 +33,7 @@ struct RepartitionParam {
   double RepartitionParams::*field;
   double min, max;
 };
-const std::array<RepartitionParam, 7>& repartition_params();
+const std::array<RepartitionParam, 6>& repartition_params();
 
 // A learned_repartition policy with these parameters (the fitter builds it directly).
 std::unique_ptr<Policy> make_learned_repartition(const RepartitionParams& p);

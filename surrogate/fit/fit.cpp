@@ -29,7 +29,7 @@ namespace semlb::fit {
 namespace {
 
 // The search box of each parameter (inside its allowed range, repartition_params()): [0, upper].
-const std::map<std::string, double> kUpper{{"gain", 1.0}, {"noise_floor", 0.15}, {"trend", 1.0}, {"deadband", 0.005}, {"move_cost", 0.5}, {"move_seconds", 2.5e-4},
+const std::map<std::string, double> kUpper{{"gain", 1.0}, {"noise_floor", 0.15}, {"trend", 1.0}, {"deadband", 0.005}, {"move_cost", 0.5},
                                            {"fixed_cost", 0.2}};
 
 constexpr size_t kShortlist = 12;  // points of the search besides its best that validation chooses among
