@@ -14,6 +14,7 @@
 #include <sstream>
 #include <thread>
 
+#include "common/cleanup.hpp"
 #include "common/errors.hpp"
 #include "common/settings.hpp"
 #include "common/text_io.hpp"
@@ -74,8 +75,10 @@ FitConfig load_fit_config(const std::string& path, const std::vector<std::string
   FitConfig c;
   for (auto [key, files] : {std::pair{"workloads", &c.workloads}, std::pair{"validation", &c.validation}}) {
     *files = split_files(s.text(key, ""));
-    for (const auto& f : *files)
-      if (!std::filesystem::is_regular_file(f)) s.fail(key, "no such workload file '" + f + "'");
+    for (const auto& f : *files) {
+      if (!std::filesystem::exists(f)) s.fail(key, "no such workload file '" + f + "'");
+      if (!std::filesystem::is_regular_file(f)) s.fail(key, "'" + f + "' is not a file");
+    }
   }
   c.ranks = s.text("ranks", c.ranks);
   c.replay_seeds = s.text("replay_seeds", c.replay_seeds);
@@ -89,11 +92,17 @@ FitConfig load_fit_config(const std::string& path, const std::vector<std::string
   c.seed = s.integer("seed", c.seed, 0, std::numeric_limits<long>::max());
   c.threads = s.integer("threads", c.threads, 1, 1024);
   c.grid = s.boolean("grid", c.grid);
-  c.free = split_files(s.text("free", ""));
-  if (c.free.empty())
+  if (s.has("free")) {
+    c.free = split_files(s.text("free", ""));
+    if (c.free.empty()) s.fail("free", "must name at least one parameter");
+  } else {
     for (const auto& d : repartition_params()) c.free.push_back(d.name);
-  for (const auto& name : c.free)
-    if (!kUpper.count(name)) s.fail("free", "'" + name + "' is not a learned_repartition parameter");
+  }
+  for (size_t i = 0; i < c.free.size(); ++i) {
+    if (!kUpper.count(c.free[i])) s.fail("free", "'" + c.free[i] + "' is not a learned_repartition parameter");
+    if (std::find(c.free.begin(), c.free.begin() + i, c.free[i]) != c.free.begin() + i)
+      s.fail("free", "'" + c.free[i] + "' is named twice");
+  }
   s.finish("unknown fit setting");
   for (long r : surrogate::parse_int_list(c.ranks, s.where("ranks")))
     if (r < 2 || r > 64) s.fail("ranks", "each must be in [2, 64]");
@@ -189,10 +198,18 @@ double EpisodeSet::objective(const RepartitionParams& p) const {
 
 FitResult run_fit(const FitConfig& c, const FitOptions& o) {
   const auto start = std::chrono::steady_clock::now();
+  const std::string log_path = o.log.empty() ? std::filesystem::path(o.out).replace_extension(".log.csv").string() : o.log;
+  for (const auto& [flag, path] : {std::pair{"--out", o.out}, std::pair{"--log", log_path}}) {  // before minutes of search
+    if (std::filesystem::is_directory(path)) throw InputError(std::string(flag) + ": '" + path + "' is a folder");
+    const std::string probe = path + ".tmp";
+    if (!std::ofstream(probe)) throw InputError(std::string(flag) + ": cannot write '" + path + "'");
+    std::filesystem::remove(probe);
+  }
   const EpisodeSet train(c, false);
   const EpisodeSet valid(c, true);
-  const std::string log_path = o.log.empty() ? std::filesystem::path(o.out).replace_extension(".log.csv").string() : o.log;
   std::ofstream log(log_path + ".tmp");
+  register_cleanup_path(log_path + ".tmp");
+  register_cleanup_path(o.out + ".tmp");
   if (!log) throw InputError(log_path + ": cannot write the fit log");
   log << "evaluation,phase";
   for (const auto& d : repartition_params()) log << "," << d.name;
@@ -276,6 +293,7 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
     if (res.candidates[i].validation < res.candidates[res.chosen].validation) res.chosen = i;
   log.close();
   std::filesystem::rename(log_path + ".tmp", log_path);
+  unregister_cleanup_path(log_path + ".tmp");
   const auto& ch = res.candidates[res.chosen];
   std::ostringstream cands;
   for (const auto& cand : res.candidates)
@@ -287,6 +305,7 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
                             {"validation", [&] { std::string s; for (auto& w : c.validation) s += (s.empty() ? "" : ",") + w; return s; }()},
                             {"evaluations", std::to_string(res.evaluations)},
                             {"free", [&] { std::string s; for (auto& f : c.free) s += (s.empty() ? "" : ",") + f; return s; }()}});
+  unregister_cleanup_path(o.out + ".tmp");
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return res;
 }

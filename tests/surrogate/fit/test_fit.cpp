@@ -49,6 +49,9 @@ TEST(Fit, ConfigRefusalsNameTheFileLineAndField) {
   refused("workloads: " + kSmall + "\nregret_weight: -1\n", "field 'regret_weight'");
   refused("workloads: " + kSmall + "\nranks: 2,one\n", "ranks");
   refused("surrogate_episodes: 0\n", "nothing to fit on");
+  refused("workloads: " + kSmall + "\nfree: \"\"\n", "field 'free': must name at least one parameter");
+  refused("workloads: " + kSmall + "\nfree: gain,gain\n", "field 'free': 'gain' is named twice");
+  refused("workloads: " + source("results") + "\n", "is not a file");
   EXPECT_THROW(fit::load_fit_config("", {"evaluations"}), InputError);  // not KEY=VALUE
 }
 
@@ -126,6 +129,17 @@ TEST(Fit, CommandLineErrorsExitTwo) {
   EXPECT_EQ(r.rc, 2) << r.out;
   EXPECT_NE(r.out.find("field 'workloads'"), std::string::npos) << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir + "/w.h5"));
+  // an --out that is a folder is refused before the search, and nothing is written beside it
+  const auto config = write(dir, "workloads: " + kSmall + "\nranks: 2\nsurrogate_episodes: 1\nevaluations: 2\n");
+  std::filesystem::create_directory(dir + "/folder");
+  r = test::run(test::semlb_bin() + " fit --config " + config + " --out " + dir + "/folder --quiet");
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_NE(r.out.find("--out: '" + dir + "/folder' is a folder"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/folder.log.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/folder.tmp"));
+  r = test::run(test::semlb_bin() + " fit --out " + dir + "/w.h5");  // the config is required
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_NE(r.out.find("--config"), std::string::npos) << r.out;
   r = test::run(test::semlb_bin() + " fit --help");
   EXPECT_EQ(r.rc, 0);
   EXPECT_NE(r.out.find("--config"), std::string::npos) << r.out;
