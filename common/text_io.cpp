@@ -47,6 +47,15 @@ std::string read_file(const std::string& path) {
   return text.str();
 }
 
+std::string join(const std::vector<std::string>& fields, char separator) {
+  std::string s;
+  for (size_t i = 0; i < fields.size(); ++i) {
+    if (i) s += separator;
+    s += fields[i];
+  }
+  return s;
+}
+
 std::vector<std::string> split(const std::string& text, char separator) {
   std::vector<std::string> fields;
   size_t pos = 0;

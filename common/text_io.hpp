@@ -17,6 +17,8 @@ void write_file_atomically(const std::string& path, const std::string& text);
 std::string read_file(const std::string& path);
 // Fields between separators, empty ones kept: split("a,,b", ',') = {"a", "", "b"}; split("", ',') = {""}.
 std::vector<std::string> split(const std::string& text, char separator);
+// The inverse: fields joined by the separator, join({"a", "", "b"}, ',') = "a,,b"; join({}, ',') = "".
+std::string join(const std::vector<std::string>& fields, char separator = ',');
 
 // Strict number parsing, used wherever a number is read from text. The whole token must be the number:
 // no surrounding spaces, no units ("0.15mm"), no hex ("0x10"), no leading '+', no "inf"/"nan"; a real is

@@ -35,12 +35,6 @@ namespace semlb::experiments {
 namespace fs = std::filesystem;
 namespace {
 
-std::string join(const std::vector<std::string>& cells) {
-  std::string s;
-  for (size_t i = 0; i < cells.size(); ++i) s += (i ? "," : "") + cells[i];
-  return s;
-}
-
 std::string csv_line(const std::vector<std::string>& cells) { return join(cells) + "\n"; }
 
 // A job's value of axis A; empty when the job's axis group lacks A.

@@ -44,12 +44,10 @@ RepartitionParams from_unit(const std::vector<double>& x, const std::vector<std:
   return p;
 }
 
-std::vector<std::string> split_files(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string f; std::getline(in, f, ',');)
-    if (!f.empty()) out.push_back(f);
-  return out;
+std::vector<std::string> split_files(const std::string& text) {  // a comma-separated list, empty items left out
+  auto v = split(text, ',');
+  v.erase(std::remove(v.begin(), v.end(), std::string()), v.end());
+  return v;
 }
 
 }  // namespace
@@ -301,10 +299,10 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
   save_repartition_weights(o.out, ch.params,
                            {{"chosen", ch.name}, {"candidates", cands.str()}, {"git_revision", o.git_revision},
                             {"train_objective", format_real(ch.train)}, {"validation_objective", format_real(ch.validation)},
-                            {"workloads", [&] { std::string s; for (auto& w : c.workloads) s += (s.empty() ? "" : ",") + w; return s; }()},
-                            {"validation", [&] { std::string s; for (auto& w : c.validation) s += (s.empty() ? "" : ",") + w; return s; }()},
+                            {"workloads", join(c.workloads)},
+                            {"validation", join(c.validation)},
                             {"evaluations", std::to_string(res.evaluations)},
-                            {"free", [&] { std::string s; for (auto& f : c.free) s += (s.empty() ? "" : ",") + f; return s; }()}});
+                            {"free", join(c.free)}});
   unregister_cleanup_path(o.out + ".tmp");
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return res;

@@ -15,6 +15,9 @@ TEST(TextIo, SplitKeepsEmptyFields) {
   EXPECT_EQ(split("a,,b", ','), (std::vector<std::string>{"a", "", "b"}));
   EXPECT_EQ(split("a,", ','), (std::vector<std::string>{"a", ""}));
   EXPECT_EQ(split("", ','), (std::vector<std::string>{""}));
+  EXPECT_EQ(join({"a", "", "b"}, ','), "a,,b");  // the inverse of split
+  EXPECT_EQ(join(split("x;y;", ';'), ';'), "x;y;");
+  EXPECT_EQ(join({}, ','), "");
 }
 
 TEST(TextIo, AtomicWriteRoundTripsAndMissingFilesAreInputErrors) {
