@@ -2,10 +2,12 @@
 // (which yaml-cpp would silently resolve to the first) are one-line InputErrors naming file, line and key.
 #pragma once
 #include <string>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 
 #include "common/errors.hpp"
+#include "common/settings.hpp"
 #include "common/text_io.hpp"
 
 namespace semlb {
@@ -49,6 +51,32 @@ inline YAML::Node load_yaml_file(const std::string& file, const std::string& wha
     throw InputError(file + ": cannot open " + what);
   }
   return load_yaml(text, file, what);
+}
+
+// A flat config (a YAML mapping of KEY: VALUE, e.g. a training or fit config; `what` names the kind in errors) as
+// Settings, each value blamed on its file and line, then each "KEY=VALUE" of `overrides` over it, blamed on "--set
+// KEY". An empty `path` gives the overrides alone. InputError on a file that is not a mapping or an override without
+// "=". A nested value is kept as a map, so reading it as a value fails naming its field.
+inline Settings load_flat_settings(const std::string& path, const std::string& what,
+                                   const std::vector<std::string>& overrides) {
+  Settings s("", Origin{path, 0, "", ""});
+  if (!path.empty()) {
+    const YAML::Node root = load_yaml_file(path, what);
+    if (root && !root.IsNull()) {
+      if (!root.IsMap()) throw InputError(path + ": a " + what + " must be a YAML mapping");
+      for (const auto& kv : root) {
+        const Origin at{path, kv.first.Mark().line + 1, "", ""};
+        s.set(kv.first.Scalar(), Settings::Value{kv.second.IsScalar() ? Settings::Kind::text : Settings::Kind::map,
+                                                 kv.second.IsScalar() ? kv.second.Scalar() : "", {}, at});
+      }
+    }
+  }
+  for (const auto& o : overrides) {
+    const size_t eq = o.find('=');
+    if (eq == std::string::npos || eq == 0) throw InputError("--set: '" + o + "' is not KEY=VALUE");
+    s.set(o.substr(0, eq), o.substr(eq + 1), Origin{"", 0, "--set " + o.substr(0, eq), ""});
+  }
+  return s;
 }
 
 }  // namespace semlb

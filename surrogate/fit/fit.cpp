@@ -44,7 +44,7 @@ RepartitionParams from_unit(const std::vector<double>& x, const std::vector<std:
   return p;
 }
 
-std::vector<std::string> split_files(const std::string& text) {  // a comma-separated list, empty items left out
+std::vector<std::string> comma_list(const std::string& text) {  // a comma-separated list, empty items left out
   auto v = split(text, ',');
   v.erase(std::remove(v.begin(), v.end(), std::string()), v.end());
   return v;
@@ -53,26 +53,10 @@ std::vector<std::string> split_files(const std::string& text) {  // a comma-sepa
 }  // namespace
 
 FitConfig load_fit_config(const std::string& path, const std::vector<std::string>& overrides) {
-  Settings s("", Origin{path, 0, "", ""});
-  if (!path.empty()) {
-    const YAML::Node root = load_yaml_file(path, "fit config");
-    if (root && !root.IsNull()) {
-      if (!root.IsMap()) throw InputError(path + ": a fit config must be a YAML mapping");
-      for (const auto& kv : root) {
-        if (!kv.second.IsScalar())
-          throw InputError(where(path, kv.first.Mark().line + 1, kv.first.Scalar()) + "must be a single value");
-        s.set(kv.first.Scalar(), kv.second.Scalar(), Origin{path, kv.first.Mark().line + 1, "", ""});
-      }
-    }
-  }
-  for (const auto& o : overrides) {
-    const size_t eq = o.find('=');
-    if (eq == std::string::npos || eq == 0) throw InputError("--set: '" + o + "' is not KEY=VALUE");
-    s.set(o.substr(0, eq), o.substr(eq + 1), Origin{"", 0, "--set " + o.substr(0, eq), ""});
-  }
+  const Settings s = load_flat_settings(path, "fit config", overrides);
   FitConfig c;
   for (auto [key, files] : {std::pair{"workloads", &c.workloads}, std::pair{"validation", &c.validation}}) {
-    *files = split_files(s.text(key, ""));
+    *files = comma_list(s.text(key, ""));
     for (const auto& f : *files) {
       if (!std::filesystem::exists(f)) s.fail(key, "no such workload file '" + f + "'");
       if (!std::filesystem::is_regular_file(f)) s.fail(key, "'" + f + "' is not a file");
@@ -91,7 +75,7 @@ FitConfig load_fit_config(const std::string& path, const std::vector<std::string
   c.threads = s.integer("threads", c.threads, 1, 1024);
   c.grid = s.boolean("grid", c.grid);
   if (s.has("free")) {
-    c.free = split_files(s.text("free", ""));
+    c.free = comma_list(s.text("free", ""));
     if (c.free.empty()) s.fail("free", "must name at least one parameter");
   } else {
     for (const auto& d : repartition_params()) c.free.push_back(d.name);

@@ -72,23 +72,7 @@ void check(const TrainConfig& c, const Settings& s) {
 }  // namespace
 
 TrainConfig load_train_config(const std::string& path, const std::vector<std::string>& overrides) {
-  Settings s("", Origin{path, 0, "", ""});
-  if (!path.empty()) {
-    const YAML::Node root = load_yaml_file(path, "training config");
-    if (root && !root.IsNull()) {
-      if (!root.IsMap()) throw InputError(path + ": a training config must be a YAML mapping");
-      for (const auto& kv : root) {
-        const Origin at{path, kv.first.Mark().line + 1, "", ""};
-        s.set(kv.first.Scalar(), Settings::Value{kv.second.IsScalar() ? Settings::Kind::text : Settings::Kind::map,
-                                                 kv.second.IsScalar() ? kv.second.Scalar() : "", {}, at});
-      }
-    }
-  }
-  for (const auto& o : overrides) {
-    const size_t eq = o.find('=');
-    if (eq == std::string::npos || eq == 0) throw InputError("--set: '" + o + "' is not KEY=VALUE");
-    s.set(o.substr(0, eq), o.substr(eq + 1), Origin{"", 0, "--set " + o.substr(0, eq), ""});
-  }
+  const Settings s = load_flat_settings(path, "training config", overrides);
   TrainConfig c;
   visit(c, Read{s});
   s.finish("unknown training setting");
