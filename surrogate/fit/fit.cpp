@@ -219,9 +219,8 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
     auto& fn = *static_cast<decltype(f)*>(data);
     return fn(std::vector<double>(x, x + dims));
   };
-  res.candidates.push_back({"base", RepartitionParams{}, 1.0, 0});
   phase = "base";
-  f(std::vector<double>(n, 0.0));
+  res.candidates.push_back({"base", RepartitionParams{}, f(std::vector<double>(n, 0.0)), 0});
   nlopt::srand(static_cast<unsigned long>(c.seed));
   if (c.evaluations > 0) {
     phase = "global";
@@ -265,10 +264,10 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
           RepartitionParams p;
           p.gain = g, p.noise_floor = e, p.fixed_cost = m0;
           res.candidates.push_back({"grid gain " + format_real(g) + " noise_floor " + format_real(e) + " fixed_cost " +
-                                        format_real(m0), p, 0, 0});
+                                        format_real(m0), p, std::nan(""), 0});
         }
   for (auto& cand : res.candidates) {
-    cand.train = train.objective(cand.params);
+    if (std::isnan(cand.train)) cand.train = train.objective(cand.params);  // the grid's; the search's are known
     cand.validation = valid.size() > 0 ? valid.objective(cand.params) : cand.train;
   }
   for (size_t i = 1; i < res.candidates.size(); ++i)
