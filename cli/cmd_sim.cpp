@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "common/cleanup.hpp"
 #include "common/errors.hpp"
+#include "common/process.hpp"
 #include "engine/decomposition/distributed.hpp"
 #include "engine/run/driver.hpp"
 #include "engine/decomposition/mpi.hpp"
@@ -43,8 +44,10 @@ void add_scene_flags(CLI::App* sub, SceneFlags& f) {
 
 namespace {
 // The end-of-run breakdown, as LAMMPS ends a run: the loop time, element-steps per second, and per phase its seconds
-// (min / avg / max over the ranks), its share of the loop (of the average) and its imbalance (max - min) / avg.
-void breakdown(const engine::RunSummary& sum) {
+// (min / avg / max over the ranks), its share of the loop (of the average) and its imbalance (max - min) / avg; then
+// what the user waited for outside the loop: the start (process start to the first step) and the end, of `process`
+// seconds in all.
+void breakdown(const engine::RunSummary& sum, double process) {
   if (sum.steps <= 0 || sum.loop_seconds <= 0) return;
   std::string text;
   auto line = [&](const char* fmt, auto... a) {
@@ -67,15 +70,25 @@ void breakdown(const engine::RunSummary& sum) {
        100.0 * sum.output_seconds / sum.loop_seconds, "(rank 0)");
   line("%-10s | %10s | %10.4g | %10s | %6.1f | %11s\n", "other", "", std::max(0.0, sum.loop_seconds - accounted), "",
        100.0 * std::max(0.0, sum.loop_seconds - accounted) / sum.loop_seconds, "");
+  line("Start %.3g s", sum.start_seconds);
+  for (size_t k = 0; k < sum.start_parts.size(); ++k)
+    line("%s%s %.3g s", k == 0 ? " (" : ", ", sum.start_parts[k].first.c_str(), sum.start_parts[k].second);
+  line("%s; end %.3g s (final.h5 and the closing files %.3g s); process %.4g s\n", sum.start_parts.empty() ? "" : ")",
+       process - sum.start_seconds - sum.loop_seconds, sum.closing_seconds, process);
   if (sum.list_skin > 0)
     line("Neighbour list: skin %g um, %ld builds over the ranks (in the force phases)\n", sum.list_skin, sum.list_builds);
   std::fwrite(text.data(), 1, text.size(), stderr);
 }
 
+// The last line: the process's seconds so far, and its start, loop and end.
 void report(const engine::RunSummary& sum, const std::string& out, bool quiet) {
-  if (!quiet) breakdown(sum);
+  const double process = process_seconds();
+  if (!quiet) breakdown(sum, process);
+  char times[160];
+  std::snprintf(times, sizeof times, "%.4g s (start %.3g s, loop %.4g s, end %.3g s)", process, sum.start_seconds,
+                sum.loop_seconds, process - sum.start_seconds - sum.loop_seconds);
   std::cerr << "semlb sim: " << sum.steps << " steps, " << sum.cells << " cells, " << sum.elements << " elements in "
-            << sum.wall_seconds << " s on " << sum.device << "; wrote " << out << "/final.h5\n";
+            << times << " on " << sum.device << "; wrote " << out << "/final.h5\n";
 }
 }  // namespace
 

@@ -1,5 +1,5 @@
 // fork + execvpe with a pipe for the child's output (the child in its own process group, ended with its parent),
-// waitpid for its status.
+// waitpid for its status; the process's own age from /proc.
 #include "process.hpp"
 
 #include "cleanup.hpp"
@@ -11,12 +11,37 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstring>
+#include <ctime>
+#include <fstream>
+#include <iterator>
+#include <sstream>
 #include <stdexcept>
 
 extern char** environ;
 
 namespace semlb {
+
+double process_seconds() {
+  static const auto first = std::chrono::steady_clock::now();
+  const double fallback = std::chrono::duration<double>(std::chrono::steady_clock::now() - first).count();
+  std::ifstream f("/proc/self/stat");
+  const std::string stat((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const size_t close = stat.rfind(')');  // the command name may hold spaces and parentheses
+  const long ticks = sysconf(_SC_CLK_TCK);
+  timespec now{};
+  if (close == std::string::npos || ticks <= 0 || clock_gettime(CLOCK_BOOTTIME, &now) != 0) return fallback;
+  std::istringstream rest(stat.substr(close + 1));
+  std::string field;
+  for (int k = 3; k < 22 && rest >> field; ++k) {  // fields 3 (state) to 21
+  }
+  unsigned long long start = 0;
+  if (!(rest >> start)) return fallback;
+  const double age = static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec) -
+                     static_cast<double>(start) / static_cast<double>(ticks);
+  return age >= 0 ? age : fallback;
+}
 
 ProcessResult run_process(const std::vector<std::string>& argv, const std::vector<std::string>& env) {
   if (argv.empty()) throw std::runtime_error("run_process: no program");

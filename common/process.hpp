@@ -17,6 +17,11 @@ struct ProcessResult {
 // the calling thread ends first (a SIGKILL of semlb included).
 ProcessResult run_process(const std::vector<std::string>& argv, const std::vector<std::string>& env = {});
 
+// Wall seconds since this process started (the kernel's start time of the process, /proc/self/stat field 22, against
+// CLOCK_BOOTTIME; 1/CLK_TCK = 10 ms resolution), so the dynamic loader and static initialisation count; where /proc
+// cannot say, the seconds since the first call.
+double process_seconds();
+
 // argv as one line for messages, each word quoted for /bin/sh where it needs it (copy-paste reproduces it).
 std::string shell_words(const std::vector<std::string>& argv);
 

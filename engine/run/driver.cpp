@@ -15,6 +15,7 @@
 
 #include "common/dir_lock.hpp"
 #include "common/errors.hpp"
+#include "common/process.hpp"
 #include "common/progress_line.hpp"
 #include "common/text_io.hpp"
 #include "decomposition/distributed.hpp"
@@ -208,6 +209,7 @@ RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long fir
   const bool root = run.root();
   StatusLine status(config.quiet || !root, first, last);
   const auto t0 = std::chrono::steady_clock::now();
+  const double started = process_seconds();
   double wall_before = 0;
   if (run.any(root && out->wants_first_snapshot(first))) {
     const State& all = run.whole();
@@ -267,9 +269,10 @@ RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long fir
   sum.steps = all.step - first;
   sum.cells = all.cells();
   sum.elements = all.elements();
-  sum.wall_seconds = seconds_since(t0);
   sum.device = run.device();
   sum.loop_seconds = loop_seconds;
+  sum.start_seconds = started;
+  sum.closing_seconds = seconds_since(t0) - loop_seconds;
   sum.element_steps = element_steps;
   sum.output_seconds = output_seconds;
   run.breakdown(sum);
@@ -441,16 +444,21 @@ class Decomposed final : public Run {
 }  // namespace
 
 RunSummary run_scene(Scene& scene, const RunConfig& config) {
+  const auto t0 = std::chrono::steady_clock::now();
   State initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);
   if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);  // the tissue section is not used
   check_steps_ahead(scene, config, initial);
   Decomposition::from_scene(scene, 1);  // a scene meant for mpirun is checked on one device too
   const long first = initial.step;
+  const double tissue = seconds_since(t0);
   Simulation sim(scene, std::move(initial));  // all input checked before anything is written
+  const double device = seconds_since(t0) - tissue;
   RunOutputs out(scene, config, first, run_header(sim.phases()),
                  {{"git_revision", config.git_revision}, {"scene", scene.name}, {"backend", sim.backend().name()}});
   OneDevice run(scene, sim);
-  return drive(run, scene, config, first, &out);
+  RunSummary sum = drive(run, scene, config, first, &out);
+  sum.start_parts = {{"tissue", tissue}, {"device", device}};
+  return sum;
 }
 
 // Every error is collective (docs/engine.md "Failures"): the setup, rank 0's files and the run's own checks

@@ -26,7 +26,6 @@ struct PhaseSpread {
 
 struct RunSummary {
   long steps = 0, cells = 0, elements = 0;
-  double wall_seconds = 0;
   std::string device;
   // The end-of-run breakdown `semlb sim` prints: the time-stepping loop's wall seconds (final.h5 not included), the
   // element-steps it made (elements after each stretch between stops x its steps), rank 0's seconds writing files
@@ -37,6 +36,11 @@ struct RunSummary {
   std::vector<PhaseSpread> phases;
   long list_builds = 0;
   double list_skin = 0;
+  // What the user waits for outside the loop: seconds from the process's start to the loop's (common/process.hpp),
+  // its known parts (one device: "tissue", making or reading the initial state, and "device", the backend's setup
+  // with its program build and upload), and the seconds after the loop that wrote final.h5 and the closing files.
+  double start_seconds = 0, closing_seconds = 0;
+  std::vector<std::pair<std::string, double>> start_parts;
 };
 
 // DIR/rank_times.csv of a decomposed run: one row per rebalancing interval and rank. Columns, written and read

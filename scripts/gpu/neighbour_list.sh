@@ -31,22 +31,32 @@ fi
 if [ "$what" = dev ] || [ "$what" = all ]; then
   machine=$(nvidia-smi --query-gpu=name --format=csv,noheader | head -1)
   [ -f "$OUT/development_1gpu.csv" ] ||
-    echo "cells_start,cells_end,elements_end,steps,precision,loop_s,mechanics_s,machine,skin" > "$OUT/development_1gpu.csv"
+    echo "cells_start,cells_end,elements_end,steps,precision,loop_s,mechanics_s,machine,skin,start_s,end_s,wall_s" > "$OUT/development_1gpu.csv"
   for s in $dev_skins; do
     run=$(mktemp -d)
     prof=; case " ${DEV_PROFILE_SKINS:-} " in *" $s "*) prof=1;; esac
+    t0=$(date +%s.%N)
     SEMLB_OPENCL_PROFILE=$prof "$S" sim --scene "$here/scenes/epidermis_development.yaml" --out "$run" --steps 2400 --backend opencl-binned \
       --platform NVIDIA --precision float --quiet --set tissue.cells=435661 --set effects.growth.front.speed=24.8 \
       --set output.snapshot_every=0 --set output.checkpoint_every=0 --set backend.skin="$s" > "$OUT/dev_skin$s.log" 2>&1
+    t1=$(date +%s.%N)
     cp "$run/run.csv" "$OUT/dev_skin$s.run.csv"
     [ -f "$run/kernels.csv" ] && cp "$run/kernels.csv" "$OUT/dev_skin$s.kernels.csv"
-    # loop_s: the logged wall seconds summed (the time-stepping loop); mechanics_s: the mechanics column summed
-    python3 - "$run/run.csv" "$s" "$machine" >> "$OUT/development_1gpu.csv" <<'EOF'
-import csv, sys
+    # loop_s: the logged wall seconds summed (the time-stepping loop); mechanics_s: the mechanics column summed;
+    # start_s, end_s: from semlb sim's last line (process start to the first step, the last step to its exit);
+    # wall_s: the process as this script timed it, from its launch to its exit
+    python3 - "$run/run.csv" "$s" "$machine" "$OUT/dev_skin$s.log" "$t0" "$t1" >> "$OUT/development_1gpu.csv" <<'EOF'
+import csv, re, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 loop = sum(float(r["wall_s"]) for r in rows)
 mech = sum(float(r["mechanics_s"]) for r in rows)
-print(f"435661,{rows[-1]['cells']},{rows[-1]['elements']},{rows[-1]['step']},float,{loop:.3f},{mech:.3f},{sys.argv[3]},{sys.argv[2]}")
+last = open(sys.argv[4]).read().strip().splitlines()[-1]
+m = re.search(r"\(start ([0-9.e+-]+) s, loop [0-9.e+-]+ s, end ([0-9.e+-]+) s\)", last)
+if not m:
+    sys.exit(f"neighbour_list.sh: {sys.argv[4]}: the last line gives no start and end: {last}")
+wall = float(sys.argv[6]) - float(sys.argv[5])
+print(f"435661,{rows[-1]['cells']},{rows[-1]['elements']},{rows[-1]['step']},float,{loop:.3f},{mech:.3f},{sys.argv[3]},"
+      f"{sys.argv[2]},{float(m[1]):.3f},{float(m[2]):.3f},{wall:.3f}")
 EOF
     rm -rf "$run"
   done

@@ -24,7 +24,8 @@ STAGES="single_device effects_cost accuracy_vs_time development peer_yalla measu
 if [ "${1:-}" = list ]; then printf '%s\n' $STAGES; exit 0; fi
 want=${*:-$STAGES}
 start=$(date +%s)
-commit=$(git -C "$here" rev-parse HEAD 2>/dev/null || echo unknown)
+# SEMLB_COMMIT=HASH: the commit of a copy without .git (a device machine's copy of a clean checkout)
+commit=${SEMLB_COMMIT:-$(git -C "$here" rev-parse HEAD 2>/dev/null || echo unknown)}
 dirty=$(git -C "$here" status --porcelain -- engine controllers cli 2>/dev/null | head -1)
 [ -z "$dirty" ] || echo "gpu-results: the engine or controllers differ from $commit (uncommitted): provenance says so" >&2
 S=$BUILD/cli/semlb

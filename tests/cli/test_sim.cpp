@@ -46,6 +46,17 @@ TEST(CliSim, EndsWithTheLoopTimeAndAPhaseBreakdown) {
   EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\nother +\| +\| +[0-9.e+-]+ +\| )"))) << r.out;
   const auto last = r.out.substr(r.out.rfind("\n", r.out.size() - 2) + 1);
   EXPECT_EQ(last.rfind("semlb sim: 40 steps, ", 0), 0u) << last;
+  // What the user waited for outside the loop: the start with its parts, the end, the process; the last line gives
+  // the process's seconds as start + loop + end, each >= 0, and the start at least its parts.
+  std::smatch st, tail;
+  ASSERT_TRUE(std::regex_search(r.out, st, std::regex(R"(\nStart ([0-9.e+-]+) s \(tissue ([0-9.e+-]+) s, device ([0-9.e+-]+) s\); end ([0-9.e+-]+) s \(final\.h5 and the closing files ([0-9.e+-]+) s\); process ([0-9.e+-]+) s\n)")))
+      << r.out;
+  EXPECT_GE(std::stod(st[1]) + 0.011, std::stod(st[2]) + std::stod(st[3])) << st[0];  // 10 ms: /proc's resolution
+  EXPECT_GE(std::stod(st[4]) + 0.011, std::stod(st[5])) << st[0];
+  ASSERT_TRUE(std::regex_search(last, tail, std::regex(R"(elements in ([0-9.e+-]+) s \(start ([0-9.e+-]+) s, loop ([0-9.e+-]+) s, end ([0-9.e+-]+) s\) on )")))
+      << last;
+  for (int k = 2; k <= 4; ++k) EXPECT_GE(std::stod(tail[k]), 0.0) << last;
+  EXPECT_NEAR(std::stod(tail[1]), std::stod(tail[2]) + std::stod(tail[3]) + std::stod(tail[4]), 0.01) << last;
   // The phases' shares and output and other add up to the loop (other is what the timers do not cover).
   double share = 0;
   std::smatch m;
