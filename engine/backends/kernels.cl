@@ -5,15 +5,10 @@
 #define SEMLB_REAL double
 typedef double4 real4;
 #define INFO(w) ((int)as_long(w))
-#define SEMLB_AS_BITS as_long
 #else
 #define SEMLB_REAL float
 typedef float4 real4;
 #define INFO(w) as_int(w)
-#define SEMLB_AS_BITS as_int
-#endif
-#ifndef SEMLB_BOUND_BY_CONVERSION /* a variant for timing: the pair bound by a conversion (evaluator.h) */
-#define SEMLB_REAL_BITS(x) SEMLB_AS_BITS(x)
 #endif
 #define SEMLB_LONG long
 #define SEMLB_ULONG ulong

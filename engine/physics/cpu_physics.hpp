@@ -1,9 +1,8 @@
 // The evaluator header compiled for the C++ backends, once per precision (Physics<float|double>), and the cell stage's
 // rules on the host's arrays: the ground floor of the engine, which every other part includes and which includes none.
 #pragma once
-#include <array>
-#include <bit>
 #include <cmath>
+#include <array>
 #include <cstdint>
 
 #define SEMLB_LONG int64_t
@@ -15,13 +14,6 @@
 #define SEMLB_COS std::cos
 #define SEMLB_FMIN std::fmin
 #define SEMLB_FMAX std::fmax
-
-namespace semlb::engine::detail {
-// The bits of a real as a signed integer of its width (evaluator.h's SEMLB_REAL_BITS).
-inline int32_t real_bits(float x) { return std::bit_cast<int32_t>(x); }
-inline int64_t real_bits(double x) { return std::bit_cast<int64_t>(x); }
-}  // namespace semlb::engine::detail
-#define SEMLB_REAL_BITS(x) ::semlb::engine::detail::real_bits(x)
 
 namespace semlb::engine::phys64 {
 #define SEMLB_REAL double

@@ -25,22 +25,6 @@ typedef SEMLB_REAL semlb_real;
 #define SEMLB_BOUND_LIMIT ((SEMLB_LONG)1 << 30)
 /* The bound of one element term's contribution (each component clamped to SEMLB_FORCE_MAX). */
 #define SEMLB_TERM_BOUND ((SEMLB_LONG)1048576 + 1)
-/* floor(min(|f|, SEMLB_FORCE_MAX)) + 1 (a NaN f counts as SEMLB_FORCE_MAX): one pair's bound (pair_force.h). Where the
- * includer defines SEMLB_REAL_BITS(x) (x's bits as a signed integer of its width: as_int / as_long in OpenCL,
- * std::bit_cast in C++), without a conversion to a 64-bit integer, which costs the device's pair loop more than the
- * rest of the bound: x + 2^23 (2^52 in double) holds x rounded to an integer in its low mantissa bits, one too many
- * where it rounded up (exact for x <= 2^20). Both forms agree on every input (tests/engine/backends/test_evaluator). */
-static inline SEMLB_LONG semlb_force_bound(semlb_real f) {
-  semlb_real x = SEMLB_FMIN(SEMLB_FMAX(f, -f), (semlb_real)SEMLB_FORCE_MAX);
-#ifdef SEMLB_REAL_BITS
-  const semlb_real big = sizeof(semlb_real) == 4 ? (semlb_real)8388608.0 : (semlb_real)4503599627370496.0;
-  semlb_real y = x + big;
-  return (SEMLB_LONG)(SEMLB_REAL_BITS(y) - SEMLB_REAL_BITS(big)) - (y - big > x ? 1 : 0) + 1;
-#else
-  return (SEMLB_LONG)x + 1;
-#endif
-}
-
 /* Below this distance (length units) the pair direction is taken from the element keys (r = 0). */
 #define SEMLB_R_MIN 1e-6
 #define SEMLB_R_MIN2 1e-12 /* SEMLB_R_MIN^2 as one literal (the device compiler did not fold the product) */

@@ -7,8 +7,10 @@
  * the maximum), at least |F_ij| / 2^32 of each of its three fixed-point components (an integer, so its sum does not
  * depend on the order). While an element's bound, all its contributions together, stays below SEMLB_BOUND_LIMIT
  * (2^30, half of the 2^31 force units an int64 of 2^-32 units holds, so rounding in |d_k| / r cannot matter) no
- * fixed-point force sum of it can leave int64; beyond it the integrator stops the run (Failure code 3). The bound of
- * one pair is evaluator.h's semlb_force_bound. */
+ * fixed-point force sum of it can leave int64; beyond it the integrator stops the run (Failure code 3). */
+#ifndef SEMLB_PAIR_BOUND
+#define SEMLB_PAIR_BOUND(f) ((SEMLB_LONG)SEMLB_FMIN(SEMLB_FMAX((f), -(f)), (semlb_real)SEMLB_FORCE_MAX) + 1)
+#endif
 
 /* Force on element i from element j, added to acc[0..2] in fixed point, and its bound to acc[3]; d = Y_i - Y_j
  * (eq. 1: the force along d is the law's f(r) = -dV/dr, positive repulsive). Returns 0 outside the cutoff, 1 when
@@ -33,7 +35,7 @@ static inline int semlb_pair_force(semlb_real dx, semlb_real dy, semlb_real dz, 
   acc[0] += semlb_scaled_to_fixed(s * dx);
   acc[1] += semlb_scaled_to_fixed(s * dy);
   acc[2] += semlb_scaled_to_fixed(s * dz);
-  acc[3] += semlb_force_bound(f);
+  acc[3] += SEMLB_PAIR_BOUND(f);
   return 1;
 }
 
@@ -49,5 +51,5 @@ static inline void semlb_coincident_force(SEMLB_ULONG key_i, SEMLB_ULONG key_j, 
   acc[0] += semlb_to_fixed(s * ux);
   acc[1] += semlb_to_fixed(s * uy);
   acc[2] += semlb_to_fixed(s * uz);
-  acc[3] += semlb_force_bound(f);
+  acc[3] += SEMLB_PAIR_BOUND(f);
 }
