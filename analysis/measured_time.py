@@ -13,7 +13,8 @@ RUNS is the script's OUT folder (tissue/, cost/, turns/, record/, e2e/); OUT rec
   the ghost work and the per-rank launches), and each slab of the 2-rank run against the same slab alone;
 - time_model_validation.csv: per end-to-end run, the mean absolute relative error of the per-rank interval times that
   the time model predicts from the recorded workload (record/workload.h5: measured seconds per slice) under the
-  run's own boundaries, against its device timers; ghost_weight and rank_overhead_s are fitted (least squares) on
+  run's own boundaries, against its device timers; ghost_weight, element_s, list_weight and rank_overhead_s
+  (surrogate/workload_replay.hpp, list_by=work) are fitted (non-negative least squares) on
   the runs marked fitted (launch 1 of static at every P) and the error of the others is out of sample;
 - policy_order.csv: per P, each policy's mean measured loop seconds and its replayed loop seconds (`semlb replay
   --workload record/workload.h5` with the fitted model, seeds averaged), with both ranks;
@@ -39,7 +40,7 @@ import sys
 
 import h5py
 import numpy as np
-from scipy import stats
+from scipy import optimize, stats
 
 
 def read_csv(path):
@@ -112,6 +113,7 @@ class Workload:
             self.above = e["band_above"][:].astype(float)
             self.elements = e["elements"][:].astype(float)
             self.slice_elements = e["slice_elements"][:].astype(float) if "slice_elements" in e else None
+            self.work = e["slice_work"][:].astype(float) if "slice_work" in e else None
             # version 3: the list builds leave the slices and go to the ranks whose slices changed (the replay's
             # model_times, surrogate/workload_replay.hpp)
             self.list_s = e["part_seconds"][:, 1] if "part_seconds" in e else None
@@ -119,29 +121,32 @@ class Workload:
         self.at = {s: i for i, s in enumerate(self.steps)}
 
     def terms(self, step, boundaries):
-        """Per rank (S_r: measured seconds of its slices, sigma G_r: seconds per element x ghost elements received)."""
+        """Per rank the columns of the time model (surrogate/workload_replay.hpp, list_by=work): S_r (its slices'
+        measured seconds, less the one-rank list builds spread by elements in version 3), sigma G_r (seconds per
+        element x ghost elements received), n_r (its elements, version 3) and L Wch_r / W (the list seconds placed by
+        the W_s of its slices that changed at a cell stage, version 3); the last two are 0 for a version 2 file."""
         i = self.at[step]
         cuts = [0] + list(boundaries) + [self.seconds.shape[1]]
         sigma = self.seconds[i].sum() / self.elements[i] if self.elements[i] > 0 else 0.0
-        seconds, builds = self.seconds[i], np.zeros(len(cuts) - 1)
-        if self.list_s is not None:
-            n = self.slice_elements[i]
-            seconds = np.maximum(0.0, seconds - self.list_s[i] * n / n.sum()) if n.sum() > 0 else seconds
-            stages = lambda bits: bin(int(np.bitwise_or.reduce(bits)) if len(bits) else 0).count("1")
-            k = stages(self.changes[i])
-            for q in range(len(cuts) - 1):
-                share = stages(self.changes[i][cuts[q]:cuts[q + 1]]) / k if k > 0 else 1.0
-                builds[q] = self.list_s[i] * n[cuts[q]:cuts[q + 1]].sum() / n.sum() * share if n.sum() > 0 else 0.0
-        own, ghost = [], []
+        seconds = self.seconds[i]
+        n = self.slice_elements[i] if self.list_s is not None else np.zeros(len(seconds))
+        if n.sum() > 0:
+            seconds = np.maximum(0.0, seconds - self.list_s[i] * n / n.sum())
+        v3 = self.list_s is not None
+        changed = self.work[i] * (self.changes[i] != 0) if v3 else np.zeros(len(seconds))
+        total_work = self.work[i].sum() if v3 else 0.0
+        rows = []
         for q in range(len(cuts) - 1):
-            own.append(seconds[cuts[q]:cuts[q + 1]].sum() + builds[q])
-            g = 0.0
-            if q > 0:
-                g += self.below[i][cuts[q] - 1]
-            if q + 2 < len(cuts):
-                g += self.above[i][cuts[q + 1] - 1]
-            ghost.append(sigma * g)
-        return np.array(own), np.array(ghost)
+            lo, hi = cuts[q], cuts[q + 1]
+            g = (self.below[i][lo - 1] if q > 0 else 0.0) + (self.above[i][hi - 1] if q + 2 < len(cuts) else 0.0)
+            placed = self.list_s[i] * changed[lo:hi].sum() / total_work if total_work > 0 else 0.0
+            rows.append((seconds[lo:hi].sum(), sigma * g, n[lo:hi].sum(), placed))
+        return np.array(rows)
+
+
+# The fitted parameters of the time model, in the order of Workload.terms' columns after the first (the constant
+# rank_overhead_s is the third): surrogate/workload_replay.hpp's keys.
+MODEL_KEYS = ("ghost_weight", "element_s", "list_weight", "rank_overhead_s")
 
 
 PARTS = ("pair", "list", "cells")
@@ -186,23 +191,34 @@ def parts_rows(workload, record, runs, scene):
 
 
 def model_rows(workload, run):
-    """(S_r, sigma G_r, measured device seconds) of every interval and rank of RUN whose step the workload has."""
+    """Workload.terms' columns and the measured device seconds, per interval and rank of RUN whose step the workload has."""
     rt, bounds = rank_times(run), trace_boundaries(run)
     rows = []
     for step, rs in rt.items():
         if step not in workload.at or step not in bounds:
             continue
-        own, ghost = workload.terms(step, bounds[step])
+        terms = workload.terms(step, bounds[step])
         for q, r in enumerate(rs):
-            rows.append((own[q], ghost[q], r["device_s"]))
+            rows.append(tuple(terms[q]) + (r["device_s"],))
     return np.array(rows)
 
 
 def fit_time_model(rows):
-    """Least squares of T - S_r = ghost_weight sigma G_r + rank_overhead_s (both >= 0)."""
-    a = np.column_stack([rows[:, 1], np.ones(len(rows))])
-    coef, *_ = np.linalg.lstsq(a, rows[:, 2] - rows[:, 0], rcond=None)
-    return max(0.0, float(coef[0])), max(0.0, float(coef[1]))
+    """Non-negative least squares (scipy.optimize.nnls) of T - S_r = ghost_weight sigma G_r + element_s n_r +
+    list_weight L Wch_r / W + rank_overhead_s: {MODEL_KEYS: value}. A column that is 0 throughout (a version 2 file
+    has no elements per slice and no list seconds) is left out and its key set to 0."""
+    columns = np.column_stack([rows[:, 1], rows[:, 2], rows[:, 3], np.ones(len(rows))])
+    used = [k for k in range(columns.shape[1]) if np.any(columns[:, k] != 0)]
+    coef, _ = optimize.nnls(columns[:, used], rows[:, 4] - rows[:, 0])
+    out = dict.fromkeys(MODEL_KEYS, 0.0)
+    for k, c in zip(used, coef):
+        out[MODEL_KEYS[k]] = float(c)
+    return out
+
+
+def predict(rows, model):
+    """The time model's seconds of model_rows' rows."""
+    return rows[:, 0] + sum(model[k] * rows[:, j + 1] for j, k in enumerate(MODEL_KEYS[:3])) + model["rank_overhead_s"]
 
 
 def interval95(values):
@@ -417,17 +433,16 @@ def main():
                    "by_elements_mean_abs_rel_error"], parts)
     fitted = {(p, r, l) for p, r, l, _ in runs if p == "static" and l == 1}
     fit_rows = np.vstack([model_rows(w, d) for p, r, l, d in runs if (p, r, l) in fitted])
-    g, c = fit_time_model(fit_rows)
+    model = fit_time_model(fit_rows)
     val = []
     for policy, ranks, launch, d in runs:
         rows = model_rows(w, d)
-        pred = rows[:, 0] + g * rows[:, 1] + c
-        err = np.abs(pred - rows[:, 2]) / rows[:, 2]
+        err = np.abs(predict(rows, model) - rows[:, 4]) / rows[:, 4]
         val.append((a.scene, policy, ranks, launch, int((policy, ranks, launch) in fitted), float(err.mean()),
-                    float(err.max()), g, c))
+                    float(err.max())) + tuple(model[k] for k in MODEL_KEYS))
     write_csv(os.path.join(a.out, "time_model_validation.csv"),
-              ["scene", "policy", "ranks", "launch", "fitted", "mean_abs_rel_error", "max_abs_rel_error",
-               "ghost_weight", "rank_overhead_s"], val)
+              ["scene", "policy", "ranks", "launch", "fitted", "mean_abs_rel_error", "max_abs_rel_error"] +
+              list(MODEL_KEYS), val)
 
     if a.no_replay:
         return
@@ -442,9 +457,9 @@ def main():
             loops = []
             for seed in range(lo, hi + 1):
                 out = subprocess.run([a.semlb, "replay", "--workload", record, "--ranks", str(ranks), "--policy", p,
-                                      "--seed", str(seed), "--time-model", f"ghost_weight={g!r}",
-                                      "--time-model", f"rank_overhead_s={c!r}",
-                                      "--time-model", f"migrate_s_per_slice={migrate_per_slice!r}"],
+                                      "--seed", str(seed), "--time-model", "list_by=work",
+                                      "--time-model", f"migrate_s_per_slice={migrate_per_slice!r}"] +
+                                     [x for k in MODEL_KEYS for x in ("--time-model", f"{k}={model[k]!r}")],
                                      check=True, capture_output=True, text=True).stdout
                 loops.append(json.loads(out)["loop_s"])
             replayed[p] = float(np.mean(loops))

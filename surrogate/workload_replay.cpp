@@ -43,7 +43,8 @@ std::vector<int64_t> coarse_bits(const std::vector<int64_t>& v, int k, int n) { 
 
 const std::vector<std::string>& time_model_keys() {
   static const std::vector<std::string> keys = {"ghost_weight",     "speed_spread",    "jitter", "migrate_s_per_slice",
-                                                "seconds_per_work", "rank_overhead_s", "truth"};
+                                                "seconds_per_work", "rank_overhead_s", "truth",
+                                                "list_by",          "list_weight",     "element_s"};
   return keys;
 }
 
@@ -55,6 +56,13 @@ void set_time_model(TimeModel& m, const std::string& key, const std::string& val
   else if (key == "migrate_s_per_slice") m.migrate_s_per_slice = parse_real(value, at, 0, 1e6);
   else if (key == "seconds_per_work") m.seconds_per_work = parse_real(value, at, 0, 1e6);
   else if (key == "rank_overhead_s") m.rank_overhead_s = parse_real(value, at, 0, 1e6);
+  else if (key == "element_s") m.element_s = parse_real(value, at, 0, 1e6);
+  else if (key == "list_weight") m.list_weight = parse_real(value, at, 0, 100);
+  else if (key == "list_by") {
+    if (value == "stages") m.list_by = TimeModel::ListBy::kStages;
+    else if (value == "work") m.list_by = TimeModel::ListBy::kWork;
+    else throw InputError(at + "'" + value + "' is not one of stages, work");
+  }
   else if (key == "truth") {
     if (value == "auto") m.truth = TimeModel::Truth::kAuto;
     else if (value == "work") m.truth = TimeModel::Truth::kWork;
@@ -129,17 +137,24 @@ std::vector<double> model_times(const ReplayTrack& t, int event, const std::vect
   if (!t.list_s.empty()) {  // the list builds of the ranks whose slices changed (version 3)
     const auto& n = t.elements[event];
     const auto& bits = t.changes[event];
+    const auto& work = t.work[event];
     int64_t any = 0;
-    double total = 0;
-    for (int s = 0; s < t.slices; ++s) any |= bits[s], total += n[s];
+    double total = 0, all_work = 0;
+    for (int s = 0; s < t.slices; ++s) any |= bits[s], total += n[s], all_work += work[s];
     const int k = std::popcount(static_cast<uint64_t>(any));
     for (size_t q = 0; q < times.size(); ++q) {
       const int lo = q == 0 ? 0 : b[q - 1], hi = q + 1 < times.size() ? b[q] : t.slices;
       int64_t mine = 0;
-      double nq = 0;
-      for (int s = lo; s < hi; ++s) mine |= bits[s], nq += n[s];
-      const double share = k > 0 ? static_cast<double>(std::popcount(static_cast<uint64_t>(mine))) / k : 1.0;
-      if (total > 0) times[q] += t.list_s[event] * nq / total * share;
+      double nq = 0, changed_work = 0;
+      for (int s = lo; s < hi; ++s) mine |= bits[s], nq += n[s], changed_work += bits[s] != 0 ? work[s] : 0.0;
+      double list = 0;
+      if (m.list_by == TimeModel::ListBy::kWork) {
+        list = all_work > 0 ? t.list_s[event] * changed_work / all_work : 0.0;
+      } else {
+        const double share = k > 0 ? static_cast<double>(std::popcount(static_cast<uint64_t>(mine))) / k : 1.0;
+        list = total > 0 ? t.list_s[event] * nq / total * share : 0.0;
+      }
+      times[q] += m.list_weight * list + m.element_s * nq;
     }
   }
   // seconds per unit of what `times` holds, and per received ghost element in those units

@@ -30,12 +30,19 @@ namespace semlb::surrogate {
 // while the policy still sees W_s (as on a machine). A version 3 file (WorkloadEvent::part_seconds and
 // cell_stage_changes) places the neighbour list's builds where they happen: its list seconds L leave the slices
 // (where they were spread by elements n_s) and rank r gets L n_r / N k_r / k, with k_r the cell stages at which one of
-// its slices changed and k those at which any slice did (a rank whose elements did not change keeps its list). `truth` chooses: auto (measured when the file has it), work, or
-// measured (an InputError for a file without it). rank_overhead_s (seconds per interval and rank: the fixed cost of
-// a rank's launches) is added under either truth.
+// its slices changed and k those at which any slice did (a rank whose elements did not change keeps its list); with
+// list_by = work instead list_weight L Wch_r / W, Wch_r the W_s of r's slices that changed at some cell stage and W
+// all W_s (a rebuild costs what the slices' pairs cost; docs/measured_time.md "Time model"). A version 3 file also
+// adds element_s n_r (the list check and sort launches of every step, per owned element). `truth` chooses: auto
+// (measured when the file has it), work, or measured (an InputError for a file without it). rank_overhead_s (seconds
+// per interval and rank: the fixed cost of a rank's launches) is added under either truth.
 struct TimeModel {
   enum class Truth { kAuto, kWork, kMeasured };
+  enum class ListBy { kStages, kWork };
   Truth truth = Truth::kAuto;
+  ListBy list_by = ListBy::kStages;  // version 3: where the list builds' seconds go
+  double list_weight = 1;            // version 3: the share of the one-rank list seconds the ranks' builds take
+  double element_s = 0;              // version 3: seconds per owned element and interval
   double rank_overhead_s = 0;       // seconds per interval and rank
   double ghost_weight = 0.5;        // a received ghost element's cost relative to an owned element's
   double speed_spread = 0.01;       // sigma of the per-rank speed factors
@@ -45,8 +52,8 @@ struct TimeModel {
 };
 
 // The TimeModel keys ("ghost_weight", ...), and one "KEY=VALUE" set into `m` (strict numbers, each in its range:
-// ghost_weight [0, 100], speed_spread and jitter [0, 0.3], migrate_s_per_slice, seconds_per_work and rank_overhead_s
-// [0, 1e6]; truth one of auto, work, measured).
+// ghost_weight and list_weight [0, 100], speed_spread and jitter [0, 0.3], migrate_s_per_slice, seconds_per_work,
+// rank_overhead_s and element_s [0, 1e6]; truth one of auto, work, measured; list_by one of stages, work).
 // InputError prefixed by `where` naming the key.
 const std::vector<std::string>& time_model_keys();
 void set_time_model(TimeModel& m, const std::string& key, const std::string& value, const std::string& where);

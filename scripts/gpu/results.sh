@@ -26,7 +26,7 @@ want=${*:-$STAGES}
 start=$(date +%s)
 # SEMLB_COMMIT=HASH: the commit of a copy without .git (a device machine's copy of a clean checkout)
 commit=${SEMLB_COMMIT:-$(git -C "$here" rev-parse HEAD 2>/dev/null || echo unknown)}
-dirty=$(git -C "$here" status --porcelain -- engine controllers cli 2>/dev/null | head -1)
+dirty=; [ -n "${SEMLB_COMMIT:-}" ] || dirty=$(git -C "$here" status --porcelain -- engine controllers cli 2>/dev/null | head -1)
 [ -z "$dirty" ] || echo "gpu-results: the engine or controllers differ from $commit (uncommitted): provenance says so" >&2
 S=$BUILD/cli/semlb
 if [ ! -x "$S" ]; then

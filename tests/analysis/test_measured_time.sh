@@ -40,6 +40,58 @@ run("static_np2_l2", [[2], [2], [2]], 2)
 run("persistence_np2_l1", [[2], [1], [1]], 1)
 run("persistence_np2_l2", [[2], [1], [1]], 2)
 PYEOF
+# version 3 (list seconds L, elements and cell-stage changes per slice, W_s): device times that follow
+# T_r = S_r - L n_r/N + 2 sigma G_r + 0.01 n_r + 0.5 L Wch_r/W + 0.001 exactly; the fit recovers the four keys
+mkdir -p "$work/hand3/record"
+"$PY" - "$work/hand3" <<'PYEOF'
+import csv, json, os, sys
+import h5py, numpy as np
+root = sys.argv[1]
+S, E = 4, 3
+seconds = np.array([[1.0, 1.0, 3.0, 3.0], [2.0, 2.0, 1.0, 1.0], [1.0, 2.0, 3.0, 4.0]])
+n = np.array([[2, 2, 2, 2], [3, 2, 2, 1], [1, 2, 3, 4]], float)
+work = np.array([[4, 4, 4, 4], [8, 4, 2, 2], [1, 3, 5, 7]], float)
+changes = np.array([[3, 3, 0, 0], [1, 0, 0, 3], [0, 2, 0, 1]])
+L = np.array([0.8, 0.4, 0.6])
+below = np.ones((E, S - 1)); above = np.ones((E, S - 1)) * 2
+with h5py.File(os.path.join(root, "record", "workload.h5"), "w") as f:
+    f["events/step"] = np.array([10, 20, 30]); f["events/slice_seconds"] = seconds
+    f["events/band_below"] = below.astype(np.int64); f["events/band_above"] = above.astype(np.int64)
+    f["events/elements"] = n.sum(axis=1).astype(np.int64); f["events/slice_elements"] = n.astype(np.int64)
+    f["events/slice_work"] = work; f["events/cell_stage_changes"] = changes.astype(np.int64)
+    f["events/part_seconds"] = np.column_stack([np.zeros(E), L, np.zeros(E), np.zeros(E)])
+def run(name, bounds_per_event):
+    d = os.path.join(root, "e2e", name); os.makedirs(d)
+    with open(os.path.join(d, "trace.jsonl"), "w") as t:
+        for e, b in enumerate(bounds_per_event):
+            t.write(json.dumps({"event": e, "boundaries": b}) + "\n")
+    with open(os.path.join(d, "rank_times.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["step", "rank", "compute_s", "exchange_s", "migrate_s", "imbalance", "moved_slices", "wall_s",
+                    "device_s", "exchange_bytes", "migrate_bytes"])
+        for e, b in enumerate(bounds_per_event):
+            cuts = [0] + b + [S]; sigma = seconds[e].sum() / n[e].sum()
+            for q in range(len(cuts) - 1):
+                lo, hi = cuts[q], cuts[q + 1]
+                g = (below[e][lo - 1] if q > 0 else 0) + (above[e][hi - 1] if q + 2 < len(cuts) else 0)
+                own = seconds[e][lo:hi].sum() - L[e] * n[e][lo:hi].sum() / n[e].sum()
+                placed = L[e] * (work[e][lo:hi] * (changes[e][lo:hi] != 0)).sum() / work[e].sum()
+                t = own + 2 * sigma * g + 0.01 * n[e][lo:hi].sum() + 0.5 * placed + 0.001
+                w.writerow([10 * (e + 1), q, t, 0, 0, 0, 0, t, t, 0, 0])
+run("static_np2_l1", [[2], [2], [2]])
+run("static_np3_l1", [[1, 3], [1, 3], [1, 3]])
+run("persistence_np2_l1", [[2], [1], [3]])
+PYEOF
+"$PY" "$src/analysis/measured_time.py" "$work/hand3" "$work/hand3_out" --scene hand3 --no-replay
+"$PY" - "$work/hand3_out" <<'PYEOF'
+import csv, sys
+rows = list(csv.DictReader(open(f"{sys.argv[1]}/time_model_validation.csv")))
+assert len(rows) == 3, rows
+for r in rows:
+    for key, want in (("ghost_weight", 2), ("element_s", 0.01), ("list_weight", 0.5), ("rank_overhead_s", 0.001)):
+        assert abs(float(r[key]) - want) < 1e-9, (key, r)
+    assert float(r["mean_abs_rel_error"]) < 1e-9, r
+PYEOF
 "$PY" "$src/analysis/measured_time.py" "$work/hand" "$work/hand_out" --scene hand --no-replay
 "$PY" - "$work/hand_out" <<'PYEOF'
 import csv, sys
@@ -63,8 +115,9 @@ summary = {(r["policy"], r["ranks"]): r for r in csv.DictReader(open(f"{out}/end
 assert summary[("static", "2")]["launches"] == "2" and float(summary[("static", "2")]["loop_s_ci95"]) == 0
 print("hand runs: ok")
 PYEOF
-# A version 3 workload: the list builds go to the ranks whose slices changed, as the replay's hand case
-# (tests/surrogate/test_workload_replay.cpp ListBuildsGoToTheRanksWhoseSlicesChanged): 2.0 | 5.6, then 3.9 | 2.0
+# A version 3 workload: the list builds go to the ranks by the W_s of their changed slices, as the replay's hand case
+# with list_by=work (tests/surrogate/test_workload_replay.cpp ListBuildsByChangedWorkWithAWeightAndAPerElementCost):
+# list_weight 0.5, element_s 0.1, no ghosts: 2.2 | 6.0, then 4.3 | 2.225
 "$PY" - "$src/analysis" "$work/v3.h5" <<'PYEOF'
 import sys
 import h5py, numpy as np
@@ -73,14 +126,16 @@ import measured_time as mt
 with h5py.File(sys.argv[2], "w") as f:
     f["events/step"] = np.array([10, 20]); f["events/elements"] = np.array([8, 8])
     f["events/slice_seconds"] = np.array([[1.0, 1, 3, 3], [2, 2, 1, 1]])
+    f["events/slice_work"] = np.array([[4.0, 4, 4, 4], [8, 4, 2, 2]])
     f["events/slice_elements"] = np.full((2, 4), 2)
     f["events/band_below"] = np.ones((2, 3), np.int64); f["events/band_above"] = np.ones((2, 3), np.int64)
     f["events/part_seconds"] = np.array([[0.1, 0.8, 0.05, 0.05], [0.1, 0.4, 0.1, 0.4]])
     f["events/cell_stage_changes"] = np.array([[3, 3, 0, 0], [1, 0, 0, 3]], np.int64)
 w = mt.Workload(sys.argv[2])
-for step, want in ((10, (2.0, 5.6)), (20, (3.9, 2.0))):
-    own, _ = w.terms(step, [2])
-    assert np.allclose(own, want, atol=1e-12), (step, own)
+model = {"ghost_weight": 0.0, "element_s": 0.1, "list_weight": 0.5, "rank_overhead_s": 0.0}
+for step, want in ((10, (2.2, 6.0)), (20, (4.3, 2.225))):
+    rows = np.column_stack([w.terms(step, [2]), np.zeros(2)])
+    assert np.allclose(mt.predict(rows, model), want, atol=1e-12), (step, mt.predict(rows, model))
 print("version 3: ok")
 PYEOF
 # --check-regions: 4 regions of one slice each, W_s 4 each; even seconds pass, one region at 5x the others exits 1

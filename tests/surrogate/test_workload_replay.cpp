@@ -117,6 +117,32 @@ TEST(WorkloadReplay, ListBuildsGoToTheRanksWhoseSlicesChanged) {
   }
 }
 
+TEST(WorkloadReplay, ListBuildsByChangedWorkWithAWeightAndAPerElementCost) {
+  // list_by=work, list_weight 0.5, element_s 0.1 (4 elements a rank), no ghosts: W_s is 4, 4, 4, 4 then 8, 4, 2, 2.
+  // Event 0: the changed slices 0-1 hold 8 of 16: left 1.6 + 0.5 * 0.8 * 8/16 + 0.4 = 2.2, right 5.6 + 0 + 0.4 = 6.0.
+  // Event 1: slice 0 (8) changed on the left, slice 3 (2) on the right: 3.8 + 0.5 * 0.4 * 8/16 + 0.4 = 4.3 and
+  // 1.8 + 0.5 * 0.4 * 2/16 + 0.4 = 2.225.
+  auto model = exact(2);
+  model.model.ghost_weight = 0;
+  set_time_model(model.model, "list_by", "work", "--time-model ");
+  set_time_model(model.model, "list_weight", "0.5", "--time-model ");
+  set_time_model(model.model, "element_s", "0.1", "--time-model ");
+  auto policy = make_policy("static");
+  const auto r = replay_workload(hand_parts(), model, *policy, "static", "hand.h5");
+  EXPECT_NEAR(r.compute_s, 6.0 + 4.3, 1e-12);
+  EXPECT_NEAR(r.ideal_s, (2.2 + 6.0) / 2 + (4.3 + 2.225) / 2, 1e-12);
+  // a version 2 file has no list seconds and no elements per slice: the three keys change nothing there
+  const auto v2 = replay_workload(hand_measured(), model, *policy, "static", "hand.h5");
+  EXPECT_NEAR(v2.compute_s, 6 + 4, 1e-12);
+  try {
+    set_time_model(model.model, "list_by", "elements", "--time-model ");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--time-model list_by: 'elements' is not one of stages, work"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(WorkloadReplay, TheOracleSeesTheNextMeasuredSeconds) {
   // oracle_work is the next event's measured seconds: at event 0 it sees 2, 2, 1, 1 and moves the boundary to 1
   // (2 | 4 -> max 4 at [2] or [1]: the partition of the least maximum, found by chains; either gives T_max 4 + ghosts).
