@@ -26,26 +26,42 @@ State epidermal_sheet(const Section& t, uint64_t seed) {
   if (emax < emin) t.fail("elements_max", "must be >= elements_min");
   const long per_layer = (cells + layers - 1) / layers;
   const long nx = static_cast<long>(std::ceil(std::sqrt(static_cast<double>(per_layer))));
+  // Each cell's place and each element's offset depend only on (seed, cell, element): two passes, each parallel over
+  // the cells (the element counts, then the positions at their prefix-sum offsets), give the same state on any
+  // number of threads.
+  const uint64_t stream = seed ^ kTissueStream;
   State s;
+  s.cell_id.resize(cells);
+  s.cell_type.resize(cells);
+  s.cell_count.resize(cells);
+#pragma omp parallel for schedule(static)
+  for (long c = 0; c < cells; ++c) {
+    const auto id = static_cast<uint64_t>(c);
+    s.cell_id[c] = id;
+    s.cell_type[c] = c / per_layer == 0 ? kBasal : kSpinous;
+    s.cell_count[c] = std::min(emax, emin + static_cast<int>(uniform01(stream, id, 0, 0) * (emax - emin + 1)));
+  }
+  std::vector<long> first(cells + 1, 0);
+  for (long c = 0; c < cells; ++c) first[c + 1] = first[c] + s.cell_count[c];
+  s.position.resize(3 * static_cast<size_t>(first[cells]));
+#pragma omp parallel for schedule(static)
   for (long c = 0; c < cells; ++c) {
     const long layer = c / per_layer, k = c % per_layer, i = k % nx, j = k / nx;
     const double stagger = layer % 2 ? 0.5 * spacing : 0.0;
     const double cx = (i + 0.5 * (j % 2)) * spacing + stagger, cy = j * spacing * std::sqrt(3.0) / 2 + stagger / std::sqrt(3.0),
                  cz = radius + layer * spacing * 0.85;
-    const uint64_t id = static_cast<uint64_t>(c);
-    const int n = std::min(emax, emin + static_cast<int>(uniform01(seed ^ kTissueStream, id, 0, 0) * (emax - emin + 1)));
-    s.cell_id.push_back(id);
-    s.cell_type.push_back(layer == 0 ? kBasal : kSpinous);
-    s.cell_count.push_back(n);
-    for (int e = 0; e < n; ++e) {
-      const uint64_t key = element_key(id, e);
+    for (int e = 0; e < s.cell_count[c]; ++e) {
+      const uint64_t key = element_key(static_cast<uint64_t>(c), e);
       double u[3], norm = 0;
       for (int d = 0; d < 3; ++d) {
-        u[d] = gaussian(seed ^ kTissueStream, key, 1, d);
+        u[d] = gaussian(stream, key, 1, d);
         norm += u[d] * u[d];
       }
-      const double r = spread * std::cbrt(uniform01(seed ^ kTissueStream, key, 2, 0)) / (std::sqrt(norm) + 1e-300);
-      s.position.insert(s.position.end(), {cx + r * u[0], cy + r * u[1], std::max(cz + r * u[2], 0.5)});
+      const double r = spread * std::cbrt(uniform01(stream, key, 2, 0)) / (std::sqrt(norm) + 1e-300);
+      double* x = &s.position[3 * static_cast<size_t>(first[c] + e)];
+      x[0] = cx + r * u[0];
+      x[1] = cy + r * u[1];
+      x[2] = std::max(cz + r * u[2], 0.5);
     }
   }
   s.reindex();
