@@ -19,9 +19,11 @@ import sys
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 # The paths whose changes make a committed timing or controller result stale: the kernels and their host code, the
-# per-pair and per-cell plug-ins, the decomposition (exchange, migration) and the controllers.
-ENGINE_PATHS = ["engine/backends", "engine/pairs", "engine/terms", "engine/effects", "engine/growth",
-                "engine/division", "engine/fates", "engine/removal", "engine/decomposition"]
+# shared C99 physics they compile (engine/physics), the per-pair and per-cell plug-ins, the step loop
+# (engine/simulation), W_s (model/slices), the decomposition (exchange, migration) and the controllers.
+ENGINE_PATHS = ["engine/physics", "engine/backends", "engine/pairs", "engine/terms", "engine/effects", "engine/growth",
+                "engine/division", "engine/fates", "engine/removal", "engine/simulation", "engine/model/slices.hpp",
+                "engine/model/slices.cpp", "engine/decomposition"]
 KERNEL_PATHS = ENGINE_PATHS + ["controllers"]
 
 # Changes a reader knows the engine by: a result made before one of them is labelled "before <name>".
