@@ -49,8 +49,22 @@ Action add_replay(CLI::App& app) {
   return [o, sub] {
     if (!*sub) return -1;  // not the chosen subcommand
     auto params = surrogate::parse_policy_params(o->params);
+    for (const auto& p : o->params)  // a parameter of another policy would be ignored
+      if (p.rfind(o->policy + ".", 0) != 0)
+        throw InputError("--param " + p.substr(0, p.find('=')) + ": the replayed policy is '" + o->policy + "'");
     if (!o->weights.empty()) params[o->policy].set("weights", o->weights);
-    auto policy = make_policy(o->policy, params[o->policy]);
+    std::unique_ptr<Policy> policy;
+    try {
+      policy = make_policy(o->policy, params[o->policy]);
+    } catch (const InputError& e) {  // name the --param a parameter's error is about, as `semlb surrogate` does
+      const std::string what = e.what();
+      for (const auto& p : o->params) {
+        const size_t dot = p.find('.'), eq = p.find('=');
+        if (what.find("parameter '" + p.substr(dot + 1, eq - dot - 1) + "'") != std::string::npos)
+          throw InputError("--param " + p.substr(0, eq) + ": " + what);
+      }
+      throw;
+    }
     if (o->trace.empty() == o->workload.empty()) throw InputError("replay: give --trace or --workload");
     if (!o->workload.empty() && o->score)
       throw InputError("replay: --score is for --trace (a --workload replay always prints its score)");

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <utility>
+#include <vector>
 #include <nlohmann/json.hpp>
 
 #include "../run_command.hpp"
@@ -73,6 +75,12 @@ TEST(Replay, ErrorsNameFileLineAndField) {
   expect_bad_input("replay --policy persistence --trace " + dir + "/nowork1.jsonl",
                    "nowork1.jsonl:1: policy 'persistence': event 0: policy 'persistence' needs slice_work");
   expect_bad_input("replay --policy foresight --trace " + dir + "/nowork1.jsonl", "nowork1.jsonl:1: policy 'foresight'");
+  // a parameter's error names its --param, as `semlb surrogate`'s do; a parameter of another policy is refused
+  for (const auto& [param, message] : std::vector<std::pair<std::string, std::string>>{
+           {"holt.alpha=2", "--param holt.alpha: policy parameter 'alpha': '2' is outside (0, 1]"},
+           {"holt.alpah=0.2", "--param holt.alpah: policy 'holt' has no parameter 'alpah'"},
+           {"reactive.tau=0.1", "--param reactive.tau: the replayed policy is 'holt'"}})
+    expect_bad_input("replay --policy holt --trace " + dir + "/nowork1.jsonl --param " + param, message);
 }
 
 // `semlb replay --workload F --ranks P`: the time model on the hand workload (tests/workload_fixtures.hpp)
