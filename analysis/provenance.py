@@ -49,7 +49,8 @@ def _git(*args, repo=REPO):
 def record(path, root=None):
     """The provenance record of a committed result file or folder: the nearest provenance.json at or above it (up to
     ROOT, default the `gpu` folder holding it), with the fields of its `files` entry for the file over the folder's
-    (a note on the folder holds for its files). None without one."""
+    (a note on the folder holds for its files; an entry naming a subfolder holds for what is under it, the longest
+    such entry winning). None without one."""
     path = os.path.abspath(path)
     folder = path if os.path.isdir(path) else os.path.dirname(path)
     root = os.path.abspath(root) if root else None
@@ -60,7 +61,10 @@ def record(path, root=None):
                 doc = json.load(f)
             rel = os.path.relpath(path, folder)
             rec = {k: v for k, v in doc.items() if k != "files"}  # the folder's record, a file's own fields over it
-            rec.update(doc.get("files", {}).get(rel) or {})
+            entries = doc.get("files", {})
+            under = [k for k in entries if rel == k or rel.startswith(k.rstrip("/") + "/")]
+            if under:
+                rec.update(entries[max(under, key=len)])
             rec["file"] = p
             return rec
         if folder == root or os.path.basename(folder) == "gpu" or os.path.dirname(folder) == folder:

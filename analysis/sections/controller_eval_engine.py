@@ -165,7 +165,8 @@ def choice_table(points_by_key):
                      "reactive vs static", "workloads"], rows)
 
 
-MEASURED = ("gpu/measured/end_to_end_summary.csv",  # five policies, P = 2, 4, 8 (issue 37's calls)
+MEASURED = ("gpu/measured/epidermis_half/end_to_end_summary.csv",  # five policies, P = 2, 4, 8, one scene each:
+            "gpu/measured/epidermis_development/end_to_end_summary.csv",  # each has its own commit (provenance)
             "gpu/measured/learned_repartition/end_to_end_summary.csv")  # the learned controller's own call
 SCENES = {"epidermis_half": "the paper's regime (epidermis, left half proliferating, 435,661 cells)",
           "epidermis_development": "a proliferative front (development scene, Day 2-3, paper size)"}

@@ -29,3 +29,19 @@ assert p.status(b, repo, p.ENGINE_PATHS)[1].startswith(c[:7]), p.status(b, repo,
 assert st("0" * 40) == p.UNKNOWN
 print("provenance: ok")
 PY
+# record(): a `files` entry naming a subfolder holds for the files under it (the longest entry wins), a file's own
+# entry over both, and the folder's record elsewhere
+mkdir -p "$work/gpu/m/dev/runs"
+cat > "$work/gpu/m/provenance.json" <<'JSON'
+{"semlb_commit": "aaa", "date": "2026-12-03", "how": "folder",
+ "files": {"dev": {"semlb_commit": "bbb"}, "dev/runs": {"semlb_commit": "ccc"}, "dev/x.csv": {"semlb_commit": "ddd"}}}
+JSON
+"$py" - "$src" "$work/gpu/m" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[1] + "/analysis")
+import provenance as p
+m = sys.argv[2]
+got = {f: p.record(f"{m}/{f}")["semlb_commit"] for f in ("a.csv", "dev/y.csv", "dev/runs/z.csv", "dev/x.csv", "develop.csv")}
+assert got == {"a.csv": "aaa", "dev/y.csv": "bbb", "dev/runs/z.csv": "ccc", "dev/x.csv": "ddd", "develop.csv": "aaa"}, got
+print("provenance records: ok")
+PY
