@@ -10,6 +10,9 @@
 #           alone (tissue.x_range) on one rank
 #   record  the measured workload (output.workload with device timers) of the scene on one rank: OUT/record/workload.h5
 #   e2e     the end-to-end runs: LAUNCHES launches x RANKS x POLICIES, interleaved (launch-major, then P, then policy)
+# Each run keeps its small files (rank_times.csv, run.csv, scene.yaml, workload.h5) and its trace reduced to each
+# event's boundaries, decision and times (boundaries.jsonl; KEEP_TRACES=1 keeps trace.jsonl whole), so that OUT can
+# travel between device calls (scripts/gpu/pack_results.sh).
 # Environment: SCENE (epidermis: scenes/SCENE.yaml), PLATFORM (NVIDIA; Portable runs the same on PoCL), CELLS (435661), STEPS (300), EVERY (10: steps per
 # rebalancing event), SKIN (0.5), RANKS ("2 4 8"), POLICIES ("static reactive gru persistence all_tensor"),
 # LAUNCHES (3; LAUNCH_FROM 1: the first launch number), ROUNDS (2), START (0: the runs cover steps START .. START + STEPS), GROWTH ("--set effects.growth.front.x0=2975 --set effects.growth.front.speed=0").
@@ -41,7 +44,20 @@ run() {
   local t0; t0=$(date +%s.%N)
   mpirun --oversubscribe --bind-to none -np "$np" "${icd[@]}" "$S" sim "${scene[@]}" --out "$d" "$@"
   echo "$name: $(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }') s wall" | tee -a "$OUT/wall.log"
-  rm -f "$d/final.h5" "$d"/*.xmf; touch "$d/done"  # the final state is not needed afterwards (and large)
+  rm -f "$d/final.h5" "$d"/*.xmf  # the final state is not needed afterwards (and large)
+  if [ -z "${KEEP_TRACES:-}" ] && [ -f "$d/trace.jsonl" ]; then  # the tables read each event's boundaries only
+    /usr/bin/env python3 - "$d/trace.jsonl" "$d/boundaries.jsonl" <<'PYEOF'
+import json, os, sys
+with open(sys.argv[1]) as f, open(sys.argv[2] + ".tmp", "w") as o:
+    for line in f:
+        if line.strip():
+            e = json.loads(line)
+            o.write(json.dumps({k: e[k] for k in ("event", "boundaries", "decision", "times") if k in e}) + "\n")
+os.replace(sys.argv[2] + ".tmp", sys.argv[2])
+os.remove(sys.argv[1])
+PYEOF
+  fi
+  touch "$d/done"
 }
 
 # attr FILE NAME: a real attribute of an HDF5 file's root (h5py, else h5dump)
@@ -67,7 +83,8 @@ for stage in "$@"; do
           --set decomposition.policy=static "${timed[@]}" "${extra[@]}"
       done
       # each slab of the 2-rank run alone: the cells of its first partition (the trace's first boundary)
-      b=$(grep -o '"boundaries":\[[0-9]*' "$OUT/turns/np2/trace.jsonl" | head -1 | grep -o '[0-9]*$')
+      trace=$OUT/turns/np2/trace.jsonl; [ -f "$trace" ] || trace=$OUT/turns/np2/boundaries.jsonl
+      b=$(grep -o '"boundaries": *\[[0-9]*' "$trace" | head -1 | grep -o '[0-9]*$')
       x0=$(attr "$OUT/turns/np2/workload.h5" x0_um); width=$(attr "$OUT/turns/np2/workload.h5" slice_width_um)
       xb=$(/usr/bin/env python3 -c "print($x0 + $b * $width)")
       echo "turns: the 2-rank run's first boundary: slice $b, x = $xb um" | tee "$OUT/turns/split.txt"

@@ -9,6 +9,9 @@
 #   BUILD=DIR: where semlb is built (Release, no tests, no torch; default /tmp/semlb-gpu, as scripts/gpu_sweep.sh).
 #   REPLAY_SET="--set KEY=VALUE ...": extra settings of the replay sweep (a quick run: --set ranks=2 --set seed=0).
 #   CHECK=1: check every stage without a GPU (the sweeps' `--check`, the scripts present), write nothing, exit 0.
+#   PACK=DIR: on the way out (finished, failed or out of budget), what this call made under OUT goes to DIR as tar
+#   parts (scripts/gpu/pack_results.sh), for a machine whose files come back from one folder: unpacked beside OUT
+#   here, the next call (on a fresh machine) resumes where this one stopped.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/../.." && pwd)
 OUT=${1:-$here/results/gpu}; shift || true
@@ -82,10 +85,13 @@ run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run her
       bash "$here/scripts/gpu/peer_yalla/run.sh" "$S" "$here/scenes/mechanics.yaml" > "$OUT/peer_yalla/peer_yalla.log" 2>&1
       $PY "$here/analysis/peer_yalla.py" --machine "$device" "$OUT/peer_yalla/peer_yalla.log" > "$OUT/peer_yalla/peer_yalla.csv"
       provenance "$OUT/peer_yalla" "scripts/gpu/results.sh peer_yalla (scripts/gpu/peer_yalla/run.sh)" kernels;;
-    measured_time)  # the measured end-to-end of the measured-time issue, when its script is in this tree
+    measured_time)  # the measured end-to-end (docs/measured_time.md): runs under OUT/measured/runs, tables in OUT/measured
       [ -f "$here/scripts/gpu/measured_all.sh" ] || { echo "gpu-results: no scripts/gpu/measured_all.sh in this tree"; return 77; }
-      bash "$here/scripts/gpu/measured_all.sh" "$S" "$OUT/measured_time" "$OUT/measured_time/tables"
-      provenance "$OUT/measured_time" "scripts/gpu/results.sh measured_time (scripts/gpu/measured_all.sh)";;
+      notables=; "$PY" -c 'import h5py, numpy, scipy' 2>/dev/null || notables=1
+      NO_TABLES=$notables bash "$here/scripts/gpu/measured_all.sh" "$S" "$OUT/measured/runs" "$OUT/measured"
+      [ -z "$notables" ] || echo "gpu-results: measured_time: runs only ($PY lacks h5py, numpy or scipy): make the" \
+        "tables where they are: TABLES_ONLY=1 bash scripts/gpu/measured_all.sh SEMLB OUT/measured/runs OUT/measured"
+      provenance "$OUT/measured" "scripts/gpu/results.sh measured_time (scripts/gpu/measured_all.sh)";;
     workload:*)
       MEASURED=1 bash "$here/scripts/gpu/workload_library.sh" "$S" "$OUT/workloads" "${1#workload:}"  # version 3: measured seconds
       $PY - "$OUT/workloads/provenance.json" "${1#workload:}" "$commit" "$(date -u +%F)" "$device" <<'EOF'
@@ -126,6 +132,10 @@ if [ -n "${CHECK:-}" ]; then
   echo "gpu-results: $(echo $want | wc -w) stage(s) checked"; exit 0
 fi
 mkdir -p "$OUT/.stages"
+if [ -n "${PACK:-}" ]; then
+  since=$(mktemp); sleep 1  # files made from the next second on are newer than it
+  trap 'bash "$here/scripts/gpu/pack_results.sh" "$OUT" "$since" "$PACK" gpu-results; rm -f "$since"' EXIT
+fi
 left=()
 for st in $want; do
   marker="$OUT/.stages/${st//:/_}.done"

@@ -21,4 +21,23 @@ grep -q "\"semlb_commit\": \"$head\"" "$work/out/workloads/provenance.json" || {
 [ "$(tail -n +2 "$work/out/workloads/controller_eval_engine_paper.csv" | wc -l)" -gt 0 ] || fail "no replay rows"
 REPLAY_SET="--set ranks=2 --set seed=0" BUILD=$build bash "$src/scripts/gpu/results.sh" "$work/out" controller_eval_engine > "$work/again.log" 2>&1
 ! grep -q "^gpu-results: controller_eval_engine (" "$work/again.log" || fail "a done stage ran again"
+# PACK=DIR: what a call made leaves as tar parts that unpack beside OUT to the same files; a call that made nothing
+# packs nothing; more parts than MAX_PARTS leave none and fail
+rm -rf "$work/out/.stages/controller_eval_engine.done" "$work/pack"
+echo old > "$work/out/old.txt"  # made before the call: not packed
+PACK=$work/pack REPLAY_SET="--set ranks=2 --set seed=0" BUILD=$build bash "$src/scripts/gpu/results.sh" "$work/out" \
+  controller_eval_engine > "$work/pack.log" 2>&1 || { cat "$work/pack.log"; fail "pack run"; }
+ls "$work/pack"/gpu-results.tgz.* > /dev/null || { cat "$work/pack.log"; fail "no parts"; }
+mkdir -p "$work/unpacked" && cat "$work/pack"/gpu-results.tgz.* | tar xz -C "$work/unpacked"
+for f in workloads/controller_eval_engine_paper.csv workloads/provenance.json .stages/controller_eval_engine.done; do
+  cmp "$work/out/$f" "$work/unpacked/out/$f" || fail "packed $f differs"
+done
+[ ! -e "$work/unpacked/out/old.txt" ] || fail "packed a file older than the call"
+since=$(mktemp); sleep 1
+bash "$src/scripts/gpu/pack_results.sh" "$work/out" "$since" "$work/pack2" | grep -q "nothing under" || fail "packed old files"
+touch "$work/out/workloads/controller_eval_engine_paper.csv"
+head -c 3000000 /dev/urandom > "$work/out/noise.bin"
+rc=0; PART_MB=1 MAX_PARTS=2 bash "$src/scripts/gpu/pack_results.sh" "$work/out" "$since" "$work/pack3" 2> "$work/pack3.err" || rc=$?
+[ "$rc" = 1 ] && grep -q "more than 2" "$work/pack3.err" && [ -z "$(ls "$work/pack3")" ] || { cat "$work/pack3.err"; fail "too many parts: exit $rc"; }
+rm -f "$since" "$work/out/noise.bin"
 echo "1 passed, 0 failed"

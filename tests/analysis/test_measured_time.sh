@@ -177,4 +177,12 @@ print("parts: ok")
 PYEOF
 grep -q "^rank_vs_alone,2," "$work/out/turns_validation.csv"
 grep -q "^sum_of_ranks,4," "$work/out/turns_validation.csv"
+# each run's trace is reduced to its events' boundaries, decision and times (the runs travel between device calls)
+[ -z "$(find "$work/runs" -name trace.jsonl)" ] || { find "$work/runs" -name trace.jsonl; echo "a whole trace was kept"; exit 1; }
+"$PY" - "$work/runs/e2e/reactive_np2_l1/boundaries.jsonl" <<'PYEOF'
+import json, sys
+events = [json.loads(line) for line in open(sys.argv[1])]
+assert len(events) == 4 and [e["event"] for e in events] == [0, 1, 2, 3], events
+assert all(set(e) <= {"event", "boundaries", "decision", "times"} and len(e["times"]) == 2 for e in events), events
+PYEOF
 echo "measured_time: ok"
