@@ -449,6 +449,10 @@ def main():
     lo, hi = (int(x) for x in a.seeds.split("-"))
     per_slice = [m[6] / m[4] for m in moved] if moved else [0.0]
     migrate_per_slice = float(np.mean(per_slice)) / (a.nvlink_gbs * 1e9)
+    # the list keys where the record has list seconds (version 3); a version 2 record's model is the other two
+    keys = MODEL_KEYS if w.list_s is not None else ("ghost_weight", "rank_overhead_s")
+    model_args = (["--time-model", "list_by=work"] if w.list_s is not None else []) + \
+        [x for k in keys for x in ("--time-model", f"{k}={model[k]!r}")]
     order = []
     for ranks in sorted({r[2] for r in end}):
         measured = {p: np.mean([r[6] for r in end if r[1] == p and r[2] == ranks]) for p in sorted({r[1] for r in end})}
@@ -457,9 +461,8 @@ def main():
             loops = []
             for seed in range(lo, hi + 1):
                 out = subprocess.run([a.semlb, "replay", "--workload", record, "--ranks", str(ranks), "--policy", p,
-                                      "--seed", str(seed), "--time-model", "list_by=work",
-                                      "--time-model", f"migrate_s_per_slice={migrate_per_slice!r}"] +
-                                     [x for k in MODEL_KEYS for x in ("--time-model", f"{k}={model[k]!r}")],
+                                      "--seed", str(seed),
+                                      "--time-model", f"migrate_s_per_slice={migrate_per_slice!r}"] + model_args,
                                      check=True, capture_output=True, text=True).stdout
                 loops.append(json.loads(out)["loop_s"])
             replayed[p] = float(np.mean(loops))

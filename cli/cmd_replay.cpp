@@ -87,6 +87,15 @@ Action add_replay(CLI::App& app) {
         surrogate::set_time_model(r.model, kv.substr(0, eq), kv.substr(eq + 1), "--time-model ");
       }
       const auto w = read_workload(o->workload);
+      // the list keys act on a version 3 file's list seconds under a measured truth: elsewhere they would do nothing
+      for (const char* key : {"list_by", "list_weight", "element_s"})
+        if (given.count(key)) {
+          if (w.events.empty() || w.events.front().part_seconds.empty())
+            throw InputError(std::string("--time-model ") + key + ": " + o->workload +
+                             " has no list seconds (part_seconds: a version 3 workload)");
+          if (r.model.truth == surrogate::TimeModel::Truth::kWork)
+            throw InputError(std::string("--time-model ") + key + ": truth=work replays W_s, which has no list seconds");
+        }
       const auto res = surrogate::replay_workload(w, r, *policy, o->policy, o->workload);
       const nlohmann::json out = {{"ranks", r.ranks}, {"events", res.events}, {"mean_imbalance", res.mean_imbalance},
                                   {"migration", res.migration}, {"loop_s", res.loop_s}, {"compute_s", res.compute_s},

@@ -43,18 +43,9 @@ void add_scene_flags(CLI::App* sub, SceneFlags& f) {
 }
 
 namespace {
-// The end-of-run breakdown, as LAMMPS ends a run: the loop time, element-steps per second, and per phase its seconds
-// (min / avg / max over the ranks), its share of the loop (of the average) and its imbalance (max - min) / avg; then
-// what the user waited for outside the loop: the start (process start to the first step) and the end, of `process`
-// seconds in all.
-void breakdown(const engine::RunSummary& sum, double process) {
-  if (sum.steps <= 0 || sum.loop_seconds <= 0) return;
-  std::string text;
-  auto line = [&](const char* fmt, auto... a) {
-    char buf[256];
-    std::snprintf(buf, sizeof buf, fmt, a...);
-    text += buf;
-  };
+// The loop's part of the breakdown: loop time, rates and the phase table (LAMMPS's end of run), through `line`.
+template <class Line>
+void loop_table(const engine::RunSummary& sum, Line& line, std::string& text) {
   line("Loop time of %.4g s on %d rank%s for %ld steps with %ld elements at the end\n", sum.loop_seconds, sum.ranks,
        sum.ranks == 1 ? "" : "s", sum.steps, sum.elements);
   line("Performance: %.4g element-steps/s, %.4g ms/step\n", sum.element_steps / sum.loop_seconds,
@@ -70,6 +61,21 @@ void breakdown(const engine::RunSummary& sum, double process) {
        100.0 * sum.output_seconds / sum.loop_seconds, "(rank 0)");
   line("%-10s | %10s | %10.4g | %10s | %6.1f | %11s\n", "other", "", std::max(0.0, sum.loop_seconds - accounted), "",
        100.0 * std::max(0.0, sum.loop_seconds - accounted) / sum.loop_seconds, "");
+  if (!sum.phases_note.empty()) text += "(" + sum.phases_note + ")\n";
+}
+
+// The end-of-run breakdown, as LAMMPS ends a run: the loop time, element-steps per second, and per phase its seconds
+// (min / avg / max over the ranks), its share of the loop (of the average) and its imbalance (max - min) / avg; then
+// what the user waited for outside the loop: the start (process start to the first step) and the end, of `process`
+// seconds in all.
+void breakdown(const engine::RunSummary& sum, double process) {
+  std::string text;
+  auto line = [&](const char* fmt, auto... a) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, fmt, a...);
+    text += buf;
+  };
+  if (sum.steps > 0 && sum.loop_seconds > 0) loop_table(sum, line, text);
   line("Start %.3g s", sum.start_seconds);
   for (size_t k = 0; k < sum.start_parts.size(); ++k)
     line("%s%s %.3g s", k == 0 ? " (" : ", ", sum.start_parts[k].first.c_str(), sum.start_parts[k].second);

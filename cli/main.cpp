@@ -45,6 +45,7 @@ void keep_large_allocations_on_the_heap() {
 }  // namespace semlb::cli
 
 int main(int argc, char** argv) {
+  semlb::mark_main_started();
   using namespace semlb::cli;
   keep_large_allocations_on_the_heap();
   set_command_line(argc, argv);

@@ -43,6 +43,12 @@ double process_seconds() {
   return age >= 0 ? age : fallback;
 }
 
+namespace {
+double g_main_started = 0;
+}
+void mark_main_started() { g_main_started = process_seconds(); }
+double main_started_seconds() { return g_main_started; }
+
 ProcessResult run_process(const std::vector<std::string>& argv, const std::vector<std::string>& env) {
   if (argv.empty()) throw std::runtime_error("run_process: no program");
   std::vector<std::string> vars = env;  // the given variables, then the inherited ones they do not replace

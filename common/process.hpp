@@ -22,6 +22,11 @@ ProcessResult run_process(const std::vector<std::string>& argv, const std::vecto
 // cannot say, the seconds since the first call.
 double process_seconds();
 
+// Marks main()'s start (its first statement calls it): main_started_seconds() then gives process_seconds() at that
+// moment, the part of a run's start spent loading the program (dynamic libraries, static setup); 0 when never marked.
+void mark_main_started();
+double main_started_seconds();
+
 // argv as one line for messages, each word quoted for /bin/sh where it needs it (copy-paste reproduces it).
 std::string shell_words(const std::vector<std::string>& argv);
 

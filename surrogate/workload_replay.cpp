@@ -56,7 +56,7 @@ void set_time_model(TimeModel& m, const std::string& key, const std::string& val
   else if (key == "migrate_s_per_slice") m.migrate_s_per_slice = parse_real(value, at, 0, 1e6);
   else if (key == "seconds_per_work") m.seconds_per_work = parse_real(value, at, 0, 1e6);
   else if (key == "rank_overhead_s") m.rank_overhead_s = parse_real(value, at, 0, 1e6);
-  else if (key == "element_s") m.element_s = parse_real(value, at, 0, 1e6);
+  else if (key == "element_s") m.element_s = parse_real(value, at, 0, 1);
   else if (key == "list_weight") m.list_weight = parse_real(value, at, 0, 100);
   else if (key == "list_by") {
     if (value == "stages") m.list_by = TimeModel::ListBy::kStages;
@@ -72,7 +72,7 @@ void set_time_model(TimeModel& m, const std::string& key, const std::string& val
   else {
     std::string known;
     for (const auto& k : time_model_keys()) known += (known.empty() ? "" : ", ") + k;
-    throw InputError(where + "unknown time model key '" + key + "' (known: " + known + ")");
+    throw InputError(at + "unknown time model key (known: " + known + ")");
   }
 }
 

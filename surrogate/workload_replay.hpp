@@ -32,8 +32,9 @@ namespace semlb::surrogate {
 // (where they were spread by elements n_s) and rank r gets L n_r / N k_r / k, with k_r the cell stages at which one of
 // its slices changed and k those at which any slice did (a rank whose elements did not change keeps its list); with
 // list_by = work instead list_weight L Wch_r / W, Wch_r the W_s of r's slices that changed at some cell stage and W
-// all W_s (a rebuild costs what the slices' pairs cost; docs/measured_time.md "Time model"). A version 3 file also
-// adds element_s n_r (the list check and sort launches of every step, per owned element). `truth` chooses: auto
+// all W_s (a rebuild costs what the slices' pairs cost; docs/measured_time.md "Time model"); either placement is
+// scaled by list_weight. A version 3 file also adds element_s n_r (the list check and sort launches of every step,
+// per owned element). `truth` chooses: auto
 // (measured when the file has it), work, or measured (an InputError for a file without it). rank_overhead_s (seconds
 // per interval and rank: the fixed cost of a rank's launches) is added under either truth.
 struct TimeModel {
@@ -52,8 +53,8 @@ struct TimeModel {
 };
 
 // The TimeModel keys ("ghost_weight", ...), and one "KEY=VALUE" set into `m` (strict numbers, each in its range:
-// ghost_weight and list_weight [0, 100], speed_spread and jitter [0, 0.3], migrate_s_per_slice, seconds_per_work,
-// rank_overhead_s and element_s [0, 1e6]; truth one of auto, work, measured; list_by one of stages, work).
+// ghost_weight and list_weight [0, 100], speed_spread and jitter [0, 0.3], migrate_s_per_slice, seconds_per_work and
+// rank_overhead_s [0, 1e6], element_s [0, 1]; truth one of auto, work, measured; list_by one of stages, work).
 // InputError prefixed by `where` naming the key.
 const std::vector<std::string>& time_model_keys();
 void set_time_model(TimeModel& m, const std::string& key, const std::string& value, const std::string& where);

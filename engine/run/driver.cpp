@@ -421,8 +421,16 @@ class Decomposed final : public Run {
         exchange[r] += iv.exchange[r];
         migration[r] += iv.migrate[r];
       }
-    sum.phases.push_back(spread_of("exchange", exchange));
-    sum.phases.push_back(spread_of("migration", migration));
+    if (!sim_.intervals().empty()) {  // timed per rebalancing interval: without one they would read 0
+      sum.phases.push_back(spread_of("exchange", exchange));
+      sum.phases.push_back(spread_of("migration", migration));
+      sum.phases_note = "exchange and migration: the " + std::to_string(sim_.intervals().size()) +
+                        " rebalancing intervals' (to step " + std::to_string(sim_.intervals().back().step) +
+                        "); after the last one they count in other";
+    } else {
+      sum.phases_note = "exchange and migration: no rebalancing interval ended (decomposition.rebalance_every); they "
+                        "count in other";
+    }
     const ListStats list = sim_.local().backend().list_stats();
     std::vector<double> builds = {static_cast<double>(list.builds)};
     mpi_.allreduce_sum(builds);
@@ -443,6 +451,15 @@ class Decomposed final : public Run {
 
 }  // namespace
 
+// The known parts of a run's start: loading the program (when main marked it), the tissue, the device's setup.
+std::vector<std::pair<std::string, double>> start_parts(double tissue, double device) {
+  std::vector<std::pair<std::string, double>> parts;
+  if (main_started_seconds() > 0) parts.emplace_back("load", main_started_seconds());
+  parts.emplace_back("tissue", tissue);
+  parts.emplace_back("device", device);
+  return parts;
+}
+
 RunSummary run_scene(Scene& scene, const RunConfig& config) {
   const auto t0 = std::chrono::steady_clock::now();
   State initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);
@@ -457,7 +474,7 @@ RunSummary run_scene(Scene& scene, const RunConfig& config) {
                  {{"git_revision", config.git_revision}, {"scene", scene.name}, {"backend", sim.backend().name()}});
   OneDevice run(scene, sim);
   RunSummary sum = drive(run, scene, config, first, &out);
-  sum.start_parts = {{"tissue", tissue}, {"device", device}};
+  sum.start_parts = start_parts(tissue, device);
   return sum;
 }
 
@@ -468,14 +485,18 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
   const bool root = mpi.rank() == 0;
   State initial;
   std::unique_ptr<DistributedSimulation> sim;
+  const auto t0 = std::chrono::steady_clock::now();
+  double tissue = 0;
   agree(mpi, [&] {  // all input checked here, before anything is written
     initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);
     if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);
     check_steps_ahead(scene, config, initial);
     const auto restored = config.restart.empty() ? std::nullopt : read_decomposition(config.restart);
     if (restored && scene.auto_box) std::tie(scene.box_lo[0], scene.box_hi[0]) = std::pair(restored->x_lo, restored->x_hi);
+    tissue = seconds_since(t0);
     sim = std::make_unique<DistributedSimulation>(scene, initial, mpi, root ? config.out_dir + "/trace.jsonl" : "", restored);
   });
+  const double device = seconds_since(t0) - tissue;  // rank 0's: its slab's setup and the collectives with it
   const long first = initial.step;
   std::unique_ptr<RunOutputs> out;  // rank 0 writes every file; the per-phase columns are each the slowest rank's
   agree(mpi, [&] {
@@ -488,7 +509,9 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
   });
   if (root && !sim->restarted().empty()) std::cerr << "semlb sim: restart: " << sim->restarted() << "\n";
   Decomposed run(scene, config, *sim, mpi, first);
-  return drive(run, scene, config, first, out.get());
+  RunSummary sum = drive(run, scene, config, first, out.get());
+  sum.start_parts = start_parts(tissue, device);
+  return sum;
 }
 
 }  // namespace semlb::engine

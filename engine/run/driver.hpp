@@ -34,11 +34,13 @@ struct RunSummary {
   int ranks = 1;
   double loop_seconds = 0, element_steps = 0, output_seconds = 0;
   std::vector<PhaseSpread> phases;
+  std::string phases_note;  // what the phases leave out, printed under them (empty: nothing)
   long list_builds = 0;
   double list_skin = 0;
   // What the user waits for outside the loop: seconds from the process's start to the loop's (common/process.hpp),
-  // its known parts (one device: "tissue", making or reading the initial state, and "device", the backend's setup
-  // with its program build and upload), and the seconds after the loop that wrote final.h5 and the closing files.
+  // its known parts ("load", the process up to main: dynamic libraries and static setup; "tissue", making or reading
+  // the initial state; "device", the backend's setup with its program build and upload; rank 0's when decomposed),
+  // and the seconds after the loop that wrote final.h5 and the closing files.
   double start_seconds = 0, closing_seconds = 0;
   std::vector<std::pair<std::string, double>> start_parts;
 };

@@ -104,9 +104,19 @@ TEST(Replay, WorkloadAtARankCountThroughTheTimeModel) {
   expect_bad_input("replay --policy static --workload " + dir + "/w.h5", "--workload needs --ranks P");
   expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 5", "5 ranks of at least 1 slices do not fit in 4 slices");
   expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model jitter=lots", "--time-model jitter: 'lots' is not a number");
-  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model speed=1", "unknown time model key 'speed'");
+  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model speed=1", "--time-model speed: unknown time model key (known: ");
   expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model truth=work --time-model truth=auto",
                    "--time-model truth: given twice");
+  // the list keys act on a version 3 file's list seconds only: refused where they would do nothing
+  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model list_by=work",
+                   "--time-model list_by: " + dir + "/w.h5 has no list seconds (part_seconds: a version 3 workload)");
+  const std::string v3 = source("results/gpu/measured/runs/epidermis_development/record/workload.h5");
+  expect_bad_input("replay --policy static --workload " + v3 + " --ranks 2 --time-model truth=work --time-model element_s=1e-9",
+                   "--time-model element_s: truth=work replays W_s, which has no list seconds");
+  expect_bad_input("replay --policy static --workload " + v3 + " --ranks 2 --time-model element_s=2",
+                   "--time-model element_s: '2' is outside [0, 1]");
+  const auto ok = run(semlb_bin() + " replay --policy static --workload " + v3 + " --ranks 2 --time-model list_by=work");
+  EXPECT_EQ(ok.rc, 0) << ok.out;
   expect_bad_input("replay --policy static --workload " + dir + "/t.jsonl --ranks 2", "t.jsonl");
   expect_bad_input("replay --policy static", "give --trace or --workload");
   expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --score", "--score is for --trace");
