@@ -424,9 +424,9 @@ class Decomposed final : public Run {
     if (!sim_.intervals().empty()) {  // timed per rebalancing interval: without one they would read 0
       sum.phases.push_back(spread_of("exchange", exchange));
       sum.phases.push_back(spread_of("migration", migration));
-      sum.phases_note = "exchange and migration: the " + std::to_string(sim_.intervals().size()) +
-                        " rebalancing intervals' (to step " + std::to_string(sim_.intervals().back().step) +
-                        "); after the last one they count in other";
+      sum.phases_note = "exchange and migration: over the " + std::to_string(sim_.intervals().size()) +
+                        " rebalancing intervals, to step " + std::to_string(sim_.intervals().back().step) +
+                        "; after the last one they count in other";
     } else {
       sum.phases_note = "exchange and migration: no rebalancing interval ended (decomposition.rebalance_every); they "
                         "count in other";
@@ -451,6 +451,7 @@ class Decomposed final : public Run {
 
 }  // namespace
 
+namespace {
 // The known parts of a run's start: loading the program (when main marked it), the tissue, the device's setup.
 std::vector<std::pair<std::string, double>> start_parts(double tissue, double device) {
   std::vector<std::pair<std::string, double>> parts;
@@ -459,6 +460,7 @@ std::vector<std::pair<std::string, double>> start_parts(double tissue, double de
   parts.emplace_back("device", device);
   return parts;
 }
+}  // namespace
 
 RunSummary run_scene(Scene& scene, const RunConfig& config) {
   const auto t0 = std::chrono::steady_clock::now();

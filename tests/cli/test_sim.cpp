@@ -78,8 +78,8 @@ TEST(CliSim, EndsWithTheLoopTimeAndAPhaseBreakdown) {
   for (const char* phase : {"mechanics", "exchange", "migration"})
     EXPECT_TRUE(std::regex_search(d.out, std::regex(std::string("\n") + phase + " +\\|(" + number + "\\|){4} +[0-9.]+\n")))
         << phase << "\n" << d.out;
-  EXPECT_NE(d.out.find("\n(exchange and migration: the 4 rebalancing intervals' (to step 40); after the last one they "
-                       "count in other)\n"),
+  EXPECT_NE(d.out.find("\n(exchange and migration: over the 4 rebalancing intervals, to step 40; after the last one "
+                       "they count in other)\n"),
             std::string::npos)
       << d.out;
   EXPECT_TRUE(std::regex_search(d.out, std::regex(R"(\nStart [0-9.e+-]+ s \(load [0-9.e+-]+ s, tissue [0-9.e+-]+ s, device )")))
