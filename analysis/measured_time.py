@@ -27,8 +27,8 @@ RUNS is the script's OUT folder (tissue/, cost/, turns/, record/, e2e/); OUT rec
 - parts_additivity.csv (runs with rank_times.csv's device_PART_s): per run and part of the device time (pair
   forces, list builds, cell stage, other), the ranks' sum against the one-rank recording's, and the error of each
   rank's part predicted from its share of the elements (which part the time model's spreading by elements misses);
-- migration_cost.csv: the measured migration seconds (wall, the slowest rank) of each interval that moved slices,
-  and the fitted seconds per slice moved.
+- migration_cost.csv: the measured migration seconds (wall, the slowest rank) of each interval that moved slices;
+  migration_fit.csv: the least-squares line through them (seconds per slice moved, per interval, over how many).
 Needs numpy, scipy and h5py (Debian's python3-numpy, python3-scipy, python3-h5py).
 """
 import argparse
@@ -420,8 +420,9 @@ def main():
         else:  # one count of slices moved: no slope to fit, the seconds per slice alone
             slope, intercept = float(np.mean(y / x)), 0.0
         write_csv(os.path.join(a.out, "migration_cost.csv"),
-                  ["policy", "ranks", "launch", "step", "moved_slices", "migrate_s", "migrate_bytes"],
-                  moved + [("fit", "", "", "", "s_per_slice", float(slope), float(intercept))])
+                  ["policy", "ranks", "launch", "step", "moved_slices", "migrate_s", "migrate_bytes"], moved)
+        write_csv(os.path.join(a.out, "migration_fit.csv"), ["s_per_slice", "s_per_interval", "intervals"],
+                  [(float(slope), float(intercept), len(moved))])
 
     if not os.path.exists(record):
         return

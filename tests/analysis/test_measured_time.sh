@@ -164,6 +164,16 @@ PLATFORM=Portable CELLS=300 STEPS=40 LAUNCHES=2 RANKS="2" POLICIES="static react
 for f in timer_cost turns_validation time_model_validation policy_order end_to_end end_to_end_summary parts_additivity; do
   [ -s "$work/out/$f.csv" ] || { echo "missing $f.csv"; exit 1; }
 done
+if [ -s "$work/out/migration_cost.csv" ]; then  # the line through the moves in a file of its own, numbers only
+  "$PY" - "$work/out" <<'PYEOF'
+import csv, math, sys
+moves = list(csv.DictReader(open(f"{sys.argv[1]}/migration_cost.csv")))
+fit = list(csv.DictReader(open(f"{sys.argv[1]}/migration_fit.csv")))
+assert all(int(r["moved_slices"]) > 0 and float(r["migrate_s"]) >= 0 for r in moves), moves
+assert len(fit) == 1 and int(fit[0]["intervals"]) == len(moves), fit
+assert all(math.isfinite(float(fit[0][k])) for k in ("s_per_slice", "s_per_interval")), fit
+PYEOF
+fi
 [ "$(wc -l < "$work/out/end_to_end.csv")" = 5 ] || { cat "$work/out/end_to_end.csv"; exit 1; }  # 2 policies x 2 launches
 "$PY" - "$work/out/parts_additivity.csv" <<'PYEOF'
 import csv, sys
