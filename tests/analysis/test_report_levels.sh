@@ -48,6 +48,25 @@ grep -q "staleness \*\*unknown\*\* (commit 0123456 is not in this clone)" "$work
 "$PY" "$src/analysis/provenance.py" --check > "$work/provenance.txt" || { cat "$work/provenance.txt"; fail "a committed GPU result without provenance.json"; }
 grep -q "^gpu/single_device: [0-9a-f]\{7\} 2026-[0-9-]* \(stale\|fresh\)" "$work/provenance.txt" || fail "provenance.py line"
 
+# The bottom line of "which controller" draws from current measured summaries only: a stale scene is left out of it.
+d="$work/bottom"; mkdir -p "$d/results/single_device"  # one section of this run, as report.py needs one
+cp "$src/results/cpu/single_device/single_device.csv" "$src/results/cpu/single_device/single_device.manifest.yaml" \
+  "$d/results/single_device/"
+for scene in epidermis_half epidermis_development; do
+  mkdir -p "$d/committed/gpu/measured/$scene"
+  cp "$src/results/gpu/measured/$scene/end_to_end_summary.csv" "$d/committed/gpu/measured/$scene/"
+done
+head=$(git -C "$src" rev-parse HEAD)
+printf '{"semlb_commit": "%s", "date": "2026-01-01", "how": "test"}\n' "$head" > "$d/committed/gpu/measured/epidermis_half/provenance.json"
+printf '{"semlb_commit": "%s", "date": "2026-01-01", "how": "test"}\n' "$old" > "$d/committed/gpu/measured/epidermis_development/provenance.json"
+"$PY" "$src/analysis/report.py" --results "$d/results" --committed "$d/committed" --semlb "$semlb" > "$d/log" 2>&1 ||
+  { cat "$d/log"; fail "report.py on bottom"; }
+bottom=$(sed -n '/^\*\*Bottom line\*\*/,/^How to read it/p' "$d/results/REPORT.md")
+[[ "$bottom" == *"- the paper's regime"*"at P = 8: "*"less loop time than static"* ]] || fail "no current scene in the bottom line: $bottom"
+[[ "$bottom" != *"proliferative front"* ]] || fail "the bottom line drew from a stale summary: $bottom"
+grep -q "epidermis_development/end_to_end_summary.csv\` (semlb \`${old:0:7}\`, 2026-01-01 · \*\*stale\*\*" "$d/results/REPORT.md" ||
+  fail "the stale summary is not shown as stale"
+
 # The committed results (results/cpu as this run, results/gpu committed): length, links, detail pages.
 cp -r "$src/results/cpu" "$work/full"
 "$PY" "$src/analysis/report.py" --results "$work/full" --semlb "$semlb" > "$work/full.log" 2>&1 || { cat "$work/full.log"; fail "full report"; }
