@@ -172,6 +172,22 @@ SCENES = {"epidermis_half": "the paper's regime (epidermis, left half proliferat
           "epidermis_development": "a proliferative front (development scene, Day 2-3, paper size)"}
 
 
+def scene_order(scene):
+    """A scene's place in SCENES (the others after them)."""
+    return list(SCENES).index(scene) if scene in SCENES else 99
+
+
+def measured_points(rows):
+    """(scene, P, rows at that P, static's row, the least mean loop time's row) of a measured summary, scenes in SCENES'
+    order and P ascending; a (scene, P) without static is left out."""
+    for scene in sorted({r["scene"] for r in rows}, key=scene_order):
+        for P in sorted({int(r["ranks"]) for r in rows if r["scene"] == scene}):
+            at = [r for r in rows if r["scene"] == scene and int(r["ranks"]) == P]
+            static = next((r for r in at if r["policy"] == "static"), None)
+            if static:
+                yield scene, P, at, static, min(at, key=lambda r: float(r["loop_s"]))
+
+
 def measured_choice(ctx):
     """Per committed measured CSV, scene and P, from the measured end-to-end runs on one H200 (docs/measured_time.md):
     the policy with the least mean loop time and its saving against static with the 95% interval over launches (runs
@@ -185,22 +201,15 @@ def measured_choice(ctx):
         lines += [f"**Measured on one H200** ({ctx.committed_source(source)}; {policies}; P ranks taking turns, device "
                   "timers, launches interleaved in one call, docs/measured_time.md). Lowest mean loop time at each P, "
                   "its loop time against static (± 95% interval over launches), and the shipped GRU's:", ""]
-        for scene in sorted({r["scene"] for r in rows}, key=lambda s: list(SCENES).index(s) if s in SCENES else 99):
-            parts = []
-            for P in sorted({int(r["ranks"]) for r in rows if r["scene"] == scene}):
-                at = [r for r in rows if r["scene"] == scene and int(r["ranks"]) == P]
-                static = next((r for r in at if r["policy"] == "static"), None)
-                best = min(at, key=lambda r: float(r["loop_s"]))
-                if not static:
-                    continue
-
-                def saving(r):
-                    base = float(static["loop_s"])
-                    return (f"{-100 * float(r['static_minus_loop_s']) / base:+.1f}% "
-                            f"(± {100 * float(r['static_minus_loop_s_ci95']) / base:.1f})")
-                gru = next((r for r in at if r["policy"] == "gru"), None)
-                parts.append(f"P = {P}: `{best['policy']}` {saving(best)}" +
-                             (f", gru {saving(gru)}" if gru and gru is not best else ""))
+        by_scene = {}
+        for scene, P, at, static, best in measured_points(rows):
+            def saving(r, base=float(static["loop_s"])):
+                return (f"{-100 * float(r['static_minus_loop_s']) / base:+.1f}% "
+                        f"(± {100 * float(r['static_minus_loop_s_ci95']) / base:.1f})")
+            gru = next((r for r in at if r["policy"] == "gru"), None)
+            by_scene.setdefault(scene, []).append(f"P = {P}: `{best['policy']}` {saving(best)}" +
+                                                  (f", gru {saving(gru)}" if gru and gru is not best else ""))
+        for scene, parts in by_scene.items():
             lines.append(f"- {SCENES.get(scene, scene)}: " + "; ".join(parts) + ".")
         lines.append("")
     if lines:
@@ -217,22 +226,16 @@ def measured_bottom_line(ctx):
         rows = ctx.committed_rows(source)
         if not rows or ctx.committed_provenance(source)["status"] != "fresh":
             continue
-        for scene in {r["scene"] for r in rows}:
-            for P in {int(r["ranks"]) for r in rows if r["scene"] == scene}:
-                at = [r for r in rows if r["scene"] == scene and int(r["ranks"]) == P]
-                static = next((r for r in at if r["policy"] == "static"), None)
-                if not static:
-                    continue
-                top = min(at, key=lambda r: float(r["loop_s"]))
-                base = float(static["loop_s"])
-                entry = (100 * float(top["static_minus_loop_s"]) / base,
-                         100 * float(top["static_minus_loop_s_ci95"]) / base, top["policy"])
-                if P not in best.setdefault(scene, {}) or entry[0] > best[scene][P][0]:
-                    best[scene][P] = entry
+        for scene, P, _, static, top in measured_points(rows):
+            base = float(static["loop_s"])
+            entry = (100 * float(top["static_minus_loop_s"]) / base,
+                     100 * float(top["static_minus_loop_s_ci95"]) / base, top["policy"])
+            if P not in best.setdefault(scene, {}) or entry[0] > best[scene][P][0]:
+                best[scene][P] = entry
     if not best:
         return ""
     lines = ["**Bottom line** (measured on a GPU, current results only):", ""]
-    for scene in sorted(best, key=lambda s: list(SCENES).index(s) if s in SCENES else 99):
+    for scene in sorted(best, key=scene_order):
         at = best[scene]
         parts = [f"`{policy}` at P = {P}: {saving:.1f}% (± {ci:.1f}) less loop time than static"
                  for P, (saving, ci, policy) in sorted(at.items())]

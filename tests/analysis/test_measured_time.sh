@@ -6,9 +6,11 @@ set -euo pipefail
 src=$1; work=$2; semlb=$3
 PY=${PYTHON:-/usr/bin/python3}
 rm -rf "$work"; mkdir -p "$work/hand/record"
-"$PY" - "$work/hand" <<'PYEOF'
-import csv, json, os, sys
+"$PY" - "$work/hand" "$src/tests/analysis" <<'PYEOF'
+import os, sys
 import h5py, numpy as np
+sys.path.insert(0, sys.argv[2])
+from measured_fixtures import write_run
 root = sys.argv[1]
 S, E = 4, 3
 seconds = np.array([[1.0, 1.0, 3.0, 3.0], [2.0, 2.0, 1.0, 1.0], [1.0, 2.0, 3.0, 4.0]])
@@ -19,22 +21,14 @@ with h5py.File(os.path.join(root, "record", "workload.h5"), "w") as f:
     f["events/band_below"] = below.astype(np.int64); f["events/band_above"] = above.astype(np.int64)
     f["events/elements"] = elements
 def run(name, bounds_per_event, launch):
-    d = os.path.join(root, "e2e", name); os.makedirs(d)
-    with open(os.path.join(d, "trace.jsonl"), "w") as t:
-        for e, b in enumerate(bounds_per_event):
-            t.write(json.dumps({"event": e, "boundaries": b}) + "\n")
-    with open(os.path.join(d, "rank_times.csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["step", "rank", "compute_s", "exchange_s", "migrate_s", "imbalance", "moved_slices", "wall_s",
-                    "device_s", "exchange_bytes", "migrate_bytes"])
-        for e, b in enumerate(bounds_per_event):
-            cuts = [0] + b + [S]; sigma = seconds[e].sum() / elements[e]
-            nxt = bounds_per_event[e + 1] if e + 1 < E else b
-            moved = sum(abs(x - y) for x, y in zip(b, nxt))
-            for q in range(len(cuts) - 1):
-                g = (below[e][cuts[q] - 1] if q > 0 else 0) + (above[e][cuts[q + 1] - 1] if q + 2 < len(cuts) else 0)
-                t = seconds[e][cuts[q]:cuts[q + 1]].sum() + 2 * sigma * g + 0.001 * launch / launch
-                w.writerow([10 * (e + 1), q, t, 0, 0.01 * moved, 0, moved, t, t, 450, 4.5e9 * moved])
+    def row(e, cuts, q):
+        b = bounds_per_event[e]; sigma = seconds[e].sum() / elements[e]
+        nxt = bounds_per_event[e + 1] if e + 1 < E else b
+        moved = sum(abs(x - y) for x, y in zip(b, nxt))
+        g = (below[e][cuts[q] - 1] if q > 0 else 0) + (above[e][cuts[q + 1] - 1] if q + 2 < len(cuts) else 0)
+        t = seconds[e][cuts[q]:cuts[q + 1]].sum() + 2 * sigma * g + 0.001 * launch / launch
+        return [t, 0, 0.01 * moved, 0, moved, t, t, 450, 4.5e9 * moved]
+    write_run(root, name, bounds_per_event, row, S)
 run("static_np2_l1", [[2], [2], [2]], 1)
 run("static_np2_l2", [[2], [2], [2]], 2)
 run("persistence_np2_l1", [[2], [1], [1]], 1)
@@ -43,9 +37,11 @@ PYEOF
 # version 3 (list seconds L, elements and cell-stage changes per slice, W_s): device times that follow
 # T_r = S_r - L n_r/N + 2 sigma G_r + 0.01 n_r + 0.5 L Wch_r/W + 0.001 exactly; the fit recovers the four keys
 mkdir -p "$work/hand3/record"
-"$PY" - "$work/hand3" <<'PYEOF'
-import csv, json, os, sys
+"$PY" - "$work/hand3" "$src/tests/analysis" <<'PYEOF'
+import os, sys
 import h5py, numpy as np
+sys.path.insert(0, sys.argv[2])
+from measured_fixtures import write_run
 root = sys.argv[1]
 S, E = 4, 3
 seconds = np.array([[1.0, 1.0, 3.0, 3.0], [2.0, 2.0, 1.0, 1.0], [1.0, 2.0, 3.0, 4.0]])
@@ -61,23 +57,14 @@ with h5py.File(os.path.join(root, "record", "workload.h5"), "w") as f:
     f["events/slice_work"] = work; f["events/cell_stage_changes"] = changes.astype(np.int64)
     f["events/part_seconds"] = np.column_stack([np.zeros(E), L, np.zeros(E), np.zeros(E)])
 def run(name, bounds_per_event):
-    d = os.path.join(root, "e2e", name); os.makedirs(d)
-    with open(os.path.join(d, "trace.jsonl"), "w") as t:
-        for e, b in enumerate(bounds_per_event):
-            t.write(json.dumps({"event": e, "boundaries": b}) + "\n")
-    with open(os.path.join(d, "rank_times.csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["step", "rank", "compute_s", "exchange_s", "migrate_s", "imbalance", "moved_slices", "wall_s",
-                    "device_s", "exchange_bytes", "migrate_bytes"])
-        for e, b in enumerate(bounds_per_event):
-            cuts = [0] + b + [S]; sigma = seconds[e].sum() / n[e].sum()
-            for q in range(len(cuts) - 1):
-                lo, hi = cuts[q], cuts[q + 1]
-                g = (below[e][lo - 1] if q > 0 else 0) + (above[e][hi - 1] if q + 2 < len(cuts) else 0)
-                own = seconds[e][lo:hi].sum() - L[e] * n[e][lo:hi].sum() / n[e].sum()
-                placed = L[e] * (work[e][lo:hi] * (changes[e][lo:hi] != 0)).sum() / work[e].sum()
-                t = own + 2 * sigma * g + 0.01 * n[e][lo:hi].sum() + 0.5 * placed + 0.001
-                w.writerow([10 * (e + 1), q, t, 0, 0, 0, 0, t, t, 0, 0])
+    def row(e, cuts, q):
+        lo, hi = cuts[q], cuts[q + 1]; sigma = seconds[e].sum() / n[e].sum()
+        g = (below[e][lo - 1] if q > 0 else 0) + (above[e][hi - 1] if q + 2 < len(cuts) else 0)
+        own = seconds[e][lo:hi].sum() - L[e] * n[e][lo:hi].sum() / n[e].sum()
+        placed = L[e] * (work[e][lo:hi] * (changes[e][lo:hi] != 0)).sum() / work[e].sum()
+        t = own + 2 * sigma * g + 0.01 * n[e][lo:hi].sum() + 0.5 * placed + 0.001
+        return [t, 0, 0, 0, 0, t, t, 0, 0]
+    write_run(root, name, bounds_per_event, row, S)
 run("static_np2_l1", [[2], [2], [2]])
 run("static_np3_l1", [[1, 3], [1, 3], [1, 3]])
 run("persistence_np2_l1", [[2], [1], [3]])
