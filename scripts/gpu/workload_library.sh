@@ -6,8 +6,8 @@
 # Variants named small_* are the CPU versions for `make experiments` (2,500-4,900 cells, cpu-binned, results/cpu/workloads/).
 # Usage: bash scripts/gpu/workload_library.sh SEMLB OUT [VARIANT ...]   (default: every variant below but small_*)
 # JOBS=N runs N variants at once (default 1). With MEASURED=1 they take turns on the device
-# (decomposition.device_sharing: turns, one lock for this script's children): each run's device timers time its own
-# kernels alone, while the host parts (the per-event download and counting) overlap. Each measured file is checked
+# (decomposition.device_sharing: turns, one lock for the children of this script's shell): each run's device timers
+# time its own kernels alone, while the host parts (the per-event download and counting) overlap. Each measured file is checked
 # (analysis/measured_time.py --check-regions: no timed region far above the others) before it is kept.
 set -euo pipefail
 if [ $# -lt 2 ]; then echo "usage: bash scripts/gpu/workload_library.sh SEMLB OUT [VARIANT ...]" >&2; exit 2; fi
@@ -48,15 +48,25 @@ variants=(
   "small_epidermis_s1|$epi|1000|--set tissue.cells=4900 --set decomposition.rebalance_every=50"
 )
 want=("$@")
-record() {  # NAME SCENE STEPS EXTRA: one variant into OUT
-  local name=$1 scene=$2 steps=$3 extra=$4 run start size skin
+# Every `semlb sim` is started from this shell itself (never from a subshell), so that all of them are children of
+# one process: under turns that is what puts them on one lock (the lock is named from the parent's pid,
+# DeviceTurns::path_for), and what keeps a recording's timed launches clear of the others' device work.
+declare -A run_of=() name_of=() t0_of=()
+launch() {  # NAME SCENE STEPS EXTRA: starts one variant's recording in the background (run_of/name_of/t0_of by pid)
+  local name=$1 scene=$2 steps=$3 extra=$4 run size skin
   if [[ $name == small_* ]]; then size=("${cpu[@]}"); else size=("${gpu[@]}"); fi
   run=$(mktemp -d)
-  start=$(date +%s)
   skin=(); [ -n "${MEASURED:-}" ] && ! grep -q "skin:" "$scene" && skin=(--set backend.skin=0.5)
   # shellcheck disable=SC2086
-  "$S" sim --scene "$scene" --out "$run" --steps "$steps" "${common[@]}" "${size[@]}" "${timing[@]}" "${skin[@]}" $extra
-  echo "$name: $(( $(date +%s) - start )) s wall"
+  "$S" sim --scene "$scene" --out "$run" --steps "$steps" "${common[@]}" "${size[@]}" "${timing[@]}" "${skin[@]}" $extra &
+  run_of[$!]=$run; name_of[$!]=$name; t0_of[$!]=$(date +%s)
+}
+keep() {  # PID STATUS: a finished recording's files into OUT (none when it failed or its timed regions overlapped)
+  local pid=$1 rc=$2 run=${run_of[$1]} name=${name_of[$1]}
+  local note=; [ "$rc" = 0 ] || note=", failed (exit $rc)"
+  echo "$name: $(( $(date +%s) - t0_of[$pid] )) s wall$note"
+  unset "run_of[$pid]" "name_of[$pid]" "t0_of[$pid]"
+  if [ "$rc" != 0 ]; then rm -rf "$run"; return 1; fi
   if [ -n "${MEASURED:-}" ] && ! "${PYTHON:-/usr/bin/python3}" "$here/analysis/measured_time.py" --check-regions "$run/workload.h5"; then
     rm -rf "$run"; return 1  # a timed region overlapped other device work: not kept
   fi
@@ -64,6 +74,11 @@ record() {  # NAME SCENE STEPS EXTRA: one variant into OUT
   cp "$run/run.csv" "$OUT/$name.run.csv"
   cp "$run/scene.yaml" "$OUT/$name.scene.yaml"
   rm -rf "$run"
+}
+reap() {  # waits for one recording to end and keeps it; returns 1 when it was not kept
+  local pid rc=0
+  wait -n -p pid "${!run_of[@]}" || rc=$?
+  keep "$pid" "$rc"
 }
 # the variants named, in the order named (default: every variant but small_*, in the order above)
 order=()
@@ -77,13 +92,12 @@ else
   done
 fi
 mkdir -p "$OUT"
-running=0 failed=0
+failed=0
+trap 'kill "${!run_of[@]}" 2>/dev/null; rm -rf "${run_of[@]}"; exit 130' INT TERM
 for v in "${order[@]}"; do
   IFS='|' read -r name scene steps extra <<<"$v"
-  if [ "$JOBS" -le 1 ]; then record "$name" "$scene" "$steps" "$extra"; continue; fi
-  if [ "$running" -ge "$JOBS" ]; then wait -n || failed=1; running=$((running - 1)); fi
-  record "$name" "$scene" "$steps" "$extra" &
-  running=$((running + 1))
+  if [ "${#run_of[@]}" -ge "$JOBS" ]; then reap || failed=1; fi
+  launch "$name" "$scene" "$steps" "$extra"
 done
-while [ "$running" -gt 0 ]; do wait -n || failed=1; running=$((running - 1)); done
+while [ "${#run_of[@]}" -gt 0 ]; do reap || failed=1; done
 exit "$failed"

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# scripts/gpu/workload_library.sh with a stand-in for semlb (no GPU): recordings run JOBS at once and are all children
+# of one process (what puts them on one device-turns lock, named from the parent's pid), with device timers and turns
+# under MEASURED=1; a failed recording or one that fails --check-regions is not kept, the others are, and the exit
+# status says so; no temporary run folder is left behind.
+set -euo pipefail
+src=$1; work=$2
+rm -rf "$work"; mkdir -p "$work/tmp"
+fail() { echo "FAIL: $*"; exit 1; }
+fake=$work/semlb
+cat > "$fake" <<'SH'
+#!/usr/bin/env bash
+# stand-in for `semlb sim`: logs its parent pid, arguments and how many stand-ins ran at its start; fails with --seed 2
+log=$FAKE_DIR/calls; out=
+args=("$@"); for ((i = 0; i < ${#args[@]}; i++)); do [ "${args[$i]}" = --out ] && out=${args[$((i + 1))]}; done
+touch "$FAKE_DIR/running.$$"
+echo "$PPID $(ls "$FAKE_DIR"/running.* | wc -l) $*" >> "$log"
+sleep 1
+rm -f "$FAKE_DIR/running.$$"
+[[ " $* " == *" --seed 2 "* ]] && exit 3
+echo h5 > "$out/workload.h5"; echo csv > "$out/run.csv"; echo yaml > "$out/scene.yaml"
+SH
+chmod +x "$fake"
+export FAKE_DIR=$work TMPDIR=$work/tmp
+MEASURED=1 JOBS=3 PYTHON=true bash "$src/scripts/gpu/workload_library.sh" "$fake" "$work/out" \
+  dev_v24.8_s1 dev_v12.4_s1 dev_v6.2_s1 epidermis_s1 > "$work/ok.log" 2>&1 || { cat "$work/ok.log"; fail "four recordings"; }
+[ "$(wc -l < "$work/calls")" = 4 ] || fail "not four calls"
+[ "$(cut -d' ' -f1 "$work/calls" | sort -u | wc -l)" = 1 ] || { cat "$work/calls"; fail "recordings with different parents (different turn locks)"; }
+[ "$(cut -d' ' -f2 "$work/calls" | sort -n | tail -1)" -ge 2 ] || { cat "$work/calls"; fail "JOBS=3 ran one at a time"; }
+[ "$(grep -c 'decomposition.timing=device --set decomposition.device_sharing=turns' "$work/calls")" = 4 ] || fail "MEASURED=1 JOBS=3 without device timers and turns"
+for n in dev_v24.8_s1 dev_v12.4_s1 dev_v6.2_s1 epidermis_s1; do
+  for ext in h5 run.csv scene.yaml; do [ -s "$work/out/$n.$ext" ] || fail "$n.$ext not kept"; done
+done
+[ -z "$(ls -A "$work/tmp")" ] || fail "temporary run folders left"
+# one recording fails (the stand-in exits 3 with --seed 2): the other is kept, exit status 1
+rm -rf "$work/out" "$work/calls"; rc=0
+JOBS=2 bash "$src/scripts/gpu/workload_library.sh" "$fake" "$work/out" dev_v24.8_s2 epidermis_s1 > "$work/bad.log" 2>&1 || rc=$?
+[ "$rc" = 1 ] || { cat "$work/bad.log"; fail "a failed recording: exit $rc"; }
+grep -q "dev_v24.8_s2: .* s wall, failed (exit 3)" "$work/bad.log" || { cat "$work/bad.log"; fail "the failure not named"; }
+[ ! -e "$work/out/dev_v24.8_s2.h5" ] && [ -s "$work/out/epidermis_s1.h5" ] || fail "kept the failed one or lost the other"
+! grep -q "device_sharing" "$work/calls" || fail "turns without MEASURED=1"
+# the region check refuses a file (PYTHON=false stands for a failing --check-regions): nothing kept
+rm -rf "$work/out"; rc=0
+MEASURED=1 PYTHON=false bash "$src/scripts/gpu/workload_library.sh" "$fake" "$work/out" epidermis_s1 > "$work/check.log" 2>&1 || rc=$?
+[ "$rc" = 1 ] && [ ! -e "$work/out/epidermis_s1.h5" ] || { cat "$work/check.log"; fail "a file failing the region check kept (exit $rc)"; }
+[ -z "$(ls -A "$work/tmp")" ] || fail "temporary run folders left after failures"
+echo "workload_library.sh: ok"
