@@ -7,14 +7,20 @@ A result folder under results/gpu/ holds a `provenance.json`:
 An optional `"depends": "kernels"` says the result times the engine only (no controller decides anything in it).
 A result is stale when the engine's kernels or the controllers (KERNEL_PATHS; only ENGINE_PATHS for a result that
 depends on the kernels alone) differ at HEAD from its own commit; unknown when git cannot say (a tarball without
-history, or a commit this clone does not hold).
+history, or a commit this clone does not hold). A C, C++ or OpenCL file whose tokens are the same at both commits
+(a change of comments, blank lines or layout only, as a formatter makes) is not a difference: the tokens are Pygments'
+C++ lexer's, comments and whitespace between tokens dropped; a preprocessor directive is compared with its spacing.
 Usage: provenance.py [--results DIR] [--check]   (prints one line per record: path, commit, date, status)
 """
 import argparse
+import functools
 import json
 import os
 import subprocess
 import sys
+
+from pygments.lexers import CppLexer
+from pygments.token import Comment, Operator, Punctuation, Text
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -46,6 +52,69 @@ def _git(*args, repo=REPO):
     return _cache[key]
 
 
+# Files compared by their tokens (code_tokens) rather than their bytes.
+CODE_SUFFIXES = (".c", ".h", ".cc", ".cpp", ".hpp", ".cl")
+
+
+@functools.lru_cache(maxsize=None)
+def _blob_tokens(sha, repo=REPO):
+    """code_tokens of the git blob SHA (computed once per blob)."""
+    out = subprocess.run(["git", "-C", repo, "cat-file", "blob", sha], capture_output=True, timeout=30)
+    return code_tokens(out.stdout.decode("utf-8", "replace")) if out.returncode == 0 else None
+
+
+# C and C++ punctuators of more than one character, longest first (maximal munch, C++20 [lex.pptoken] 3.3)
+PUNCTUATORS = sorted(["<<=", ">>=", "->*", "...", "<=>", "++", "--", "<<", ">>", "&&", "||", "->", "==", "!=", "<=", ">=",
+                      "+=", "-=", "*=", "/=", "%=", "&=", "|=", "^=", "::", "##", ".*"], key=len, reverse=True)
+
+
+def _munch(run):
+    """A run of adjacent operator and punctuation characters split as a C++ lexer splits it (maximal munch)."""
+    out, i = [], 0
+    while i < len(run):
+        p = next((p for p in PUNCTUATORS if run.startswith(p, i)), run[i])
+        out.append(p)
+        i += len(p)
+    return out
+
+
+def code_tokens(text):
+    """The tokens of C, C++ or OpenCL source TEXT (str) as [(token type, value)], without comments and without the
+    whitespace between tokens: two texts that differ in comments and layout only give the same list. Operators and
+    punctuation written together are split as a C++ lexer splits them (`a + +b` is not `a ++b`); a preprocessor
+    directive keeps its spacing (`#define F (x)` is not `#define F(x)`)."""
+    out, run, gap = [], "", True
+    for ttype, value in CppLexer(stripnl=False).get_tokens(text):
+        dropped = (ttype in Text and not value.strip()) or \
+            (ttype in Comment and ttype not in Comment.Preproc and ttype not in Comment.PreprocFile)
+        symbol = ttype in Operator or ttype in Punctuation
+        if run and (dropped or not symbol or gap):
+            out += [("symbol", p) for p in _munch(run)]
+            run = ""
+        gap = dropped
+        if dropped:
+            continue
+        if symbol:
+            run += value
+            continue
+        value = value.strip() if ttype in Comment.Preproc else value
+        if value:
+            out.append((str(ttype), value))
+    return out + [("symbol", p) for p in _munch(run)]
+
+
+def same_code(commit, path, repo=REPO):
+    """True when PATH (a C, C++ or OpenCL file) holds the same tokens (code_tokens) at COMMIT and at HEAD; False for
+    any other file, or one missing at either."""
+    if not path.endswith(CODE_SUFFIXES):
+        return False
+    old, new = _git("rev-parse", "-q", "--verify", f"{commit}:{path}", repo=repo), \
+        _git("rev-parse", "-q", "--verify", f"HEAD:{path}", repo=repo)
+    if not old or not new:
+        return False
+    return old == new or (_blob_tokens(old, repo) is not None and _blob_tokens(old, repo) == _blob_tokens(new, repo))
+
+
 def record(path, root=None):
     """The provenance record of a committed result file or folder: the nearest provenance.json at or above it (up to
     ROOT, default the `gpu` folder holding it), with the fields of its `files` entry for the file over the folder's
@@ -74,8 +143,8 @@ def record(path, root=None):
 
 def status(commit, repo=REPO, paths=None):
     """(FRESH | STALE | UNKNOWN, detail): STALE when PATHS (default KERNEL_PATHS) hold something else at HEAD than at
-    COMMIT (detail: the latest commit since that touched them, 'abc1234 YYYY-MM-DD'); UNKNOWN when git cannot tell
-    (detail: why)."""
+    COMMIT, comments and layout of source files aside (same_code; detail: the latest commit since that touched a file
+    that differs, 'abc1234 YYYY-MM-DD'); UNKNOWN when git cannot tell (detail: why)."""
     if not commit:
         return UNKNOWN, "no commit recorded"
     if _git("rev-parse", "--git-dir", repo=repo) is None:
@@ -86,10 +155,18 @@ def status(commit, repo=REPO, paths=None):
     changed = _git("diff", "--name-only", commit, "HEAD", "--", *paths, repo=repo)
     if changed is None:
         return UNKNOWN, "git diff failed"
-    if not changed:  # the paths hold what they held then (a change undone since leaves the result current)
+    # the paths hold what they held then (a change undone since leaves the result current), or differ in comments
+    # and layout only. The detail: the newest commit since that touched a file that differs.
+    changed = set(changed.splitlines())
+    if not changed:
         return FRESH, ""
-    later = _git("log", "-1", "--format=%h %cs", f"{commit}..HEAD", "--", *paths, repo=repo)
-    return STALE, later or changed.splitlines()[0]
+    log = _git("log", "--format=%x01%h %cs", "--name-only", f"{commit}..HEAD", "--", *paths, repo=repo) or ""
+    for entry in log.split("\x01")[1:]:
+        head, *files = entry.splitlines()
+        if any(f in changed and not same_code(commit, f, repo) for f in files):
+            return STALE, head
+    differ = sorted(f for f in changed if not same_code(commit, f, repo))
+    return (STALE, differ[0]) if differ else (FRESH, "")
 
 
 def before(commit, repo=REPO):

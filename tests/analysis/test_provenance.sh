@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # analysis/provenance.py status(): a result is stale when the kernel or controller paths differ at HEAD from its own
-# commit, current when they hold the same (a change undone since), and a kernels-only result ignores the controllers.
+# commit, current when they hold the same (a change undone since) or differ in comments and layout only, and a
+# kernels-only result ignores the controllers.
 # Usage: test_provenance.sh REPO_ROOT WORK_DIR
 set -euo pipefail
 src=$1; work=$2
@@ -44,4 +45,41 @@ m = sys.argv[2]
 got = {f: p.record(f"{m}/{f}")["semlb_commit"] for f in ("a.csv", "dev/y.csv", "dev/runs/z.csv", "dev/x.csv", "develop.csv")}
 assert got == {"a.csv": "aaa", "dev/y.csv": "bbb", "dev/runs/z.csv": "ccc", "dev/x.csv": "ddd", "develop.csv": "aaa"}, got
 print("provenance records: ok")
+PY
+# comments and layout: a C, C++ or OpenCL file whose tokens are unchanged is no difference (a formatter's commit
+# leaves results current); a token changed, or any change to another kind of file, is one; the detail skips a newer
+# layout-only commit
+mkdir -p "$work/fmt/engine/backends" && cd "$work/fmt"
+git init -q && git config user.email t@t && git config user.name t
+printf '#define F(x) ((x)+1)\nint f(int a,int b){return a+ +b;} // sum\n' > engine/backends/k.cpp
+printf '__kernel void k(__global float* x){x[0]=-1.0f;}\n' > engine/backends/k.cl
+echo 'set(A 1)' > engine/backends/CMakeLists.txt
+f1=$(commit f1)
+printf '// The sum.\n#define F(x) ((x)+1)\n\nint f(int a, int b) {\n  return a + +b;  // sum\n}\n' > engine/backends/k.cpp
+printf '/* one kernel */\n__kernel void k(__global float* x) {\n  x[0] = -1.0f;\n}\n' > engine/backends/k.cl
+f2=$(commit "layout and comments")
+sed -i 's/a + +b/a ++b/' engine/backends/k.cpp; f3=$(commit "a token")
+sed -i 's/a ++b/a + +b/' engine/backends/k.cpp; echo 'set(A 2)' > engine/backends/CMakeLists.txt; f4=$(commit cmake)
+echo 'set(A 1)' > engine/backends/CMakeLists.txt; sed -i 's/#define F(x)/#define F (x)/' engine/backends/k.cpp
+f5=$(commit "directive spacing")
+sed -i 's/#define F (x)/#define F(x)/' engine/backends/k.cpp; sed -i 's|x\[0\] = -1.0f;|x[0]=-1.0f; // layout|' engine/backends/k.cl
+f6=$(commit "undone, and layout")
+"$py" - "$src" "$work/fmt" "$f1" "$f2" "$f3" "$f4" "$f5" "$f6" <<'PY'
+import subprocess, sys
+sys.path.insert(0, sys.argv[1] + "/analysis")
+import provenance as p
+repo, f1, f2, f3, f4, f5, f6 = sys.argv[2:]
+st = lambda c: p.status(c, repo, p.ENGINE_PATHS)
+assert st(f1) == (p.FRESH, ""), st(f1)                 # f2..f6 leave only layout and comments against f1
+assert st(f2)[0] == p.FRESH and st(f6)[0] == p.FRESH
+assert st(f3)[0] == p.STALE and st(f3)[1].startswith(f6[:7]), st(f3)    # a ++b, k.cpp last touched in f6
+assert st(f4)[0] == p.STALE and st(f4)[1].startswith(f5[:7]), st(f4)    # the CMake line undone in f5
+assert st(f5)[0] == p.STALE and st(f5)[1].startswith(f6[:7]), st(f5)    # F (x) -> F(x): a directive's spacing
+# the detail names the newest commit that touched a file that differs, not a newer one that touched only files that
+# differ in layout (k.cl)
+open(f"{repo}/engine/backends/k.cl", "a").write("\n// trailing comment\n")
+subprocess.run(["git", "-C", repo, "commit", "-qam", "comment"], check=True)
+p._cache.clear()
+assert st(f3)[1].startswith(f6[:7]), st(f3)
+print("provenance, layout and comments: ok")
 PY
