@@ -16,11 +16,12 @@ import argparse
 import functools
 import json
 import os
+import re
 import subprocess
 import sys
 
 from pygments.lexers import CppLexer
-from pygments.token import Comment, Operator, Punctuation, Text
+from pygments.token import Comment, Number, Operator, Punctuation, Text
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -78,29 +79,67 @@ def _munch(run):
     return out
 
 
+def _directive(toks, i):
+    """(tokens, next index) of the preprocessor directive whose '#' is toks[i]: its keyword, for a #define whether the
+    macro is function-like (`F(x)`) or object-like (`F (x)`), then the code tokens of the rest, the line splices
+    (backslash-newline) and comments read as spaces."""
+    parts, i = [], i + 1
+    while i < len(toks):
+        ttype, value = toks[i]
+        spliced = "".join(parts).rstrip(" \t").endswith("\\")
+        if not spliced and ((ttype in Comment.Preproc and value == "\n") or
+                            (ttype in Comment.Single and value.endswith("\n"))):
+            break
+        parts.append(value if ttype in Comment.Preproc or ttype in Comment.PreprocFile else " ")
+        i += 1
+    body = re.sub(r"\\[ \t]*\n", " ", "".join(parts)).strip()
+    word, rest = re.match(r"(\w*)(.*)", body, re.S).groups()
+    out = [("directive", word)]
+    if word == "define":
+        out.append(("macro", "function" if re.match(r"\w+\(", rest.lstrip()) else "object"))
+    return out + code_tokens(rest) + [("directive", "end")], i + 1
+
+
 def code_tokens(text):
     """The tokens of C, C++ or OpenCL source TEXT (str) as [(token type, value)], without comments and without the
     whitespace between tokens: two texts that differ in comments and layout only give the same list. Operators and
-    punctuation written together are split as a C++ lexer splits them (`a + +b` is not `a ++b`); a preprocessor
-    directive keeps its spacing (`#define F (x)` is not `#define F(x)`)."""
-    out, run, gap = [], "", True
-    for ttype, value in CppLexer(stripnl=False).get_tokens(text):
-        dropped = (ttype in Text and not value.strip()) or \
-            (ttype in Comment and ttype not in Comment.Preproc and ttype not in Comment.PreprocFile)
+    punctuation written together are split as a C++ lexer splits them (`a + +b` is not `a ++b`, `x - 1` is `x -1`);
+    a preprocessor directive gives its keyword, whether a macro is function-like (`#define F (x)` is not
+    `#define F(x)`) and its tokens as code."""
+    toks = list(CppLexer(stripnl=False).get_tokens(text))
+    out, run, gap, i = [], "", True, 0
+
+    def flush():
+        nonlocal run
+        out.extend(("symbol", p) for p in _munch(run))
+        run = ""
+
+    while i < len(toks):
+        ttype, value = toks[i]
+        if ttype in Comment.Preproc and value == "#":
+            flush()
+            tokens, i = _directive(toks, i)
+            out += tokens
+            gap = True
+            continue
+        i += 1
+        dropped = (ttype in Text and not value.strip()) or ttype in Comment
+        if ttype in Number and value[:1] in "+-":  # a sign the lexer read into the number: an operator
+            if gap:
+                flush()
+            run, gap, value = run + value[0], False, value[1:]
         symbol = ttype in Operator or ttype in Punctuation
         if run and (dropped or not symbol or gap):
-            out += [("symbol", p) for p in _munch(run)]
-            run = ""
+            flush()
         gap = dropped
         if dropped:
             continue
         if symbol:
             run += value
-            continue
-        value = value.strip() if ttype in Comment.Preproc else value
-        if value:
+        else:
             out.append((str(ttype), value))
-    return out + [("symbol", p) for p in _munch(run)]
+    flush()
+    return out
 
 
 def same_code(commit, path, repo=REPO):

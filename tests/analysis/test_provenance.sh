@@ -83,3 +83,19 @@ p._cache.clear()
 assert st(f3)[1].startswith(f6[:7]), st(f3)
 print("provenance, layout and comments: ok")
 PY
+# code_tokens: what a formatter changes gives the same tokens, what changes the program does not
+"$py" - "$src" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[1] + "/analysis")
+from provenance import code_tokens as t
+same = [("#define M(a) \\\n  ((a)-1)  \\\n", "#define M(a) \\\n  ((a) - 1)            \\\n"),
+        ("#if defined(X)\nint y;\n#endif\n", "#if defined( \\\n    X)\nint y;  // why\n#endif\n"),
+        ('f("a" "b");', 'f("a"\n  "b");'), ("x=-1.0f;", "x = -1.0f;"), ("int *p;", "int* p;")]
+differ = [("#define A 1\nint x;\n", "#define A 1 int x;\n"), ("#define F(x) x\n", "#define F (x) x\n"),
+          ("y = x - -1;", "y = x--1;"), ('f("a b");', 'f("a  b");'), ('f("ab");', 'f("a" "b");'), ("a+++b;", "a + ++b;")]
+for a, b in same:
+    assert t(a) == t(b), (a, b)
+for a, b in differ:
+    assert t(a) != t(b), (a, b)
+print("code_tokens: ok")
+PY
