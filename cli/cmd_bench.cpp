@@ -49,7 +49,8 @@ int bench_policies(int ranks, int events, int repeats, uint64_t seed, const std:
 }
 
 // One row's scene: the file with the flags, the backend and the tissue size; its backend's own keys checked.
-engine::Scene bench_scene(const std::string& scene_file, const std::string& backend, long cells, const SceneFlags& flags) {
+engine::Scene bench_scene(const std::string& scene_file, const std::string& backend, long cells,
+                          const SceneFlags& flags) {
   auto o = scene_overrides(flags);
   o.push_back(engine::scene_override("backend", backend, "--backends: "));
   o.push_back(engine::scene_override("cells", std::to_string(cells), "--cells: "));
@@ -58,9 +59,9 @@ engine::Scene bench_scene(const std::string& scene_file, const std::string& back
   return scene;
 }
 
-// Prints header(), then runs `fn` on the scene with each backend and tissue size, flushing the table after each. Every row's scene and
-// backend settings are read first, so a bad one prints nothing; --platform and --device apply to the rows whose
-// backend reads them (the OpenCL ones) and are refused only when no row's does.
+// Prints header(), then runs `fn` on the scene with each backend and tissue size, flushing the table after each. Every
+// row's scene and backend settings are read first, so a bad one prints nothing; --platform and --device apply to the
+// rows whose backend reads them (the OpenCL ones) and are refused only when no row's does.
 void for_each_scene(const std::string& scene_file, const std::string& backends, const std::string& cells,
                     const SceneFlags& flags, const std::function<void()>& header,
                     const std::function<void(engine::Scene&, const std::string&)>& fn) {
@@ -104,7 +105,8 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
                        " rows (backends x cells)");
   }
   auto header = [&] {
-    std::printf("# semlb bench engine: %s, %ld timed steps after %ld warm-up steps\n", scene_file.c_str(), steps, warmup);
+    std::printf("# semlb bench engine: %s, %ld timed steps after %ld warm-up steps\n", scene_file.c_str(), steps,
+                warmup);
     std::printf("%-16s %-9s %9s %10s %10s %14s %10s %6s %9s %8s %9s %9s %9s  %s\n", "backend", "precision", "cells",
                 "elements", "seconds", "elem-steps/s", "ms/step", "skin", "builds/st", "ratio", "per_cube", "candid.",
                 "neighb.", "device");
@@ -133,7 +135,8 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
 int bench_cells(const std::string& scene_file, const std::string& backends, const std::string& cells, long updates,
                 const SceneFlags& flags) {
   auto header = [&] {
-    std::printf("# semlb bench cells: %s, ms per cell update (mean of %ld, after one untimed)\n", scene_file.c_str(), updates);
+    std::printf("# semlb bench cells: %s, ms per cell update (mean of %ld, after one untimed)\n", scene_file.c_str(),
+                updates);
   };
   for_each_scene(scene_file, backends, cells, flags, header, [&](engine::Scene& scene, const std::string& backend) {
     const auto t = engine::time_cell_stage(scene, updates);
@@ -142,7 +145,8 @@ int bench_cells(const std::string& scene_file, const std::string& backends, cons
     std::printf("%s %s, %ld cells, %ld elements (%s)\n", backend.c_str(), scene.backend.precision.c_str(), t.cells,
                 t.elements, t.device.c_str());
     std::printf("  %-16s %10s %7s\n", "part", "ms/update", "share");
-    for (const auto& [part, secs] : t.parts) std::printf("  %-16s %10.2f %6.1f%%\n", part.c_str(), 1e3 * secs, 100 * secs / total);
+    for (const auto& [part, secs] : t.parts)
+      std::printf("  %-16s %10.2f %6.1f%%\n", part.c_str(), 1e3 * secs, 100 * secs / total);
     std::printf("  %-16s %10.2f\n", "total", 1e3 * total);
   });
   return 0;
@@ -158,8 +162,10 @@ int bench_train(long steps, long threads) {
   std::printf("# semlb bench train: %ld steps of the default recipe (batch %ld x %ld events), %ld episode thread(s)\n",
               steps, c.batch, c.events, threads);
   std::printf("%-22s %12s %8s\n", "phase", "s/step", "share");
-  for (const auto& [name, s] : {std::pair{"episode generation", m.episodes}, {"forward (soft rollout)", m.forward},
-                                {"backward", m.backward}, {"clip + Adam", m.optimiser}})
+  for (const auto& [name, s] : {std::pair{"episode generation", m.episodes},
+                                {"forward (soft rollout)", m.forward},
+                                {"backward", m.backward},
+                                {"clip + Adam", m.optimiser}})
     std::printf("%-22s %12.4f %7.1f%%\n", name, s / steps, 100 * s / total);
   std::printf("%-22s %12.4f\n", "total (sequential)", total / steps);
   std::printf("%-22s %12.4f\n", "with prefetch (est.)", std::max(m.episodes, total - m.episodes) / steps);
@@ -183,29 +189,47 @@ Action add_bench(CLI::App& app) {
   sub->add_option("what", o->what,
                   "What to benchmark: policies, train (one training step; needs libtorch), engine (element-steps/s), "
                   "cells (the host cell stage, per part)")
-      ->required()->check(CLI::IsMember({"policies", "train", "engine", "cells"}));
-  sub->add_option("--scene", o->scene, "Scene (default: scenes/mechanics.yaml for bench engine, scenes/epidermis.yaml for bench cells)");
-  sub->add_option("--backends", o->backends, "Comma-separated backends (bench engine, cells): " + registered_list("backends"))->capture_default_str();
+      ->required()
+      ->check(CLI::IsMember({"policies", "train", "engine", "cells"}));
+  sub->add_option("--scene", o->scene,
+                  "Scene (default: scenes/mechanics.yaml for bench engine, scenes/epidermis.yaml for bench cells)");
+  sub->add_option("--backends", o->backends,
+                  "Comma-separated backends (bench engine, cells): " + registered_list("backends"))
+      ->capture_default_str();
   sub->add_option("--cells", o->cells, "Cell counts, e.g. 200,2000 (bench engine, cells)")->capture_default_str();
   sub->add_option("--previous", o->previous,
                   "Earlier ms/step, one per row (backends x cells, comma-separated): prints the ratio (bench engine)");
-  sub->add_option("--warmup", o->warmup, "Untimed steps first (bench engine)")->capture_default_str()->check(strict_integer(0));
+  sub->add_option("--warmup", o->warmup, "Untimed steps first (bench engine)")
+      ->capture_default_str()
+      ->check(strict_integer(0));
   sub->add_option("--precision", o->flags.precision, "double or float (bench engine, cells; default: the scene's)");
   sub->add_option("--platform", o->flags.platform, "OpenCL platform name substring (bench engine, cells)");
-  sub->add_option("--device", o->flags.device, "OpenCL device index (bench engine, cells)")->check(strict_integer(0, 1024));
+  sub->add_option("--device", o->flags.device, "OpenCL device index (bench engine, cells)")
+      ->check(strict_integer(0, 1024));
   sub->add_option("--set", o->flags.set, "Scene override KEY.PATH=VALUE (bench engine, cells; repeatable)");
-  sub->add_option("--steps", o->steps, "Steps to time (bench train, engine); cell updates (bench cells)")->capture_default_str()->check(strict_integer(1));
-  sub->add_option("--threads", o->threads, "Episode-generation threads (bench train)")->capture_default_str()->check(strict_integer(1));
+  sub->add_option("--steps", o->steps, "Steps to time (bench train, engine); cell updates (bench cells)")
+      ->capture_default_str()
+      ->check(strict_integer(1));
+  sub->add_option("--threads", o->threads, "Episode-generation threads (bench train)")
+      ->capture_default_str()
+      ->check(strict_integer(1));
   sub->add_option("--ranks", o->ranks, "Ranks")->capture_default_str()->check(strict_integer(1, 4096));
   sub->add_option("--events", o->events, "Events per rollout")->capture_default_str()->check(strict_integer(1));
-  sub->add_option("--repeats", o->repeats, "Repetitions (the median is printed)")->capture_default_str()->check(strict_integer(1));
+  sub->add_option("--repeats", o->repeats, "Repetitions (the median is printed)")
+      ->capture_default_str()
+      ->check(strict_integer(1));
   sub->add_option("--seed", o->seed, "Scenario seed")->capture_default_str()->check(strict_integer(0));
   sub->add_option("--weights", o->weights, "GRU weights (default: a random zero-head GRU of the shipped shape)");
   return [o, sub] {
     if (!*sub) return -1;  // not the chosen subcommand
-    const auto scene = [&](const char* fallback) { return o->scene.empty() ? std::string(SEMLB_SOURCE_DIR) + fallback : o->scene; };
-    if (o->what == "engine") return bench_engine(scene("/scenes/mechanics.yaml"), o->backends, o->cells, o->steps, o->warmup, o->previous, o->flags);
-    if (o->what == "cells") return bench_cells(scene("/scenes/epidermis.yaml"), o->backends, o->cells, o->steps, o->flags);
+    const auto scene = [&](const char* fallback) {
+      return o->scene.empty() ? std::string(SEMLB_SOURCE_DIR) + fallback : o->scene;
+    };
+    if (o->what == "engine")
+      return bench_engine(scene("/scenes/mechanics.yaml"), o->backends, o->cells, o->steps, o->warmup, o->previous,
+                          o->flags);
+    if (o->what == "cells")
+      return bench_cells(scene("/scenes/epidermis.yaml"), o->backends, o->cells, o->steps, o->flags);
     if (o->what == "train") {
 #ifdef SEMLB_WITH_TORCH
       return bench_train(o->steps, o->threads);

@@ -19,13 +19,14 @@ Action add_fit(CLI::App& app) {
   auto* sub = app.add_subcommand("fit", "Fit the learned_repartition controller offline (NLopt) and write its weights");
   sub->add_option("--config", o->config,
                   "Fit config (YAML), e.g. surrogate/fit/learned_repartition.yaml (the shipped recipe); its workload "
-                  "paths are relative to the working directory")->required();
+                  "paths are relative to the working directory")
+      ->required();
   sub->add_option("--set", o->sets, "Override KEY=VALUE (repeatable), e.g. --set evaluations=50");
   sub->add_option("--out", o->out, "Weights file to write (HDF5)")->required();
   sub->add_option("--log", o->log, "CSV of every evaluation (default: OUT with .log.csv)");
   sub->add_flag("--quiet", o->quiet, "No progress line");
   return [o, sub] {
-    if (!*sub) return -1;  // not the chosen subcommand
+    if (!*sub) return -1;         // not the chosen subcommand
     const SignalCleanup cleanup;  // an interrupted fit leaves no temporary file
     const auto config = fit::load_fit_config(o->config, o->sets);
     fit::FitOptions opts;

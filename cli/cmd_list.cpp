@@ -62,12 +62,13 @@ Action add_list(CLI::App& app) {
   std::vector<std::string> kinds = listed_kinds().names();
   kinds.insert(kinds.begin(), "kinds");
   auto* sub = app.add_subcommand("list", "List what the registries hold, one name per line (or a JSON array)");
-  sub->add_option("what", o->what,
-                  "kinds (every kind this list knows), or one kind: " + listed_kinds().known() +
-                      ". engine-policies are the policies a simulation can run (no true work needed), cell-types are by "
-                      "type index, cell-fields the per-cell fields effects declare; pair-terms, element-terms, "
-                      "fate-rules and removal-rules are effects of one plug-in kind (a scene lists one pair term); "
-                      "growth-laws and division-rules are the values of effects.growth.law and effects.division.rule")
+  sub->add_option(
+         "what", o->what,
+         "kinds (every kind this list knows), or one kind: " + listed_kinds().known() +
+             ". engine-policies are the policies a simulation can run (no true work needed), cell-types are by "
+             "type index, cell-fields the per-cell fields effects declare; pair-terms, element-terms, "
+             "fate-rules and removal-rules are effects of one plug-in kind (a scene lists one pair term); "
+             "growth-laws and division-rules are the values of effects.growth.law and effects.division.rule")
       ->required()
       ->check(CLI::IsMember(kinds));
   sub->add_flag("--json", o->json, "Print a JSON array of the names");

@@ -25,19 +25,25 @@ Action add_replay(CLI::App& app) {
     long seed = 0;
   };
   auto o = std::make_shared<Opts>();
-  auto* sub = app.add_subcommand("replay", "Apply a policy to a JSON Lines trace; prints one JSON line per event. Policies: " +
-                                            registered_list("policies"));
+  auto* sub =
+      app.add_subcommand("replay", "Apply a policy to a JSON Lines trace; prints one JSON line per event. Policies: " +
+                                       registered_list("policies"));
   sub->add_option("--policy", o->policy, "Policy name")->required();
   auto* trace = sub->add_option("--trace", o->trace, "Trace file (JSON Lines, one event per line)");
-  auto* workload = sub->add_option("--workload", o->workload,
-                                   "Engine workload file (HDF5, output.workload): replay at --ranks P through the time model; "
-                                   "prints one JSON line {ranks, events, mean_imbalance, migration, loop_s, ...}");
+  auto* workload =
+      sub->add_option("--workload", o->workload,
+                      "Engine workload file (HDF5, output.workload): replay at --ranks P through the time model; "
+                      "prints one JSON line {ranks, events, mean_imbalance, migration, loop_s, ...}");
   trace->excludes(workload);
   sub->add_option("--ranks", o->ranks, "With --workload: the rank count P")->check(strict_integer(1, 1 << 20));
-  sub->add_option("--seed", o->seed, "With --workload: seed of the time model's speed factors and jitter")->check(strict_integer(0, 1L << 53));
-  sub->add_option("--first-event", o->first_event, "With --workload: the first event replayed")->check(strict_integer(0, 1 << 30));
-  sub->add_option("--events", o->events, "With --workload: events replayed (0: to the end)")->check(strict_integer(0, 1 << 30));
-  sub->add_option("--coarsen", o->coarsen, "With --workload: adjacent slices merged into one")->check(strict_integer(1, 1 << 20));
+  sub->add_option("--seed", o->seed, "With --workload: seed of the time model's speed factors and jitter")
+      ->check(strict_integer(0, 1L << 53));
+  sub->add_option("--first-event", o->first_event, "With --workload: the first event replayed")
+      ->check(strict_integer(0, 1 << 30));
+  sub->add_option("--events", o->events, "With --workload: events replayed (0: to the end)")
+      ->check(strict_integer(0, 1 << 30));
+  sub->add_option("--coarsen", o->coarsen, "With --workload: adjacent slices merged into one")
+      ->check(strict_integer(1, 1 << 20));
   std::string keys;
   for (const auto& k : surrogate::time_model_keys()) keys += (keys.empty() ? "" : ", ") + k;
   sub->add_option("--time-model", o->model, "With --workload: KEY=VALUE of the time model (" + keys + "; repeatable)");
@@ -83,7 +89,8 @@ Action add_replay(CLI::App& app) {
       for (const auto& kv : o->model) {
         const auto eq = kv.find('=');
         if (eq == std::string::npos) throw InputError("--time-model: expected KEY=VALUE, got '" + kv + "'");
-        if (!given.insert(kv.substr(0, eq)).second) throw InputError("--time-model " + kv.substr(0, eq) + ": given twice");
+        if (!given.insert(kv.substr(0, eq)).second)
+          throw InputError("--time-model " + kv.substr(0, eq) + ": given twice");
         surrogate::set_time_model(r.model, kv.substr(0, eq), kv.substr(eq + 1), "--time-model ");
       }
       const auto w = read_workload(o->workload);
@@ -94,19 +101,29 @@ Action add_replay(CLI::App& app) {
             throw InputError(std::string("--time-model ") + key + ": " + o->workload +
                              " has no list seconds (part_seconds: a version 3 workload)");
           if (r.model.truth == surrogate::TimeModel::Truth::kWork)
-            throw InputError(std::string("--time-model ") + key + ": truth=work replays W_s, which has no list seconds");
+            throw InputError(std::string("--time-model ") + key +
+                             ": truth=work replays W_s, which has no list seconds");
         }
       const auto res = surrogate::replay_workload(w, r, *policy, o->policy, o->workload);
-      const nlohmann::json out = {{"ranks", r.ranks}, {"events", res.events}, {"mean_imbalance", res.mean_imbalance},
-                                  {"migration", res.migration}, {"loop_s", res.loop_s}, {"compute_s", res.compute_s},
-                                  {"migrate_s", res.migrate_s}, {"ideal_s", res.ideal_s},
+      const nlohmann::json out = {{"ranks", r.ranks},
+                                  {"events", res.events},
+                                  {"mean_imbalance", res.mean_imbalance},
+                                  {"migration", res.migration},
+                                  {"loop_s", res.loop_s},
+                                  {"compute_s", res.compute_s},
+                                  {"migrate_s", res.migrate_s},
+                                  {"ideal_s", res.ideal_s},
                                   {"first_quarter_imbalance", res.first_quarter_imbalance},
                                   {"last_quarter_imbalance", res.last_quarter_imbalance},
                                   {"truth", res.measured ? "measured" : "work"}};
       std::cout << out.dump() << '\n' << std::flush;  // the JSON line first, then the table on stderr
-      std::cerr << result_row({{"policy", o->policy}, {"P", std::to_string(r.ranks)}, {"events", std::to_string(res.events)}},
-                              {{"imbalance %", 100.0 * res.mean_imbalance}, {"migration", static_cast<double>(res.migration)},
-                               {"loop s", res.loop_s}, {"ideal s", res.ideal_s}, {"migrate s", res.migrate_s}});
+      std::cerr << result_row(
+          {{"policy", o->policy}, {"P", std::to_string(r.ranks)}, {"events", std::to_string(res.events)}},
+          {{"imbalance %", 100.0 * res.mean_imbalance},
+           {"migration", static_cast<double>(res.migration)},
+           {"loop s", res.loop_s},
+           {"ideal s", res.ideal_s},
+           {"migrate s", res.migrate_s}});
       return 0;
     }
     std::vector<TraceEvent> events;  // read and validate the whole trace before printing anything
@@ -118,8 +135,10 @@ Action add_replay(CLI::App& app) {
     }
     if (o->score) {
       const auto r = surrogate::replay_rollout(events, lines, o->trace, *policy, o->policy);
-      const nlohmann::json out = {{"events", r.events}, {"mean_imbalance", r.mean_imbalance},
-                                  {"migration", r.migration}, {"mean_max_over_mean", r.mean_max_over_mean}};
+      const nlohmann::json out = {{"events", r.events},
+                                  {"mean_imbalance", r.mean_imbalance},
+                                  {"migration", r.migration},
+                                  {"mean_max_over_mean", r.mean_max_over_mean}};
       std::cout << out.dump() << '\n';
       return 0;
     }

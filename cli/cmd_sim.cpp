@@ -16,19 +16,23 @@
 
 namespace semlb::cli {
 
-// --backend/--precision/--platform/--device/--steps/--seed become scene overrides (a setting given both ways is an error).
-// Each flag is named after its scene setting (engine::scene_settings()).
+// --backend/--precision/--platform/--device/--steps/--seed become scene overrides (a setting given both ways is an
+// error). Each flag is named after its scene setting (engine::scene_settings()).
 std::vector<std::string> scene_overrides(const SceneFlags& f) {
   std::vector<std::string> o = f.set;
   auto number = [](long v) { return v >= 0 ? std::to_string(v) : std::string(); };  // -1: not given
-  for (const auto& [name, value] : {std::pair<std::string, std::string>{"backend", f.backend}, {"precision", f.precision},
-                                    {"platform", f.platform}, {"device", number(f.device)}, {"steps", number(f.steps)},
+  for (const auto& [name, value] : {std::pair<std::string, std::string>{"backend", f.backend},
+                                    {"precision", f.precision},
+                                    {"platform", f.platform},
+                                    {"device", number(f.device)},
+                                    {"steps", number(f.steps)},
                                     {"seed", number(f.seed)}})
     if (!value.empty()) {
       const std::string assignment = engine::scene_override(name, value, "--" + name + ": ");
       const std::string key = assignment.substr(0, assignment.find('='));
       for (const auto& s : f.set)  // the flag would hide the --set value unparsed: say so instead
-        if (s.substr(0, s.find('=')) == key) throw InputError("--" + name + ": " + key + " is also given by --set; give it once");
+        if (s.substr(0, s.find('=')) == key)
+          throw InputError("--" + name + ": " + key + " is also given by --set; give it once");
       o.push_back(assignment);
     }
   return o;
@@ -39,7 +43,9 @@ void add_scene_flags(CLI::App* sub, SceneFlags& f) {
   sub->add_option("--precision", f.precision, "double or float (default: the scene's)");
   sub->add_option("--platform", f.platform, "OpenCL platform name substring, e.g. NVIDIA or Portable");
   sub->add_option("--device", f.device, "OpenCL device index within the platform")->check(strict_integer(0, 1024));
-  sub->add_option("--set", f.set, "Scene override KEY.PATH=VALUE, e.g. tissue.cells=2000 (repeatable); effects: " + registered_list("effects") + "; cell types: " + registered_list("cell-types"));
+  sub->add_option("--set", f.set,
+                  "Scene override KEY.PATH=VALUE, e.g. tissue.cells=2000 (repeatable); effects: " +
+                      registered_list("effects") + "; cell types: " + registered_list("cell-types"));
 }
 
 namespace {
@@ -82,7 +88,8 @@ void breakdown(const engine::RunSummary& sum, double process) {
   line("%s; end %.3g s (final.h5 and the closing files %.3g s); process %.4g s\n", sum.start_parts.empty() ? "" : ")",
        process - sum.start_seconds - sum.loop_seconds, sum.closing_seconds, process);
   if (sum.list_skin > 0)
-    line("Neighbour list: skin %g um, %ld builds over the ranks (in the force phases)\n", sum.list_skin, sum.list_builds);
+    line("Neighbour list: skin %g um, %ld builds over the ranks (in the force phases)\n", sum.list_skin,
+         sum.list_builds);
   std::fwrite(text.data(), 1, text.size(), stderr);
 }
 
@@ -108,7 +115,8 @@ Action add_sim(CLI::App& app) {
   auto* sub = app.add_subcommand("sim", "Run a scene: DIR/final.h5, snapshots + XDMF, run.csv, checkpoint.h5");
   sub->add_option("--scene", o->scene, "Scene file (YAML), e.g. scenes/epidermis.yaml");
   sub->add_option("--out", o->out, "Output directory");
-  sub->add_option("--steps", o->flags.steps, "Final step number (default: the scene's time.steps)")->check(strict_integer(0, 1L << 40));
+  sub->add_option("--steps", o->flags.steps, "Final step number (default: the scene's time.steps)")
+      ->check(strict_integer(0, 1L << 40));
   sub->add_option("--seed", o->flags.seed, "Random seed (default: the scene's)")->check(strict_integer(0, 1L << 53));
   sub->add_option("--restart", o->restart, "Continue from a checkpoint (DIR/checkpoint.h5): bit-for-bit");
   add_scene_flags(sub, o->flags);
@@ -126,7 +134,8 @@ Action add_sim(CLI::App& app) {
     std::unique_ptr<engine::Mpi> mpi;  // under mpirun: decomposed across the ranks
     if (engine::Mpi::launched()) mpi = std::make_unique<engine::Mpi>();
     // output.workload records rebalancing events: one device then runs as a decomposition of one rank
-    if (!mpi && engine::load_scene(o->scene, scene_overrides(o->flags)).record_workload) mpi = std::make_unique<engine::Mpi>();
+    if (!mpi && engine::load_scene(o->scene, scene_overrides(o->flags)).record_workload)
+      mpi = std::make_unique<engine::Mpi>();
     if (!mpi) {
       // On one device a SIGINT, SIGTERM or SIGHUP removes the --out folder's lock on the way out (common/cleanup.hpp),
       // before the backend starts its threads (they inherit the blocked signals).
@@ -138,7 +147,8 @@ Action add_sim(CLI::App& app) {
         const auto sum = engine::run_scene(scene, rc);
         report(sum, o->out, o->quiet);
       } catch (const engine::SimulationError& e) {
-        std::cerr << "semlb sim: " << o->scene << ": " << e.what() << " (state written to " << o->out << "/failure.h5)\n";
+        std::cerr << "semlb sim: " << o->scene << ": " << e.what() << " (state written to " << o->out
+                  << "/failure.h5)\n";
         return 1;
       }
       return 0;

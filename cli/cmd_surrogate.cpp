@@ -19,15 +19,20 @@ Action add_surrogate(CLI::App& app) {
   };
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("surrogate", "Evaluate policies on surrogate scenarios (hard integer boundaries)");
-  sub->add_option("--policies", o->policies, "Comma-separated policy names: " + registered_list("policies"))->required();
+  sub->add_option("--policies", o->policies, "Comma-separated policy names: " + registered_list("policies"))
+      ->required();
   sub->add_option("--ranks", o->ranks, "Rank counts, e.g. 2,4,8,16 or 2-16")->capture_default_str();
-  sub->add_option("--seeds", o->seeds, "Scenario seeds, inclusive ranges (evaluation seeds: 9000-9999)")->capture_default_str();
-  sub->add_option("--events", o->events, "Rebalancing events per rollout")->capture_default_str()->check(strict_integer(1));
+  sub->add_option("--seeds", o->seeds, "Scenario seeds, inclusive ranges (evaluation seeds: 9000-9999)")
+      ->capture_default_str();
+  sub->add_option("--events", o->events, "Rebalancing events per rollout")
+      ->capture_default_str()
+      ->check(strict_integer(1));
   sub->add_option("--out", o->out, "Output directory (writes DIR/controller_eval.csv)")->required();
   sub->add_option("--weights", o->weights, "GRU weights file (HDF5); default: the shipped weights");
   sub->add_option("--param", o->params, "Policy parameter POLICY.KEY=VALUE, e.g. reactive.tau=0.05 (repeatable)");
-  sub->add_option("--scenario", o->scenario,
-                  "Scenario override KEY=VALUE replacing the seed's draw, e.g. drift_speed=0.001 (repeatable; keys: docs/surrogate.md)");
+  sub->add_option(
+      "--scenario", o->scenario,
+      "Scenario override KEY=VALUE replacing the seed's draw, e.g. drift_speed=0.001 (repeatable; keys: docs/surrogate.md)");
   sub->add_option("--jobs", o->jobs, "Worker threads")->capture_default_str()->check(strict_integer(1));
   sub->add_flag("--dump-traces", o->dump_traces, "Also write every rollout as a JSON Lines trace under DIR/traces/");
   sub->add_flag("--no-timing", o->no_timing, "Write us_per_decision as 0 so that reruns are byte-identical");

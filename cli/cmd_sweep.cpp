@@ -24,7 +24,10 @@ Action add_sweep(CLI::App& app) {
   };
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("sweep", "Run an experiment manifest; rerunning resumes an interrupted sweep");
-  sub->add_option("manifest", o->manifest, "Manifest file (YAML), e.g. experiments/controller_eval.yaml; its runner: " + registered_list("runners"))->required();
+  sub->add_option(
+         "manifest", o->manifest,
+         "Manifest file (YAML), e.g. experiments/controller_eval.yaml; its runner: " + registered_list("runners"))
+      ->required();
   sub->add_option("--profile", o->profile, "Profile (small, paper); default: small when the manifest has it");
   sub->add_option("--set", o->sets, "Override KEY=VALUE (an axis takes a comma list or A-B range; repeatable)");
   sub->add_option("--results", o->results, "Results directory")->capture_default_str();
@@ -34,9 +37,11 @@ Action add_sweep(CLI::App& app) {
   sub->add_flag("--check", o->check,
                 "Expand the manifest and check every job as its runner would (files, rank counts, settings); run and "
                 "write nothing (exit 2 naming the field on a bad job)");
-  sub->add_flag("--wait", o->wait, "When another sweep is writing the results folder, wait for it (default: exit 2 naming it)");
-  sub->add_flag("--keep-runs", o->keep_runs,
-                "Keep each job's run files (engine MPI runs: scene.yaml, run.csv, rank_times.csv, trace.jsonl) under runs/ beside the CSV");
+  sub->add_flag("--wait", o->wait,
+                "When another sweep is writing the results folder, wait for it (default: exit 2 naming it)");
+  sub->add_flag(
+      "--keep-runs", o->keep_runs,
+      "Keep each job's run files (engine MPI runs: scene.yaml, run.csv, rank_times.csv, trace.jsonl) under runs/ beside the CSV");
   std::string names;
   for (const auto& n : experiments::Launchers::names()) names += (names.empty() ? "" : ", ") + n;
   sub->add_option("--launcher", o->launcher, "Where the jobs run: " + names)->capture_default_str();
@@ -46,13 +51,17 @@ Action add_sweep(CLI::App& app) {
       sub->add_option("--time", o->slurm.time, "Time limit of each array task, HH:MM:SS")->group(slurm),
       sub->add_option("--account", o->slurm.account, "Slurm account")->group(slurm),
       sub->add_option("--gpus-per-rank", o->slurm.gpus_per_rank, "GPUs per MPI rank (--gpus-per-task)")
-          ->check(strict_integer(1, 64))->group(slurm),
-      sub->add_option("--sbatch-arg", o->slurm.sbatch_args, "Extra #SBATCH line, e.g. --sbatch-arg=--gres=gpu:4 (repeatable)")
+          ->check(strict_integer(1, 64))
+          ->group(slurm),
+      sub->add_option("--sbatch-arg", o->slurm.sbatch_args,
+                      "Extra #SBATCH line, e.g. --sbatch-arg=--gres=gpu:4 (repeatable)")
           ->group(slurm),
       sub->add_flag("--dry-run", o->slurm.dry_run, "Print the batch script; submit nothing")->group(slurm),
-      sub->add_flag("--no-wait", o->no_wait, "Return after submitting; rerun the same command to collect")->group(slurm),
+      sub->add_flag("--no-wait", o->no_wait, "Return after submitting; rerun the same command to collect")
+          ->group(slurm),
       sub->add_option("--array-throttle", o->slurm.array_throttle, "At most N array tasks at once")
-          ->check(strict_integer(1, 1000000))->group(slurm),
+          ->check(strict_integer(1, 1000000))
+          ->group(slurm),
       sub->add_option("--task", o->slurm.task, "Run these jobs (an array task: INDEX,INDEX,...) into part files")
           ->group("")};
   return [o, sub, slurm_only] {
@@ -74,8 +83,8 @@ Action add_sweep(CLI::App& app) {
     so.wait = o->wait;
     if (o->check) {
       const experiments::SweepPlan plan(m, so, experiments::SweepPlan::Partial::ignore);
-      std::cerr << o->manifest << (m.profile.empty() ? "" : " (profile " + m.profile + ")") << ": " << plan.jobs().size()
-                << " jobs checked\n";
+      std::cerr << o->manifest << (m.profile.empty() ? "" : " (profile " + m.profile + ")") << ": "
+                << plan.jobs().size() << " jobs checked\n";
       return 0;
     }
     const auto sum = experiments::run_sweep(m, o->sets, so);

@@ -14,10 +14,13 @@ Action add_train(CLI::App& app) {
     bool quiet = false;
   };
   auto o = std::make_shared<Opts>();
-  auto* sub = app.add_subcommand("train", "Train the GRU controller (libtorch, CPU); resumes from OUT.ckpt after a kill");
-  sub->add_option("--config", o->config, "Training config (YAML); default: the paper's recipe (surrogate/train/default.yaml)");
+  auto* sub =
+      app.add_subcommand("train", "Train the GRU controller (libtorch, CPU); resumes from OUT.ckpt after a kill");
+  sub->add_option("--config", o->config,
+                  "Training config (YAML); default: the paper's recipe (surrogate/train/default.yaml)");
   sub->add_option("--set", o->sets, "Override KEY=VALUE (repeatable), e.g. --set batch=16");
-  sub->add_option("--steps", o->steps, "Optimisation steps (0 exports the untrained, zero-head model)")->check(strict_integer(0));
+  sub->add_option("--steps", o->steps, "Optimisation steps (0 exports the untrained, zero-head model)")
+      ->check(strict_integer(0));
   sub->add_option("--out", o->out, "Weights file to write (HDF5)")->required();
   sub->add_option("--checkpoint", o->checkpoint, "Checkpoint file (default: OUT.ckpt)");
   sub->add_option("--log", o->log, "Validation log CSV (default: OUT with .log.csv)");

@@ -51,9 +51,10 @@ int main(int argc, char** argv) {
   set_command_line(argc, argv);
   CLI::App app{"semlb: multi-GPU subcellular-element simulation with learned load balancing"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "semlb " + semlb::version_string(), "Print the version and git revision, then exit");
-  std::vector<Action> actions = {add_surrogate(app), add_replay(app), add_sweep(app), add_bench(app), add_sim(app),
-                                 add_list(app)};
+  app.set_version_flag("--version", "semlb " + semlb::version_string(),
+                       "Print the version and git revision, then exit");
+  std::vector<Action> actions = {add_surrogate(app), add_replay(app), add_sweep(app),
+                                 add_bench(app),     add_sim(app),    add_list(app)};
 #ifdef SEMLB_WITH_TORCH
   actions.push_back(add_train(app));
 #endif

@@ -17,11 +17,16 @@ struct Measured {
   const char* heading;
   double scale;
 };
-constexpr Measured kMeasured[] = {
-    {"mean_imbalance", "imbalance %", 100.0}, {"migration", "migration", 1.0}, {"migrated_slices", "migrated slices", 1.0},
-    {"loop_s", "loop s", 1.0}, {"wall_s", "wall s", 1.0}, {"compute_s", "compute s", 1.0},
-    {"s_per_1000_steps", "s / 1000 steps", 1.0}, {"element_steps_per_s", "element-steps/s", 1.0},
-    {"rms_error_um", "RMS error um", 1.0}, {"max_error_um", "max error um", 1.0}};
+constexpr Measured kMeasured[] = {{"mean_imbalance", "imbalance %", 100.0},
+                                  {"migration", "migration", 1.0},
+                                  {"migrated_slices", "migrated slices", 1.0},
+                                  {"loop_s", "loop s", 1.0},
+                                  {"wall_s", "wall s", 1.0},
+                                  {"compute_s", "compute s", 1.0},
+                                  {"s_per_1000_steps", "s / 1000 steps", 1.0},
+                                  {"element_steps_per_s", "element-steps/s", 1.0},
+                                  {"rms_error_um", "RMS error um", 1.0},
+                                  {"max_error_um", "max error um", 1.0}};
 constexpr size_t kMaxMeasured = 5;
 
 // One CSV line's cells ("..." quoting with "" inside, as the sweep writes a cell holding a comma).
@@ -30,10 +35,14 @@ std::vector<std::string> cells(const std::string& line) {
   bool quoted = false;
   for (size_t i = 0; i < line.size(); ++i) {
     const char c = line[i];
-    if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') out.back() += c, ++i;
-    else if (c == '"') quoted = !quoted;
-    else if (c == ',' && !quoted) out.emplace_back();
-    else if (c != '\r') out.back() += c;
+    if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"')
+      out.back() += c, ++i;
+    else if (c == '"')
+      quoted = !quoted;
+    else if (c == ',' && !quoted)
+      out.emplace_back();
+    else if (c != '\r')
+      out.back() += c;
   }
   return out;
 }
@@ -81,7 +90,9 @@ std::string result_table(const std::string& csv_path, const std::vector<std::str
     const auto it = std::find(header.begin(), header.end(), name);
     return it == header.end() ? -1 : static_cast<int>(it - header.begin());
   };
-  auto at = [](const std::vector<std::string>& r, int c) { return c >= 0 && c < static_cast<int>(r.size()) ? r[c] : std::string(); };
+  auto at = [](const std::vector<std::string>& r, int c) {
+    return c >= 0 && c < static_cast<int>(r.size()) ? r[c] : std::string();
+  };
   const int policy = column("policy"), ranks = column("ranks");
   // Knob columns (POLICY.KEY) make one "setting" per row: its own policy's non-empty knobs.
   std::vector<int> knobs;
@@ -112,8 +123,8 @@ std::string result_table(const std::string& csv_path, const std::vector<std::str
     }
   std::vector<std::pair<int, Measured>> measured;
   for (const auto& m : kMeasured)
-    if (const int c = column(m.column); c >= 0 && measured.size() < kMaxMeasured &&
-                                        std::find(key_cols.begin(), key_cols.end(), c) == key_cols.end())
+    if (const int c = column(m.column);
+        c >= 0 && measured.size() < kMaxMeasured && std::find(key_cols.begin(), key_cols.end(), c) == key_cols.end())
       measured.push_back({c, m});
   if (measured.empty()) return "";
   using Rows = std::vector<const std::vector<std::string>*>;
@@ -172,7 +183,8 @@ std::string result_table(const std::string& csv_path, const std::vector<std::str
     if (any_setting)
       out.push_back((best.empty() ? std::string("default") : best) +
                     (ss.size() > 1 ? " (least " + std::string(measured[0].second.heading) + " of " +
-                                         std::to_string(ss.size()) + ")" : ""));
+                                         std::to_string(ss.size()) + ")"
+                                   : ""));
     for (const auto& [c, m] : measured) {
       const auto v = values(members, c, m.scale);
       if (v.empty()) {

@@ -120,10 +120,12 @@ int remove_stale_run_folders(const std::string& dir, const std::string& prefix) 
     const std::string name = entry.path().filename().string();
     if (name.rfind(prefix, 0) != 0) continue;
     const size_t end = name.find('_', prefix.size());
-    const std::string digits = name.substr(prefix.size(), end == std::string::npos ? std::string::npos : end - prefix.size());
+    const std::string digits =
+        name.substr(prefix.size(), end == std::string::npos ? std::string::npos : end - prefix.size());
     if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
     const pid_t pid = static_cast<pid_t>(std::stol(digits));
-    if (pid <= 0 || pid == ::getpid() || ::kill(pid, 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+    if (pid <= 0 || pid == ::getpid() || ::kill(pid, 0) == 0 || errno != ESRCH)
+      continue;  // alive, or not ours to judge
     std::error_code rm;
     std::filesystem::remove_all(entry.path(), rm);
     removed += !rm;

@@ -44,7 +44,10 @@ std::string this_command() {
   std::vector<std::string> argv;
   std::string word;
   for (char c : ss.str())
-    if (c == '\0') argv.push_back(std::exchange(word, {})); else word += c;
+    if (c == '\0')
+      argv.push_back(std::exchange(word, {}));
+    else
+      word += c;
   return shell_words(argv);
 }
 
@@ -76,20 +79,25 @@ DirLock::DirLock(const std::string& dir, bool wait) : path_((std::filesystem::pa
         }
     }
     // The holder before us removes the file before it unlocks: a lock on a file no longer at path_ is no lock.
-    struct stat held {}, named {};
-    if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &named) == 0 && held.st_dev == named.st_dev && held.st_ino == named.st_ino)
+    struct stat held {
+    }, named{};
+    if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &named) == 0 && held.st_dev == named.st_dev &&
+        held.st_ino == named.st_ino)
       break;
     ::close(fd_);
   }
   // Ours now. A holder that ended cleanly removed the file; one that died left it naming itself.
   if (const std::string stale = holder(fd_); !stale.empty())
-    std::fprintf(stderr, "semlb: %s: took over the stale lock of %s, which is no longer running\n", dir.c_str(), describe(stale).c_str());
+    std::fprintf(stderr, "semlb: %s: took over the stale lock of %s, which is no longer running\n", dir.c_str(),
+                 describe(stale).c_str());
   const std::string me = std::to_string(::getpid()) + " " + this_command() + "\n";
   if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, me.data(), me.size(), 0) != static_cast<ssize_t>(me.size())) {
     const int err = errno;
     ::close(fd_);
     throw std::runtime_error(path_ + ": write failed: " + std::strerror(err ? err : ENOSPC));
-  }  register_cleanup_path(path_);  // a SIGINT or SIGTERM (common/cleanup.hpp) removes it too: no stale-lock note next time
+  }
+  register_cleanup_path(
+      path_);  // a SIGINT or SIGTERM (common/cleanup.hpp) removes it too: no stale-lock note next time
 }
 
 DirLock::~DirLock() {

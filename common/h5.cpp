@@ -42,7 +42,9 @@ File File::open_read(const std::string& path) {
 
 File File::open_write(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(path + ": no such file");
-  return File(Id(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, path + ": cannot open HDF5 file for writing"), path);
+  return File(
+      Id(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, path + ": cannot open HDF5 file for writing"),
+      path);
 }
 
 File File::create(const std::string& path) {
@@ -54,7 +56,8 @@ File File::create(const std::string& path) {
 File File::create_in_memory(const std::string& name) {
   Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, name + ": H5Pcreate failed");
   check(H5Pset_fapl_core(fapl.get(), 1 << 20, 0), name, "H5Pset_fapl_core");
-  return File(Id(H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose, name + ": cannot create HDF5 file in memory"),
+  return File(Id(H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
+                 name + ": cannot create HDF5 file in memory"),
               name);
 }
 
@@ -77,8 +80,11 @@ std::vector<std::string> File::list(const std::string& name) const {
     const ssize_t n = H5Lget_name_by_idx(group.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
     check_read(n < 0 ? -1 : 0, path_, "group " + name);
     std::string link(static_cast<size_t>(n) + 1, '\0');
-    check_read(H5Lget_name_by_idx(group.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, link.data(), link.size(), H5P_DEFAULT) < 0 ? -1 : 0,
-               path_, "group " + name);
+    check_read(
+        H5Lget_name_by_idx(group.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, link.data(), link.size(), H5P_DEFAULT) < 0
+            ? -1
+            : 0,
+        path_, "group " + name);
     link.resize(static_cast<size_t>(n));
     out.push_back(link);
   }
@@ -123,21 +129,27 @@ hsize_t count_of(const std::vector<hsize_t>& dims) {
 std::vector<double> File::read(const std::string& name, std::vector<hsize_t>& dims) const {
   Id set = open_dataset(name, H5T_FLOAT, dims);
   std::vector<double> data(count_of(dims));
-  if (!data.empty()) check_read(H5Dread(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), path_, "dataset " + name);
+  if (!data.empty())
+    check_read(H5Dread(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), path_,
+               "dataset " + name);
   return data;
 }
 
 std::vector<int64_t> File::read_ints(const std::string& name, std::vector<hsize_t>& dims) const {
   Id set = open_dataset(name, H5T_INTEGER, dims);
   std::vector<int64_t> data(count_of(dims));
-  if (!data.empty()) check_read(H5Dread(set.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), path_, "dataset " + name);
+  if (!data.empty())
+    check_read(H5Dread(set.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), path_,
+               "dataset " + name);
   return data;
 }
 
-void File::write_raw(const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type, hid_t mem_type, const void* data) {
+void File::write_raw(const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type, hid_t mem_type,
+                     const void* data) {
   Id lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose, path_ + ": H5Pcreate for " + name);
   check(H5Pset_create_intermediate_group(lcpl.get(), 1), path_, "intermediate groups of " + name);
-  Id space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose, path_ + ": dataspace " + name);
+  Id space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
+           path_ + ": dataspace " + name);
   Id dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, path_ + ": H5Pcreate for " + name);
   if (deflate_ > 0 && !dims.empty() && count_of(dims) > 0) {  // chunks of whole rows, up to 2^20 values each
     std::vector<hsize_t> chunk = dims;
@@ -147,9 +159,10 @@ void File::write_raw(const std::string& name, const std::vector<hsize_t>& dims, 
     check(H5Pset_shuffle(dcpl.get()), path_, "shuffle " + name);
     check(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(deflate_)), path_, "deflate " + name);
   }
-  Id set(H5Dcreate2(id(), name.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
-         H5Dclose, path_ + ": cannot create dataset " + name);
-  if (count_of(dims) > 0) check(H5Dwrite(set.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), path_, "write " + name);
+  Id set(H5Dcreate2(id(), name.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT), H5Dclose,
+         path_ + ": cannot create dataset " + name);
+  if (count_of(dims) > 0)
+    check(H5Dwrite(set.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), path_, "write " + name);
 }
 
 void File::write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<double>& data) {
@@ -204,7 +217,8 @@ void check_scalar(hid_t a, H5T_class_t expected, const std::string& path, const 
   Id type(H5Aget_type(a), H5Tclose, path + ": attribute '" + name + "': no datatype");
   Id space(H5Aget_space(a), H5Sclose, path + ": attribute '" + name + "': no dataspace");
   if (H5Tget_class(type.get()) != expected || H5Sget_simple_extent_npoints(space.get()) != 1)
-    throw InputError(path + ": attribute '" + name + "' must be one " + (expected == H5T_FLOAT ? "floating-point" : "integer") + " value");
+    throw InputError(path + ": attribute '" + name + "' must be one " +
+                     (expected == H5T_FLOAT ? "floating-point" : "integer") + " value");
 }
 }  // namespace
 

@@ -27,14 +27,14 @@ class Id {
 
 class File {
  public:
-  static File open_read(const std::string& path);    // throws InputError naming the path
-  static File create(const std::string& path);       // truncates
+  static File open_read(const std::string& path);  // throws InputError naming the path
+  static File create(const std::string& path);     // truncates
   // A file in memory only (HDF5's core driver, no backing store): nothing touches the disk; image() is its bytes.
   // `name` is for messages. Writers save the image with write_file_atomically, so a full disk is one write
   // error of ours, and HDF5 never holds a half-written file open.
   static File create_in_memory(const std::string& name);
-  std::string image() const;  // the whole file as bytes (flushes first)
-  static File open_write(const std::string& path);   // an existing file, read-write (tests, tools)
+  std::string image() const;                        // the whole file as bytes (flushes first)
+  static File open_write(const std::string& path);  // an existing file, read-write (tests, tools)
   const std::string& path() const { return path_; }
   hid_t id() const { return id_.get(); }
 
@@ -59,7 +59,8 @@ class File {
 
  private:
   Id open_dataset(const std::string& name, H5T_class_t expected, std::vector<hsize_t>& dims) const;
-  void write_raw(const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type, hid_t mem_type, const void* data);
+  void write_raw(const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type, hid_t mem_type,
+                 const void* data);
   File(Id id, std::string path) : id_(std::move(id)), path_(std::move(path)) {}
   Id attr(const std::string& name) const;
   Id id_;

@@ -69,7 +69,8 @@ ProcessResult run_process(const std::vector<std::string>& argv, const std::vecto
   // ranks), an empty signal mask, stdout and stderr into the pipe. Pipes close on exec, so a child started by
   // another thread meanwhile holds no end of them; `err` carries exec's errno back.
   int fd[2], err[2];
-  if (::pipe2(fd, O_CLOEXEC) != 0) throw std::runtime_error("cannot run " + argv[0] + ": pipe: " + std::strerror(errno));
+  if (::pipe2(fd, O_CLOEXEC) != 0)
+    throw std::runtime_error("cannot run " + argv[0] + ": pipe: " + std::strerror(errno));
   if (::pipe2(err, O_CLOEXEC) != 0) {
     ::close(fd[0]);
     ::close(fd[1]);
@@ -132,7 +133,9 @@ ProcessResult run_process(const std::vector<std::string>& argv, const std::vecto
 std::string shell_words(const std::vector<std::string>& argv) {
   std::string line;
   for (const auto& a : argv) {
-    const bool plain = !a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-+=./:,@%") == std::string::npos;
+    const bool plain =
+        !a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-+=./:,@%") ==
+                          std::string::npos;
     std::string q = "'";
     for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
     line += (line.empty() ? "" : " ") + (plain ? a : q + "'");

@@ -62,7 +62,8 @@ namespace detail {
 template <class T, class = void>
 struct has_registering : std::false_type {};
 template <class T>
-struct has_registering<T, std::void_t<decltype(T::registering(std::declval<const std::string&>(), std::declval<const T&>()))>>
+struct has_registering<
+    T, std::void_t<decltype(T::registering(std::declval<const std::string&>(), std::declval<const T&>()))>>
     : std::true_type {};
 }  // namespace detail
 
@@ -129,7 +130,8 @@ inline void check_plugin_name(const std::string& kind, const std::string& name) 
 }
 // `params` (a plug-in's parameters read from its scene section), or std::logic_error when there are more than
 // kMaxPluginParams.
-inline std::vector<double> checked_plugin_params(const std::string& kind, const std::string& name, std::vector<double> params) {
+inline std::vector<double> checked_plugin_params(const std::string& kind, const std::string& name,
+                                                 std::vector<double> params) {
   if (params.size() > kMaxPluginParams)
     throw std::logic_error(kind + " '" + name + "': more than " + std::to_string(kMaxPluginParams) + " parameters");
   return params;

@@ -12,7 +12,7 @@ namespace semlb {
 // named in words ("--set ranks", "--ranks", "policy parameter 'tau'").
 struct Origin {
   std::string file;
-  long line = 0;     // 1-based; 0: the file as a whole
+  long line = 0;  // 1-based; 0: the file as a whole
   std::string flag;
   // The field the flag set when it set a whole map ("--set effects.noise={...}"): a field inside it is named too.
   std::string flag_field;

@@ -77,8 +77,8 @@ double parse_real(std::string_view text, const std::string& where, double min, d
   if (ec == std::errc::result_out_of_range || !std::isfinite(v))
     throw InputError(where + quoted + " is not a finite number in the range of a double");
   if (v < min || v > max || (min_open && v == min) || (max_open && v == max))
-    throw InputError(where + quoted + " is outside " + (min_open ? "(" : "[") + format_real(min) + ", " + format_real(max) +
-                     (max_open ? ")" : "]"));
+    throw InputError(where + quoted + " is outside " + (min_open ? "(" : "[") + format_real(min) + ", " +
+                     format_real(max) + (max_open ? ")" : "]"));
   return v;
 }
 

@@ -26,11 +26,10 @@ std::string join(const std::vector<std::string>& fields, char separator = ',');
 // long. The value must lie in [min, max] (for a real, an end is open when min_open / max_open). `where` prefixes
 // the message (e.g. semlb::where(file, line, field), or "--set KEY: "); errors throw
 // InputError("<where>'<text>' is not a number", ... "is outside [a, b]", "is outside (a, b]").
-double parse_real(std::string_view text, const std::string& where,
-                  double min = -std::numeric_limits<double>::max(), double max = std::numeric_limits<double>::max(),
-                  bool min_open = false, bool max_open = false);
-long parse_integer(std::string_view text, const std::string& where,
-                   long min = std::numeric_limits<long>::min(), long max = std::numeric_limits<long>::max());
+double parse_real(std::string_view text, const std::string& where, double min = -std::numeric_limits<double>::max(),
+                  double max = std::numeric_limits<double>::max(), bool min_open = false, bool max_open = false);
+long parse_integer(std::string_view text, const std::string& where, long min = std::numeric_limits<long>::min(),
+                   long max = std::numeric_limits<long>::max());
 
 // The shortest text that reads back as exactly `v` (std::to_chars): 12345.01 -> "12345.01", 0.1 -> "0.1",
 // 3 -> "3", 1e-07 -> "1e-07". Used for every real written into CSV, XDMF and other text outputs.

@@ -24,7 +24,8 @@ inline void refuse_duplicate_keys(const YAML::Node& node, const std::string& fil
     const std::string full = path.empty() ? key : path + "." + key;
     const long line = kv.first.Mark().line + 1;
     for (const auto& [k, first] : seen)
-      if (k == key) throw InputError(where(file, line, full) + "duplicate key (first at line " + std::to_string(first) + ")");
+      if (k == key)
+        throw InputError(where(file, line, full) + "duplicate key (first at line " + std::to_string(first) + ")");
     seen.emplace_back(key, line);
     refuse_duplicate_keys(kv.second, file, full);
   }
@@ -67,7 +68,9 @@ inline Settings load_flat_settings(const std::string& path, const std::string& w
       for (const auto& kv : root) {
         const Origin at{path, kv.first.Mark().line + 1, "", ""};
         s.set(kv.first.Scalar(), Settings::Value{kv.second.IsScalar() ? Settings::Kind::text : Settings::Kind::map,
-                                                 kv.second.IsScalar() ? kv.second.Scalar() : "", {}, at});
+                                                 kv.second.IsScalar() ? kv.second.Scalar() : "",
+                                                 {},
+                                                 at});
       }
     }
   }

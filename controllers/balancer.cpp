@@ -12,8 +12,12 @@ namespace semlb {
 
 Balancer::Balancer(std::string policy_name, std::unique_ptr<Policy> policy, int slices, int min_width,
                    std::vector<int> initial)
-    : name_(std::move(policy_name)), owned_(std::move(policy)), policy_(owned_.get()), slices_(slices),
-      min_width_(min_width), boundaries_(std::move(initial)) {
+    : name_(std::move(policy_name)),
+      owned_(std::move(policy)),
+      policy_(owned_.get()),
+      slices_(slices),
+      min_width_(min_width),
+      boundaries_(std::move(initial)) {
   check_partition(boundaries_, slices_, min_width_);
 }
 

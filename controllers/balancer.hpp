@@ -34,17 +34,18 @@ struct Decision {
 // The balancer's own state, saved in checkpoints (version kBalancerStateVersion).
 inline constexpr long kBalancerStateVersion = 1;
 struct BalancerState {
-  int event = 0;                 // index of the next event
-  long migration = 0;            // slices moved so far
-  std::vector<int> boundaries;   // current interior boundaries [P-1]
-  PolicyState policy;            // the policy's history (Policy::save_state)
+  int event = 0;                // index of the next event
+  long migration = 0;           // slices moved so far
+  std::vector<int> boundaries;  // current interior boundaries [P-1]
+  PolicyState policy;           // the policy's history (Policy::save_state)
 };
 
 class Balancer {
  public:
   // `initial` must be a valid partition of `slices` into initial.size()+1 ranks of >= min_width slices
   // (InputError otherwise). `policy` may be null for callers that decide themselves (observe + commit).
-  Balancer(std::string policy_name, std::unique_ptr<Policy> policy, int slices, int min_width, std::vector<int> initial);
+  Balancer(std::string policy_name, std::unique_ptr<Policy> policy, int slices, int min_width,
+           std::vector<int> initial);
   // Same with a policy the caller owns and keeps alive while the balancer is used.
   Balancer(std::string policy_name, Policy& policy, int slices, int min_width, std::vector<int> initial);
 

@@ -71,7 +71,10 @@ std::vector<int> optimal_partition(std::span<const double> work, int ranks, int 
   uint64_t lo = 0, hi = std::bit_cast<uint64_t>(p[S]);
   while (lo < hi) {
     const uint64_t mid = lo + (hi - lo) / 2;
-    if (probe.solve(std::bit_cast<double>(mid))) hi = mid; else lo = mid + 1;
+    if (probe.solve(std::bit_cast<double>(mid)))
+      hi = mid;
+    else
+      lo = mid + 1;
   }
   const double bound = std::bit_cast<double>(hi);
   probe.solve(bound);

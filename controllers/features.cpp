@@ -28,7 +28,9 @@ FeatureVector boundary_features(const BoundaryState& s, FeatureSet set) {
   const double mw = std::max(s.mean_width, 1.0);
   const double angle = 2.0 * std::numbers::pi * s.growth_phase;
   const bool v2 = set == FeatureSet::v2;
-  auto signed_unit = [&](double x) { return v2 ? x / (1.0 + std::fabs(x)) : clamp(x, -1.0, 1.0); };  // v1 clamps, v2 squashes
+  auto signed_unit = [&](double x) {
+    return v2 ? x / (1.0 + std::fabs(x)) : clamp(x, -1.0, 1.0);
+  };  // v1 clamps, v2 squashes
   return {
       signed_unit(s.local_imbalance),
       signed_unit(s.local_imbalance - s.prev_local_imbalance),
@@ -81,10 +83,12 @@ std::vector<BoundaryInputs> FeatureTracker::observe(const Observation& obs, cons
 }
 
 const std::array<std::string, kFeatureCount>& feature_names() {
-  static const std::array<std::string, kFeatureCount> names = {
-      "local_imbalance", "local_imbalance_change", "global_imbalance", "width_left", "width_right",
-      "slack_left",      "slack_right",            "last_move",        "phase_sin",  "phase_cos",
-      "growth_event",    "reactive_proposal"};
+  static const std::array<std::string, kFeatureCount> names = {"local_imbalance",  "local_imbalance_change",
+                                                               "global_imbalance", "width_left",
+                                                               "width_right",      "slack_left",
+                                                               "slack_right",      "last_move",
+                                                               "phase_sin",        "phase_cos",
+                                                               "growth_event",     "reactive_proposal"};
   return names;
 }
 
@@ -107,7 +111,8 @@ void FeatureTracker::load_state(const std::map<std::string, std::vector<double>>
   if (b == in.end() || b->second.size() != imb->second.size())
     throw InputError("gru state: tracker.prev_boundaries must accompany tracker.prev_imbalance, one per boundary");
   for (double v : b->second)
-    if (v != std::floor(v) || v < 0 || v > 1e9) throw InputError("gru state: tracker.prev_boundaries must be slice indices");
+    if (v != std::floor(v) || v < 0 || v > 1e9)
+      throw InputError("gru state: tracker.prev_boundaries must be slice indices");
   prev_imbalance_ = imb->second;
   prev_boundaries_.assign(b->second.begin(), b->second.end());
 }

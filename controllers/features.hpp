@@ -10,8 +10,9 @@ namespace semlb {
 
 inline constexpr int kFeatureCount = 12;
 // Two sets of the same 12 inputs (docs/controllers.md "GRU features"): boundary-v1 clamps the imbalance, its change and
-// the last move to [-1, 1] (the global imbalance to [0, 2]), which saturates on engine workloads (|I_t| ~ 1); boundary-v2
-// maps them through x / (1 + |x|) instead (equal to x to first order, never flat). Weights files name their set.
+// the last move to [-1, 1] (the global imbalance to [0, 2]), which saturates on engine workloads (|I_t| ~ 1);
+// boundary-v2 maps them through x / (1 + |x|) instead (equal to x to first order, never flat). Weights files name their
+// set.
 enum class FeatureSet { v1, v2 };
 inline constexpr const char* kFeatureSet = "boundary-v1";    // the name of FeatureSet::v1
 inline constexpr const char* kFeatureSetV2 = "boundary-v2";  // the name of FeatureSet::v2
@@ -22,16 +23,16 @@ FeatureSet parse_feature_set(const std::string& name, const std::string& where);
 // Everything one boundary's features are computed from. Real-valued so that a soft (relaxed) rollout
 // can use the same code.
 struct BoundaryState {
-  double local_imbalance = 0;       // I_t at this boundary
-  double prev_local_imbalance = 0;  // I_{t-1} (equal to I_t at the first event)
-  double global_imbalance = 0;      // (T_max - T_min) / T_mean
+  double local_imbalance = 0;              // I_t at this boundary
+  double prev_local_imbalance = 0;         // I_{t-1} (equal to I_t at the first event)
+  double global_imbalance = 0;             // (T_max - T_min) / T_mean
   double width_left = 0, width_right = 0;  // slices of the two adjacent ranks
   double min_width = 1, mean_width = 1;    // min_width and slices / P
-  double last_move = 0;             // signed slices this boundary moved at the previous event
-  double growth_phase = 0;          // [0, 1)
+  double last_move = 0;                    // signed slices this boundary moved at the previous event
+  double growth_phase = 0;                 // [0, 1)
   bool growth_event = false;
-  double proposal = 0;              // signed reactive proposal Δs_r (slices, + = right)
-  double ds_max = 1;                // bound of one event's move at this boundary (slices)
+  double proposal = 0;  // signed reactive proposal Δs_r (slices, + = right)
+  double ds_max = 1;    // bound of one event's move at this boundary (slices)
 };
 
 using FeatureVector = std::array<double, kFeatureCount>;

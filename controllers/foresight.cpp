@@ -51,11 +51,20 @@ void solve_one_boundary(const std::vector<std::vector<double>>& p, std::vector<s
   std::vector<std::vector<int>> from(K, std::vector<int>(S + 1, -1));
   f[path[0][i]] = 0.0;
   for (int t = 1; t < K; ++t) {
-    for (int x = 0; x <= S; ++x) { g[x] = f[x]; garg[x] = x; }
+    for (int x = 0; x <= S; ++x) {
+      g[x] = f[x];
+      garg[x] = x;
+    }
     for (int x = 1; x <= S; ++x)
-      if (g[x - 1] + lambda < g[x]) { g[x] = g[x - 1] + lambda; garg[x] = garg[x - 1]; }
+      if (g[x - 1] + lambda < g[x]) {
+        g[x] = g[x - 1] + lambda;
+        garg[x] = garg[x - 1];
+      }
     for (int x = S - 1; x >= 0; --x)
-      if (g[x + 1] + lambda < g[x]) { g[x] = g[x + 1] + lambda; garg[x] = garg[x + 1]; }
+      if (g[x + 1] + lambda < g[x]) {
+        g[x] = g[x + 1] + lambda;
+        garg[x] = garg[x + 1];
+      }
     const auto& b = path[t];
     const auto& pt = p[t];
     const int left = i > 0 ? b[i - 1] : 0, right = i + 1 < B ? b[i + 1] : S;
@@ -98,8 +107,8 @@ void descend(const std::vector<std::vector<double>>& p, std::vector<std::vector<
 
 }  // namespace
 
-ForesightPath foresight_path(const std::vector<std::vector<double>>& work, std::span<const int> initial,
-                             int min_width, double lambda) {
+ForesightPath foresight_path(const std::vector<std::vector<double>>& work, std::span<const int> initial, int min_width,
+                             double lambda) {
   if (!std::isfinite(lambda) || lambda < 0.0) throw InputError("foresight: lambda must be finite and >= 0");
   if (work.empty()) throw InputError("foresight: no intervals");
   const int S = static_cast<int>(work[0].size()), P = static_cast<int>(initial.size()) + 1;
@@ -142,14 +151,15 @@ ForesightPath foresight_path(const std::vector<std::vector<double>>& work, std::
 }
 
 std::vector<int> ForesightPolicy::decide(const Observation&) {
-  throw InputError("policy 'foresight' is an offline analysis baseline: it needs the true work of the whole run in "
-                   "advance (run it with `semlb surrogate`, a surrogate manifest or `semlb replay --score`)");
+  throw InputError(
+      "policy 'foresight' is an offline analysis baseline: it needs the true work of the whole run in "
+      "advance (run it with `semlb surrogate`, a surrogate manifest or `semlb replay --score`)");
 }
 
 namespace {
-const Registrar<PolicyInfo> foresight_registrar("foresight", {[](PolicyParams& p) {
-  return std::make_unique<ForesightPolicy>(p.real("lambda", 0.001, 0.0, 1e6));
-}, PolicyNeeds{.true_work = true}});
+const Registrar<PolicyInfo> foresight_registrar(
+    "foresight", {[](PolicyParams& p) { return std::make_unique<ForesightPolicy>(p.real("lambda", 0.001, 0.0, 1e6)); },
+                  PolicyNeeds{.true_work = true}});
 }  // namespace
 
 }  // namespace semlb

@@ -23,8 +23,8 @@ struct ForesightPath {
 // with the others fixed, from two starts (never move; the per-interval optimal contiguous partition), until
 // a sweep gains nothing: a feasible path, so its objective is an upper bound on the optimum.
 // Throws InputError for an infeasible initial partition, ragged work or a negative/non-finite lambda.
-ForesightPath foresight_path(const std::vector<std::vector<double>>& work, std::span<const int> initial,
-                             int min_width, double lambda);
+ForesightPath foresight_path(const std::vector<std::vector<double>>& work, std::span<const int> initial, int min_width,
+                             double lambda);
 
 // The registered name `foresight` carries lambda (parameter `lambda`, default 0.001, in [0, 1e6]) to offline
 // evaluators; decide() refuses (InputError): the policy needs the whole run in advance, which no online loop

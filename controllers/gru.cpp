@@ -24,7 +24,9 @@ GruWeights GruWeights::random_zero_head(int hidden, int inputs, uint64_t seed) {
   w.inputs = inputs;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1.0 / std::sqrt(hidden), 1.0 / std::sqrt(hidden));
-  auto fill = [&](auto& m) { for (Eigen::Index i = 0; i < m.size(); ++i) m.data()[i] = u(rng); };
+  auto fill = [&](auto& m) {
+    for (Eigen::Index i = 0; i < m.size(); ++i) m.data()[i] = u(rng);
+  };
   w.w_ih.resize(3 * hidden, inputs);
   w.w_hh.resize(3 * hidden, hidden);
   w.b_ih.resize(3 * hidden);
@@ -101,8 +103,10 @@ GruWeights load_gru_weights(const std::string& path) {
   w.hidden = static_cast<int>(f.read_int_attr("hidden"));
   w.inputs = kFeatureCount;
   w.ds_max_frac = f.read_real_attr("ds_max_frac");
-  if (w.hidden < 1 || w.hidden > 4096) throw InputError(path + ": attribute 'hidden' = " + std::to_string(w.hidden) + " is out of range");
-  if (!(w.ds_max_frac > 0.0 && w.ds_max_frac <= 1.0)) throw InputError(path + ": attribute 'ds_max_frac' must be in (0, 1]");
+  if (w.hidden < 1 || w.hidden > 4096)
+    throw InputError(path + ": attribute 'hidden' = " + std::to_string(w.hidden) + " is out of range");
+  if (!(w.ds_max_frac > 0.0 && w.ds_max_frac <= 1.0))
+    throw InputError(path + ": attribute 'ds_max_frac' must be in (0, 1]");
   const hsize_t G = 3 * w.hidden, H = w.hidden, F = kFeatureCount;
   w.w_ih = read_matrix(f, "/gru/weight_ih", G, F, false);
   w.w_hh = read_matrix(f, "/gru/weight_hh", G, H, false);
@@ -125,8 +129,9 @@ void save_gru_weights(const std::string& path, const GruWeights& w, const std::f
     f.write_attr("ds_max_frac", w.ds_max_frac);
     auto put = [&](const std::string& name, const Eigen::MatrixXd& m, bool vector) {
       const RowMajor rm = m;
-      std::vector<hsize_t> dims = vector ? std::vector<hsize_t>{static_cast<hsize_t>(m.size())}
-                                         : std::vector<hsize_t>{static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
+      std::vector<hsize_t> dims =
+          vector ? std::vector<hsize_t>{static_cast<hsize_t>(m.size())}
+                 : std::vector<hsize_t>{static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
       f.write(name, dims, std::vector<double>(rm.data(), rm.data() + rm.size()));
     };
     put("/gru/weight_ih", w.w_ih, false);
@@ -148,7 +153,8 @@ double gru_parity_error(const std::string& path) {
   const auto outputs = f.read("/parity/residuals", out_dims);
   if (in_dims.size() != 3 || in_dims[2] != static_cast<hsize_t>(w.inputs) || out_dims.size() != 2 ||
       out_dims[0] != in_dims[0] || out_dims[1] != in_dims[1])
-    throw InputError(path + ": /parity/inputs must be [T, B, " + std::to_string(w.inputs) + "] and /parity/residuals [T, B]");
+    throw InputError(path + ": /parity/inputs must be [T, B, " + std::to_string(w.inputs) +
+                     "] and /parity/residuals [T, B]");
   const hsize_t T = in_dims[0], B = in_dims[1], F = in_dims[2];
   Eigen::MatrixXd h = Eigen::MatrixXd::Zero(w.hidden, static_cast<Eigen::Index>(B));
   double worst = 0;
@@ -166,7 +172,9 @@ std::string default_gru_weights_path() {
   return SEMLB_DEFAULT_WEIGHTS;
 }
 
-std::string resolve_gru_weights(const std::string& path) { return resolve_weights_file(path, default_gru_weights_path()); }
+std::string resolve_gru_weights(const std::string& path) {
+  return resolve_weights_file(path, default_gru_weights_path());
+}
 
 namespace {
 
@@ -181,8 +189,10 @@ class GruPolicy final : public Policy {
     std::vector<long> moves(inputs.size());
     for (size_t i = 0; i < inputs.size(); ++i) {
       const auto& in = inputs[i];
-      hidden_.col(i) = gru_step(w_, Eigen::Map<const Eigen::VectorXd>(in.features.data(), kFeatureCount), hidden_.col(i));
-      moves[i] = integer_step(in.direction, residual_magnitude(in.reactive_magnitude, in.ds_max, gru_head(w_, hidden_.col(i))));
+      hidden_.col(i) =
+          gru_step(w_, Eigen::Map<const Eigen::VectorXd>(in.features.data(), kFeatureCount), hidden_.col(i));
+      moves[i] = integer_step(in.direction,
+                              residual_magnitude(in.reactive_magnitude, in.ds_max, gru_head(w_, hidden_.col(i))));
     }
     return apply_moves(obs.boundaries, moves, obs.slices, obs.min_width);
   }
@@ -205,9 +215,11 @@ class GruPolicy final : public Policy {
     const auto tracked = s.find("tracker.prev_imbalance");
     const size_t boundaries = tracked == s.end() ? 0 : tracked->second.size();
     if (h->second.size() != boundaries * w_.hidden)
-      throw InputError("gru state: hidden has " + std::to_string(h->second.size()) + " values, expected the hidden size " +
-                       std::to_string(w_.hidden) + " x " + std::to_string(boundaries) + " boundaries");
-    hidden_ = Eigen::Map<const Eigen::MatrixXd>(h->second.data(), w_.hidden, static_cast<Eigen::Index>(h->second.size() / w_.hidden));
+      throw InputError("gru state: hidden has " + std::to_string(h->second.size()) +
+                       " values, expected the hidden size " + std::to_string(w_.hidden) + " x " +
+                       std::to_string(boundaries) + " boundaries");
+    hidden_ = Eigen::Map<const Eigen::MatrixXd>(h->second.data(), w_.hidden,
+                                                static_cast<Eigen::Index>(h->second.size() / w_.hidden));
   }
 
  private:
@@ -217,16 +229,17 @@ class GruPolicy final : public Policy {
   Eigen::MatrixXd hidden_;  // H x B: one hidden state per boundary
 };
 
-const Registrar<PolicyInfo> gru_registrar("gru", {[](PolicyParams& params) {
-  ReactiveParams p;
-  p.tau = params.real("tau", p.tau, 0.0, kMaxThreshold);
-  p.alpha = params.real("alpha", p.alpha, 0.0, 2.0, true, true);
-  const std::string path = params.text("weights", "");
-  if (path.empty() && !std::filesystem::exists(default_gru_weights_path()))
-    throw InputError("policy 'gru': no --weights given and the shipped default " + default_gru_weights_path() +
-                     " does not exist (train one with `semlb train`)");
-  return std::make_unique<GruPolicy>(load_gru_weights(resolve_gru_weights(path)), p);
-}});
+const Registrar<PolicyInfo> gru_registrar(
+    "gru", {[](PolicyParams& params) {
+      ReactiveParams p;
+      p.tau = params.real("tau", p.tau, 0.0, kMaxThreshold);
+      p.alpha = params.real("alpha", p.alpha, 0.0, 2.0, true, true);
+      const std::string path = params.text("weights", "");
+      if (path.empty() && !std::filesystem::exists(default_gru_weights_path()))
+        throw InputError("policy 'gru': no --weights given and the shipped default " + default_gru_weights_path() +
+                         " does not exist (train one with `semlb train`)");
+      return std::make_unique<GruPolicy>(load_gru_weights(resolve_gru_weights(path)), p);
+    }});
 
 }  // namespace
 

@@ -17,11 +17,11 @@ struct GruWeights {
   int hidden = 24;
   int inputs = 12;
   FeatureSet features = FeatureSet::v1;  // the input transforms it was trained with (attribute feature_set)
-  double ds_max_frac = 0.5;  // Δs_max = ds_max_frac * N_slow at each boundary
-  Eigen::MatrixXd w_ih;      // 3H x F
-  Eigen::MatrixXd w_hh;      // 3H x H
-  Eigen::VectorXd b_ih, b_hh;  // 3H
-  Eigen::VectorXd head_w;    // H
+  double ds_max_frac = 0.5;              // Δs_max = ds_max_frac * N_slow at each boundary
+  Eigen::MatrixXd w_ih;                  // 3H x F
+  Eigen::MatrixXd w_hh;                  // 3H x H
+  Eigen::VectorXd b_ih, b_hh;            // 3H
+  Eigen::VectorXd head_w;                // H
   double head_b = 0.0;
 
   // Uniform(-1/sqrt(H), 1/sqrt(H)) like PyTorch's default, with the linear head set to zero.
@@ -44,7 +44,9 @@ std::unique_ptr<Policy> make_gru_policy(GruWeights w, const ReactiveParams& p);
 
 // File I/O. Loading checks format, version, feature set and list, and every shape; errors name the file.
 // `extra` may add metadata or datasets before the file is renamed into place.
-namespace h5 { class File; }
+namespace h5 {
+class File;
+}
 GruWeights load_gru_weights(const std::string& path);
 void save_gru_weights(const std::string& path, const GruWeights& w, const std::function<void(h5::File&)>& extra = {});
 

@@ -28,7 +28,8 @@ class LearnedRepartitionPolicy final : public Policy {
     std::vector<double> est(S), forecast(S);
     for (int s = 0; s < S; ++s) est[s] = w[s] * correction_[s];
     const bool trend = p_.trend > 0 && static_cast<int>(previous_.size()) == S;
-    for (int s = 0; s < S; ++s) forecast[s] = trend ? std::max(0.0, est[s] + p_.trend * (est[s] - previous_[s])) : est[s];
+    for (int s = 0; s < S; ++s)
+      forecast[s] = trend ? std::max(0.0, est[s] + p_.trend * (est[s] - previous_[s])) : est[s];
     previous_ = std::move(est);
     auto targets = equal_share_targets(forecast, P);
     if (p_.deadband > 0)
@@ -48,7 +49,8 @@ class LearnedRepartitionPolicy final : public Policy {
       throw InputError("learned_repartition state: previous has " + std::to_string(e.size()) + " slices, correction " +
                        std::to_string(c.size()));
     for (double x : c)
-      if (!(x >= kMinCorrection && x <= kMaxCorrection)) throw InputError("learned_repartition state: correction out of range");
+      if (!(x >= kMinCorrection && x <= kMaxCorrection))
+        throw InputError("learned_repartition state: correction out of range");
     correction_ = c, previous_ = e;
   }
 
@@ -61,7 +63,8 @@ class LearnedRepartitionPolicy final : public Policy {
     std::vector<double> cum(S + 1, 0.0);
     for (int s = 0; s < S; ++s) cum[s + 1] = cum[s] + forecast[s];
     std::vector<long> t(P - 1);
-    for (int k = 0; k + 1 < P; ++k) t[k] = std::clamp(obs.boundaries[k] + std::lround(targets[k] - obs.boundaries[k]), 0L, static_cast<long>(S));
+    for (int k = 0; k + 1 < P; ++k)
+      t[k] = std::clamp(obs.boundaries[k] + std::lround(targets[k] - obs.boundaries[k]), 0L, static_cast<long>(S));
     double total = 0, gained = 0;
     for (double x : obs.times) total += x;
     bool moved = false;
@@ -73,8 +76,10 @@ class LearnedRepartitionPolicy final : public Policy {
       }
       const double now = std::max(cum[b] - cum[lo], cum[hi] - cum[b]);
       const double next = std::max(cum[t[k]] - cum[lo], cum[hi] - cum[t[k]]);
-      if (now - next > p_.move_cost * total / S * static_cast<double>(std::labs(t[k] - b))) gained += now - next, moved = true;
-      else targets[k] = b;
+      if (now - next > p_.move_cost * total / S * static_cast<double>(std::labs(t[k] - b)))
+        gained += now - next, moved = true;
+      else
+        targets[k] = b;
     }
     if (moved && !(gained > p_.fixed_cost * total / P))
       for (int k = 0; k + 1 < P; ++k) targets[k] = obs.boundaries[k];
@@ -107,13 +112,17 @@ class LearnedRepartitionPolicy final : public Policy {
 
 // weights: a file (default: the shipped one), or "none" for all-zero parameters (the base rule); each parameter given
 // overrides the file's value.
-const Registrar<PolicyInfo> registrar("learned_repartition", {[](PolicyParams& params) {
-  const std::string file = params.text("weights", "");
-  RepartitionParams p;
-  if (file != "none") p = load_repartition_weights(resolve_repartition_weights(file));
-  for (const auto& d : repartition_params()) p.*d.field = params.real(d.name, p.*d.field, d.min, d.max);
-  return make_learned_repartition(p);
-}, PolicyNeeds{.slice_work = true}});
+const Registrar<PolicyInfo> registrar("learned_repartition",
+                                      {[](PolicyParams& params) {
+                                         const std::string file = params.text("weights", "");
+                                         RepartitionParams p;
+                                         if (file != "none")
+                                           p = load_repartition_weights(resolve_repartition_weights(file));
+                                         for (const auto& d : repartition_params())
+                                           p.*d.field = params.real(d.name, p.*d.field, d.min, d.max);
+                                         return make_learned_repartition(p);
+                                       },
+                                       PolicyNeeds{.slice_work = true}});
 
 }  // namespace
 
@@ -142,8 +151,8 @@ RepartitionParams load_repartition_weights(const std::string& path) {
   for (const auto& d : repartition_params()) {
     const double v = f.read_real_attr(d.name);
     if (!(v >= d.min && v <= d.max))
-      throw InputError(path + ": attribute '" + d.name + "' = " + format_real(v) + " is outside [" + format_real(d.min) +
-                       ", " + format_real(d.max) + "]");
+      throw InputError(path + ": attribute '" + d.name + "' = " + format_real(v) + " is outside [" +
+                       format_real(d.min) + ", " + format_real(d.max) + "]");
     p.*d.field = v;
   }
   return p;

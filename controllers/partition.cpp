@@ -26,8 +26,8 @@ void check_partition(std::span<const int> boundaries, int slices, int min_width)
   const long ranks = static_cast<long>(boundaries.size()) + 1;
   if (min_width < 1) throw InputError("min_width must be >= 1, got " + std::to_string(min_width));
   if (ranks * min_width > slices)
-    throw InputError(std::to_string(ranks) + " ranks x min_width " + std::to_string(min_width) +
-                     " exceeds " + std::to_string(slices) + " slices");
+    throw InputError(std::to_string(ranks) + " ranks x min_width " + std::to_string(min_width) + " exceeds " +
+                     std::to_string(slices) + " slices");
   const auto w = widths(boundaries, slices);
   for (size_t r = 0; r < w.size(); ++r)
     if (w[r] < min_width)
@@ -35,12 +35,11 @@ void check_partition(std::span<const int> boundaries, int slices, int min_width)
                        " < min_width " + std::to_string(min_width));
 }
 
-std::vector<int> apply_moves(std::span<const int> boundaries, std::span<const long> moves, int slices,
-                             int min_width) {
+std::vector<int> apply_moves(std::span<const int> boundaries, std::span<const long> moves, int slices, int min_width) {
   std::vector<int> out(boundaries.begin(), boundaries.end());
   const size_t n = out.size();
   for (size_t i = 0; i < n; ++i) {
-    const long left_edge = i == 0 ? 0 : out[i - 1];                 // already moved in this sweep
+    const long left_edge = i == 0 ? 0 : out[i - 1];                   // already moved in this sweep
     const long right_edge = i + 1 == n ? slices : boundaries[i + 1];  // not yet moved
     const long lo = left_edge + min_width, hi = right_edge - min_width;
     out[i] = static_cast<int>(std::clamp(static_cast<long>(out[i]) + moves[i], std::min(lo, hi), hi));

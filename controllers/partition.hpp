@@ -13,8 +13,7 @@ void check_partition(std::span<const int> boundaries, int slices, int min_width)
 
 // Applies signed integer moves (positive = boundary moves right) in one left-to-right sweep. Each move is
 // truncated so that both neighbouring ranks keep >= min_width given the widths after the earlier moves.
-std::vector<int> apply_moves(std::span<const int> boundaries, std::span<const long> moves, int slices,
-                             int min_width);
+std::vector<int> apply_moves(std::span<const int> boundaries, std::span<const long> moves, int slices, int min_width);
 
 // Moves each boundary to the nearest integer of its real-valued target (move = lround(target - b): half away
 // from zero), then applies the moves with apply_moves (the min-width sweep). targets: [P-1], in slices.

@@ -24,11 +24,13 @@ void PolicyParams::set(const std::string& key, const std::string& value) {
 void PolicyParams::expect_all_used(const std::string& policy) const {
   const auto unread = values_.unread();
   if (!unread.empty())
-    throw InputError("policy '" + policy + "' has no parameter '" + *std::min_element(unread.begin(), unread.end()) + "'");
+    throw InputError("policy '" + policy + "' has no parameter '" + *std::min_element(unread.begin(), unread.end()) +
+                     "'");
 }
 
 void Policy::load_state(const PolicyState& s) {
-  if (!s.empty()) throw InputError("policy state: this policy keeps no history, the checkpoint has '" + s.begin()->first + "'");
+  if (!s.empty())
+    throw InputError("policy state: this policy keeps no history, the checkpoint has '" + s.begin()->first + "'");
 }
 
 PolicyNeeds policy_needs(const std::string& name) { return entry(name).needs; }

@@ -300,38 +300,41 @@ class LammpsShiftPolicy final : public Policy {
 // Parameter ranges (docs/controllers.md "Input rules: parameter ranges"): none lets a policy move work toward
 // the slower rank, and none overshoots balance by more than it started from.
 const Registrar<PolicyInfo> gromacs_registrar("gromacs_dlb", {[](PolicyParams& params) {
-  GromacsParams p;
-  p.relax = params.real("relax", p.relax, 0.0, 2.0, true, true);
-  p.cap = params.real("cap", p.cap, 0.0, 1.0, true, true);
-  p.threshold = params.real("threshold", p.threshold, 0.0, 1.0);
-  return std::make_unique<GromacsDlbPolicy>(p);
-}});
+                                                GromacsParams p;
+                                                p.relax = params.real("relax", p.relax, 0.0, 2.0, true, true);
+                                                p.cap = params.real("cap", p.cap, 0.0, 1.0, true, true);
+                                                p.threshold = params.real("threshold", p.threshold, 0.0, 1.0);
+                                                return std::make_unique<GromacsDlbPolicy>(p);
+                                              }});
 
 const Registrar<PolicyInfo> hoomd_registrar("hoomd_balance", {[](PolicyParams& params) {
-  HoomdParams p;
-  p.tolerance = params.real("tolerance", p.tolerance, 0.0, kMaxThreshold);
-  p.max_iterations = params.integer("max_iterations", p.max_iterations, 1, 100);
-  p.max_scale = params.real("max_scale", p.max_scale, 0.0, 1.0, true, true);
-  return std::make_unique<HoomdBalancePolicy>(p);
-}});
+                                              HoomdParams p;
+                                              p.tolerance = params.real("tolerance", p.tolerance, 0.0, kMaxThreshold);
+                                              p.max_iterations =
+                                                  params.integer("max_iterations", p.max_iterations, 1, 100);
+                                              p.max_scale = params.real("max_scale", p.max_scale, 0.0, 1.0, true, true);
+                                              return std::make_unique<HoomdBalancePolicy>(p);
+                                            }});
 
 const Registrar<PolicyInfo> all_tensor_registrar("all_tensor", {[](PolicyParams& params) {
-  std::optional<double> gamma;
-  if (params.has("gamma")) gamma = params.real("gamma", 0.0, 1.0, 1e6);
-  return std::make_unique<AllTensorPolicy>(gamma);
-}});
+                                                   std::optional<double> gamma;
+                                                   if (params.has("gamma")) gamma = params.real("gamma", 0.0, 1.0, 1e6);
+                                                   return std::make_unique<AllTensorPolicy>(gamma);
+                                                 }});
 
-const Registrar<PolicyInfo> lammps_registrar("lammps_shift", {[](PolicyParams& params) {
-  LammpsParams p;
-  p.threshold = params.real("threshold", p.threshold, 0.0, kMaxThreshold);
-  p.niter = params.integer("niter", p.niter, 1, 1000);
-  p.stopthresh = params.real("stopthresh", p.stopthresh, 1.0, kMaxThreshold);
-  const std::string weight = params.text("weight", "none");
-  if (weight != "none" && weight != "time")
-    throw InputError("policy parameter 'weight': '" + weight + "' is not one of none, time");
-  p.weight_time = weight == "time";
-  return std::make_unique<LammpsShiftPolicy>(p);
-}, PolicyNeeds{.slice_work = true}});
+const Registrar<PolicyInfo> lammps_registrar(
+    "lammps_shift", {[](PolicyParams& params) {
+                       LammpsParams p;
+                       p.threshold = params.real("threshold", p.threshold, 0.0, kMaxThreshold);
+                       p.niter = params.integer("niter", p.niter, 1, 1000);
+                       p.stopthresh = params.real("stopthresh", p.stopthresh, 1.0, kMaxThreshold);
+                       const std::string weight = params.text("weight", "none");
+                       if (weight != "none" && weight != "time")
+                         throw InputError("policy parameter 'weight': '" + weight + "' is not one of none, time");
+                       p.weight_time = weight == "time";
+                       return std::make_unique<LammpsShiftPolicy>(p);
+                     },
+                     PolicyNeeds{.slice_work = true}});
 
 }  // namespace
 }  // namespace semlb

@@ -45,11 +45,11 @@ class ReactivePolicy final : public Policy {
 };
 
 const Registrar<PolicyInfo> reactive_registrar("reactive", {[](PolicyParams& params) {
-  ReactiveParams p;
-  p.tau = params.real("tau", p.tau, 0.0, kMaxThreshold);
-  p.alpha = params.real("alpha", p.alpha, 0.0, 2.0, true, true);
-  return std::make_unique<ReactivePolicy>(p);
-}});
+                                                 ReactiveParams p;
+                                                 p.tau = params.real("tau", p.tau, 0.0, kMaxThreshold);
+                                                 p.alpha = params.real("alpha", p.alpha, 0.0, 2.0, true, true);
+                                                 return std::make_unique<ReactivePolicy>(p);
+                                               }});
 
 }  // namespace
 }  // namespace semlb

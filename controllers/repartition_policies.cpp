@@ -18,7 +18,8 @@ class PersistencePolicy final : public Policy {
   explicit PersistencePolicy(bool quantile) : quantile_(quantile) {}
   std::vector<int> decide(const Observation& obs) override {
     const auto& work = require_field(obs.slice_work, obs, "persistence", "slice_work");
-    if (quantile_) return apply_targets(obs.boundaries, equal_share_targets(work, obs.ranks()), obs.slices, obs.min_width);
+    if (quantile_)
+      return apply_targets(obs.boundaries, equal_share_targets(work, obs.ranks()), obs.slices, obs.min_width);
     return optimal_partition(work, obs.ranks(), obs.min_width);
   }
 
@@ -36,7 +37,8 @@ class HoltPolicy final : public Policy {
   PolicyState save_state() const override { return {{"level", holt_.level()}, {"trend", holt_.trend()}}; }
   void load_state(const PolicyState& s) override {  // empty: no history yet
     if (s.empty()) return holt_.restore({}, {});
-    if (s.size() != 2 || !s.count("level") || !s.count("trend")) throw InputError("holt state: expected level and trend");
+    if (s.size() != 2 || !s.count("level") || !s.count("trend"))
+      throw InputError("holt state: expected level and trend");
     holt_.restore(s.at("level"), s.at("trend"));
   }
 
@@ -47,8 +49,7 @@ class HoltPolicy final : public Policy {
 class OraclePolicy final : public Policy {
  public:
   std::vector<int> decide(const Observation& obs) override {
-    return optimal_partition(require_field(obs.oracle_work, obs, "oracle", "oracle_work"), obs.ranks(),
-                             obs.min_width);
+    return optimal_partition(require_field(obs.oracle_work, obs, "oracle", "oracle_work"), obs.ranks(), obs.min_width);
   }
 };
 
@@ -72,20 +73,29 @@ class LazyOraclePolicy final : public Policy {
 constexpr PolicyNeeds kSliceWork{.slice_work = true};
 constexpr PolicyNeeds kTrueWork{.true_work = true};
 
-const Registrar<PolicyInfo> persistence_registrar("persistence", {[](PolicyParams& p) {
-  const std::string cut = p.text("cut", "optimal");
-  if (cut != "optimal" && cut != "quantile")
-    throw InputError("policy parameter 'cut': must be optimal or quantile, got '" + cut + "'");
-  return std::make_unique<PersistencePolicy>(cut == "quantile");
-}, kSliceWork});
+const Registrar<PolicyInfo> persistence_registrar(
+    "persistence", {[](PolicyParams& p) {
+                      const std::string cut = p.text("cut", "optimal");
+                      if (cut != "optimal" && cut != "quantile")
+                        throw InputError("policy parameter 'cut': must be optimal or quantile, got '" + cut + "'");
+                      return std::make_unique<PersistencePolicy>(cut == "quantile");
+                    },
+                    kSliceWork});
 // Defaults chosen on training seeds only (experiments/holt_tuning.yaml; docs/controllers.md).
 const Registrar<PolicyInfo> holt_registrar("holt", {[](PolicyParams& p) {
-  return std::make_unique<HoltPolicy>(p.real("alpha", 0.2, 0.0, 1.0, true), p.real("beta", 0.0, 0.0, 1.0));
-}, kSliceWork});
-const Registrar<PolicyInfo> oracle_registrar("oracle", {[](PolicyParams&) { return std::make_unique<OraclePolicy>(); }, kTrueWork});
+                                                      return std::make_unique<HoltPolicy>(
+                                                          p.real("alpha", 0.2, 0.0, 1.0, true),
+                                                          p.real("beta", 0.0, 0.0, 1.0));
+                                                    },
+                                                    kSliceWork});
+const Registrar<PolicyInfo> oracle_registrar("oracle", {[](PolicyParams&) { return std::make_unique<OraclePolicy>(); },
+                                                        kTrueWork});
 const Registrar<PolicyInfo> lazy_oracle_registrar("lazy_oracle", {[](PolicyParams& p) {
-  return std::make_unique<LazyOraclePolicy>(p.real("tau", 0.1, 0.0, kMaxThreshold), p.real("slack", 0.0, 0.0, 10.0));
-}, kTrueWork});
+                                                                    return std::make_unique<LazyOraclePolicy>(
+                                                                        p.real("tau", 0.1, 0.0, kMaxThreshold),
+                                                                        p.real("slack", 0.0, 0.0, 10.0));
+                                                                  },
+                                                                  kTrueWork});
 
 }  // namespace
 }  // namespace semlb

@@ -9,7 +9,8 @@ class StaticPolicy final : public Policy {
   std::vector<int> decide(const Observation& obs) override { return obs.boundaries; }
 };
 
-const Registrar<PolicyInfo> static_registrar("static", {[](PolicyParams&) { return std::make_unique<StaticPolicy>(); }});
+const Registrar<PolicyInfo> static_registrar("static",
+                                             {[](PolicyParams&) { return std::make_unique<StaticPolicy>(); }});
 
 }  // namespace
 }  // namespace semlb

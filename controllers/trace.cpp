@@ -14,9 +14,14 @@ using nlohmann::json;
 
 json to_json(const TraceEvent& e) {
   const Observation& o = e.obs;
-  json j = {{"event", o.event},         {"slices", o.slices},           {"min_width", o.min_width},
-            {"boundaries", o.boundaries}, {"times", o.times},             {"slice_work", o.slice_work},
-            {"growth_phase", o.growth_phase}, {"growth_event", o.growth_event}};
+  json j = {{"event", o.event},
+            {"slices", o.slices},
+            {"min_width", o.min_width},
+            {"boundaries", o.boundaries},
+            {"times", o.times},
+            {"slice_work", o.slice_work},
+            {"growth_phase", o.growth_phase},
+            {"growth_event", o.growth_event}};
   if (!o.oracle_work.empty()) j["oracle_work"] = o.oracle_work;
   if (e.decision) j["decision"] = *e.decision;
   return j;
@@ -57,7 +62,8 @@ T field(const json& j, const char* name, const std::string& file, long line, boo
   if constexpr (std::is_same_v<T, std::vector<int>> || std::is_same_v<T, std::vector<double>>) {
     if (!it->is_array()) throw InputError(at + "has the wrong type (" + std::string(it->type_name()) + ")");
     T out;
-    for (size_t i = 0; i < it->size(); ++i) out.push_back(number<typename T::value_type>((*it)[i], at + "item " + std::to_string(i) + ": "));
+    for (size_t i = 0; i < it->size(); ++i)
+      out.push_back(number<typename T::value_type>((*it)[i], at + "item " + std::to_string(i) + ": "));
     return out;
   } else {
     return number<T>(*it, at);
@@ -68,8 +74,8 @@ T field(const json& j, const char* name, const std::string& file, long line, boo
 
 namespace {
 // The keys of a trace line (docs/controllers.md "Trace format"); any other key is refused, not ignored.
-const char* const kTraceKeys[] = {"event", "slices", "min_width", "boundaries", "times", "slice_work",
-                                  "oracle_work", "growth_phase", "growth_event", "decision"};
+const char* const kTraceKeys[] = {"event",      "slices",      "min_width",    "boundaries",   "times",
+                                  "slice_work", "oracle_work", "growth_phase", "growth_event", "decision"};
 }  // namespace
 
 TraceEvent parse_trace_line(const std::string& text, const std::string& file, long line) {
@@ -94,8 +100,7 @@ TraceEvent parse_trace_line(const std::string& text, const std::string& file, lo
   if (!j.is_object()) throw InputError(where(file, line, "") + "a trace line must be a JSON object");
   if (!duplicate.empty()) throw InputError(where(file, line, duplicate) + "given twice");
   for (const auto& [k, v] : j.items())
-    if (std::find(std::begin(kTraceKeys), std::end(kTraceKeys), k) == std::end(kTraceKeys))
-    {
+    if (std::find(std::begin(kTraceKeys), std::end(kTraceKeys), k) == std::end(kTraceKeys)) {
       std::string known;
       for (const char* name : kTraceKeys) known += (known.empty() ? "" : ", ") + std::string(name);
       throw InputError(where(file, line, k) + "unknown key (known: " + known + ")");

@@ -18,24 +18,32 @@ constexpr size_t kParts = 4;  // WorkloadEvent::part_seconds: pair forces, list 
   throw InputError(file + ": field '" + field + "': " + why);
 }
 
-void check_counts(const std::vector<double>& v, size_t n, const std::string& file, const std::string& field, long event) {
-  if (v.size() != n) fail(file, field, "event " + std::to_string(event) + " has " + std::to_string(v.size()) + " entries, expected " + std::to_string(n));
+void check_counts(const std::vector<double>& v, size_t n, const std::string& file, const std::string& field,
+                  long event) {
+  if (v.size() != n)
+    fail(file, field,
+         "event " + std::to_string(event) + " has " + std::to_string(v.size()) + " entries, expected " +
+             std::to_string(n));
   for (double x : v) {
     if (!(x >= 0) || x != std::floor(x))
       fail(file, field, "event " + std::to_string(event) + ": " + format_real(x) + " is not a non-negative integer");
     if (x > 9.0e15)  // beyond 2^53 doubles skip integers: sums of counts would no longer be exact
-      fail(file, field, "event " + std::to_string(event) + ": " + format_real(x) + " exceeds 9e15, where counts stop being exact in doubles");
+      fail(file, field,
+           "event " + std::to_string(event) + ": " + format_real(x) +
+               " exceeds 9e15, where counts stop being exact in doubles");
   }
 }
 
 // Measured seconds of one event: n finite non-negative entries summing to the event's interval_s (relative 1e-9).
-void check_seconds(const std::vector<double>& v, size_t n, double interval_s, const std::string& file, const std::string& field,
-                   long event) {
+void check_seconds(const std::vector<double>& v, size_t n, double interval_s, const std::string& file,
+                   const std::string& field, long event) {
   const std::string at = "event " + std::to_string(event);
-  if (v.size() != n) fail(file, field, at + " has " + std::to_string(v.size()) + " entries, expected " + std::to_string(n));
+  if (v.size() != n)
+    fail(file, field, at + " has " + std::to_string(v.size()) + " entries, expected " + std::to_string(n));
   double sum = 0;
   for (double x : v) {
-    if (!(x >= 0) || !std::isfinite(x)) fail(file, field, at + ": " + format_real(x) + " is not a finite non-negative number");
+    if (!(x >= 0) || !std::isfinite(x))
+      fail(file, field, at + ": " + format_real(x) + " is not a finite non-negative number");
     sum += x;
   }
   if (std::abs(sum - interval_s) > 1e-9 * std::max(sum, interval_s))
@@ -46,9 +54,11 @@ void check_seconds(const std::vector<double>& v, size_t n, double interval_s, co
 
 void validate_workload(const EngineWorkload& w, const std::string& file) {
   if (w.slices < 1) fail(file, "slices", "must be >= 1, got " + std::to_string(w.slices));
-  if (w.min_width < 1 || w.min_width > w.slices) fail(file, "min_width", "must be in [1, slices], got " + std::to_string(w.min_width));
+  if (w.min_width < 1 || w.min_width > w.slices)
+    fail(file, "min_width", "must be in [1, slices], got " + std::to_string(w.min_width));
   if (!std::isfinite(w.x0_um)) fail(file, "x0_um", "must be finite");
-  for (const auto& [name, v] : {std::pair<const char*, double>{"slice_width_um", w.slice_width_um}, {"cutoff_um", w.cutoff_um},
+  for (const auto& [name, v] : {std::pair<const char*, double>{"slice_width_um", w.slice_width_um},
+                                {"cutoff_um", w.cutoff_um},
                                 {"ghost_reach_um", w.ghost_reach_um}})
     if (!std::isfinite(v) || !(v > 0)) fail(file, name, "must be finite and > 0");
   if (w.rebalance_every < 1) fail(file, "rebalance_every", "must be >= 1");
@@ -60,8 +70,7 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
   if (measured && w.cost_regions < 1) fail(file, "cost_regions", "must be >= 1 when the events carry slice_seconds");
   const bool parts = !w.events.front().part_seconds.empty();
   for (const auto& e : w.events) {
-    if (e.slice_seconds.empty() == measured)
-      fail(file, "slice_seconds", "present at some events and not at others");
+    if (e.slice_seconds.empty() == measured) fail(file, "slice_seconds", "present at some events and not at others");
     if (e.part_seconds.empty() == parts) fail(file, "part_seconds", "present at some events and not at others");
   }
   if (parts && !measured) fail(file, "part_seconds", "present without slice_seconds");
@@ -69,12 +78,15 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
   for (size_t t = 0; t < w.events.size(); ++t) {
     const WorkloadEvent& e = w.events[t];
     const long i = static_cast<long>(t);
-    if (t > 0 && e.step <= w.events[t - 1].step) fail(file, "step", "event " + std::to_string(i) + ": steps must increase");
+    if (t > 0 && e.step <= w.events[t - 1].step)
+      fail(file, "step", "event " + std::to_string(i) + ": steps must increase");
     if (e.step < 0) fail(file, "step", "event " + std::to_string(i) + ": negative");
     if (e.cells < 0 || e.elements < 0) fail(file, "cells", "event " + std::to_string(i) + ": negative count");
-    if (!(e.growth_phase >= 0 && e.growth_phase < 1)) fail(file, "growth_phase", "event " + std::to_string(i) + ": outside [0, 1)");
+    if (!(e.growth_phase >= 0 && e.growth_phase < 1))
+      fail(file, "growth_phase", "event " + std::to_string(i) + ": outside [0, 1)");
     if (!std::isfinite(e.time_h)) fail(file, "time_h", "event " + std::to_string(i) + ": not finite");
-    if (!(e.interval_s >= 0) || !std::isfinite(e.interval_s)) fail(file, "interval_s", "event " + std::to_string(i) + ": not a finite non-negative number");
+    if (!(e.interval_s >= 0) || !std::isfinite(e.interval_s))
+      fail(file, "interval_s", "event " + std::to_string(i) + ": not a finite non-negative number");
     check_counts(e.slice_work, S, file, "slice_work", i);
     check_counts(e.slice_elements, S, file, "slice_elements", i);
     check_counts(e.band_below, S - 1, file, "band_below", i);
@@ -85,25 +97,31 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
     if (parts) {
       check_seconds(e.part_seconds, kParts, e.interval_s, file, "part_seconds", i);
       if (e.cell_stage_changes.size() != S)
-        fail(file, "cell_stage_changes", "event " + std::to_string(i) + " has " + std::to_string(e.cell_stage_changes.size()) +
-                                             " entries, expected " + std::to_string(S));
+        fail(file, "cell_stage_changes",
+             "event " + std::to_string(i) + " has " + std::to_string(e.cell_stage_changes.size()) +
+                 " entries, expected " + std::to_string(S));
       for (int64_t m : e.cell_stage_changes)
-        if (m < 0) fail(file, "cell_stage_changes", "event " + std::to_string(i) + ": " + std::to_string(m) + " is negative (bits 0-62 only)");
+        if (m < 0)
+          fail(file, "cell_stage_changes",
+               "event " + std::to_string(i) + ": " + std::to_string(m) + " is negative (bits 0-62 only)");
     } else if (!e.cell_stage_changes.empty()) {
       fail(file, "cell_stage_changes", "event " + std::to_string(i) + ": present without part_seconds");
     }
     double n = 0;
     for (double x : e.slice_elements) n += x;
     if (n != static_cast<double>(e.elements))
-      fail(file, "slice_elements", "event " + std::to_string(i) + ": sums to " + std::to_string(static_cast<long>(n)) +
-                                       ", but elements is " + std::to_string(e.elements));
+      fail(file, "slice_elements",
+           "event " + std::to_string(i) + ": sums to " + std::to_string(static_cast<long>(n)) + ", but elements is " +
+               std::to_string(e.elements));
     double work = 0;
     for (double x : e.slice_work) work += x;
     if ((e.elements == 0) != (work == 0))  // W_s = sum n_i n_N(i) >= 1 per element (paper eq. 2): both zero or neither
-      fail(file, "slice_work", "event " + std::to_string(i) + ": sums to " + format_real(work) + " with " +
-                                   std::to_string(e.elements) + " elements (each element adds at least 1)");
+      fail(file, "slice_work",
+           "event " + std::to_string(i) + ": sums to " + format_real(work) + " with " + std::to_string(e.elements) +
+               " elements (each element adds at least 1)");
   }
-  if (w.events.size() > 1 && std::all_of(w.events.begin(), w.events.end(), [](const WorkloadEvent& e) { return e.interval_s == 0; }))
+  if (w.events.size() > 1 &&
+      std::all_of(w.events.begin(), w.events.end(), [](const WorkloadEvent& e) { return e.interval_s == 0; }))
     fail(file, "interval_s", "every event's interval is 0 s: no measured time to turn work into seconds");
 }
 
@@ -111,7 +129,8 @@ void write_workload(const std::string& path, const EngineWorkload& w) {
   validate_workload(w, path);
   std::string image;
   {
-    auto f = h5::File::create_in_memory(path);  // built in memory, then one checked atomic write (a full disk: one line)
+    auto f =
+        h5::File::create_in_memory(path);  // built in memory, then one checked atomic write (a full disk: one line)
     f.set_deflate(6);
     f.write_attr("format", std::string(kFormat));
     const bool measured = has_measured_cost(w), parts = !w.events.front().part_seconds.empty();
@@ -187,11 +206,13 @@ EngineWorkload read_workload(const std::string& path) {
   }
   if (format != kFormat) fail(path, "format", "is '" + format + "', expected '" + kFormat + "'");
   const long version = f.read_int_attr("version");
-  if (version < 1 || version > 3) fail(path, "version", std::to_string(version) + " (this semlb reads versions 1, 2 and 3)");
+  if (version < 1 || version > 3)
+    fail(path, "version", std::to_string(version) + " (this semlb reads versions 1, 2 and 3)");
   EngineWorkload w;
   auto integer_attr = [&](const char* name, long lo, long hi) {
     const long v = f.read_int_attr(name);
-    if (v < lo || v > hi) fail(path, name, std::to_string(v) + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    if (v < lo || v > hi)
+      fail(path, name, std::to_string(v) + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     return v;
   };
   w.slices = static_cast<int>(integer_attr("slices", 1, 1L << 24));
@@ -230,11 +251,13 @@ EngineWorkload read_workload(const std::string& path) {
   auto matrix = [&](const std::string& name, size_t cols) {
     auto v = series(name, true);
     if (dims.size() != 2 || dims[0] != E || dims[1] != cols)
-      fail(path, name, "must be events x " + std::to_string(cols) + " (" + std::to_string(E) + " x " + std::to_string(cols) + ")");
+      fail(path, name,
+           "must be events x " + std::to_string(cols) + " (" + std::to_string(E) + " x " + std::to_string(cols) + ")");
     return v;
   };
   const auto time = column("time_h", false), cells = column("cells", true), elements = column("elements", true);
-  const auto phase = column("growth_phase", false), event = column("growth_event", true), interval = column("interval_s", false);
+  const auto phase = column("growth_phase", false), event = column("growth_event", true),
+             interval = column("interval_s", false);
   const auto work = matrix("slice_work", S), slice_elements = matrix("slice_elements", S);
   const auto below = matrix("band_below", S - 1), above = matrix("band_above", S - 1);
   std::vector<double> seconds, parts;
@@ -245,16 +268,21 @@ EngineWorkload read_workload(const std::string& path) {
     w.cost_regions = static_cast<int>(integer_attr("cost_regions", 1, w.slices));
     seconds = series("slice_seconds", false);
     if (dims.size() != 2 || dims[0] != E || dims[1] != S)
-      fail(path, "slice_seconds", "must be events x " + std::to_string(S) + " (" + std::to_string(E) + " x " + std::to_string(S) + ")");
+      fail(path, "slice_seconds",
+           "must be events x " + std::to_string(S) + " (" + std::to_string(E) + " x " + std::to_string(S) + ")");
   }
   if (version == 3) {
     parts = series("part_seconds", false);
     if (dims.size() != 2 || dims[0] != E || dims[1] != kParts)
-      fail(path, "part_seconds", "must be events x " + std::to_string(kParts) + " (" + std::to_string(E) + " x " + std::to_string(kParts) + ")");
-    if (!f.has("events/cell_stage_changes")) fail(path, "cell_stage_changes", "missing (dataset /events/cell_stage_changes)");
+      fail(path, "part_seconds",
+           "must be events x " + std::to_string(kParts) + " (" + std::to_string(E) + " x " + std::to_string(kParts) +
+               ")");
+    if (!f.has("events/cell_stage_changes"))
+      fail(path, "cell_stage_changes", "missing (dataset /events/cell_stage_changes)");
     changes = f.read_ints("events/cell_stage_changes", dims);  // bit masks: read as integers, not through doubles
     if (dims.size() != 2 || dims[0] != E || dims[1] != S)
-      fail(path, "cell_stage_changes", "must be events x " + std::to_string(S) + " (" + std::to_string(E) + " x " + std::to_string(S) + ")");
+      fail(path, "cell_stage_changes",
+           "must be events x " + std::to_string(S) + " (" + std::to_string(E) + " x " + std::to_string(S) + ")");
   }
   for (size_t t = 0; t < E; ++t) {
     WorkloadEvent e;
@@ -282,17 +310,20 @@ EngineWorkload read_workload(const std::string& path) {
 }
 
 bool has_measured_cost(const EngineWorkload& w) {
-  return !w.events.empty() && std::all_of(w.events.begin(), w.events.end(), [](const WorkloadEvent& e) { return !e.slice_seconds.empty(); });
+  return !w.events.empty() &&
+         std::all_of(w.events.begin(), w.events.end(), [](const WorkloadEvent& e) { return !e.slice_seconds.empty(); });
 }
 
-void add_edge_bands(const std::vector<double>& x, double x0, double width, int slices, double reach, std::vector<double>& below,
-                    std::vector<double>& above) {
-  // Edge k (1..slices-1) lies at e_k = x0 + k width. An element at x is below edge k when e_k - reach <= x < e_k and above
-  // it when e_k <= x < e_k + reach: two ranges of k, found from floor() and then corrected against e_k itself (ties
-  // decide as the comparisons do), added as differences. O(elements + slices).
+void add_edge_bands(const std::vector<double>& x, double x0, double width, int slices, double reach,
+                    std::vector<double>& below, std::vector<double>& above) {
+  // Edge k (1..slices-1) lies at e_k = x0 + k width. An element at x is below edge k when e_k - reach <= x < e_k and
+  // above it when e_k <= x < e_k + reach: two ranges of k, found from floor() and then corrected against e_k itself
+  // (ties decide as the comparisons do), added as differences. O(elements + slices).
   std::vector<long> dlo(slices + 1, 0), dhi(slices + 1, 0);
   auto edge = [&](long k) { return x0 + static_cast<double>(k) * width; };
-  auto index = [&](double v) { return static_cast<long>(std::clamp(std::floor((v - x0) / width), -2.0, slices + 2.0)); };
+  auto index = [&](double v) {
+    return static_cast<long>(std::clamp(std::floor((v - x0) / width), -2.0, slices + 2.0));
+  };
   auto add = [&](std::vector<long>& d, long a, long b) {
     a = std::max(a, 1L);
     b = std::min(b, static_cast<long>(slices) - 1);

@@ -9,13 +9,13 @@ namespace semlb {
 // One rebalancing event of an engine run, counted on the tissue as it is (no partition enters: W_s is counted on
 // one grid over the whole tissue, so a run on 1 device and on P ranks records the same numbers).
 struct WorkloadEvent {
-  long step = 0;                // the event's step
-  double time_h = 0;            // simulated time (h)
+  long step = 0;      // the event's step
+  double time_h = 0;  // simulated time (h)
   long cells = 0, elements = 0;
-  double growth_phase = 0;      // [0, 1): the growth cycle's phase (Observation::growth_phase)
-  bool growth_event = false;    // cells were added since the previous event
-  double interval_s = 0;        // measured computation seconds of the interval ending here, summed over the ranks
-  std::vector<double> slice_work;      // [slices] W_s (paper eqs. 2-3), integer-valued
+  double growth_phase = 0;         // [0, 1): the growth cycle's phase (Observation::growth_phase)
+  bool growth_event = false;       // cells were added since the previous event
+  double interval_s = 0;           // measured computation seconds of the interval ending here, summed over the ranks
+  std::vector<double> slice_work;  // [slices] W_s (paper eqs. 2-3), integer-valued
   std::vector<double> slice_elements;  // [slices] elements whose x lies in the slice
   // [slices - 1] per interior slice edge x_k = x0 + k width (k = 1..slices-1): the elements within ghost_reach_um
   // below it ([x_k - reach, x_k)) and above it ([x_k, x_k + reach)): the ghost bands a rank boundary at slice k
@@ -27,7 +27,8 @@ struct WorkloadEvent {
   // step kernels by elements. Sums to the interval's device seconds.
   std::vector<double> slice_seconds;
   // [4] or empty (version 3 files): the interval's device seconds by part (engine Backend::device_parts): the local
-  // pair forces, the neighbour list's builds, the cell stage, the rest; summed over the ranks, so they sum to interval_s.
+  // pair forces, the neighbour list's builds, the cell stage, the rest; summed over the ranks, so they sum to
+  // interval_s.
   std::vector<double> part_seconds;
   // [slices] or empty (version 3 files): bit j (0 <= j < 63; the 63rd and later stages share bit 62) is set when the
   // slice's W_s changed at the interval's j-th cell stage: an element was added or removed within its reach, so a
@@ -42,8 +43,8 @@ struct EngineWorkload {
   int cost_regions = 0;  // version 2: the regions the pair forces were timed over (0: no measured cost)
   int slices = 0, min_width = 1;
   double x0_um = 0, slice_width_um = 1, cutoff_um = 0, ghost_reach_um = 0;
-  long rebalance_every = 0;  // steps per event
-  int ranks = 1;             // ranks of the recording run (the numbers do not depend on it)
+  long rebalance_every = 0;                          // steps per event
+  int ranks = 1;                                     // ranks of the recording run (the numbers do not depend on it)
   std::string scene, command, git_revision, device;  // where it came from (scene name, command line)
   std::vector<WorkloadEvent> events;
 };
@@ -63,7 +64,7 @@ EngineWorkload read_workload(const std::string& path);
 
 // The interior-edge ghost counts of a set of elements' x (um): band_below/band_above as WorkloadEvent defines them,
 // added into `below` and `above` ([slices - 1] each). O(elements + slices).
-void add_edge_bands(const std::vector<double>& x, double x0, double width, int slices, double reach, std::vector<double>& below,
-                    std::vector<double>& above);
+void add_edge_bands(const std::vector<double>& x, double x0, double width, int slices, double reach,
+                    std::vector<double>& below, std::vector<double>& above);
 
 }  // namespace semlb

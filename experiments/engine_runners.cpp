@@ -41,7 +41,8 @@ engine::Scene engine_scene(const Job& job, const std::string& manifest, const st
         throw InputError(where_of(*job.find("effects"), manifest, "effects") + "'" + k + "' is not an effect of " +
                          resolve_path(base_dir, job.find("scene")->value));
     }
-    std::erase_if(scene.effects, [&](const auto& e) { return std::find(keep.begin(), keep.end(), e.first) == keep.end(); });
+    std::erase_if(scene.effects,
+                  [&](const auto& e) { return std::find(keep.begin(), keep.end(), e.first) == keep.end(); });
   }
   return scene;
 }
@@ -53,8 +54,9 @@ long integer(const Job& job, const std::string& key, long fallback, const std::s
 // Refuses a setting that is neither one of kSceneNames, nor `known` (the runner's own), nor scene.KEY / max_cells.KEY.
 void check_keys(const Job& job, const std::string& manifest, std::vector<std::string> known) {
   known.insert(known.end(), kSceneNames.begin(), kSceneNames.end());
-  check_settings(job, manifest, known, [](const std::string& k) { return k.rfind("scene.", 0) == 0 || k.rfind("max_cells.", 0) == 0; },
-                 "this runner");
+  check_settings(
+      job, manifest, known,
+      [](const std::string& k) { return k.rfind("scene.", 0) == 0 || k.rfind("max_cells.", 0) == 0; }, "this runner");
   for (const auto& [k, s] : job.settings)  // max_cells.BACKEND: the largest cell count BACKEND is timed at
     if (k.rfind("max_cells.", 0) == 0) integer(job, k, 0, manifest);
 }
@@ -62,8 +64,9 @@ void check_keys(const Job& job, const std::string& manifest, std::vector<std::st
 class TimingRunner final : public Runner {
  public:
   std::vector<std::string> columns() const override {
-    return {"backend", "precision", "effects", "cells", "elements", "steps", "seconds", "s_per_1000_steps",
-            "element_steps_per_s", "per_cutoff_cube", "candidates", "neighbours", "phases", "device"};
+    return {
+        "backend",          "precision",           "effects",         "cells",      "elements",   "steps",  "seconds",
+        "s_per_1000_steps", "element_steps_per_s", "per_cutoff_cube", "candidates", "neighbours", "phases", "device"};
   }
   bool measures_time() const override { return true; }
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
@@ -76,20 +79,24 @@ class TimingRunner final : public Runner {
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
     auto scene = engine_scene(job, "", o.base_dir);
     const long steps = integer(job, "steps", 100, ""), warmup = integer(job, "warmup", 2, "");
-    std::vector<std::string> row = {scene.backend.name, scene.backend.precision, job.text("effects", "all"), job.text("cells", "")};
+    std::vector<std::string> row = {scene.backend.name, scene.backend.precision, job.text("effects", "all"),
+                                    job.text("cells", "")};
     const std::string limit = job.text("max_cells." + scene.backend.name, "");
-    if (!limit.empty() && integer(job, "cells", 0, "") > integer(job, "max_cells." + scene.backend.name, 0, "")) {  // e.g. serial all-pairs at large n
-      row.insert(row.end(), {"", std::to_string(steps), "", "", "", "", "", "", "", "skipped: above max_cells." + scene.backend.name});
+    if (!limit.empty() && integer(job, "cells", 0, "") > integer(job, "max_cells." + scene.backend.name, 0,
+                                                                 "")) {  // e.g. serial all-pairs at large n
+      row.insert(row.end(), {"", std::to_string(steps), "", "", "", "", "", "", "",
+                             "skipped: above max_cells." + scene.backend.name});
       return {row};
     }
     const auto t = engine::time_scene(scene, steps, warmup, o.timing ? steps : 0);
     const auto& stats = t.stats;
     std::string phases;
-    for (size_t p = 0; p < t.phase_seconds.size(); ++p) phases += (p ? ";" : "") + t.phases[p] + "=" + fmt(t.phase_seconds[p]);
+    for (size_t p = 0; p < t.phase_seconds.size(); ++p)
+      phases += (p ? ";" : "") + t.phases[p] + "=" + fmt(t.phase_seconds[p]);
     const double secs = o.timing ? t.seconds : 0;
     row.insert(row.end(), {std::to_string(t.elements), std::to_string(steps), fmt(secs), fmt(secs / steps * 1000),
-                           fmt(o.timing ? t.element_steps_per_second() : 0), fmt(stats.per_cutoff_cube), fmt(stats.candidates),
-                           fmt(stats.neighbours), phases, o.timing ? t.device : ""});
+                           fmt(o.timing ? t.element_steps_per_second() : 0), fmt(stats.per_cutoff_cube),
+                           fmt(stats.candidates), fmt(stats.neighbours), phases, o.timing ? t.device : ""});
     return {row};
   }
 };
@@ -130,7 +137,8 @@ class AccuracyRunner final : public Runner {
     engine::make_effects(scene);
     for (const auto& e : scene.effects)
       if (e.first == "growth" || e.first == "division" || e.first == "noise")
-        throw InputError((job.find("effects") ? where_of(*job.find("effects"), manifest, "effects") : where(manifest, 0, "effects")) +
+        throw InputError((job.find("effects") ? where_of(*job.find("effects"), manifest, "effects")
+                                              : where(manifest, 0, "effects")) +
                          "accuracy runs compare element by element: leave out " + e.first);
     job.real("hours", 2.0, 1e-9, 1e9, manifest);
   }
@@ -148,9 +156,10 @@ class AccuracyRunner final : public Runner {
       worst = std::max(worst, std::sqrt(d2));
     }
     const double rms = std::sqrt(sum / std::max<size_t>(1, ref.position.size() / 3));
-    return {{scene.backend.precision, job.text("dt", fmt(scene.dt)), job.text("cutoff", fmt(scene.cutoff)),
-             std::to_string(std::lround(hours / scene.dt)), fmt(o.timing ? wall : 0), fmt(rms), fmt(worst),
-             "dt=" + job.text("reference_dt", "?") + " double cutoff=" + job.text("reference_cutoff", fmt(scene.cutoff))}};
+    return {
+        {scene.backend.precision, job.text("dt", fmt(scene.dt)), job.text("cutoff", fmt(scene.cutoff)),
+         std::to_string(std::lround(hours / scene.dt)), fmt(o.timing ? wall : 0), fmt(rms), fmt(worst),
+         "dt=" + job.text("reference_dt", "?") + " double cutoff=" + job.text("reference_cutoff", fmt(scene.cutoff))}};
   }
 
  private:
@@ -199,7 +208,8 @@ Observables observe(const engine::State& s, const engine::SliceMap& map, double 
 
 // Runs `scene` from its tissue for `samples` x `every` steps, observing the state at step 0 and after every `every`
 // steps; wall_s counts the stepping alone (cumulative), not the observing.
-std::vector<Observables> observe_run(const engine::Scene& scene, long samples, long every, const engine::SliceMap& map) {
+std::vector<Observables> observe_run(const engine::Scene& scene, long samples, long every,
+                                     const engine::SliceMap& map) {
   engine::Scene sc = scene;
   engine::Simulation sim(sc, engine::make_tissue(sc));
   sim.profile = false;
@@ -250,15 +260,23 @@ class ObservablesRunner final : public Runner {
     for (size_t k = 0; k < mine.size(); ++k) {
       const Observables &a = mine[k], &b = ref.at(k);
       double type_diff = 0, profile_diff = 0;
-      for (size_t t = 0; t < a.per_type.size(); ++t) type_diff += std::abs(static_cast<double>(a.per_type[t] - b.per_type[t]));
+      for (size_t t = 0; t < a.per_type.size(); ++t)
+        type_diff += std::abs(static_cast<double>(a.per_type[t] - b.per_type[t]));
       for (size_t s = 0; s < a.work_share.size(); ++s) profile_diff += std::abs(a.work_share[s] - b.work_share.at(s));
-      std::vector<std::string> row = {scene.backend.precision, job.text("dt", fmt(scene.dt)), job.text("cutoff", fmt(scene.cutoff)),
-                                      fmt(static_cast<double>(a.step) * scene.dt), std::to_string(a.step),
-                                      fmt(o.timing ? a.wall_s : 0), std::to_string(a.cells)};
+      std::vector<std::string> row = {scene.backend.precision,
+                                      job.text("dt", fmt(scene.dt)),
+                                      job.text("cutoff", fmt(scene.cutoff)),
+                                      fmt(static_cast<double>(a.step) * scene.dt),
+                                      std::to_string(a.step),
+                                      fmt(o.timing ? a.wall_s : 0),
+                                      std::to_string(a.cells)};
       for (long n : a.per_type) row.push_back(std::to_string(n));
-      row.insert(row.end(), {fmt(a.thickness_um), fmt(a.work_centre_um), fmt(type_diff / static_cast<double>(std::max(1L, b.cells))),
-                             fmt(a.thickness_um - b.thickness_um), fmt(a.work_centre_um - b.work_centre_um), fmt(profile_diff / 2),
-                             "dt=" + job.text("reference_dt", "?") + " double cutoff=" + job.text("reference_cutoff", fmt(scene.cutoff))});
+      row.insert(
+          row.end(),
+          {fmt(a.thickness_um), fmt(a.work_centre_um), fmt(type_diff / static_cast<double>(std::max(1L, b.cells))),
+           fmt(a.thickness_um - b.thickness_um), fmt(a.work_centre_um - b.work_centre_um), fmt(profile_diff / 2),
+           "dt=" + job.text("reference_dt", "?") +
+               " double cutoff=" + job.text("reference_cutoff", fmt(scene.cutoff))});
       rows.push_back(std::move(row));
     }
     return rows;
@@ -268,15 +286,18 @@ class ObservablesRunner final : public Runner {
   // The job's samples and steps per sample, with its scene's cell stage set to every cell_stage_h hours; InputError
   // (naming the field) when hours, sample_h or cell_stage_h is not a whole number of the job's steps.
   static std::pair<long, long> plan(const Job& job, engine::Scene& scene, const std::string& manifest) {
-    const double hours = job.real("hours", 120.0, 1e-9, 1e9, manifest), sample = job.real("sample_h", 24.0, 1e-9, 1e9, manifest);
-    if (!job.find("cell_stage_h")) throw InputError(where(manifest, 0, "cell_stage_h") + "missing (the cell stage's period in hours, the same for every dt)");
+    const double hours = job.real("hours", 120.0, 1e-9, 1e9, manifest),
+                 sample = job.real("sample_h", 24.0, 1e-9, 1e9, manifest);
+    if (!job.find("cell_stage_h"))
+      throw InputError(where(manifest, 0, "cell_stage_h") +
+                       "missing (the cell stage's period in hours, the same for every dt)");
     const double stage = job.real("cell_stage_h", 0.5, 1e-9, 1e9, manifest);
     auto whole = [&](const char* key, double v, double of, const std::string& unit) {
       const double n = v / of;
       if (std::abs(n - std::round(n)) > 1e-9 * n || std::round(n) < 1) {
         const Setting* s = job.find(key);
-        throw InputError((s ? where_of(*s, manifest, key) : where(manifest, 0, key)) + fmt(v) + " h is not a whole number of " + unit +
-                         " of " + fmt(of) + " h");
+        throw InputError((s ? where_of(*s, manifest, key) : where(manifest, 0, key)) + fmt(v) +
+                         " h is not a whole number of " + unit + " of " + fmt(of) + " h");
       }
       return std::lround(n);
     };

@@ -45,7 +45,10 @@ std::vector<Setting> axis_values(const YAML::Node& n, const std::string& file, c
 // Sets (or replaces) axis NAME in AXES.
 void put_axis(Axes& axes, const std::string& name, std::vector<Setting> values) {
   auto it = std::find_if(axes.begin(), axes.end(), [&](auto& p) { return p.first == name; });
-  if (it == axes.end()) axes.emplace_back(name, std::move(values)); else it->second = std::move(values);
+  if (it == axes.end())
+    axes.emplace_back(name, std::move(values));
+  else
+    it->second = std::move(values);
 }
 
 Axes read_axes(const YAML::Node& n, const std::string& file, const std::string& field) {
@@ -75,12 +78,13 @@ void read_block(const YAML::Node& block, Manifest& m, const std::string& where_n
         if (g.IsMap())
           for (const auto& a : g) block_axes.emplace(a.first.Scalar(), line_of(a.first));
     if (kv.first.Scalar() == "set" && kv.second.IsMap())
-      for (const auto& st : kv.second) block_sets.emplace(st.first.Scalar(), std::make_pair(line_of(st.first), "set." + st.first.Scalar()));
+      for (const auto& st : kv.second)
+        block_sets.emplace(st.first.Scalar(), std::make_pair(line_of(st.first), "set." + st.first.Scalar()));
   }
   for (const auto& [key, at] : block_sets)
     if (const auto a = block_axes.find(key); a != block_axes.end())
-      throw InputError(where(m.path, at.first, at.second) + "'" + key + "' is also an axis (line " + std::to_string(a->second) +
-                       "): give it in one place");
+      throw InputError(where(m.path, at.first, at.second) + "'" + key + "' is also an axis (line " +
+                       std::to_string(a->second) + "): give it in one place");
   for (const auto& kv : block) {
     const std::string key = kv.first.Scalar();
     if (key == "axes") {
@@ -113,7 +117,9 @@ void read_block(const YAML::Node& block, Manifest& m, const std::string& where_n
       const std::string v = scalar(kv.second, m.path, key);
       (key == "output" ? m.output : key == "runner" ? m.runner : m.name) = v;
     } else if (key != "profiles" && key != "description") {
-      throw InputError(where(m.path, line_of(kv.first), key) + "unknown manifest key (known: name, description, runner, output, axes, groups, launches, set, profiles)");
+      throw InputError(
+          where(m.path, line_of(kv.first), key) +
+          "unknown manifest key (known: name, description, runner, output, axes, groups, launches, set, profiles)");
     }
   }
 }
@@ -252,7 +258,9 @@ Manifest load_manifest(const std::string& path, const std::string& profile, cons
                        std::any_of(m.groups.begin(), m.groups.end(), [](const Axes& g) {
                          return std::any_of(g.begin(), g.end(), [](auto& p) { return p.first == "launch"; });
                        });
-    if (taken) throw InputError(where_of(m.launches_at, path, "launches") + "a manifest with launches may not set 'launch' itself");
+    if (taken)
+      throw InputError(where_of(m.launches_at, path, "launches") +
+                       "a manifest with launches may not set 'launch' itself");
   }
   for (size_t i = 0; i < m.groups.size(); ++i)
     for (const auto& [name, values] : m.groups[i])

@@ -40,8 +40,8 @@ using Axes = std::vector<std::pair<std::string, std::vector<Setting>>>;  // in m
 
 struct Manifest {
   std::string path, name, runner, output;
-  Axes axes;                  // shared by every row
-  std::vector<Axes> groups;   // `groups:`: each adds the product of its own axes with the shared ones
+  Axes axes;                 // shared by every row
+  std::vector<Axes> groups;  // `groups:`: each adds the product of its own axes with the shared ones
   std::map<std::string, Setting> fixed;
   std::string profile;
   // `launches: N` (N >= 1): every row N times, launch-major (launch 1 of every row, then launch 2, ...), each
@@ -59,7 +59,6 @@ struct Manifest {
 
 // Loads FILE, applies the profile ("small" if the manifest has one and none is given), then `key=value`
 // overrides (an axis key takes a comma list or an inclusive A-B range). Errors: "FILE:LINE: field 'x': ...".
-Manifest load_manifest(const std::string& path, const std::string& profile,
-                       const std::vector<std::string>& overrides);
+Manifest load_manifest(const std::string& path, const std::string& profile, const std::vector<std::string>& overrides);
 
 }  // namespace semlb::experiments

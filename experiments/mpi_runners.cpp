@@ -30,7 +30,8 @@ namespace {
 namespace fs = std::filesystem;
 
 // The scene settings (engine::scene_settings()) these runners take by name.
-const std::vector<std::string> kSceneNames = {"cells", "steps", "policy", "initial", "backend", "rebalance_every", "timing"};
+const std::vector<std::string> kSceneNames = {"cells",   "steps",           "policy", "initial",
+                                              "backend", "rebalance_every", "timing"};
 // Settings of the launch, not of the scene: the sweep's launch number, how mpirun places the ranks
 // (--bind-to, --map-by; "none" leaves Open MPI's default), the GPUs the launch holds (recorded), and the
 // checkpoint/restart segments it runs as (launch()).
@@ -54,35 +55,43 @@ std::pair<std::string, std::string> row_policy(const Job& job, const std::string
 
 // The job's `segments`: how many consecutive `semlb sim` invocations one launch is split into, each resuming from
 // the previous one's checkpoint (launch()); 1 when absent.
-long segments_of(const Job& job, const std::string& manifest) { return job.integer("segments", 1, 1, 1L << 20, manifest); }
+long segments_of(const Job& job, const std::string& manifest) {
+  return job.integer("segments", 1, 1, 1L << 20, manifest);
+}
 
 // Refuses, before anything runs: an unknown setting, a missing scene or rank count, a value of the wrong type, an
-// effect's bad parameter (in the scene or a scene.* setting), `segments` that do not divide the steps, a bad POLICY.KEY parameter, and a row whose policy the engine cannot
-// run (PolicyNeeds::true_work).
+// effect's bad parameter (in the scene or a scene.* setting), `segments` that do not divide the steps, a bad POLICY.KEY
+// parameter, and a row whose policy the engine cannot run (PolicyNeeds::true_work).
 void check_job(const Job& job, const std::string& manifest, const RunOptions& o) {
   std::vector<std::string> known = {"scene", "ranks"};
   known.insert(known.end(), kSceneNames.begin(), kSceneNames.end());
   known.insert(known.end(), kLaunchNames.begin(), kLaunchNames.end());
-  check_settings(job, manifest, known, [](const std::string& k) { return k.rfind("scene.", 0) == 0 || is_policy_param(k); },
-                 "this runner");
+  check_settings(
+      job, manifest, known, [](const std::string& k) { return k.rfind("scene.", 0) == 0 || is_policy_param(k); },
+      "this runner");
   for (const char* k : {"scene", "ranks"})
     if (!job.find(k)) throw InputError(where(manifest, 0, k) + "missing");
   job.integer("ranks", 1, 1, 4096, manifest);
   job.integer("launch", 1, 1, 1000, manifest);
   job.integer("gpus", 0, 0, 4096, manifest);
   for (const char* k : {"bind_to", "map_by"})
-    if (const Setting* s = job.find(k); s && (s->value.empty() || s->value.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789:-_=") != std::string::npos))
-      throw InputError(where_of(*s, manifest, k) + "must be an mpirun placement word (core, numa, socket, ppr:1:numa, none)");
+    if (const Setting* s = job.find(k);
+        s && (s->value.empty() ||
+              s->value.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789:-_=") != std::string::npos))
+      throw InputError(where_of(*s, manifest, k) +
+                       "must be an mpirun placement word (core, numa, socket, ppr:1:numa, none)");
   if (!o.mpi_launcher.empty())
     for (const char* k : {"bind_to", "map_by"})
       if (const Setting* s = job.find(k); s && s->value != "none")
-        throw InputError(where_of(*s, manifest, k) + "applies to this machine's mpirun only; the launcher '" + shell_words(o.mpi_launcher) + "' places the ranks");
-  scene_overrides(job, kSceneNames, manifest);  // typed values
+        throw InputError(where_of(*s, manifest, k) + "applies to this machine's mpirun only; the launcher '" +
+                         shell_words(o.mpi_launcher) + "' places the ranks");
+  scene_overrides(job, kSceneNames, manifest);        // typed values
   engine::make_effects(mpi_scene(job, manifest, o));  // the effects' parameters, now rather than in a launch mid-sweep
   if (const long segments = segments_of(job, manifest); segments > 1)
     if (const long steps = mpi_scene(job, manifest, o).steps; steps % segments != 0)
-      throw InputError(where_of(*job.find("segments"), manifest, "segments") + std::to_string(segments) + " segments do not divide the " +
-                       std::to_string(steps) + " steps (each segment runs steps / segments)");
+      throw InputError(where_of(*job.find("segments"), manifest, "segments") + std::to_string(segments) +
+                       " segments do not divide the " + std::to_string(steps) +
+                       " steps (each segment runs steps / segments)");
   check_policy_params(job, manifest);  // every policy's parameters, also of policies this row does not run
   const auto [policy, at] = row_policy(job, manifest, o);
   try {
@@ -107,8 +116,8 @@ struct Launch {
   std::string output;  // mpirun's output (the sim's summary line; the last segment's)
 };
 
-// Runs the job under mpirun (or o.mpi_launcher) into a fresh directory; returns it and the launch's wall seconds (start-up
-// included). The row's policy gets its POLICY.KEY settings as decomposition.params.KEY (other policies' are
+// Runs the job under mpirun (or o.mpi_launcher) into a fresh directory; returns it and the launch's wall seconds
+// (start-up included). The row's policy gets its POLICY.KEY settings as decomposition.params.KEY (other policies' are
 // not passed). With `segments` N > 1 the launch is N invocations into the same directory: segment k runs to step
 // k x steps/N (time.steps) with a checkpoint at its end (output.checkpoint_every = steps/N, replacing the scene's),
 // and segment k > 1 resumes from it (--restart DIR/checkpoint.h5), so the balancer continues across the split and
@@ -120,7 +129,8 @@ Launch launch(const Job& job, const RunOptions& o) {
   const fs::path scratch = o.scratch_dir.empty() ? fs::temp_directory_path() : fs::path(o.scratch_dir);
   static std::once_flag swept;  // the folders of sweeps that died by SIGKILL, once per process
   std::call_once(swept, [&] { remove_stale_run_folders(scratch.string(), "semlb_mpi_"); });
-  const fs::path dir = scratch / ("semlb_mpi_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(job_key(job))));
+  const fs::path dir = scratch / ("semlb_mpi_" + std::to_string(::getpid()) + "_" +
+                                  std::to_string(std::hash<std::string>{}(job_key(job))));
   fs::remove_all(dir);
   register_cleanup_path(dir.string());  // removed by a signal's cleanup; finish_run or a failure removes it otherwise
   // An argument vector, started without a shell (common/process.hpp): paths reach `semlb sim` as they are.
@@ -130,12 +140,13 @@ Launch launch(const Job& job, const RunOptions& o) {
     for (const auto& f : placement(job)) argv.push_back(f);
     argv.push_back("-np");
   }
-  argv.insert(argv.end(), {job.text("ranks", "1"), fs::read_symlink("/proc/self/exe").string(), "sim", "--quiet", "--scene", scene,
-                           "--out", dir.string(), "--set", "backend.cpu-binned.threads=1"});
+  argv.insert(argv.end(), {job.text("ranks", "1"), fs::read_symlink("/proc/self/exe").string(), "sim", "--quiet",
+                           "--scene", scene, "--out", dir.string(), "--set", "backend.cpu-binned.threads=1"});
   auto overrides = scene_overrides(job, kSceneNames, "");
   const std::string policy = row_policy(job, "", o).first;
   for (const auto& [k, s] : job.settings)
-    if (is_policy_param(k) && k.rfind(policy + ".", 0) == 0) overrides.push_back("decomposition.params." + k.substr(policy.size() + 1) + "=" + s.value);
+    if (is_policy_param(k) && k.rfind(policy + ".", 0) == 0)
+      overrides.push_back("decomposition.params." + k.substr(policy.size() + 1) + "=" + s.value);
   for (const auto& o : overrides) argv.insert(argv.end(), {"--set", o});
   const long segments = segments_of(job, "");
   const long length = segments > 1 ? mpi_scene(job, "", o).steps / segments : 0;  // steps per segment
@@ -153,14 +164,16 @@ Launch launch(const Job& job, const RunOptions& o) {
   for (long k = 1; k <= segments; ++k) {
     std::vector<std::string> command = argv;
     if (segments > 1) {  // later --set values win (engine::parse_scene applies them in order)
-      command.insert(command.end(), {"--set", "time.steps=" + std::to_string(k * length), "--set", "output.checkpoint_every=" + std::to_string(length)});
+      command.insert(command.end(), {"--set", "time.steps=" + std::to_string(k * length), "--set",
+                                     "output.checkpoint_every=" + std::to_string(length)});
       if (k > 1) command.insert(command.end(), {"--restart", (dir / "checkpoint.h5").string()});
     }
     const auto t0 = std::chrono::steady_clock::now();
     const ProcessResult p = run_process(command, {"OMPI_ALLOW_RUN_AS_ROOT=1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1"});
     const std::string& out = p.output;
-    const std::string which = segments > 1 ? " in segment " + std::to_string(k) + " of " + std::to_string(segments) + " (steps " +
-                                                 std::to_string((k - 1) * length) + "-" + std::to_string(k * length) + ")"
+    const std::string which = segments > 1 ? " in segment " + std::to_string(k) + " of " + std::to_string(segments) +
+                                                 " (steps " + std::to_string((k - 1) * length) + "-" +
+                                                 std::to_string(k * length) + ")"
                                            : "";
     if (p.status != 0) throw std::runtime_error("MPI launch failed" + which + ": " + shell_words(command) + "\n" + out);
     if (const size_t at = out.find("semlb sim: restart: "); k > 1 && at != std::string::npos)
@@ -238,7 +251,9 @@ class MpiSimRunner final : public Runner {
   }
   bool measures_time() const override { return true; }
   int mpi_ranks(const Job& job) const override { return static_cast<int>(job.integer("ranks", 1, 1, 4096, "")); }
-  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
+  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
+    check_job(job, manifest, o);
+  }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
     const Launch l = launch(job, o);
     const RunTotals t = run_totals(l.dir);
@@ -256,9 +271,11 @@ std::string machine(const Job& job, const Launch& l, const RunOptions& o) {
   std::string device = "unknown device";  // from the sim's summary line "... s on DEVICE; wrote ..."
   const size_t at = l.output.rfind(" s on "), end = l.output.rfind("; wrote ");
   if (at != std::string::npos && end != std::string::npos && end > at) device = l.output.substr(at + 6, end - at - 6);
-  std::string m = std::string(host) + " " + std::to_string(std::thread::hardware_concurrency()) + " cpus; " + device +
-                  "; " + (o.mpi_launcher.empty() ? "mpirun" + (placement(job).empty() ? std::string(" default placement") : " " + shell_words(placement(job)))
-                                                 : shell_words(o.mpi_launcher));
+  std::string m =
+      std::string(host) + " " + std::to_string(std::thread::hardware_concurrency()) + " cpus; " + device + "; " +
+      (o.mpi_launcher.empty()
+           ? "mpirun" + (placement(job).empty() ? std::string(" default placement") : " " + shell_words(placement(job)))
+           : shell_words(o.mpi_launcher));
   std::replace(m.begin(), m.end(), ',', ';');
   std::replace(m.begin(), m.end(), '\n', ' ');
   return m;
@@ -272,12 +289,14 @@ std::string machine(const Job& job, const Launch& l, const RunOptions& o) {
 class MpiEndToEndRunner final : public Runner {
  public:
   std::vector<std::string> columns() const override {
-    return {"policy", "initial", "launch", "gpus", "ranks", "cells_start", "cells_end", "steps", "loop_s", "compute_s",
-            "mean_imbalance", "migrated_slices", "machine"};
+    return {"policy", "initial", "launch",    "gpus",           "ranks",           "cells_start", "cells_end",
+            "steps",  "loop_s",  "compute_s", "mean_imbalance", "migrated_slices", "machine"};
   }
   bool measures_time() const override { return true; }
   int mpi_ranks(const Job& job) const override { return static_cast<int>(job.integer("ranks", 1, 1, 4096, "")); }
-  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
+  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
+    check_job(job, manifest, o);
+  }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
     const engine::Scene scene = mpi_scene(job, "", o);
     const Launch l = launch(job, o);
@@ -301,7 +320,9 @@ class MpiIntervalsRunner final : public Runner {
   }
   bool measures_time() const override { return true; }
   int mpi_ranks(const Job& job) const override { return static_cast<int>(job.integer("ranks", 1, 1, 4096, "")); }
-  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override { check_job(job, manifest, o); }
+  void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
+    check_job(job, manifest, o);
+  }
   std::vector<std::vector<std::string>> run(const Job& job, const RunOptions& o) const override {
     namespace rt = engine::rank_times;
     const std::string dir = launch(job, o).dir;

@@ -72,8 +72,8 @@ class ReplayScoreRunner final : public Runner {
     const fs::path dir = traces_dir(job, manifest, o);
     const auto traces = find_traces(dir);
     if (traces.empty())
-      throw InputError(where_of(*job.find("traces"), manifest, "traces") + "no " + kTraceFile + " under '" + dir.string() +
-                       "' (engine runs keep theirs with `semlb sweep --keep-runs`)");
+      throw InputError(where_of(*job.find("traces"), manifest, "traces") + "no " + kTraceFile + " under '" +
+                       dir.string() + "' (engine runs keep theirs with `semlb sweep --keep-runs`)");
     for (const auto& path : traces) {  // parsed and checked as --score takes them (static: the cheapest rollout)
       const Trace t = read_trace(path);
       auto fixed = make_policy("static", {});

@@ -19,16 +19,19 @@ std::string resolve_path(const std::string& base_dir, const std::string& file) {
 
 std::string RunOptions::resolve(const std::string& file) const { return resolve_path(base_dir, file); }
 
-std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::string>& names, const std::string& manifest) {
+std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::string>& names,
+                                         const std::string& manifest) {
   std::vector<std::string> o;
   for (const auto& name : names)
-    if (const Setting* s = job.find(name)) o.push_back(engine::scene_override(name, s->value, where_of(*s, manifest, name)));
+    if (const Setting* s = job.find(name))
+      o.push_back(engine::scene_override(name, s->value, where_of(*s, manifest, name)));
   for (const auto& [k, s] : job.settings)
     if (k.rfind("scene.", 0) == 0) o.push_back(k.substr(6) + "=" + s.value);
   return o;
 }
 
-engine::Scene job_scene(const Job& job, const std::vector<std::string>& names, const std::string& manifest, const std::string& base_dir) {
+engine::Scene job_scene(const Job& job, const std::vector<std::string>& names, const std::string& manifest,
+                        const std::string& base_dir) {
   const Setting* file = job.find("scene");
   if (!file) throw InputError(where(manifest, 0, "scene") + "missing (engine runners need a scene file)");
   const auto overrides = scene_overrides(job, names, manifest);  // its errors name their own settings
@@ -83,7 +86,8 @@ void check_policy_params(const Job& job, const std::string& manifest) {
     } catch (const InputError& e) {  // blame the parameter the message names (else the policy's first one)
       const Setting* s = nullptr;
       for (const auto& [k, v] : job.settings)
-        if (k.rfind(policy + ".", 0) == 0 && (!s || std::string(e.what()).find("'" + k.substr(policy.size() + 1) + "'") != std::string::npos))
+        if (k.rfind(policy + ".", 0) == 0 &&
+            (!s || std::string(e.what()).find("'" + k.substr(policy.size() + 1) + "'") != std::string::npos))
           s = &v;
       throw InputError((s ? where_of(*s, manifest, policy + ".*") : where(manifest, 0, policy + ".*")) + e.what());
     }

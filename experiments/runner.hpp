@@ -46,7 +46,8 @@ class Runner {
 // Scene overrides ("tissue.cells=400") from a job: each of `names` (engine::scene_settings() names, the
 // runner's choice) that the job sets, its value type-checked (InputError naming its manifest line), then
 // every `scene.KEY` setting as KEY. Shared by the engine runners.
-std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::string>& names, const std::string& manifest);
+std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::string>& names,
+                                         const std::string& manifest);
 
 // The job's scene, for the runners that run the engine: the file its `scene` setting names (relative to
 // BASE_DIR, the manifest's folder), with scene_overrides(job, names, manifest) applied. InputError "MANIFEST: field
@@ -54,7 +55,8 @@ std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::
 // override's line); an InputError about the file or what an override sets in it is prefixed with where `scene` was
 // set ("m.yaml:7: field 'scene': scene.yaml:3: field 'tiem': unknown setting"), as is a key of the `backend` map the
 // row's backend does not use (engine::backend_settings).
-engine::Scene job_scene(const Job& job, const std::vector<std::string>& names, const std::string& manifest, const std::string& base_dir);
+engine::Scene job_scene(const Job& job, const std::vector<std::string>& names, const std::string& manifest,
+                        const std::string& base_dir);
 
 // "KEY=VALUE;" for every setting, in the job's order: a key for caches and scratch folders (the same settings give
 // the same key).

@@ -26,8 +26,12 @@ namespace fs = std::filesystem;
 struct Dirs {
   fs::path root, parts, logs, runs, jobs, script;
   explicit Dirs(const std::string& csv)
-      : root(fs::absolute(csv + ".slurm")), parts(root / "parts"), logs(root / "logs"), runs(root / "runs"),
-        jobs(root / "jobs"), script(root / "sweep.sbatch") {}
+      : root(fs::absolute(csv + ".slurm")),
+        parts(root / "parts"),
+        logs(root / "logs"),
+        runs(root / "runs"),
+        jobs(root / "jobs"),
+        script(root / "sweep.sbatch") {}
   fs::path part(size_t i) const { return parts / (std::to_string(i) + ".csv"); }
   fs::path log(const std::string& job, size_t task) const { return logs / (job + "_" + std::to_string(task) + ".out"); }
 };
@@ -49,9 +53,9 @@ std::string command(const std::vector<std::string>& argv) {
 // The array task's command: this binary, the same manifest, profile, overrides and output options, plus --task
 // with the task's job indices (from the script's `jobs` array).
 std::string task_command(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o) {
-  std::string c = quote(fs::read_symlink("/proc/self/exe").string()) + " sweep " + quote(fs::absolute(m.path).string()) +
-                  (m.profile.empty() ? "" : " --profile " + quote(m.profile)) + " --results " + quote(fs::absolute(o.results_dir).string()) +
-                  " --launcher slurm --quiet";
+  std::string c = quote(fs::read_symlink("/proc/self/exe").string()) + " sweep " +
+                  quote(fs::absolute(m.path).string()) + (m.profile.empty() ? "" : " --profile " + quote(m.profile)) +
+                  " --results " + quote(fs::absolute(o.results_dir).string()) + " --launcher slurm --quiet";
   for (const auto& s : overrides) c += " --set " + quote(s);
   if (!o.run.timing) c += " --no-timing";
   if (!o.run.trace_dir.empty()) c += " --keep-runs";
@@ -64,9 +68,11 @@ using Tasks = std::vector<std::vector<size_t>>;  // array index -> the job indic
 // The cluster's MaxArraySize (array indices must be below it); Slurm's default, 1001, when scontrol cannot tell.
 size_t max_array_size() {
   try {
-    std::stringstream ss(command({"timeout", "30", "scontrol", "show", "config"}));  // a broken config makes it retry for 60 s
+    std::stringstream ss(
+        command({"timeout", "30", "scontrol", "show", "config"}));  // a broken config makes it retry for 60 s
     for (std::string line; std::getline(ss, line);)
-      if (line.rfind("MaxArraySize", 0) == 0) return std::max(1L, parse_integer(line.substr(line.find('=') + 1).substr(1), "MaxArraySize: "));
+      if (line.rfind("MaxArraySize", 0) == 0)
+        return std::max(1L, parse_integer(line.substr(line.find('=') + 1).substr(1), "MaxArraySize: "));
   } catch (const std::exception&) {
   }
   return 1001;
@@ -76,7 +82,8 @@ size_t max_array_size() {
 Tasks split_tasks(const std::vector<size_t>& todo) {
   const size_t n = max_array_size(), per = (todo.size() + n - 1) / n;
   Tasks t;
-  for (size_t k = 0; k < todo.size(); k += per) t.emplace_back(todo.begin() + k, todo.begin() + std::min(todo.size(), k + per));
+  for (size_t k = 0; k < todo.size(); k += per)
+    t.emplace_back(todo.begin() + k, todo.begin() + std::min(todo.size(), k + per));
   return t;
 }
 
@@ -91,7 +98,8 @@ std::string job_list(const std::vector<size_t>& jobs) {
 
 // A value for an `#SBATCH` line: one line, no comment character sbatch would cut it at.
 std::string sbatch_value(const std::string& flag, const std::string& v) {
-  if (v.find_first_of("\n\r#") != std::string::npos) throw InputError(flag + ": '" + v + "' may not hold a newline or '#'");
+  if (v.find_first_of("\n\r#") != std::string::npos)
+    throw InputError(flag + ": '" + v + "' may not hold a newline or '#'");
   return v;
 }
 
@@ -109,7 +117,8 @@ std::string batch_script(const SweepPlan& plan, const Tasks& tasks, const Dirs& 
   b << "#!/bin/bash\n# semlb sweep " << name << ": " << count << " of " << plan.jobs().size() << " jobs in "
     << tasks.size() << " array tasks; task K runs the jobs ${jobs[K]}\n"
     << "#SBATCH --job-name=semlb-" << name << "\n"
-    << "#SBATCH --array=0-" << tasks.size() - 1 << (s.array_throttle > 0 ? "%" + std::to_string(s.array_throttle) : "") << "\n"
+    << "#SBATCH --array=0-" << tasks.size() - 1 << (s.array_throttle > 0 ? "%" + std::to_string(s.array_throttle) : "")
+    << "\n"
     << "#SBATCH --ntasks=" << ranks << "\n#SBATCH --cpus-per-task=1\n"
     << "#SBATCH --output=" << sbatch_value("--results", (d.logs / "%A_%a.out").string()) << "\n";
   if (!s.partition.empty()) b << "#SBATCH --partition=" << sbatch_value("--partition", s.partition) << "\n";
@@ -180,9 +189,9 @@ struct Submitted {
 
 struct Status {
   size_t done = 0, running = 0, pending = 0;
-  std::vector<size_t> failed;            // submitted, not queued, no rows
-  std::map<size_t, Submitted> last;      // job index -> its latest submission
-  std::set<size_t> active;               // queued or running
+  std::vector<size_t> failed;        // submitted, not queued, no rows
+  std::map<size_t, Submitted> last;  // job index -> its latest submission
+  std::set<size_t> active;           // queued or running
 };
 
 Status status(SweepPlan& plan, const Dirs& d) {
@@ -196,7 +205,10 @@ Status status(SweepPlan& plan, const Dirs& d) {
   const auto q = queued(ids);  // before collecting: a task that left the queue has written its part files
   collect(plan, d);
   for (size_t i = 0; i < plan.jobs().size(); ++i) {
-    if (plan.done(i)) { ++st.done; continue; }
+    if (plan.done(i)) {
+      ++st.done;
+      continue;
+    }
     const auto it = st.last.find(i);
     if (it == st.last.end()) continue;  // never submitted
     const auto state = q.find(it->second.name());
@@ -225,7 +237,8 @@ std::string log_line(const fs::path& log, size_t i) {
 SweepSummary run_task(const Manifest& m, const SweepOptions& o) {
   SweepOptions to = o;
   to.run.mpi_launcher = {"srun", "--mpi=pmix", "--kill-on-bad-exit=1", "--cpus-per-task=1"};
-  if (o.slurm.gpus_per_rank > 0) to.run.mpi_launcher.push_back("--gpus-per-task=" + std::to_string(o.slurm.gpus_per_rank));
+  if (o.slurm.gpus_per_rank > 0)
+    to.run.mpi_launcher.push_back("--gpus-per-task=" + std::to_string(o.slurm.gpus_per_rank));
   to.run.mpi_launcher.push_back("--ntasks");
   const Dirs d((fs::path(o.results_dir) / m.output).string());
   to.run.scratch_dir = d.runs.string();  // shared with rank 0, which may run on another node
@@ -234,7 +247,8 @@ SweepSummary run_task(const Manifest& m, const SweepOptions& o) {
   for (const auto& x : split(o.slurm.task, ',')) {
     const long i = parse_integer(x, "--task: ");
     if (i < 0 || static_cast<size_t>(i) >= plan.jobs().size())
-      throw InputError("--task: " + x + " is not a job index (the manifest has " + std::to_string(plan.jobs().size()) + " jobs)");
+      throw InputError("--task: " + x + " is not a job index (the manifest has " + std::to_string(plan.jobs().size()) +
+                       " jobs)");
     jobs.push_back(static_cast<size_t>(i));
   }
   fs::create_directories(d.runs);
@@ -249,7 +263,9 @@ SweepSummary run_task(const Manifest& m, const SweepOptions& o) {
       ++failed;
     }
   }
-  if (failed) throw std::runtime_error(std::to_string(failed) + " of this task's " + std::to_string(jobs.size()) + " jobs failed");
+  if (failed)
+    throw std::runtime_error(std::to_string(failed) + " of this task's " + std::to_string(jobs.size()) +
+                             " jobs failed");
   SweepSummary sum;
   sum.csv_path = d.parts.string();
   sum.rows = sum.ran = jobs.size();
@@ -273,8 +289,10 @@ SweepSummary run_slurm(const Manifest& m, const std::vector<std::string>& overri
     if (!plan.done(i) && !st.active.count(i)) todo.push_back(i);
   sum.resumed = o.slurm.dry_run ? sum.rows - todo.size() : st.done;
   if (o.slurm.dry_run) {
-    if (todo.empty()) std::cerr << "every job is done; nothing to submit\n";
-    else std::cout << batch_script(plan, split_tasks(todo), d, overrides, o);
+    if (todo.empty())
+      std::cerr << "every job is done; nothing to submit\n";
+    else
+      std::cout << batch_script(plan, split_tasks(todo), d, overrides, o);
     sum.finished = false;
     return sum;
   }
@@ -321,8 +339,8 @@ SweepSummary run_slurm(const Manifest& m, const std::vector<std::string>& overri
     for (size_t i : st.failed) {
       const auto& at = st.last.at(i);
       const auto log = d.log(at.id, at.task);
-      msg += "\n  job " + std::to_string(i) + ": array index " + std::to_string(at.task) + " of Slurm job " + at.id + " (" +
-             at.name() + "), log " + log.string() + ": " + log_line(log, i);
+      msg += "\n  job " + std::to_string(i) + ": array index " + std::to_string(at.task) + " of Slurm job " + at.id +
+             " (" + at.name() + "), log " + log.string() + ": " + log_line(log, i);
     }
     throw std::runtime_error(msg);
   }

@@ -22,15 +22,18 @@ class SurrogateRunner final : public Runner {
 
   void check(const Job& job, const std::string& manifest, const RunOptions&) const override {
     const auto j = to_eval_job(job, manifest);
-    check_settings(job, manifest, {"policy", "ranks", "seed", "events"},
-                   [](const std::string& k) { return is_scenario_key(k) || is_policy_param(k); }, "the surrogate runner");
+    check_settings(
+        job, manifest, {"policy", "ranks", "seed", "events"},
+        [](const std::string& k) { return is_scenario_key(k) || is_policy_param(k); }, "the surrogate runner");
     try {  // the scenario's slice count bounds the rank count: checked here, before any output exists
       surrogate::make_scenario(j.seed, j.ranks, j.scenario);
     } catch (const InputError& e) {
       const std::string m = e.what();
       for (const auto& [k, s] : job.settings)  // an override's error ("scenario.KEY: ...") names its setting
-        if (is_scenario_key(k) && m.rfind(k + ": ", 0) == 0) throw InputError(where_of(s, manifest, k) + m.substr(k.size() + 2));
-      throw InputError(where_of(*job.find("ranks"), manifest, "ranks") + m + " (scenario seed " + std::to_string(j.seed) + ")");
+        if (is_scenario_key(k) && m.rfind(k + ": ", 0) == 0)
+          throw InputError(where_of(s, manifest, k) + m.substr(k.size() + 2));
+      throw InputError(where_of(*job.find("ranks"), manifest, "ranks") + m + " (scenario seed " +
+                       std::to_string(j.seed) + ")");
     }
     check_policy_params(job, manifest);  // every policy's parameters, also of policies this row does not run
     try {

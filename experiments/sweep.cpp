@@ -42,7 +42,8 @@ std::string axis_value(const Job& j, const std::string& a) { return j.text(a, ""
 
 class Appender {  // one write(2) per row with O_APPEND: a kill leaves whole rows or a torn last line
  public:
-  explicit Appender(const std::string& path) : path_(path), fd_(::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT, 0644)) {
+  explicit Appender(const std::string& path)
+      : path_(path), fd_(::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT, 0644)) {
     if (fd_ < 0) throw std::runtime_error(path + ": cannot open for appending: " + std::strerror(errno));
   }
   ~Appender() { ::close(fd_); }
@@ -126,9 +127,9 @@ void copy_manifest(const Manifest& m, const std::vector<std::string>& overrides,
   write_file_atomically(fs::path(csv).replace_extension(".manifest.yaml").string(), head + body);
 }
 
-// The sweep's progress on stderr (a ProgressLine): a line at the start, one per finished job (every 5% of them when stderr is not a
-// terminal), and a heartbeat for jobs that run long: a job still running 2 s after it started is named with its axes,
-// then every 30 s while it runs (`[name] job 3/40 (policy=gru ranks=8) running  12.0 s`).
+// The sweep's progress on stderr (a ProgressLine): a line at the start, one per finished job (every 5% of them when
+// stderr is not a terminal), and a heartbeat for jobs that run long: a job still running 2 s after it started is named
+// with its axes, then every 30 s while it runs (`[name] job 3/40 (policy=gru ranks=8) running  12.0 s`).
 class Progress {
  public:
   using Clock = std::chrono::steady_clock;
@@ -165,8 +166,10 @@ class Progress {
     if (!line_.on()) return;
     const size_t ran = done_ - resumed_, step = std::max<size_t>(1, (total_ - resumed_) / 20);
     if (!line_.tty() && ran % step != 0 && done_ != total_) return;
-    const double s = seconds(start_), eta = eta_seconds(s, static_cast<double>(ran), static_cast<double>(total_ - done_));
-    line_.show(format_text("[%s] %zu/%zu jobs (%zu resumed)  %.1f s  ETA %.1f s", name_.c_str(), done_, total_, resumed_, s, eta),
+    const double s = seconds(start_),
+                 eta = eta_seconds(s, static_cast<double>(ran), static_cast<double>(total_ - done_));
+    line_.show(format_text("[%s] %zu/%zu jobs (%zu resumed)  %.1f s  ETA %.1f s", name_.c_str(), done_, total_,
+                           resumed_, s, eta),
                done_ == total_);
   }
 
@@ -185,7 +188,9 @@ class Progress {
         const double s = seconds(job.since);
         if (s < kFirstBeat + kEveryBeat * job.beats) continue;
         ++job.beats;
-        line_.show(format_text("[%s] job %zu/%zu (%s) running  %.1f s", name_.c_str(), index + 1, total_, job.label.c_str(), s), true);
+        line_.show(format_text("[%s] job %zu/%zu (%s) running  %.1f s", name_.c_str(), index + 1, total_,
+                               job.label.c_str(), s),
+                   true);
       }
     }
   }
@@ -246,7 +251,8 @@ SweepPlan::SweepPlan(const Manifest& m, const SweepOptions& o, Partial partial)
   const auto found = read_rows(partial_, order);
   done_ = current(found, &stale);
   if (stale > 0)
-    std::fprintf(stderr, "[%s] recomputing %zu of the %zu finished jobs in %s: made with other settings (their settings digest "
+    std::fprintf(stderr,
+                 "[%s] recomputing %zu of the %zu finished jobs in %s: made with other settings (their settings digest "
                  "differs: a manifest, profile or --set value, an input file or the semlb build changed)\n",
                  m.name.c_str(), stale, found.size(), partial_.c_str());
   std::string text = partial_header();  // without a torn last line or stale rows, so that appends start on a fresh line
@@ -262,8 +268,10 @@ std::map<std::string, std::string> SweepPlan::current(const std::map<std::string
   for (size_t i = 0; i < jobs_.size(); ++i) {
     const auto it = found.find(key(i));
     if (it == found.end()) continue;
-    if (it->second.digest == digests_[i]) done[key(i)] = it->second.lines;
-    else if (stale) ++*stale;
+    if (it->second.digest == digests_[i])
+      done[key(i)] = it->second.lines;
+    else if (stale)
+      ++*stale;
   }
   return done;
 }
@@ -292,7 +300,8 @@ bool SweepPlan::done(size_t i) const { return done_.count(key(i)) > 0; }
 // Reads finished rows (job key -> its settings digest and lines) from an OUTPUT.partial or part file; a torn last
 // line (no newline) is dropped. A job's rows are appended in one write, so a job is either complete or (torn line
 // aside) absent. A file of a semlb without digests (the plain header) reads with empty digests: every row stale.
-std::map<std::string, SweepPlan::Rows> SweepPlan::read_rows(const std::string& path, std::vector<std::string>& order) const {
+std::map<std::string, SweepPlan::Rows> SweepPlan::read_rows(const std::string& path,
+                                                            std::vector<std::string>& order) const {
   std::map<std::string, Rows> rows;
   std::string text = read_file(path);
   if (text.empty()) return rows;
@@ -312,14 +321,17 @@ std::map<std::string, SweepPlan::Rows> SweepPlan::read_rows(const std::string& p
       digest = cells.front();
       cells.erase(cells.begin());
     }
-    if (cells.size() != layout_.header.size()) throw InputError(where(path, n, "") + "row has the wrong number of columns");
+    if (cells.size() != layout_.header.size())
+      throw InputError(where(path, n, "") + "row has the wrong number of columns");
     std::string key;
     for (const auto& a : layout_.axes)
       key += cells[std::find(layout_.header.begin(), layout_.header.end(), a) - layout_.header.begin()] + '\x1f';
     if (!rows.count(key)) order.push_back(key);
     Rows& r = rows[key];
-    if (!r.lines.empty() && r.digest != digest) r.digest = "mixed";  // never matches: the job reruns
-    else r.digest = digest;
+    if (!r.lines.empty() && r.digest != digest)
+      r.digest = "mixed";  // never matches: the job reruns
+    else
+      r.digest = digest;
     r.lines += (digests ? digest + "," : std::string(",")) + join(cells) + "\n";  // a job may have several rows
   }
   return rows;
@@ -334,7 +346,8 @@ std::string SweepPlan::rows(size_t i) const {
     for (const auto& a : layout_.extra_axes) cells.push_back(axis_value(job, a));
     for (size_t c = 0; c < row.size(); ++c) {  // key columns keep the manifest's spelling
       const Setting* axis = std::find(layout_.axes.begin(), layout_.axes.end(), columns[c]) != layout_.axes.end()
-                                ? job.find(columns[c]) : nullptr;
+                                ? job.find(columns[c])
+                                : nullptr;
       cells.push_back(axis ? axis->value : row[c]);
     }
     lines += digests_[i] + "," + csv_line(cells);
@@ -354,9 +367,11 @@ std::string SweepPlan::rows_from_file(size_t i, const std::string& path) const {
   auto rows = read_rows(path, order);
   if (order.empty()) return "";  // a job without rows
   if (order.size() != 1 || order[0] != key(i))
-    throw InputError(path + ": rows are not job " + std::to_string(i) + "'s of this manifest; remove the file to rerun the job");
+    throw InputError(path + ": rows are not job " + std::to_string(i) +
+                     "'s of this manifest; remove the file to rerun the job");
   if (rows[order[0]].digest != digests_[i])
-    throw InputError(path + ": job " + std::to_string(i) + "'s rows were made with other settings (settings digest); remove the file to rerun the job");
+    throw InputError(path + ": job " + std::to_string(i) +
+                     "'s rows were made with other settings (settings digest); remove the file to rerun the job");
   return rows[order[0]].lines;
 }
 
@@ -422,7 +437,8 @@ const Registrar<LauncherInfo> local("local", {run_local});
 
 SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overrides, const SweepOptions& o) {
   const LauncherInfo* launcher = Launchers::find(o.launcher);
-  if (!launcher) throw InputError("--launcher: unknown launcher '" + o.launcher + "' (known: " + Launchers::known() + ")");
+  if (!launcher)
+    throw InputError("--launcher: unknown launcher '" + o.launcher + "' (known: " + Launchers::known() + ")");
   // A SIGINT, SIGTERM or SIGHUP of the sweep stops the rows' children (mpiexec and its ranks), removes their run
   // folders and the results folder's lock, then ends the sweep by that signal (docs/experiments.md, "Signals").
   const SignalCleanup cleanup;

@@ -30,7 +30,7 @@ struct SlurmOptions {
 
 struct SweepOptions {
   std::string results_dir = "results";
-  int jobs = 1;               // worker threads
+  int jobs = 1;  // worker threads
   RunOptions run;
   bool progress = true;
   std::string git_revision = "unknown";
@@ -72,7 +72,7 @@ class SweepPlan {
   std::string partial_header() const;
   /// Job i's axes as `KEY=VALUE KEY=VALUE` (progress lines).
   std::string label(size_t i) const;
-  bool done(size_t i) const;   // job i's rows, made with its settings, are in OUTPUT.partial
+  bool done(size_t i) const;  // job i's rows, made with its settings, are in OUTPUT.partial
   const std::string& digest(size_t i) const { return digests_[i]; }  // job i's settings digest (16 hex digits)
   // Runs job i (the runner) and returns its CSV lines, each starting with the job's digest; does not record them.
   std::string rows(size_t i) const;

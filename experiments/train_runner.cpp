@@ -17,8 +17,15 @@ namespace {
 class TrainRunner final : public Runner {
  public:
   std::vector<std::string> columns() const override {
-    return {"step", "wall_seconds", "loss", "lr", "temperature", "val_imbalance", "val_migration",
-            "reactive_imbalance", "reactive_migration"};
+    return {"step",
+            "wall_seconds",
+            "loss",
+            "lr",
+            "temperature",
+            "val_imbalance",
+            "val_migration",
+            "reactive_imbalance",
+            "reactive_migration"};
   }
 
   bool measures_time() const override { return true; }  // wall_seconds column
@@ -32,10 +39,11 @@ class TrainRunner final : public Runner {
     const auto tmp = std::filesystem::temp_directory_path();
     static std::once_flag swept;  // the folders of sweeps that died by SIGKILL, once per process
     std::call_once(swept, [&] { remove_stale_run_folders(tmp.string(), "semlb_train_runner_"); });
-    const auto dir = tmp / ("semlb_train_runner_" + std::to_string(::getpid()) + "_" + std::to_string(std::hash<std::string>{}(train::to_yaml(c))));
+    const auto dir = tmp / ("semlb_train_runner_" + std::to_string(::getpid()) + "_" +
+                            std::to_string(std::hash<std::string>{}(train::to_yaml(c))));
     std::filesystem::create_directories(dir);
     register_cleanup_path(dir.string());  // a signal's cleanup removes it (common/cleanup.hpp)
-    struct Remove {  // and so does every way out of this function
+    struct Remove {                       // and so does every way out of this function
       std::filesystem::path dir;
       ~Remove() {
         std::error_code ec;
@@ -61,8 +69,10 @@ class TrainRunner final : public Runner {
     std::string file;
     std::vector<std::string> sets;
     for (const auto& [k, s] : job.settings) {
-      if (k == "config") file = resolve_path(base_dir, s.value);
-      else sets.push_back(k + "=" + s.value);
+      if (k == "config")
+        file = resolve_path(base_dir, s.value);
+      else
+        sets.push_back(k + "=" + s.value);
     }
     try {
       return train::load_train_config(file, sets);

@@ -21,13 +21,26 @@ class WorkloadEvalRunner final : public Runner {
   // workload: the file as the manifest names it; events: intervals replayed; loop_s: the projected loop time (s);
   // ideal_s: the loop time of a perfect balance; the rest as the surrogate runner's.
   std::vector<std::string> columns() const override {
-    return {"workload", "policy", "ranks", "seed", "events", "slices", "mean_imbalance", "migration", "loop_s", "ideal_s",
-            "migrate_s", "first_quarter_imbalance", "last_quarter_imbalance", "us_per_decision"};
+    return {"workload",
+            "policy",
+            "ranks",
+            "seed",
+            "events",
+            "slices",
+            "mean_imbalance",
+            "migration",
+            "loop_s",
+            "ideal_s",
+            "migrate_s",
+            "first_quarter_imbalance",
+            "last_quarter_imbalance",
+            "us_per_decision"};
   }
 
   void check(const Job& job, const std::string& manifest, const RunOptions& o) const override {
-    check_settings(job, manifest, {"policy", "ranks", "seed", "workload", "events", "first_event", "coarsen"},
-                   [](const std::string& k) { return is_model_key(k) || is_policy_param(k); }, "the workload_eval runner");
+    check_settings(
+        job, manifest, {"policy", "ranks", "seed", "workload", "events", "first_event", "coarsen"},
+        [](const std::string& k) { return is_model_key(k) || is_policy_param(k); }, "the workload_eval runner");
     const auto r = replay_of(job, manifest);
     const Setting* w = job.find("workload");
     if (!w) throw InputError(where(manifest, 0, "workload") + "missing (an engine workload file, output.workload)");
@@ -79,7 +92,8 @@ class WorkloadEvalRunner final : public Runner {
 
   static surrogate::WorkloadReplay replay_of(const Job& job, const std::string& manifest) {
     surrogate::WorkloadReplay r;
-    if (!job.find("ranks")) throw InputError(where(manifest, 0, "ranks") + "missing (the workload_eval runner needs it)");
+    if (!job.find("ranks"))
+      throw InputError(where(manifest, 0, "ranks") + "missing (the workload_eval runner needs it)");
     r.ranks = static_cast<int>(job.integer("ranks", 0, 1, 1 << 20, manifest));
     r.seed = static_cast<uint64_t>(job.integer("seed", 0, 0, std::numeric_limits<long>::max(), manifest));
     r.events = static_cast<int>(job.integer("events", 0, 0, 1 << 30, manifest));

@@ -18,16 +18,25 @@ void write_trace(const std::string& dir, const EvalJob& job, const RolloutResult
   std::filesystem::create_directories(dir);
   std::string text;
   for (const auto& e : r.trace) text += to_json(e).dump() + '\n';
-  write_file_atomically(dir + "/" + job.policy + "_P" + std::to_string(job.ranks) + "_s" + std::to_string(job.seed) + ".jsonl",
-                        text);
+  write_file_atomically(
+      dir + "/" + job.policy + "_P" + std::to_string(job.ranks) + "_s" + std::to_string(job.seed) + ".jsonl", text);
 }
 
 }  // namespace
 
 const std::vector<std::string>& eval_columns() {
-  static const std::vector<std::string> c = {
-      "policy", "ranks", "seed", "events", "slices", "min_width", "mean_imbalance", "migration",
-      "mean_max_over_mean", "first_quarter_imbalance", "last_quarter_imbalance", "us_per_decision"};
+  static const std::vector<std::string> c = {"policy",
+                                             "ranks",
+                                             "seed",
+                                             "events",
+                                             "slices",
+                                             "min_width",
+                                             "mean_imbalance",
+                                             "migration",
+                                             "mean_max_over_mean",
+                                             "first_quarter_imbalance",
+                                             "last_quarter_imbalance",
+                                             "us_per_decision"};
   return c;
 }
 

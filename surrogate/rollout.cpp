@@ -104,10 +104,13 @@ RolloutResult replay_rollout(const std::vector<TraceEvent>& events, const std::v
   for (size_t t = 0; t < events.size(); ++t) {
     const Observation& o = events[t].obs;
     const long line = lines.at(t);
-    if (o.slice_work.empty()) throw InputError(where(file, line, "slice_work") + "missing (--score takes it as the true work)");
+    if (o.slice_work.empty())
+      throw InputError(where(file, line, "slice_work") + "missing (--score takes it as the true work)");
     if (o.slices != first.slices) throw InputError(where(file, line, "slices") + "differs from the first event's");
-    if (o.min_width != first.min_width) throw InputError(where(file, line, "min_width") + "differs from the first event's");
-    if (o.times.size() != first.times.size()) throw InputError(where(file, line, "times") + "rank count differs from the first event's");
+    if (o.min_width != first.min_width)
+      throw InputError(where(file, line, "min_width") + "differs from the first event's");
+    if (o.times.size() != first.times.size())
+      throw InputError(where(file, line, "times") + "rank count differs from the first event's");
     work.push_back(o.slice_work);
   }
   const int K = static_cast<int>(events.size());

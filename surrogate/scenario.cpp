@@ -18,10 +18,10 @@ using rng::clipped_normal;
 }  // namespace
 
 const std::vector<std::string>& scenario_keys() {
-  static const std::vector<std::string> k = {"slices", "min_width", "baseline", "growth_rate", "growth_period", "growth_offset",
-                                             "burst_probability", "burst_size", "time_jitter", "work_noise",
-                                             "drift_speed", "drift_walk", "drift_max", "front_amplitude", "front_speed",
-                                             "front_start"};
+  static const std::vector<std::string> k = {"slices",        "min_width",       "baseline",          "growth_rate",
+                                             "growth_period", "growth_offset",   "burst_probability", "burst_size",
+                                             "time_jitter",   "work_noise",      "drift_speed",       "drift_walk",
+                                             "drift_max",     "front_amplitude", "front_speed",       "front_start"};
   return k;
 }
 
@@ -39,7 +39,8 @@ Scenario make_scenario(uint64_t seed, int ranks, const ScenarioSet& set) {
   };
   auto integer = [&](const char* key, int drawn, long lo, long hi) {
     const auto it = set.find(key);
-    return it == set.end() ? drawn : static_cast<int>(parse_integer(it->second, std::string("scenario.") + key + ": ", lo, hi));
+    return it == set.end() ? drawn
+                           : static_cast<int>(parse_integer(it->second, std::string("scenario.") + key + ": ", lo, hi));
   };
   Scenario s;
   s.seed = seed;
@@ -48,7 +49,8 @@ Scenario make_scenario(uint64_t seed, int ranks, const ScenarioSet& set) {
   s.slices = integer("slices", static_cast<int>(u(256, 1025, 0)), 1, 1 << 20);
   if (ranks < 1 || ranks > s.slices)
     throw InputError("ranks = " + std::to_string(ranks) + " must be in [1, " + std::to_string(s.slices) + "]");
-  s.min_width = integer("min_width", std::max(1, std::min(static_cast<int>(u(2, 7, 1)), s.slices / (2 * ranks))), 1, s.slices / ranks);
+  s.min_width = integer("min_width", std::max(1, std::min(static_cast<int>(u(2, 7, 1)), s.slices / (2 * ranks))), 1,
+                        s.slices / ranks);
   s.baseline = real("baseline", u(0.2, 0.6, 2), 0.0, 1e6);
   s.growth_rate = real("growth_rate", u(0.0, 0.001, 3), -0.5, 1.0);
   s.growth_period = integer("growth_period", static_cast<int>(u(8, 31, 4)), 1, 1 << 20);
@@ -66,12 +68,14 @@ Scenario make_scenario(uint64_t seed, int ranks, const ScenarioSet& set) {
   const int n = static_cast<int>(u(2, 7, 9));
   for (int h = 0; h < n; ++h) {
     auto hu = [&](double lo, double hi, uint64_t k) { return rng::uniform(lo, hi, seed, kHotspot, h, k); };
-    s.hotspots.push_back({hu(0.05, 0.95, 0), std::clamp(s.drift_speed * clipped_normal(seed, kHotspot, h, 7), -s.drift_max, s.drift_max),
+    s.hotspots.push_back({hu(0.05, 0.95, 0),
+                          std::clamp(s.drift_speed * clipped_normal(seed, kHotspot, h, 7), -s.drift_max, s.drift_max),
                           hu(0.5, 2.0, 2), hu(0.05, 0.25, 3)});
   }
   for (int k = 0; k < 3; ++k) {
     auto bu = [&](double lo, double hi, uint64_t i) { return rng::uniform(lo, hi, seed, kBias, k, i); };
-    s.proxy_bias.push_back({bu(0.02, 0.10, 0), bu(1.0, 4.0, 1), bu(0.0, 2.0 * std::numbers::pi, 2), bu(-0.02, 0.02, 3)});
+    s.proxy_bias.push_back(
+        {bu(0.02, 0.10, 0), bu(1.0, 4.0, 1), bu(0.0, 2.0 * std::numbers::pi, 2), bu(-0.02, 0.02, 3)});
   }
   s.texture.resize(s.slices);
   for (int i = 0; i < s.slices; ++i)
@@ -92,7 +96,8 @@ void Workload::advance() {
   growth_event_ = (event_ - s_.growth_offset) % s_.growth_period == 0;
   for (size_t h = 0; h < hotspots_.size(); ++h) {
     Hotspot& hs = hotspots_[h];
-    hs.velocity = std::clamp(hs.velocity + s_.drift_walk * clipped_normal(seed, kDrift, t, h), -s_.drift_max, s_.drift_max);
+    hs.velocity =
+        std::clamp(hs.velocity + s_.drift_walk * clipped_normal(seed, kDrift, t, h), -s_.drift_max, s_.drift_max);
     hs.centre += hs.velocity;
     if (hs.centre < 0.02 || hs.centre > 0.98) {  // reflect at the tissue edge
       hs.velocity = -hs.velocity;
@@ -107,7 +112,8 @@ void Workload::advance() {
   std::erase_if(bursts_, [&](const Burst& b) { return std::exp(-(event_ - b.start) / b.decay) < 1e-3; });
   if (rng::uniform(seed, kBurst, t, 0) < s_.burst_probability)
     bursts_.push_back({rng::uniform(0.02, 0.98, seed, kBurst, t, 1), rng::uniform(0.005, 0.03, seed, kBurst, t, 2),
-                       s_.burst_size * rng::uniform(0.1, 0.6, seed, kBurst, t, 3), event_, rng::uniform(1.0, 5.0, seed, kBurst, t, 4)});
+                       s_.burst_size * rng::uniform(0.1, 0.6, seed, kBurst, t, 3), event_,
+                       rng::uniform(1.0, 5.0, seed, kBurst, t, 4)});
   evaluate();
 }
 
@@ -124,7 +130,8 @@ void Workload::evaluate() {
     const double x = (i + 0.5) / s_.slices;
     double d = s_.baseline;
     for (const auto& h : hotspots_) d += gaussian(x, h.centre, h.width, h.amplitude);
-    for (const auto& b : bursts_) d += gaussian(x, b.centre, b.width, b.amplitude * std::exp(-(event_ - b.start) / b.decay));
+    for (const auto& b : bursts_)
+      d += gaussian(x, b.centre, b.width, b.amplitude * std::exp(-(event_ - b.start) / b.decay));
     if (s_.front_amplitude > 0) {  // the ramp behind the front: 0 at the front, front_amplitude 0.2 behind it
       const double behind = s_.front_start + s_.front_speed * event_ - x;
       d += s_.front_amplitude * std::clamp(behind / 0.2, 0.0, 1.0);
@@ -149,7 +156,8 @@ std::vector<double> observed_work(const Scenario& s, int event, const std::vecto
   for (size_t i = 0; i < out.size(); ++i) {
     const double x = (i + 0.5) / out.size();
     double g = 0.0;
-    for (const auto& m : s.proxy_bias) g += m.amplitude * std::sin(2.0 * std::numbers::pi * m.wavenumber * x + m.phase + m.speed * event);
+    for (const auto& m : s.proxy_bias)
+      g += m.amplitude * std::sin(2.0 * std::numbers::pi * m.wavenumber * x + m.phase + m.speed * event);
     out[i] *= std::exp(g);
   }
   return out;

@@ -36,14 +36,14 @@ struct BiasMode {
 struct Scenario {
   uint64_t seed = 0;
   int ranks = 2, slices = 256, min_width = 2;
-  double baseline = 0.2;             // tissue density floor
-  double growth_rate = 0.0;          // steady amplitude growth per event
+  double baseline = 0.2;                      // tissue density floor
+  double growth_rate = 0.0;                   // steady amplitude growth per event
   int growth_period = 16, growth_offset = 0;  // growth events at t = offset (mod period), t > 0
-  double burst_probability = 0.05;   // per event
-  double burst_size = 1.0;           // scale of the burst amplitudes (each drawn in 0.1-0.6)
-  double drift_speed = 0.0002;       // std of a hotspot's initial velocity, domain lengths per event
-  double drift_walk = 0.00003;       // std of its per-event velocity change (random walk)
-  double drift_max = 0.0005;         // cap on |velocity|
+  double burst_probability = 0.05;            // per event
+  double burst_size = 1.0;                    // scale of the burst amplitudes (each drawn in 0.1-0.6)
+  double drift_speed = 0.0002;                // std of a hotspot's initial velocity, domain lengths per event
+  double drift_walk = 0.00003;                // std of its per-event velocity change (random walk)
+  double drift_max = 0.0005;                  // cap on |velocity|
   // A proliferative front (off unless front_amplitude > 0; never drawn, only set by overrides): behind the front at
   // front_start + front_speed * t (domain lengths per event) the density rises linearly over 0.2 domain lengths to
   // front_amplitude, as the stratifying epidermis behind a growth front does (docs/surrogate.md).

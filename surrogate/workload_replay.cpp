@@ -43,33 +43,46 @@ std::vector<int64_t> coarse_bits(const std::vector<int64_t>& v, int k, int n) { 
 
 const std::vector<std::string>& time_model_keys() {
   static const std::vector<std::string> keys = {"ghost_weight",     "speed_spread",    "jitter", "migrate_s_per_slice",
-                                                "seconds_per_work", "rank_overhead_s", "truth",
-                                                "list_by",          "list_weight",     "element_s"};
+                                                "seconds_per_work", "rank_overhead_s", "truth",  "list_by",
+                                                "list_weight",      "element_s"};
   return keys;
 }
 
 void set_time_model(TimeModel& m, const std::string& key, const std::string& value, const std::string& where) {
   const std::string at = where + key + ": ";
-  if (key == "ghost_weight") m.ghost_weight = parse_real(value, at, 0, 100);
-  else if (key == "speed_spread") m.speed_spread = parse_real(value, at, 0, 0.3);
-  else if (key == "jitter") m.jitter = parse_real(value, at, 0, 0.3);
-  else if (key == "migrate_s_per_slice") m.migrate_s_per_slice = parse_real(value, at, 0, 1e6);
-  else if (key == "seconds_per_work") m.seconds_per_work = parse_real(value, at, 0, 1e6);
-  else if (key == "rank_overhead_s") m.rank_overhead_s = parse_real(value, at, 0, 1e6);
-  else if (key == "element_s") m.element_s = parse_real(value, at, 0, 1);
-  else if (key == "list_weight") m.list_weight = parse_real(value, at, 0, 100);
+  if (key == "ghost_weight")
+    m.ghost_weight = parse_real(value, at, 0, 100);
+  else if (key == "speed_spread")
+    m.speed_spread = parse_real(value, at, 0, 0.3);
+  else if (key == "jitter")
+    m.jitter = parse_real(value, at, 0, 0.3);
+  else if (key == "migrate_s_per_slice")
+    m.migrate_s_per_slice = parse_real(value, at, 0, 1e6);
+  else if (key == "seconds_per_work")
+    m.seconds_per_work = parse_real(value, at, 0, 1e6);
+  else if (key == "rank_overhead_s")
+    m.rank_overhead_s = parse_real(value, at, 0, 1e6);
+  else if (key == "element_s")
+    m.element_s = parse_real(value, at, 0, 1);
+  else if (key == "list_weight")
+    m.list_weight = parse_real(value, at, 0, 100);
   else if (key == "list_by") {
-    if (value == "stages") m.list_by = TimeModel::ListBy::kStages;
-    else if (value == "work") m.list_by = TimeModel::ListBy::kWork;
-    else throw InputError(at + "'" + value + "' is not one of stages, work");
-  }
-  else if (key == "truth") {
-    if (value == "auto") m.truth = TimeModel::Truth::kAuto;
-    else if (value == "work") m.truth = TimeModel::Truth::kWork;
-    else if (value == "measured") m.truth = TimeModel::Truth::kMeasured;
-    else throw InputError(at + "'" + value + "' is not one of auto, work, measured");
-  }
-  else {
+    if (value == "stages")
+      m.list_by = TimeModel::ListBy::kStages;
+    else if (value == "work")
+      m.list_by = TimeModel::ListBy::kWork;
+    else
+      throw InputError(at + "'" + value + "' is not one of stages, work");
+  } else if (key == "truth") {
+    if (value == "auto")
+      m.truth = TimeModel::Truth::kAuto;
+    else if (value == "work")
+      m.truth = TimeModel::Truth::kWork;
+    else if (value == "measured")
+      m.truth = TimeModel::Truth::kMeasured;
+    else
+      throw InputError(at + "'" + value + "' is not one of auto, work, measured");
+  } else {
     std::string known;
     for (const auto& k : time_model_keys()) known += (known.empty() ? "" : ", ") + k;
     throw InputError(at + "unknown time model key (known: " + known + ")");
@@ -78,20 +91,24 @@ void set_time_model(TimeModel& m, const std::string& key, const std::string& val
 
 ReplayTrack replay_track(const EngineWorkload& w, const WorkloadReplay& r, const std::string& file) {
   const int E = static_cast<int>(w.events.size());
-  if (r.coarsen < 1 || r.coarsen > w.slices) throw InputError(file + ": coarsen " + std::to_string(r.coarsen) + " outside [1, slices]");
+  if (r.coarsen < 1 || r.coarsen > w.slices)
+    throw InputError(file + ": coarsen " + std::to_string(r.coarsen) + " outside [1, slices]");
   if (r.first_event < 0 || r.first_event >= E)
-    throw InputError(file + ": field 'events': first event " + std::to_string(r.first_event) + " outside the " + std::to_string(E) + " recorded");
+    throw InputError(file + ": field 'events': first event " + std::to_string(r.first_event) + " outside the " +
+                     std::to_string(E) + " recorded");
   const int last = r.events > 0 ? std::min(E, r.first_event + r.events) : E;
   ReplayTrack t;
   t.slices = w.slices / r.coarsen;
   t.min_width = (w.min_width + r.coarsen - 1) / r.coarsen;
   if (static_cast<long>(r.ranks) * t.min_width > t.slices || r.ranks < 1)
-    throw InputError(file + ": --ranks " + std::to_string(r.ranks) + ": " + std::to_string(r.ranks) + " ranks of at least " +
-                     std::to_string(t.min_width) + " slices do not fit in " + std::to_string(t.slices) + " slices");
+    throw InputError(file + ": --ranks " + std::to_string(r.ranks) + ": " + std::to_string(r.ranks) +
+                     " ranks of at least " + std::to_string(t.min_width) + " slices do not fit in " +
+                     std::to_string(t.slices) + " slices");
   const bool has = has_measured_cost(w);
   if (r.model.truth == TimeModel::Truth::kMeasured && !has)
-    throw InputError(file + ": field 'slice_seconds': --time-model truth=measured, but the file has no measured seconds "
-                            "(a version 1 workload: record it with decomposition.timing: device)");
+    throw InputError(file +
+                     ": field 'slice_seconds': --time-model truth=measured, but the file has no measured seconds "
+                     "(a version 1 workload: record it with decomposition.timing: device)");
   t.measured = has && r.model.truth != TimeModel::Truth::kWork;
   double work = 0, seconds = 0;
   for (int e = r.first_event; e < last; ++e) {
@@ -116,7 +133,8 @@ ReplayTrack replay_track(const EngineWorkload& w, const WorkloadReplay& r, const
         t.elements.push_back(coarse(ev.slice_elements, r.coarsen, t.slices));
         t.changes.push_back(coarse_bits(ev.cell_stage_changes, r.coarsen, t.slices));
         auto sec = t.seconds.back();
-        for (int s = 0; s < t.slices; ++s) sec[s] = std::max(0.0, sec[s] - (n > 0 ? list * t.elements.back()[s] / n : 0.0));
+        for (int s = 0; s < t.slices; ++s)
+          sec[s] = std::max(0.0, sec[s] - (n > 0 ? list * t.elements.back()[s] / n : 0.0));
         t.without_list.push_back(std::move(sec));
       }
     }
@@ -131,8 +149,8 @@ std::vector<double> speed_factors(int ranks, uint64_t seed, double spread) {
   return s;
 }
 
-std::vector<double> model_times(const ReplayTrack& t, int event, const std::vector<int>& b, const std::vector<double>& speed,
-                                const TimeModel& m) {
+std::vector<double> model_times(const ReplayTrack& t, int event, const std::vector<int>& b,
+                                const std::vector<double>& speed, const TimeModel& m) {
   auto times = rank_sums(!t.list_s.empty() ? t.without_list[event] : t.measured ? t.seconds[event] : t.work[event], b);
   if (!t.list_s.empty()) {  // the list builds of the ranks whose slices changed (version 3)
     const auto& n = t.elements[event];
@@ -162,15 +180,15 @@ std::vector<double> model_times(const ReplayTrack& t, int event, const std::vect
   const double ghost = m.ghost_weight * (t.measured ? t.seconds_per_element[event] : t.per_element[event]);
   for (size_t q = 0; q < times.size(); ++q) {
     double g = 0;
-    if (q > 0) g += t.below[event][b[q - 1] - 1];            // the rank below sends its elements below edge b_{q-1}
+    if (q > 0) g += t.below[event][b[q - 1] - 1];             // the rank below sends its elements below edge b_{q-1}
     if (q + 1 < times.size()) g += t.above[event][b[q] - 1];  // the rank above sends those above edge b_q
     times[q] = speed[q] * (scale * (times[q] + ghost * g) + m.rank_overhead_s);
   }
   return times;
 }
 
-WorkloadReplayResult replay_workload(const EngineWorkload& w, const WorkloadReplay& r, Policy& policy, const std::string& name,
-                                     const std::string& file) {
+WorkloadReplayResult replay_workload(const EngineWorkload& w, const WorkloadReplay& r, Policy& policy,
+                                     const std::string& name, const std::string& file) {
   const ReplayTrack t = replay_track(w, r, file);
   const int K = static_cast<int>(t.work.size());
   const auto speed = speed_factors(r.ranks, r.seed, r.model.speed_spread);
@@ -203,7 +221,8 @@ WorkloadReplayResult replay_workload(const EngineWorkload& w, const WorkloadRepl
     const auto path = foresight_path(work, initial, t.min_width, offline->lambda());
     decide_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     for (int e = 0; e < K; ++e)
-      account(model_times(t, e, path.boundaries[e], speed, r.model), e + 1 < K ? migration(path.boundaries[e], path.boundaries[e + 1]) : 0);
+      account(model_times(t, e, path.boundaries[e], speed, r.model),
+              e + 1 < K ? migration(path.boundaries[e], path.boundaries[e + 1]) : 0);
     res.migration = path.migration;
   } else {
     Balancer balancer(name, policy, t.slices, t.min_width, initial);
@@ -215,7 +234,8 @@ WorkloadReplayResult replay_workload(const EngineWorkload& w, const WorkloadRepl
       for (double x : m.times) total_t += x;
       m.slice_work = t.work[e];
       for (double x : m.slice_work) total_w += x;
-      for (double& x : m.slice_work) x *= total_w > 0 ? total_t / total_w : 0.0;  // W_s scaled to the times, as the engine does
+      for (double& x : m.slice_work)
+        x *= total_w > 0 ? total_t / total_w : 0.0;  // W_s scaled to the times, as the engine does
       m.true_work = seconds_of(e + 1 < K ? e + 1 : e);
       m.growth_phase = t.phase[e];
       m.growth_event = t.growth[e];
@@ -223,9 +243,11 @@ WorkloadReplayResult replay_workload(const EngineWorkload& w, const WorkloadRepl
       try {
         decide_s += balancer.rebalance(std::move(m)).seconds;
       } catch (const ObservationError& err) {
-        throw InputError(file + ": event " + std::to_string(r.first_event + e) + ": field '" + err.field + "': " + err.what());
+        throw InputError(file + ": event " + std::to_string(r.first_event + e) + ": field '" + err.field +
+                         "': " + err.what());
       } catch (const std::exception& err) {
-        throw InputError(file + ": event " + std::to_string(r.first_event + e) + ": policy '" + name + "': " + err.what());
+        throw InputError(file + ": event " + std::to_string(r.first_event + e) + ": policy '" + name +
+                         "': " + err.what());
       }
       account(truth, balancer.migration() - before);
     }

@@ -41,15 +41,15 @@ struct TimeModel {
   enum class Truth { kAuto, kWork, kMeasured };
   enum class ListBy { kStages, kWork };
   Truth truth = Truth::kAuto;
-  ListBy list_by = ListBy::kStages;  // version 3: where the list builds' seconds go
-  double list_weight = 1;            // version 3: the share of the one-rank list seconds the ranks' builds take
-  double element_s = 0;              // version 3: seconds per owned element and interval
-  double rank_overhead_s = 0;       // seconds per interval and rank
-  double ghost_weight = 0.5;        // a received ghost element's cost relative to an owned element's
-  double speed_spread = 0.01;       // sigma of the per-rank speed factors
-  double jitter = 0.03;             // sigma of the measurement noise (relative)
+  ListBy list_by = ListBy::kStages;      // version 3: where the list builds' seconds go
+  double list_weight = 1;                // version 3: the share of the one-rank list seconds the ranks' builds take
+  double element_s = 0;                  // version 3: seconds per owned element and interval
+  double rank_overhead_s = 0;            // seconds per interval and rank
+  double ghost_weight = 0.5;             // a received ghost element's cost relative to an owned element's
+  double speed_spread = 0.01;            // sigma of the per-rank speed factors
+  double jitter = 0.03;                  // sigma of the measurement noise (relative)
   double migrate_s_per_slice = 1.24e-4;  // seconds per slice moved
-  double seconds_per_work = 0;      // c_w; 0: sum(interval_s) / sum(W_s) over the workload's events
+  double seconds_per_work = 0;           // c_w; 0: sum(interval_s) / sum(W_s) over the workload's events
 };
 
 // The TimeModel keys ("ghost_weight", ...), and one "KEY=VALUE" set into `m` (strict numbers, each in its range:
@@ -91,7 +91,7 @@ struct ReplayTrack {
   // version 3: seconds without the list builds (model_times adds them per rank); the oracles and foresight see
   // `seconds`, additive over slices
   std::vector<std::vector<double>> without_list;
-  std::vector<double> seconds_per_element;              // sigma per event (when measured)
+  std::vector<double> seconds_per_element;  // sigma per event (when measured)
   // version 3 files (else empty): per event the list builds' seconds, per slice its elements and its cell stages' bits
   std::vector<double> list_s;
   std::vector<std::vector<double>> elements;

@@ -26,7 +26,8 @@ BackendConfig backend_settings(const BackendConfig& config) {
   }
   if (chosen->read) chosen->read(top, c);
   for (const auto& key : top.unread()) {
-    if (top.find(key)->kind == Settings::Kind::map) top.fail(key, "is not a backend (known: " + Backends::known() + ")");
+    if (top.find(key)->kind == Settings::Kind::map)
+      top.fail(key, "is not a backend (known: " + Backends::known() + ")");
     top.fail(key, "backend '" + c.name + "' does not use it");
   }
   return c;
@@ -46,9 +47,12 @@ Traffic Backend::traffic_total() const {
 Backend::DeviceParts Backend::device_parts(const std::map<std::string, double>& kernels) {
   DeviceParts p;
   for (const auto& [key, t] : kernels) {
-    if (key.rfind("cells:", 0) == 0) p.cells += t;
-    else if (key.rfind("list:", 0) == 0) p.list += t;
-    else if (is_pair_force_kernel(key)) p.pair += t;
+    if (key.rfind("cells:", 0) == 0)
+      p.cells += t;
+    else if (key.rfind("list:", 0) == 0)
+      p.list += t;
+    else if (is_pair_force_kernel(key))
+      p.pair += t;
   }
   return p;
 }
@@ -64,8 +68,8 @@ std::vector<double> Backend::slice_work(State& host, const SliceMap& map, const 
   return cell_work(host, g, counts, map);
 }
 
-void Backend::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers,
-                           std::vector<int>& owner) {
+void Backend::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank,
+                           State& leavers, std::vector<int>& owner) {
   download(host);
   owner.clear();
   State stay;
@@ -82,8 +86,10 @@ long Backend::remove_cells(State& host, const std::string& rule, const std::vect
   long removed = 0;
   for (long c = 0; c < host.cells(); ++c) {
     const auto ctr = centroid(host, c);
-    if (removes(ctr[0], ctr[1], ctr[2], host.cell_type[c], host.cell_count[c], params.data())) ++removed;
-    else copy_cell(host, c, kept);
+    if (removes(ctr[0], ctr[1], ctr[2], host.cell_type[c], host.cell_count[c], params.data()))
+      ++removed;
+    else
+      copy_cell(host, c, kept);
   }
   if (removed == 0) return 0;  // the backend holds exactly these cells
   kept.reindex();
@@ -92,7 +98,8 @@ long Backend::remove_cells(State& host, const std::string& rule, const std::vect
   return removed;
 }
 
-void Backend::cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field, double elapsed_h) {
+void Backend::cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field,
+                        double elapsed_h) {
   const FateEvaluator decides = FateRules::at(rule).decides;
   download(host);
   std::vector<double>* column = host.cell_field_at(field);

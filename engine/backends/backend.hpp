@@ -36,7 +36,8 @@ std::string ids_exhausted(uint64_t id, int depth, long step);
 struct Failure {
   long step = -1;
   long element = -1;
-  int code = 0;  // 1: position not finite, 2: displacement above the limit, 3: force sums may leave int64 (pair_force.h)
+  int code =
+      0;  // 1: position not finite, 2: displacement above the limit, 3: force sums may leave int64 (pair_force.h)
   bool failed() const { return step >= 0; }
   std::string quantity() const;
 };
@@ -84,8 +85,8 @@ class Backend {
   // The owned elements' positions; after a cell stage on the device also the cells (ids, types, counts)
   // and the per-cell fields `state` lists (of those uploaded: the device keeps the uploaded state's fields).
   virtual void download(State& state) = 0;
-  // One cell stage (run_cell_stage's rules, `step` keys the newborns); the ghosts stay. C++ backends run the host reference
-  // on `host` (positions downloaded first) and upload; OpenCL runs it on the device and leaves `host` stale
+  // One cell stage (run_cell_stage's rules, `step` keys the newborns); the ghosts stay. C++ backends run the host
+  // reference on `host` (positions downloaded first) and upload; OpenCL runs it on the device and leaves `host` stale
   // until download. Returns true when elements were added or cells divided (the grid may need refitting).
   virtual bool update_cells(State& host, const CellRules& rules, uint64_t seed, double elapsed_h, long step) = 0;
   // InputError when this backend cannot run the cell stage (an OpenCL device without double precision).
@@ -105,9 +106,9 @@ class Backend {
   virtual std::pair<long, long> counts(const State& host) const { return {host.cells(), host.elements()}; }
   // W_s of the owned cells on the tissue-wide grid `g` (work_grid): the owned elements counted per bin, `reduce`
   // (when given) sums the counts over the ranks, then the owned cells' w_i go into their slices. OpenCL with fp64: the
-  // counts and the sums on the device (64-bit integer atomics: exact, order-free); 4 bytes per bin cross to the host and
-  // back only when `reduce` is given, then 8 bytes per slice come back. Others (and OpenCL without fp64): download into
-  // `host`, then bin_counts and cell_work on the host.
+  // counts and the sums on the device (64-bit integer atomics: exact, order-free); 4 bytes per bin cross to the host
+  // and back only when `reduce` is given, then 8 bytes per slice come back. Others (and OpenCL without fp64): download
+  // into `host`, then bin_counts and cell_work on the host.
   virtual std::vector<double> slice_work(State& host, const SliceMap& map, const Grid& g, const CountReduce& reduce);
   // Cells whose centroid's slice is owned (owner_of) by another rank than `rank` leave: they are removed from
   // the backend (the rest keep their order) and returned in `leavers` (ids, types, counts, positions, the fields
@@ -126,7 +127,8 @@ class Backend {
   // `params` its derived parameters; elements keep their order and positions. OpenCL with fp64: the rule's kernel
   // `fate_NAME` on the device (nothing comes back). Others: on `host` (downloaded first), then uploaded (the ghosts
   // go). std::logic_error for an unregistered rule.
-  virtual void cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field, double elapsed_h);
+  virtual void cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field,
+                         double elapsed_h);
   // Appends `arrivals`' cells after the owned ones (their fields by name; missing ones are 0). Drops the ghosts.
   virtual void append_cells(State& host, const State& arrivals);
   // Forces start at zero each step; the pair forces and element_term add to them (fixed point).
@@ -136,9 +138,9 @@ class Backend {
   // elements; nothing without ghosts, no launch) after they arrived. Each pair's force is a fixed-point integer,
   // so local + non-local equals the full sum bit for bit, in any order. `f`: the registered pair term's name, its
   // derived parameters and the cutoff in um (pairs/pair_term.hpp; std::logic_error for an unregistered term; OpenCL
-  // rebuilds its program when the term is not the one it was built for); `grid` bins both parts (binned backends: the ghosts in bins of
-  // their own). The non-local part visits only the owned elements of the last bands() selection when one is
-  // current (kernel "forces_nonlocal"; OpenCL items = the two bands' sizes, an element in both idling in its
+  // rebuilds its program when the term is not the one it was built for); `grid` bins both parts (binned backends: the
+  // ghosts in bins of their own). The non-local part visits only the owned elements of the last bands() selection when
+  // one is current (kernel "forces_nonlocal"; OpenCL items = the two bands' sizes, an element in both idling in its
   // second slot; C++ the union), else every owned element. The selection is exact when every ghost lies at
   // x <= below - cutoff or x >= above + cutoff (the decomposed run's bands reach beyond the cutoff): an owned
   // element outside both bands then has no ghost within the cutoff.
@@ -213,8 +215,8 @@ class Backend {
     (void)group, (void)groups;
     return {};
   }
-  // Where the backend's device is, for ranks that take turns on it (simulation/device_turns.hpp): "PLATFORM#INDEX" for an
-  // OpenCL device; empty for the C++ backends (no device to share).
+  // Where the backend's device is, for ranks that take turns on it (simulation/device_turns.hpp): "PLATFORM#INDEX" for
+  // an OpenCL device; empty for the C++ backends (no device to share).
   virtual std::string device_key() const { return ""; }
   // Bytes moved host<->device since construction, per phase (set_phase names it; "other" before the first).
   // OpenCL: every clEnqueueRead/WriteBuffer it does. The C++ backends hold the state in host memory: they

@@ -36,9 +36,9 @@ static inline void scan_local(__local int* tmp, int l, int w) {
 }
 
 /* Exclusive scan, step 1: within blocks of the work-group size (power of two, <= 1024). */
-__kernel void scan_blocks(__global const int* gate, __global const int* counts, __global int* starts, __global int* sums,
-                          int nbins, __local int* tmp) {
-  if (!gate[0]) return;  /* gate: the scan kernels run only when its first int is set (neighbour_list.cl) */
+__kernel void scan_blocks(__global const int* gate, __global const int* counts, __global int* starts,
+                          __global int* sums, int nbins, __local int* tmp) {
+  if (!gate[0]) return; /* gate: the scan kernels run only when its first int is set (neighbour_list.cl) */
   int g = get_global_id(0), l = get_local_id(0), w = get_local_size(0);
   int v = g < nbins ? counts[g] : 0;
   tmp[l] = v;
@@ -79,8 +79,8 @@ __kernel void scan_add(__global const int* gate, __global int* starts, __global 
    sorted_index holds the element index (first + k); ref, unless null, a second copy of the sorted positions (the
    neighbour list's positions at its build). Gated as bin_count. */
 __kernel void scatter(__global const int* gate, __global const real4* pos, int first, __global const int* bin,
-                      __global int* cursor, __global real4* sorted_pos, __global int* sorted_index,
-                      __global real4* ref, int n) {
+                      __global int* cursor, __global real4* sorted_pos, __global int* sorted_index, __global real4* ref,
+                      int n) {
   if (!gate[0]) return;
   SEMLB_FOR_ITEMS(i, n) {
     int s = atomic_inc(&cursor[bin[i]]);

@@ -124,7 +124,8 @@ static inline long work_bin(__global const real4* pos, int e, double4 lo, double
   return ((long)(*b).z * dims.y + (*b).y) * dims.x + (*b).x;
 }
 
-/* Elements per bin over pos[0..n) (the owned elements; other ranks' are summed in by the host); counts zeroed before. */
+/* Elements per bin over pos[0..n) (the owned elements; other ranks' are summed in by the host); counts zeroed before.
+ */
 __kernel void work_bins(__global const real4* pos, int n, double4 lo, double4 size, int4 dims, __global int* counts) {
   int i = get_global_id(0);
   int4 b;
@@ -139,8 +140,9 @@ __kernel void work_cells(int n, __global const real4* pos, __global const int* f
   if (c >= n) return;
   double ctr[3];
   semlb_cell_centroid(pos, first[c], count[c], ctr);
-  long near = semlb_near_count(counts, semlb_bin_of(ctr[0], lo.x, size.x, dims.x), semlb_bin_of(ctr[1], lo.y, size.y, dims.y),
-                               semlb_bin_of(ctr[2], lo.z, size.z, dims.z), dims.x, dims.y, dims.z);
+  long near =
+      semlb_near_count(counts, semlb_bin_of(ctr[0], lo.x, size.x, dims.x), semlb_bin_of(ctr[1], lo.y, size.y, dims.y),
+                       semlb_bin_of(ctr[2], lo.z, size.z, dims.z), dims.x, dims.y, dims.z);
   atom_add(&work[semlb_slice_of(ctr[0], x0, width, slices)], (long)count[c] * near);
 }
 
@@ -164,14 +166,15 @@ __kernel void cells_owner(int n, __global const real4* pos, __global const int* 
 /* Per cell: a leaver goes to slot lstarts[c] of the l_ arrays (l_first holds its new owner), its elements at
    estarts[c]; a stayer to slot c - lstarts[c] of the out_ arrays, its elements at estarts[n + c] - estarts[n],
    their info renumbered to the new cell index. Each cell's field record (nf doubles) goes with it. */
-__kernel void cells_split(int n, int nf, __global const real4* pos, __global const ulong* keys, __global const ulong* id,
-                          __global const int* type, __global const int* first, __global const int* count,
-                          __global const double* fields, __global const int* leave, __global const int* owner,
-                          __global const int* lstarts, __global const int* estarts, __global real4* out_pos,
-                          __global ulong* out_keys, __global ulong* out_id, __global int* out_type,
-                          __global int* out_first, __global int* out_count, __global double* out_fields,
-                          __global real4* l_pos, __global ulong* l_id, __global int* l_type, __global int* l_first,
-                          __global int* l_count, __global double* l_fields) {
+__kernel void cells_split(int n, int nf, __global const real4* pos, __global const ulong* keys,
+                          __global const ulong* id, __global const int* type, __global const int* first,
+                          __global const int* count, __global const double* fields, __global const int* leave,
+                          __global const int* owner, __global const int* lstarts, __global const int* estarts,
+                          __global real4* out_pos, __global ulong* out_keys, __global ulong* out_id,
+                          __global int* out_type, __global int* out_first, __global int* out_count,
+                          __global double* out_fields, __global real4* l_pos, __global ulong* l_id,
+                          __global int* l_type, __global int* l_first, __global int* l_count,
+                          __global double* l_fields) {
   int c = get_global_id(0);
   if (c >= n) return;
   int f = first[c], m = count[c], t = type[c];

@@ -10,7 +10,7 @@
 namespace semlb::engine {
 
 static_assert(SEMLB_CELL_SLOT_BITS == kSlotBits && SEMLB_CELL_ROOT_ID_BITS == kRootIdBits &&
-              SEMLB_CELL_MAX_DEPTH == kMaxDivisionDepth && SEMLB_CELL_MAX_ELEMENTS == kMaxSlots - 1,
+                  SEMLB_CELL_MAX_DEPTH == kMaxDivisionDepth && SEMLB_CELL_MAX_ELEMENTS == kMaxSlots - 1,
               "cells.h and state.hpp disagree on the id layout");
 
 namespace {
@@ -18,17 +18,20 @@ namespace {
 std::vector<std::vector<double>*> record(State& s, const CellRules& r) {
   std::vector<std::vector<double>*> out;
   for (auto& [name, f] : s.cell_fields) {
-    if (f.size() != s.cell_id.size()) throw std::logic_error("cell field '" + name + "' has " + std::to_string(f.size()) + " values, not one per cell");
+    if (f.size() != s.cell_id.size())
+      throw std::logic_error("cell field '" + name + "' has " + std::to_string(f.size()) + " values, not one per cell");
     out.push_back(&f);
   }
   if (static_cast<int>(out.size()) != r.fields)
-    throw std::logic_error("the cell rules are for " + std::to_string(r.fields) + " cell fields, the state has " + std::to_string(out.size()));
+    throw std::logic_error("the cell rules are for " + std::to_string(r.fields) + " cell fields, the state has " +
+                           std::to_string(out.size()));
   return out;
 }
 // Column `k` of the record, or nullptr when k is -1 (the field is absent); std::logic_error when `on` needs it.
 std::vector<double>* column(const std::vector<std::vector<double>*>& rec, int k, bool on, const char* rule) {
   if (k < -1 || k >= static_cast<int>(rec.size()) || (on && k < 0))
-    throw std::logic_error(std::string("the cell rules' ") + rule + " field index " + std::to_string(k) + " is not in the record");
+    throw std::logic_error(std::string("the cell rules' ") + rule + " field index " + std::to_string(k) +
+                           " is not in the record");
   return k < 0 ? nullptr : rec[k];
 }
 // The plug-in of kind T at `index` of its names (the rules' index of the scene's law or rule), or nullptr for -1.
@@ -37,15 +40,17 @@ const T* plugin_at(int index) {
   if (index == -1) return nullptr;
   const auto names = PluginKind<T>::names();
   if (index < 0 || index >= static_cast<int>(names.size()))
-    throw std::logic_error(std::string("the cell rules' ") + T::kKind + " index " + std::to_string(index) + " is not registered");
+    throw std::logic_error(std::string("the cell rules' ") + T::kKind + " index " + std::to_string(index) +
+                           " is not registered");
   return &PluginKind<T>::at(names[index]);
 }
 }  // namespace
 
 std::string ids_exhausted(uint64_t id, int depth, long step) {
-  return "step " + std::to_string(step) + ": cell " + std::to_string(id) + " would divide a " + std::to_string(depth + 1) +
-         "th time, but a lineage has ids for " + std::to_string(kMaxDivisionDepth) + " divisions (division.depth; " +
-         std::to_string(kRootIdBits) + " + " + std::to_string(kMaxDivisionDepth) + " id bits and " + std::to_string(kSlotBits) +
+  return "step " + std::to_string(step) + ": cell " + std::to_string(id) + " would divide a " +
+         std::to_string(depth + 1) + "th time, but a lineage has ids for " + std::to_string(kMaxDivisionDepth) +
+         " divisions (division.depth; " + std::to_string(kRootIdBits) + " + " + std::to_string(kMaxDivisionDepth) +
+         " id bits and " + std::to_string(kSlotBits) +
          " slot bits make a 64-bit element key): run fewer generations (a longer effects.growth.cycle_time or fewer "
          "time.steps), or restart from a state whose cells have fresh ids";
 }
@@ -71,21 +76,22 @@ bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_
     semlb_cell_centroid(s.position.data(), s.cell_first[c], s.cell_count[c], old_centroid[c].data());
     if (law) births[c] = law->births(s.cell_type[c], s.cell_count[c], ctr, r.time, elapsed_h, r.growth_p, &f);
     if (births[c] < 0 || s.cell_count[c] + births[c] > kMaxSlots - 1)
-      throw std::runtime_error("cell " + std::to_string(s.cell_id[c]) + ": growth law '" + GrowthLaws::names()[r.growth] +
-                               "' gave births outside 0 to " + std::to_string(kMaxSlots - 1 - s.cell_count[c]) + " to its " +
-                               std::to_string(s.cell_count[c]) + " elements (a cell holds at most " + std::to_string(kMaxSlots - 1) + ")");
+      throw std::runtime_error(
+          "cell " + std::to_string(s.cell_id[c]) + ": growth law '" + GrowthLaws::names()[r.growth] +
+          "' gave births outside 0 to " + std::to_string(kMaxSlots - 1 - s.cell_count[c]) + " to its " +
+          std::to_string(s.cell_count[c]) + " elements (a cell holds at most " + std::to_string(kMaxSlots - 1) + ")");
     if (field) (*field)[c] = f;
     const int grown = s.cell_count[c] + births[c];
     divides[c] = rule && rule->divides(s.cell_type[c], grown, ctr, r.division_p);
     if (divides[c]) {
       const int d = static_cast<int>((*depth)[c]);
-      if (d >= kMaxDivisionDepth)
-        throw std::runtime_error(ids_exhausted(s.cell_id[c], d, step));
+      if (d >= kMaxDivisionDepth) throw std::runtime_error(ids_exhausted(s.cell_id[c], d, step));
       double g[6];
       semlb_cell_gyration(s.position.data(), s.cell_first[c], s.cell_count[c], births[c], ctr, &r, seed, s.cell_id[c],
                           key_step, &split[c], g);
       rule->axis(g, split[c].centroid, r.division_p, split[c].axis);
-      semlb_cell_plan_halves(s.position.data(), s.cell_first[c], s.cell_count[c], ctr, &r, seed, s.cell_id[c], key_step, &split[c]);
+      semlb_cell_plan_halves(s.position.data(), s.cell_first[c], s.cell_count[c], ctr, &r, seed, s.cell_id[c], key_step,
+                             &split[c]);
       ++daughters;
     }
     total += grown;
@@ -110,10 +116,10 @@ bool run_cell_stage(State& s, const CellRules& r, uint64_t seed, double elapsed_
     long daughter = n;
     for (long c = 0; c < n; ++c) {
       const long dc = divides[c] ? daughter++ : -1;
-      semlb_cell_rewrite(s.position.data(), s.cell_first[c], s.cell_count[c], births[c], old_centroid[c].data(), &r, seed,
-                         key_step, s.cell_id[c], s.cell_type[c], out.cell_first[c], static_cast<int>(c),
-                         divides[c] ? &split[c] : nullptr, dc < 0 ? 0 : out.cell_id[dc], dc < 0 ? 0 : out.cell_first[dc],
-                         static_cast<int>(dc), out.position.data(), nullptr);
+      semlb_cell_rewrite(s.position.data(), s.cell_first[c], s.cell_count[c], births[c], old_centroid[c].data(), &r,
+                         seed, key_step, s.cell_id[c], s.cell_type[c], out.cell_first[c], static_cast<int>(c),
+                         divides[c] ? &split[c] : nullptr, dc < 0 ? 0 : out.cell_id[dc],
+                         dc < 0 ? 0 : out.cell_first[dc], static_cast<int>(dc), out.position.data(), nullptr);
       if (dc >= 0) (*out_depth)[c] = (*out_depth)[dc] += 1;
     }
     s = std::move(out);

@@ -71,7 +71,7 @@ class CpuBackend : public Backend {
     up = {};
     near_.clear();
     for (long i = 0; i < owned_; ++i) {
-      const bool d = pos_[3 * i] < below, u = pos_[3 * i] > above;
+      const bool d = pos_[3 * i]<below, u = pos_[3 * i]> above;
       for (auto [in, out] : {std::pair{d, &down}, std::pair{u, &up}})
         if (in) {
           out->position.insert(out->position.end(), pos_.begin() + 3 * i, pos_.begin() + 3 * i + 3);
@@ -100,8 +100,12 @@ class CpuBackend : public Backend {
     PairEvaluator<Real> law;
     std::vector<Real> p;
     Real c2;
-    explicit PairLoop(const PairForces& f) : p(f.params.begin(), f.params.end()), c2(static_cast<Real>(f.cutoff * f.cutoff)) {
-      if constexpr (std::is_same_v<Real, double>) law = PairTerms::at(f.term).f64; else law = PairTerms::at(f.term).f32;
+    explicit PairLoop(const PairForces& f)
+        : p(f.params.begin(), f.params.end()), c2(static_cast<Real>(f.cutoff * f.cutoff)) {
+      if constexpr (std::is_same_v<Real, double>)
+        law = PairTerms::at(f.term).f64;
+      else
+        law = PairTerms::at(f.term).f32;
     }
     void add(Real dx, Real dy, Real dz, int ii, int ij, uint64_t ki, uint64_t kj, int64_t* acc) const {
       if (!(dx * dx + dy * dy + dz * dz >= c2)) law(dx, dy, dz, ii, ij, ki, kj, p.data(), c2, acc);
@@ -111,7 +115,10 @@ class CpuBackend : public Backend {
   void element_term(const std::string& name, const std::vector<double>& params) override {
     const ElementTerm& term = engine::ElementTerms::at(name);
     TermEvaluator<Real> evaluate;
-    if constexpr (std::is_same_v<Real, double>) evaluate = term.f64; else evaluate = term.f32;
+    if constexpr (std::is_same_v<Real, double>)
+      evaluate = term.f64;
+    else
+      evaluate = term.f32;
     count(name);
     ++terms_;
     const std::vector<Real> p(params.begin(), params.end());
@@ -126,7 +133,7 @@ class CpuBackend : public Backend {
 
   void integrate(double dt_over_eta, double max_step, long step) override {
     count("integrate");
-    near_valid_ = false;  // the bands' selection was for these positions
+    near_valid_ = false;          // the bands' selection was for these positions
     if (fail_step_ >= 0) return;  // frozen since the failing step (which completed on every element)
     const Real k = static_cast<Real>(dt_over_eta), limit2 = static_cast<Real>(max_step * max_step);
     const long n = owned_;

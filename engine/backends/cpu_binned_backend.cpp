@@ -107,7 +107,9 @@ std::unique_ptr<Backend> make(const BackendConfig& c) {
   return std::make_unique<CpuBinnedBackend<double>>(c.threads);
 }
 // backend: {name: cpu-binned, threads: N (0: all hardware threads)}.
-void read(const Section& s, BackendConfig& c) { c.threads = static_cast<int>(s.integer("threads", c.threads, 0, 4096)); }
+void read(const Section& s, BackendConfig& c) {
+  c.threads = static_cast<int>(s.integer("threads", c.threads, 0, 4096));
+}
 const Registrar<BackendInfo> registrar("cpu-binned", {make, read});
 
 }  // namespace

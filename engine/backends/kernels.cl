@@ -22,7 +22,8 @@ typedef float4 real4;
 #ifndef SEMLB_DOUBLE /* native math in the pair force law of float builds (docs/engine.md: error and gain) */
 #define SEMLB_PAIR_EXP native_exp
 #define SEMLB_PAIR_RSQRT native_rsqrt
-#elif defined(SEMLB_DOUBLE_RSQRT) /* a variant: r and 1/r from one double rsqrt (<= 2 ulp) instead of sqrt and a division */
+#elif defined( \
+    SEMLB_DOUBLE_RSQRT) /* a variant: r and 1/r from one double rsqrt (<= 2 ulp) instead of sqrt and a division */
 #define SEMLB_PAIR_RSQRT rsqrt
 #endif
 #include "evaluator.h"

@@ -7,8 +7,8 @@
    slots, within cutoff + skin at the build) in chunks of 8 (32 bytes, one memory sector): chunk c of slot s at
    nl[NL_AT(s, c, kmax)] (column-major per warp of 32 slots: the 32 lanes' chunk c is 1 KB in a row, and a warp's
    whole list is one block of kmax x 128 bytes, so that its loads and the build's stores touch one page, and the
-   build stores whole sectors (8 partners at a time from registers), not one word per partner); a slot with more than kmax partners keeps its count and takes the exact 27-bin stencil of
-   the build's bins instead. */
+   build stores whole sectors (8 partners at a time from registers), not one word per partner); a slot with more than
+   kmax partners keeps its count and takes the exact 27-bin stencil of the build's bins instead. */
 
 /* Fraction of the skin an element may move before the list is rebuilt: half the skin less 2% for rounding (two
    elements that each moved less than this came closer by less than the skin). A build option so that the list
@@ -38,10 +38,11 @@ __kernel void nl_check(__global const real4* pos, __global const int* sorted_ind
 
 /* Gated build: for each sorted slot, the sorted slots within the list radius (r^2 < list2; a NaN distance counts
    as within, as in semlb_pair_force) among the 27 bins around its own, itself excluded; the first kmax are stored,
-   8 at a time (a chunk gathered in registers, then one 32-byte store). stats[0] = the largest count (atomic_max), read by the host to size kmax. */
-__kernel void nl_build(__global const int* gate, __global const real4* sorted_pos, __global const int* starts,
-                       real4 lo, real4 size, int4 dims, SEMLB_REAL list2, int n, int kmax,
-                       __global int* nl_count, __global int* nl, __global int* stats) {
+   8 at a time (a chunk gathered in registers, then one 32-byte store). stats[0] = the largest count (atomic_max), read
+   by the host to size kmax. */
+__kernel void nl_build(__global const int* gate, __global const real4* sorted_pos, __global const int* starts, real4 lo,
+                       real4 size, int4 dims, SEMLB_REAL list2, int n, int kmax, __global int* nl_count,
+                       __global int* nl, __global int* stats) {
   if (!gate[0]) return;
   SEMLB_FOR_ITEMS(s, n) {
     real4 me = sorted_pos[s];
@@ -62,9 +63,9 @@ __kernel void nl_build(__global const int* gate, __global const real4* sorted_po
         ++count;
       }
     }
-    if (count < kmax && (count & 7)) vstore8(chunk, 0, nl + NL_AT(s, count >> 3, kmax));  /* the last, partial chunk */
+    if (count < kmax && (count & 7)) vstore8(chunk, 0, nl + NL_AT(s, count >> 3, kmax)); /* the last, partial chunk */
     nl_count[s] = count;
-    if (count > ((volatile __global int*)stats)[0]) atomic_max(&stats[0], count);  /* rarely: one address for all */
+    if (count > ((volatile __global int*)stats)[0]) atomic_max(&stats[0], count); /* rarely: one address for all */
   }
 }
 
@@ -104,10 +105,10 @@ static inline void nl_slot_forces(int s, __global const real4* sorted_pos, __glo
     }
   } else {
 #ifdef SEMLB_NL_SPLIT
-    return;  /* nl_overflow's */
+    return; /* nl_overflow's */
 #else
-    stencil_forces(me, i, s, bin3(ref[s], lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table,
-                   cutoff2, acc);
+    stencil_forces(me, i, s, bin3(ref[s], lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table, cutoff2,
+                   acc);
 #endif
   }
   force[3 * i] += acc[0];
@@ -118,21 +119,21 @@ static inline void nl_slot_forces(int s, __global const real4* sorted_pos, __glo
 
 /* The local pair forces over the list: one item per sorted slot of the build. */
 __kernel void nl_forces(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
-                        __global const ulong* keys, __global const int* nl_count, __global const int* nl,
-                        int kmax, __global const int* starts, real4 lo, real4 size, int4 dims,
-                        __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force,
-                        __global long* bound, int n) {
+                        __global const ulong* keys, __global const int* nl_count, __global const int* nl, int kmax,
+                        __global const int* starts, real4 lo, real4 size, int4 dims, __constant const SEMLB_REAL* table,
+                        SEMLB_REAL cutoff, __global long* force, __global long* bound, int n) {
   int s = get_global_id(0);
   if (s >= n) return;
-  nl_slot_forces(s, sorted_pos, ref, sorted_index, keys, nl_count, nl, kmax, starts, lo, size, dims, table, cutoff, force,
-                 bound);
+  nl_slot_forces(s, sorted_pos, ref, sorted_index, keys, nl_count, nl, kmax, starts, lo, size, dims, table, cutoff,
+                 force, bound);
 }
 
 /* The same for the sorted slots items[first .. first + n) alone (the measured cost of a region of the tissue,
    docs/measured_time.md; `force` and `bound` are scratch buffers there). */
-__kernel void nl_forces_items(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
-                              __global const ulong* keys, __global const int* nl_count, __global const int* nl,
-                              int kmax, __global const int* starts, real4 lo, real4 size, int4 dims,
+__kernel void nl_forces_items(__global const real4* sorted_pos, __global const real4* ref,
+                              __global const int* sorted_index, __global const ulong* keys,
+                              __global const int* nl_count, __global const int* nl, int kmax,
+                              __global const int* starts, real4 lo, real4 size, int4 dims,
                               __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force,
                               __global long* bound, __global const int* items, int first, int n) {
   int k = get_global_id(0);
@@ -144,9 +145,10 @@ __kernel void nl_forces_items(__global const real4* sorted_pos, __global const r
 /* A variant (-DSEMLB_NL_SPLIT, to measure): the slots over kmax in a kernel of their own, so that nl_forces holds
    only the list loop's registers; without it this kernel returns at once (the host launches it always). */
 __kernel void nl_overflow(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
-                          __global const ulong* keys, __global const int* nl_count, int kmax, __global const int* starts,
-                          real4 lo, real4 size, int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff,
-                          __global long* force, __global long* bound, int n) {
+                          __global const ulong* keys, __global const int* nl_count, int kmax,
+                          __global const int* starts, real4 lo, real4 size, int4 dims,
+                          __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force,
+                          __global long* bound, int n) {
 #ifdef SEMLB_NL_SPLIT
   int s = get_global_id(0);
   if (s >= n || nl_count[s] <= kmax) return;

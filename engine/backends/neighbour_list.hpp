@@ -10,7 +10,6 @@
 
 namespace semlb::engine {
 
-
 // A Verlet list over the owned elements of one OpenCL backend (HOOMD-blue's nlist with r_buff, LAMMPS's
 // `neighbor SKIN bin` with `neigh_modify check yes`): built from bins of edge >= cutoff + skin, it lists per element
 // the partners within cutoff + skin; the force kernel evaluates only those. The list is rebuilt on the device when an
@@ -48,7 +47,8 @@ class NeighbourList {
     for (int d = 0; d < 3; ++d) hi[d] = g.lo[d] + g.size[d] * g.dims[d];
     const Grid lg = Grid::cover(g.lo, hi, cutoff + stats_.skin);
     poll();
-    bool rebuild = !valid_ || n != n_ || cutoff != cutoff_ || lg.lo != grid_.lo || lg.size != grid_.size || lg.dims != grid_.dims;
+    bool rebuild =
+        !valid_ || n != n_ || cutoff != cutoff_ || lg.lo != grid_.lo || lg.size != grid_.size || lg.dims != grid_.dims;
     if (!gate_) {
       gate_ = b.buffer(sizeof(cl_int));
       stats_buf_ = b.buffer(2 * sizeof(cl_int));
@@ -79,10 +79,12 @@ class NeighbourList {
              static_cast<Real>(list * list), ni, kmax, count_.get(), list_.get(), stats_buf_.get());
     b.launch("nl_done", 1, 1, gate_.get(), stats_buf_.get());
     b.set_kernel_group("");
-    b.launch("nl_forces", n, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(), keys.get(), count_.get(),
-             list_.get(), kmax, sort_.starts.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), bound.get(), ni);
-    b.launch("nl_overflow", split_ ? n : 1, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(), keys.get(),
-             count_.get(), kmax, sort_.starts.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff), force.get(), bound.get(), ni);
+    b.launch("nl_forces", n, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(), keys.get(),
+             count_.get(), list_.get(), kmax, sort_.starts.get(), lo, size, dims, table.get(),
+             static_cast<Real>(cutoff), force.get(), bound.get(), ni);
+    b.launch("nl_overflow", split_ ? n : 1, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(),
+             keys.get(), count_.get(), kmax, sort_.starts.get(), lo, size, dims, table.get(), static_cast<Real>(cutoff),
+             force.get(), bound.get(), ni);
     valid_ = true;
     if (rebuild || ++since_read_ >= kReadEvery) request(b);  // kmax follows the densest element, a step or more late
   }
@@ -97,8 +99,8 @@ class NeighbourList {
     const auto lo = b.real4(grid_.lo), size = b.real4(grid_.size);
     const auto dims = b.int4(grid_.dims);
     b.launch("nl_forces_items", n, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(), keys.get(),
-             count_.get(), list_.get(), static_cast<cl_int>(stored_kmax_), sort_.starts.get(), lo, size, dims, table.get(),
-             static_cast<Real>(cutoff_), force.get(), bound.get(), items.get(), static_cast<cl_int>(first),
+             count_.get(), list_.get(), static_cast<cl_int>(stored_kmax_), sort_.starts.get(), lo, size, dims,
+             table.get(), static_cast<Real>(cutoff_), force.get(), bound.get(), items.get(), static_cast<cl_int>(first),
              static_cast<cl_int>(n));
   }
 
@@ -132,7 +134,8 @@ class NeighbourList {
   void poll() {
     if (!pending_) return;
     cl_int status = CL_QUEUED;
-    cl::check(clGetEventInfo(pending_.get(), CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, nullptr), "clGetEventInfo");
+    cl::check(clGetEventInfo(pending_.get(), CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, nullptr),
+              "clGetEventInfo");
     if (status != CL_COMPLETE) return;
     pending_ = cl::Event();
     const long most = host_stats_[0];

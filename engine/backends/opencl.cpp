@@ -14,7 +14,8 @@
 namespace semlb::engine::cl {
 
 void check(cl_int status, const char* what) {
-  if (status != CL_SUCCESS) throw std::runtime_error(std::string("OpenCL: ") + what + " failed (error " + std::to_string(status) + ")");
+  if (status != CL_SUCCESS)
+    throw std::runtime_error(std::string("OpenCL: ") + what + " failed (error " + std::to_string(status) + ")");
 }
 
 Pinned& Pinned::operator=(Pinned&& o) noexcept {
@@ -109,14 +110,17 @@ DeviceInfo choose_device(const std::string& platform, int index, int local_rank)
     for (const auto& d : all)
       if (d.gpu && std::find(with_gpu.begin(), with_gpu.end(), d.platform_name) == with_gpu.end())
         with_gpu.push_back(d.platform_name);
-    if (with_gpu.size() == 1) chosen = with_gpu[0];
-    else if (names.size() == 1) chosen = names[0];
+    if (with_gpu.size() == 1)
+      chosen = with_gpu[0];
+    else if (names.size() == 1)
+      chosen = names[0];
   }
   std::string known;
   for (const auto& n : names) known += (known.empty() ? "" : "; ") + n;
   if (chosen.empty())
-    throw InputError("backend.platform: " + (platform.empty() ? std::string("several OpenCL platforms, choose one")
-                                                              : "no platform matches '" + platform + "'") +
+    throw InputError("backend.platform: " +
+                     (platform.empty() ? std::string("several OpenCL platforms, choose one")
+                                       : "no platform matches '" + platform + "'") +
                      " (found: " + known + ")");
   std::vector<DeviceInfo> devices;
   for (const auto& d : all)
@@ -163,7 +167,8 @@ KernelCapture KernelCapture::from_env() {
   std::error_code ec;
   std::filesystem::create_directories(c.dir_, ec);
   if (ec || !std::filesystem::is_directory(c.dir_))
-    throw InputError("SEMLB_OPENCL_CAPTURE: cannot create the folder '" + c.dir_ + "'" + (ec ? ": " + ec.message() : ""));
+    throw InputError("SEMLB_OPENCL_CAPTURE: cannot create the folder '" + c.dir_ + "'" +
+                     (ec ? ": " + ec.message() : ""));
   return c;
 }
 

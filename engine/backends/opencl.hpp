@@ -107,10 +107,11 @@ class KernelCapture {
   static KernelCapture from_env();
   const std::string& kernel() const { return kernel_; }  // empty: capturing nothing
   // Counts the launches of `kernel`; true for the one to capture.
-  bool wants(const std::string& kernel) { return !done_ && !kernel_.empty() && kernel == kernel_ && ++seen_ == launch_; }
+  bool wants(const std::string& kernel) {
+    return !done_ && !kernel_.empty() && kernel == kernel_ && ++seen_ == launch_;
+  }
   // Before the launch is enqueued (reads the buffers: blocking) and after it (waits for the queue).
-  void before(cl_command_queue q, cl_program program, size_t global, size_t group,
-              const std::vector<Arg>& args) const;
+  void before(cl_command_queue q, cl_program program, size_t global, size_t group, const std::vector<Arg>& args) const;
   void after(cl_command_queue q, const std::vector<Arg>& args);
 
  private:

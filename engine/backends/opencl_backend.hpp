@@ -20,8 +20,8 @@
 
 namespace semlb::engine::opencl_impl {
 
-constexpr size_t kGroup = 128;      // work-group size of the element kernels
-constexpr size_t kScanGroup = 256;  // work-group size of the bin scan
+constexpr size_t kGroup = 128;        // work-group size of the element kernels
+constexpr size_t kScanGroup = 256;    // work-group size of the bin scan
 constexpr size_t kExtentGroups = 64;  // work-groups of the x range reduction
 
 struct LocalBytes {  // a __local kernel argument
@@ -50,10 +50,12 @@ class OpenClBackend final : public Backend {
 
   std::vector<double> slice_work(State& host, const SliceMap& map, const Grid& g, const CountReduce& reduce) override;
 
-  void take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers, std::vector<int>& owner) override;
+  void take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers,
+                    std::vector<int>& owner) override;
 
   long remove_cells(State& host, const std::string& rule, const std::vector<double>& params) override;
-  void cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field, double elapsed_h) override;
+  void cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field,
+                 double elapsed_h) override;
   void append_cells(State& host, const State& arrivals) override;
 
   void download(State& s) override;
@@ -80,11 +82,12 @@ class OpenClBackend final : public Backend {
   void zero_forces() override {
     count("zero_forces");
     const cl_long zero = 0;
-    for (auto [m, items, what] : {std::tuple{&force_, 3 * owned_, "zero forces"}, {&bound_, owned_, "zero force bounds"}}) {
+    for (auto [m, items, what] :
+         {std::tuple{&force_, 3 * owned_, "zero forces"}, {&bound_, owned_, "zero force bounds"}}) {
       cl_event raw = nullptr;
       if (owned_)
-        cl::check(clEnqueueFillBuffer(queue_.get(), m->get(), &zero, sizeof zero, 0, items * sizeof(cl_long), 0, nullptr,
-                                      timing() ? &raw : nullptr),
+        cl::check(clEnqueueFillBuffer(queue_.get(), m->get(), &zero, sizeof zero, 0, items * sizeof(cl_long), 0,
+                                      nullptr, timing() ? &raw : nullptr),
                   what);
       if (raw) pending_.emplace_back(step_key("zero_forces"), cl::Event(raw));
     }
@@ -102,7 +105,8 @@ class OpenClBackend final : public Backend {
   void integrate(double dt_over_eta, double max_step, long step) override {
     if (step > INT_MAX) throw std::runtime_error("opencl backends count steps in 32 bits");
     near_valid_ = false;  // the bands' selection was for these positions
-    launch("integrate", owned_, kGroup, pos_.get(), force_.get(), bound_.get(), static_cast<cl_long>(terms_ * SEMLB_TERM_BOUND), static_cast<Real>(dt_over_eta),
+    launch("integrate", owned_, kGroup, pos_.get(), force_.get(), bound_.get(),
+           static_cast<cl_long>(terms_ * SEMLB_TERM_BOUND), static_cast<Real>(dt_over_eta),
            static_cast<Real>(max_step * max_step), static_cast<cl_int>(step), fail_.get(), owned());
   }
 
@@ -132,7 +136,8 @@ class OpenClBackend final : public Backend {
  private:
   cl_int owned() const { return static_cast<cl_int>(owned_); }
 
-  void write_elements(long at, const std::vector<double>& position, const std::vector<int>& info, const std::vector<uint64_t>& keys) {
+  void write_elements(long at, const std::vector<double>& position, const std::vector<int>& info,
+                      const std::vector<uint64_t>& keys) {
     const long n = static_cast<long>(keys.size());
     std::vector<Real4> packed(n);
     pack_elements(position, info, n, packed.data());
@@ -205,26 +210,36 @@ class OpenClBackend final : public Backend {
     return m;
   }
   void write(const cl::Mem& m, const void* data, size_t bytes, size_t offset = 0) {
-    if (bytes) cl::check(clEnqueueWriteBuffer(queue_.get(), m.get(), CL_TRUE, offset, bytes, data, 0, nullptr, nullptr), "write buffer");
+    if (bytes)
+      cl::check(clEnqueueWriteBuffer(queue_.get(), m.get(), CL_TRUE, offset, bytes, data, 0, nullptr, nullptr),
+                "write buffer");
     moved(static_cast<long>(bytes), 0);
   }
   // bytes from `from` at `from_at` to `to` at `to_at`, on the device (nothing crosses to the host).
   void copy(const cl::Mem& from, const cl::Mem& to, size_t bytes, size_t from_at = 0, size_t to_at = 0) {
-    if (bytes) cl::check(clEnqueueCopyBuffer(queue_.get(), from.get(), to.get(), from_at, to_at, bytes, 0, nullptr, nullptr), "copy buffer");
+    if (bytes)
+      cl::check(clEnqueueCopyBuffer(queue_.get(), from.get(), to.get(), from_at, to_at, bytes, 0, nullptr, nullptr),
+                "copy buffer");
   }
   void read(const cl::Mem& m, void* data, size_t bytes, size_t offset = 0) {
-    if (bytes) cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_TRUE, offset, bytes, data, 0, nullptr, nullptr), "read buffer");
+    if (bytes)
+      cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_TRUE, offset, bytes, data, 0, nullptr, nullptr),
+                "read buffer");
     moved(0, static_cast<long>(bytes));
   }
   // Non-blocking read: `data` is filled once a later blocking call on the (in-order) queue returns.
   void read_async(const cl::Mem& m, void* data, size_t bytes, size_t offset = 0) {
-    if (bytes) cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_FALSE, offset, bytes, data, 0, nullptr, nullptr), "read buffer");
+    if (bytes)
+      cl::check(clEnqueueReadBuffer(queue_.get(), m.get(), CL_FALSE, offset, bytes, data, 0, nullptr, nullptr),
+                "read buffer");
     moved(0, static_cast<long>(bytes));
   }
   // Non-blocking write; `data` must stay unchanged until the returned event completes.
   cl::Event write_async(const cl::Mem& m, const void* data, size_t bytes, size_t offset = 0) {
     cl_event e = nullptr;
-    if (bytes) cl::check(clEnqueueWriteBuffer(queue_.get(), m.get(), CL_FALSE, offset, bytes, data, 0, nullptr, &e), "write buffer");
+    if (bytes)
+      cl::check(clEnqueueWriteBuffer(queue_.get(), m.get(), CL_FALSE, offset, bytes, data, 0, nullptr, &e),
+                "write buffer");
     moved(static_cast<long>(bytes), 0);
     return cl::Event(e);
   }
@@ -242,7 +257,8 @@ class OpenClBackend final : public Backend {
   // The parameter buffer (kMaxPluginParams values of T) of plug-in `name` in `buffers`, holding `params`: what an
   // element term's or a removal rule's kernel reads.
   template <class T>
-  cl_mem plugin_parameters(std::map<std::string, cl::Mem>& buffers, const std::string& name, const std::vector<double>& params) {
+  cl_mem plugin_parameters(std::map<std::string, cl::Mem>& buffers, const std::string& name,
+                           const std::vector<double>& params) {
     cl::Mem& m = buffers[name];
     if (!m) m = buffer(kMaxPluginParams * sizeof(T));
     write_parameters<T>(m, checked_plugin_params("plug-in", name, params));
@@ -272,13 +288,16 @@ class OpenClBackend final : public Backend {
                       const cl::Mem* gate = nullptr) {
     const cl_int nb = static_cast<cl_int>(n), blocks = static_cast<cl_int>(round_up(n, kScanGroup) / kScanGroup);
     const cl_mem g = (gate ? *gate : always_).get();
-    launch("scan_blocks", n, kScanGroup, g, counts.get(), starts.get(), sums.get(), nb, LocalBytes{kScanGroup * sizeof(cl_int)});
+    launch("scan_blocks", n, kScanGroup, g, counts.get(), starts.get(), sums.get(), nb,
+           LocalBytes{kScanGroup * sizeof(cl_int)});
     launch("scan_sums", kScanGroup, kScanGroup, g, sums.get(), blocks, LocalBytes{kScanGroup * sizeof(cl_int)});
     launch("scan_add", n, kScanGroup, g, starts.get(), sums.get(), counts.get(), nb, cursor.get());
   }
   // `bytes` of m set to the int `value` (on the device).
   void fill(const cl::Mem& m, cl_int value, size_t bytes) {
-    if (bytes) cl::check(clEnqueueFillBuffer(queue_.get(), m.get(), &value, sizeof value, 0, bytes, 0, nullptr, nullptr), "fill buffer");
+    if (bytes)
+      cl::check(clEnqueueFillBuffer(queue_.get(), m.get(), &value, sizeof value, 0, bytes, 0, nullptr, nullptr),
+                "fill buffer");
   }
   // A non-blocking read whose completion the returned event tells.
   cl::Event read_event(const cl::Mem& m, void* data, size_t bytes) {
@@ -297,24 +316,28 @@ class OpenClBackend final : public Backend {
   // first sorted slot (starts, bins + 1) and the scatter cursor; per sorted slot the position and element index.
   using BinSort = cl::BinSort;
 
-  // Counting sort of elements [first, first + count) of pos_ by bin: count (atomics), exclusive scan, scatter (bins.cl),
-  // growing s's buffers when the grid or the count outgrows them. The neighbour list's builds pass `gate` (the kernels
-  // do nothing unless its first int is set), `ref` (a second copy of the sorted positions) and `items` (work-items of
-  // the grid-stride kernels, at most count; 0: one per element).
+  // Counting sort of elements [first, first + count) of pos_ by bin: count (atomics), exclusive scan, scatter
+  // (bins.cl), growing s's buffers when the grid or the count outgrows them. The neighbour list's builds pass `gate`
+  // (the kernels do nothing unless its first int is set), `ref` (a second copy of the sorted positions) and `items`
+  // (work-items of the grid-stride kernels, at most count; 0: one per element).
   void sort_into_bins(const Grid& g, long first, long count, BinSort& s, const cl::Mem* gate = nullptr,
                       const cl::Mem* ref = nullptr, long items = 0);
 
   template <class T>
   void set_arg(cl_kernel k, cl_uint i, const T& v, const char* name) {
-    if constexpr (std::is_same_v<T, LocalBytes>) cl::check(clSetKernelArg(k, i, v.bytes, nullptr), name);
-    else cl::check(clSetKernelArg(k, i, sizeof(T), &v), name);
+    if constexpr (std::is_same_v<T, LocalBytes>)
+      cl::check(clSetKernelArg(k, i, v.bytes, nullptr), name);
+    else
+      cl::check(clSetKernelArg(k, i, sizeof(T), &v), name);
   }
 
   template <class T>
   static cl::KernelCapture::Arg captured(const T& v) {
     using Arg = cl::KernelCapture::Arg;
-    if constexpr (std::is_same_v<T, LocalBytes>) return {Arg::kLocal, nullptr, {}, v.bytes};
-    else if constexpr (std::is_same_v<T, cl_mem>) return {Arg::kBuffer, v, {}, 0};
+    if constexpr (std::is_same_v<T, LocalBytes>)
+      return {Arg::kLocal, nullptr, {}, v.bytes};
+    else if constexpr (std::is_same_v<T, cl_mem>)
+      return {Arg::kBuffer, v, {}, 0};
     else {
       const auto* p = reinterpret_cast<const unsigned char*>(&v);
       return {Arg::kValue, nullptr, std::vector<unsigned char>(p, p + sizeof(T)), 0};
@@ -347,7 +370,8 @@ class OpenClBackend final : public Backend {
       return;
     }
     if (!profile_) {
-      pending_.emplace_back(step_key(name), std::move(event));  // read at the next finish(): the host does not wait here
+      pending_.emplace_back(step_key(name),
+                            std::move(event));  // read at the next finish(): the host does not wait here
       return;
     }
     cl_event e = event.get();
@@ -419,27 +443,28 @@ class OpenClBackend final : public Backend {
   // are compacted in order (cells_split). Returns {leavers, their elements}; {0, 0} changes nothing.
   std::array<long, 2> split_cells(long n);
 
-  template <class> friend class semlb::engine::NeighbourList;
+  template <class>
+  friend class semlb::engine::NeighbourList;
   bool binned_, profile_ = false, has_fp64_ = false, cells_stale_ = false;
-  bool device_timing_ = false;                               // BackendConfig::device_timing
-  std::string kernel_group_;                                 // set_kernel_group
-  bool measuring_ = false;                                   // pair_force_seconds' launches: each one's event kept
+  bool device_timing_ = false;  // BackendConfig::device_timing
+  std::string kernel_group_;    // set_kernel_group
+  bool measuring_ = false;      // pair_force_seconds' launches: each one's event kept
   std::vector<cl::Event> measured_;
-  cl::Mem scratch_force_, scratch_bound_, items_;            // pair_force_seconds' forces and bounds (discarded), slots
+  cl::Mem scratch_force_, scratch_bound_, items_;  // pair_force_seconds' forces and bounds (discarded), slots
   long scratch_capacity_ = 0, items_capacity_ = 0;
-  bool sorted_ = false;                                      // owned_sort_ holds the last local forces' sort
-  Grid sort_grid_;                                           // its grid
-  double last_cutoff_ = 0;                                   // and cutoff (um)
+  bool sorted_ = false;                                     // owned_sort_ holds the last local forces' sort
+  Grid sort_grid_;                                          // its grid
+  double last_cutoff_ = 0;                                  // and cutoff (um)
   std::vector<std::pair<std::string, cl::Event>> pending_;  // the device timers' events not yet read
-  NeighbourList<Real> list_;  // opencl-binned's local pairs when backend.skin > 0
-  cl::Mem always_;            // an int 1: the gate of ungated scans
-  Cells cell_, back_, leave_;  // leave_: the migration's leavers (leave_.first holds each one's new owner)
+  NeighbourList<Real> list_;                                // opencl-binned's local pairs when backend.skin > 0
+  cl::Mem always_;                                          // an int 1: the gate of ungated scans
+  Cells cell_, back_, leave_;             // leave_: the migration's leavers (leave_.first holds each one's new owner)
   std::vector<std::string> field_names_;  // the record's fields: the uploaded state's cell_fields, in name order
   long cells_ = 0, plan_capacity_ = 0, work_bins_capacity_ = 0, work_capacity_ = 0, bounds_capacity_ = 0;
   cl::Mem work_counts_, work_, owner_bounds_;  // W_s: elements per bin, per-slice sums; the interior boundaries
   std::vector<int> last_boundaries_;
-  cl::Mem pos_back_, keys_back_, bounds_, cell_fail_, births_, old_centroid_, split_, counts2_, estarts_, esums_, divides_,
-      dstarts_, dsums_;
+  cl::Mem pos_back_, keys_back_, bounds_, cell_fail_, births_, old_centroid_, split_, counts2_, estarts_, esums_,
+      divides_, dstarts_, dsums_;
   cl::DeviceInfo dev_{};
   cl::Context ctx_;
   cl::Queue queue_;
@@ -449,7 +474,7 @@ class OpenClBackend final : public Backend {
   std::map<std::string, cl::Kernel> kernels_;
   std::map<cl_mem, std::vector<unsigned char>> last_written_;  // write_parameters' last bytes per buffer
   cl::Mem pos_, keys_, force_, fail_, table_;
-  cl::Mem bound_;  // per owned element: the bound of its pair force sums (pair_force.h), checked by integrate
+  cl::Mem bound_;   // per owned element: the bound of its pair force sums (pair_force.h), checked by integrate
   long terms_ = 0;  // element terms added since zero_forces
   std::map<std::string, cl::Mem> term_params_, rule_params_;  // each element term's / removal rule's parameters
   BinSort owned_sort_, ghost_sort_;  // the local forces' bins; the ghosts' own (non-local forces)
@@ -459,8 +484,8 @@ class OpenClBackend final : public Backend {
   cl::Mem band_out_pos_, band_out_keys_, near_;
   long band_capacity_ = 0, near_items_ = 0;
   bool near_valid_ = false;
-  cl::Pinned down_, up_;  // pinned host memory: the bands down, the ghosts up
-  cl::Event up_done_;     // the ghost upload's last write from up_
+  cl::Pinned down_, up_;                   // pinned host memory: the bands down, the ghosts up
+  cl::Event up_done_;                      // the ghost upload's last write from up_
   long n_ = 0, owned_ = 0, capacity_ = 0;  // n_: owned + ghosts
 };
 

@@ -1,5 +1,6 @@
 // The cell stage, W_s and the migration of the OpenCL backends on the device (opencl_backend.hpp): growth laws and
-// division rules (kernels cells_*), fate rules (fate_NAME), per-slice work, leavers and arrivals, the cells up and down.
+// division rules (kernels cells_*), fate rules (fate_NAME), per-slice work, leavers and arrivals, the cells up and
+// down.
 #include "opencl_backend.hpp"
 #include "fates/fate.hpp"
 #include "growth/growth_law.hpp"
@@ -8,7 +9,8 @@
 namespace semlb::engine::opencl_impl {
 
 template <class Real>
-std::vector<double> OpenClBackend<Real>::slice_work(State& host, const SliceMap& map, const Grid& g, const CountReduce& reduce) {
+std::vector<double> OpenClBackend<Real>::slice_work(State& host, const SliceMap& map, const Grid& g,
+                                                    const CountReduce& reduce) {
   if (!has_fp64_) return Backend::slice_work(host, map, g, reduce);
   const long bins = g.bins();
   if (bins > work_bins_capacity_) {
@@ -21,25 +23,31 @@ std::vector<double> OpenClBackend<Real>::slice_work(State& host, const SliceMap&
   }
   const cl_int zero = 0;
   const cl_long zero_l = 0;
-  cl::check(clEnqueueFillBuffer(queue_.get(), work_counts_.get(), &zero, sizeof zero, 0, bins * sizeof(cl_int), 0, nullptr, nullptr), "zero work bins");
-  cl::check(clEnqueueFillBuffer(queue_.get(), work_.get(), &zero_l, sizeof zero_l, 0, map.slices * sizeof(cl_long), 0, nullptr, nullptr), "zero work");
+  cl::check(clEnqueueFillBuffer(queue_.get(), work_counts_.get(), &zero, sizeof zero, 0, bins * sizeof(cl_int), 0,
+                                nullptr, nullptr),
+            "zero work bins");
+  cl::check(clEnqueueFillBuffer(queue_.get(), work_.get(), &zero_l, sizeof zero_l, 0, map.slices * sizeof(cl_long), 0,
+                                nullptr, nullptr),
+            "zero work");
   const std::array<double, 4> dlo{g.lo[0], g.lo[1], g.lo[2], 0}, dsize{g.size[0], g.size[1], g.size[2], 0};
-  launch("work_bins", owned_, kGroup, pos_.get(), static_cast<cl_int>(owned_), dlo, dsize, int4(g.dims), work_counts_.get());
+  launch("work_bins", owned_, kGroup, pos_.get(), static_cast<cl_int>(owned_), dlo, dsize, int4(g.dims),
+         work_counts_.get());
   if (reduce) {  // the owned elements' counts summed over the ranks: every element of the tissue counted once
     std::vector<int> counts(bins);
     read(work_counts_, counts.data(), bins * sizeof(cl_int));
     reduce(counts);
     write(work_counts_, counts.data(), bins * sizeof(cl_int));
   }
-  launch("work_cells", cells_, kGroup, static_cast<cl_int>(cells_), pos_.get(), cell_.first.get(), cell_.count.get(), dlo,
-         dsize, int4(g.dims), work_counts_.get(), map.x0, map.width, static_cast<cl_int>(map.slices), work_.get());
+  launch("work_cells", cells_, kGroup, static_cast<cl_int>(cells_), pos_.get(), cell_.first.get(), cell_.count.get(),
+         dlo, dsize, int4(g.dims), work_counts_.get(), map.x0, map.width, static_cast<cl_int>(map.slices), work_.get());
   std::vector<cl_long> w(map.slices);
   read(work_, w.data(), w.size() * sizeof(cl_long));
   return {w.begin(), w.end()};
 }
 
 template <class Real>
-void OpenClBackend<Real>::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers, std::vector<int>& owner) {
+void OpenClBackend<Real>::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank,
+                                       State& leavers, std::vector<int>& owner) {
   if (!has_fp64_) return Backend::take_leavers(host, map, boundaries, rank, leavers, owner);
   leavers = empty_like(host);
   owner.clear();
@@ -90,13 +98,15 @@ void OpenClBackend<Real>::append_cells(State& host, const State& arrivals) {
     Cells grown;
     grown.allocate(*this, cells_ + m + (cells_ + m) / 4 + 64, nf());
     copy(cell_.id, grown.id, cells_ * sizeof(uint64_t));
-    for (auto [from, to] : std::initializer_list<std::pair<cl::Mem*, cl::Mem*>>{{&cell_.type, &grown.type}, {&cell_.first, &grown.first}, {&cell_.count, &grown.count}})
+    for (auto [from, to] : std::initializer_list<std::pair<cl::Mem*, cl::Mem*>>{
+             {&cell_.type, &grown.type}, {&cell_.first, &grown.first}, {&cell_.count, &grown.count}})
       copy(*from, *to, cells_ * sizeof(cl_int));
     copy(cell_.fields, grown.fields, cells_ * nf() * sizeof(double));
     cell_ = std::move(grown);
   }
   std::vector<int> info = arrivals.element_info();
-  for (int& i : info) i = phys64::semlb_info_pack(phys64::semlb_info_cell(i) + static_cast<int>(cells_), phys64::semlb_info_type(i));
+  for (int& i : info)
+    i = phys64::semlb_info_pack(phys64::semlb_info_cell(i) + static_cast<int>(cells_), phys64::semlb_info_type(i));
   write_elements(owned_, arrivals.position, info, arrivals.element_keys());
   std::vector<cl_int> first(arrivals.cell_first.begin(), arrivals.cell_first.end());
   for (cl_int& f : first) f += static_cast<cl_int>(owned_);
@@ -131,7 +141,8 @@ template <class Real>
 bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t seed, double elapsed_h, long step) {
   require_cells();
   if (rules.fields != nf())
-    throw std::logic_error("the cell rules are for " + std::to_string(rules.fields) + " cell fields, the device holds " + std::to_string(nf()));
+    throw std::logic_error("the cell rules are for " + std::to_string(rules.fields) +
+                           " cell fields, the device holds " + std::to_string(nf()));
   near_valid_ = false;
   const long n = cells_;
   if (n == 0) return false;
@@ -157,11 +168,11 @@ bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t 
     read(cell_.id, &id, sizeof id, c * sizeof id);
     read(cell_.count, &count, sizeof count, c * sizeof count);
     if (rules.depth_field >= 0) read(cell_.fields, &depth, sizeof depth, (c * nf() + rules.depth_field) * sizeof depth);
-    if (ids)
-      throw std::runtime_error(ids_exhausted(id, static_cast<int>(depth), step));
+    if (ids) throw std::runtime_error(ids_exhausted(id, static_cast<int>(depth), step));
     throw std::runtime_error("cell " + std::to_string(id) + ": growth law '" + GrowthLaws::names().at(rules.growth) +
                              "' gave births outside 0 to " + std::to_string(kMaxSlots - 1 - count) + " to its " +
-                             std::to_string(count) + " elements (a cell holds at most " + std::to_string(kMaxSlots - 1) + ")");
+                             std::to_string(count) + " elements (a cell holds at most " +
+                             std::to_string(kMaxSlots - 1) + ")");
   }
   const long m = n + daughters, ghosts = n_ - owned_;  // the ghosts are copied behind the new owned elements
   back_.reserve(*this, m);
@@ -262,11 +273,11 @@ std::array<long, 2> OpenClBackend<Real>::split_cells(long n) {
   read(estarts_, &ends[1], sizeof(cl_int), 2 * n * sizeof(cl_int));
   back_.reserve(*this, n);
   leave_.reserve(*this, leaving);
-  launch("cells_split", n, kGroup, nc, static_cast<cl_int>(nf()), pos_.get(), keys_.get(), cell_.id.get(), cell_.type.get(),
-         cell_.first.get(), cell_.count.get(), cell_.fields.get(), births_.get(), divides_.get(), dstarts_.get(),
-         estarts_.get(), pos_back_.get(), keys_back_.get(), back_.id.get(), back_.type.get(), back_.first.get(),
-         back_.count.get(), back_.fields.get(), band_pos_.get(), leave_.id.get(), leave_.type.get(), leave_.first.get(),
-         leave_.count.get(), leave_.fields.get());
+  launch("cells_split", n, kGroup, nc, static_cast<cl_int>(nf()), pos_.get(), keys_.get(), cell_.id.get(),
+         cell_.type.get(), cell_.first.get(), cell_.count.get(), cell_.fields.get(), births_.get(), divides_.get(),
+         dstarts_.get(), estarts_.get(), pos_back_.get(), keys_back_.get(), back_.id.get(), back_.type.get(),
+         back_.first.get(), back_.count.get(), back_.fields.get(), band_pos_.get(), leave_.id.get(), leave_.type.get(),
+         leave_.first.get(), leave_.count.get(), leave_.fields.get());
   std::swap(pos_, pos_back_);
   std::swap(keys_, keys_back_);
   std::swap(cell_, back_);
@@ -285,8 +296,9 @@ long OpenClBackend<Real>::remove_cells(State& host, const std::string& rule, con
   const long n = cells_;
   if (n == 0) return 0;
   reserve_plan(n);
-  launch(("remove_" + rule).c_str(), n, kGroup, static_cast<cl_int>(n), pos_.get(), cell_.first.get(), cell_.count.get(),
-         cell_.type.get(), plugin_parameters<double>(rule_params_, rule, params), births_.get(), divides_.get(), counts2_.get());
+  launch(("remove_" + rule).c_str(), n, kGroup, static_cast<cl_int>(n), pos_.get(), cell_.first.get(),
+         cell_.count.get(), cell_.type.get(), plugin_parameters<double>(rule_params_, rule, params), births_.get(),
+         divides_.get(), counts2_.get());
   return split_cells(n)[0];
 }
 
@@ -294,28 +306,34 @@ template <class Real>
 void OpenClBackend<Real>::cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field,
                                     double elapsed_h) {
   if (!has_fp64_) return Backend::cell_fate(host, rule, params, field, elapsed_h);
-  FateRules::at(rule);  // std::logic_error for an unregistered rule
+  FateRules::at(rule);        // std::logic_error for an unregistered rule
   host.cell_field_at(field);  // std::logic_error for an index outside the record (the device holds the same fields)
   const long n = cells_;
   if (n == 0) return;
-  launch(("fate_" + rule).c_str(), n, kGroup, static_cast<cl_int>(n), elapsed_h, plugin_parameters<double>(rule_params_, rule, params),
-         static_cast<cl_int>(field), static_cast<cl_int>(nf()), pos_.get(), cell_.first.get(),
-         cell_.count.get(), cell_.type.get(), cell_.fields.get());
+  launch(("fate_" + rule).c_str(), n, kGroup, static_cast<cl_int>(n), elapsed_h,
+         plugin_parameters<double>(rule_params_, rule, params), static_cast<cl_int>(field), static_cast<cl_int>(nf()),
+         pos_.get(), cell_.first.get(), cell_.count.get(), cell_.type.get(), cell_.fields.get());
   cells_stale_ = true;
 }
 
-#define SEMLB_OPENCL_CELLS_INSTANCES(Real) \
-  template std::array<long, 2> OpenClBackend<Real>::split_cells(long n); \
-  template long OpenClBackend<Real>::remove_cells(State& host, const std::string& rule, const std::vector<double>& params); \
-  template void OpenClBackend<Real>::cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field, double elapsed_h); \
-  template std::vector<double> OpenClBackend<Real>::slice_work(State& host, const SliceMap& map, const Grid& g, const CountReduce& reduce); \
-  template void OpenClBackend<Real>::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers, std::vector<int>& owner); \
-  template void OpenClBackend<Real>::append_cells(State& host, const State& arrivals); \
-  template void OpenClBackend<Real>::download(State& s); \
-  template bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t seed, double elapsed_h, long step); \
-  template void OpenClBackend<Real>::reserve_plan(long n); \
-  template void OpenClBackend<Real>::upload_cells(const State& s); \
-  template std::vector<double> OpenClBackend<Real>::records_of(const State& s, long m) const; \
+#define SEMLB_OPENCL_CELLS_INSTANCES(Real)                                                                         \
+  template std::array<long, 2> OpenClBackend<Real>::split_cells(long n);                                           \
+  template long OpenClBackend<Real>::remove_cells(State& host, const std::string& rule,                            \
+                                                  const std::vector<double>& params);                              \
+  template void OpenClBackend<Real>::cell_fate(State& host, const std::string& rule,                               \
+                                               const std::vector<double>& params, int field, double elapsed_h);    \
+  template std::vector<double> OpenClBackend<Real>::slice_work(State& host, const SliceMap& map, const Grid& g,    \
+                                                               const CountReduce& reduce);                         \
+  template void OpenClBackend<Real>::take_leavers(State& host, const SliceMap& map,                                \
+                                                  const std::vector<int>& boundaries, int rank, State& leavers,    \
+                                                  std::vector<int>& owner);                                        \
+  template void OpenClBackend<Real>::append_cells(State& host, const State& arrivals);                             \
+  template void OpenClBackend<Real>::download(State& s);                                                           \
+  template bool OpenClBackend<Real>::update_cells(State&, const CellRules& rules, uint64_t seed, double elapsed_h, \
+                                                  long step);                                                      \
+  template void OpenClBackend<Real>::reserve_plan(long n);                                                         \
+  template void OpenClBackend<Real>::upload_cells(const State& s);                                                 \
+  template std::vector<double> OpenClBackend<Real>::records_of(const State& s, long m) const;                      \
   template void OpenClBackend<Real>::read_records(const cl::Mem& from, long m, State& s);
 SEMLB_OPENCL_CELLS_INSTANCES(float)
 SEMLB_OPENCL_CELLS_INSTANCES(double)

@@ -32,7 +32,8 @@ Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
     s.fail("timing", "must be measured, modelled or device");
   const bool opencl = scene.backend.name.rfind("opencl", 0) == 0;
   if (d.timing == "device" && !opencl)
-    s.fail("timing", "device timers need an OpenCL backend (profiling events); backend.name is '" + scene.backend.name + "'");
+    s.fail("timing",
+           "device timers need an OpenCL backend (profiling events); backend.name is '" + scene.backend.name + "'");
   d.device_sharing = s.text("device_sharing", d.device_sharing);
   if (d.device_sharing != "none" && d.device_sharing != "turns") s.fail("device_sharing", "must be none or turns");
   if (d.device_sharing == "turns" && !opencl)
@@ -51,7 +52,8 @@ Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
     // A policy's weights file relative to the scene file's folder, when it is there (else as given: the working
     // directory, then the shipped weights folder, controllers/gru.hpp resolve_gru_weights).
     if (const auto beside = std::filesystem::path(scene.path).parent_path() / v;
-        k == "weights" && !v.empty() && std::filesystem::path(v).is_relative() && std::filesystem::is_regular_file(beside))
+        k == "weights" && !v.empty() && std::filesystem::path(v).is_relative() &&
+        std::filesystem::is_regular_file(beside))
       v = beside.string();
     d.params.set(k, v);
   }
@@ -82,8 +84,10 @@ Decomposition Decomposition::from_scene(const Scene& scene, int ranks) {
 }
 
 void check_engine_policy(const std::string& policy) {
-  if (policy_needs(policy).true_work)  // the engine measures times and W_s (slice_work); only the surrogate knows the future
-    throw InputError("'" + policy + "' needs the true work of the next interval, which a simulation cannot know "
+  if (policy_needs(policy)
+          .true_work)  // the engine measures times and W_s (slice_work); only the surrogate knows the future
+    throw InputError("'" + policy +
+                     "' needs the true work of the next interval, which a simulation cannot know "
                      "(a surrogate baseline: use it with semlb surrogate)");
 }
 

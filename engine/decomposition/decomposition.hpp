@@ -20,8 +20,9 @@ struct Decomposition : SliceMap {
   // units), so that decisions are the same in every launch (tests, studies that need reproducible decisions);
   // device: the device execution time of its step kernels (Backend::step_device_seconds; OpenCL backends only)
   std::string timing = "measured";
-  // none: each rank has its device; turns: ranks on one device take turns for their device work (simulation/device_turns.hpp),
-  // so that device timers measure each rank as if it had the device alone (OpenCL backends; overlap off)
+  // none: each rank has its device; turns: ranks on one device take turns for their device work
+  // (simulation/device_turns.hpp), so that device timers measure each rank as if it had the device alone (OpenCL
+  // backends; overlap off)
   std::string device_sharing = "none";
   long rebalance_every = 100;
   // true: the ghost bands travel while the device computes the local forces (MPI_Isend/Irecv posted after the
@@ -41,6 +42,5 @@ struct Decomposition : SliceMap {
 void check_engine_policy(const std::string& policy);
 
 // SliceMap, owner_of, split_by_owner and slice_workload (W_s): model/slices.hpp.
-
 
 }  // namespace semlb::engine

@@ -41,16 +41,18 @@ std::string job_name() { return "p" + std::to_string(getppid()); }
 
 }  // namespace
 
-DistributedSimulation::DistributedSimulation(const Scene& scene, const State& tissue, Mpi& mpi, const std::string& trace_path,
+DistributedSimulation::DistributedSimulation(const Scene& scene, const State& tissue, Mpi& mpi,
+                                             const std::string& trace_path,
                                              const std::optional<DecompositionCheckpoint>& restored)
     : scene_(&scene), mpi_(&mpi), dec_(Decomposition::from_scene(scene, mpi.size())) {
   const auto initial = dec_.initial == "workload"
                            ? optimal_partition(slice_workload(tissue, dec_, scene.cutoff), mpi.size(), dec_.min_width)
                            : uniform_partition(mpi.size(), dec_.slices);
-  balancer_ = std::make_unique<Balancer>(dec_.policy, make_policy(dec_.policy, dec_.params), dec_.slices, dec_.min_width, initial);
+  balancer_ = std::make_unique<Balancer>(dec_.policy, make_policy(dec_.policy, dec_.params), dec_.slices,
+                                         dec_.min_width, initial);
   cells_at_event_ = static_cast<long>(tissue.cells());
-  if (restored && (restored->ranks != mpi.size() || restored->policy != dec_.policy || restored->slices != dec_.slices ||
-                   restored->min_width != dec_.min_width)) {
+  if (restored && (restored->ranks != mpi.size() || restored->policy != dec_.policy ||
+                   restored->slices != dec_.slices || restored->min_width != dec_.min_width)) {
     restarted_ = "the checkpoint's balancer is for " + std::to_string(restored->ranks) + " ranks with policy '" +
                  restored->policy + "' on " + std::to_string(restored->slices) + " slices (min width " +
                  std::to_string(restored->min_width) + "); this run has " + std::to_string(mpi.size()) + " with '" +
@@ -85,8 +87,10 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
   trace_path_ = mpi.rank() == 0 ? trace_path : "";  // opened at the first event: nothing is written before
   if (!trace_path_.empty() && balancer_->event() > 0 && std::filesystem::exists(trace_path_))
     for (const auto& line : split(read_file(trace_path_), '\n'))  // a restart keeps the events before its own
-      if (!line.empty() && parse_trace_line(line, trace_path_, 0).obs.event < balancer_->event()) trace_kept_ += line + "\n";
-  if (scene.record_workload && mpi.rank() == 0 && !trace_path.empty() && balancer_->event() > 0) {  // a restart keeps the events before its own
+      if (!line.empty() && parse_trace_line(line, trace_path_, 0).obs.event < balancer_->event())
+        trace_kept_ += line + "\n";
+  if (scene.record_workload && mpi.rank() == 0 && !trace_path.empty() &&
+      balancer_->event() > 0) {  // a restart keeps the events before its own
     const auto path = std::filesystem::path(trace_path).parent_path() / "workload.h5";
     if (std::filesystem::exists(path))
       for (auto& e : read_workload(path.string()).events)
@@ -139,15 +143,17 @@ void DistributedSimulation::start_exchange() {
     for (int q = p + 2; q < P; ++q)
       if (los(q) - reach < his(p)) {
         std::ostringstream m;
-        m << "step " << step() << ": ranks " << p << " and " << q << " hold elements within the cutoff of each other (x up to "
-          << his(p) << " and from " << los(q) << " um) but only neighbouring ranks exchange ghosts: a cell reaches"
+        m << "step " << step() << ": ranks " << p << " and " << q
+          << " hold elements within the cutoff of each other (x up to " << his(p) << " and from " << los(q)
+          << " um) but only neighbouring ranks exchange ghosts: a cell reaches"
           << " further than one cutoff from its slab (raise decomposition.min_width)";
         throw AgreedError(m.str(), 1);
       }
   // Every ghost then lies at least `reach` (> cutoff) beyond the band limits: the bands' selection is exact
   // as the non-local items (Backend::pair_forces_nonlocal).
   Ghosts left, right;
-  sim_->in_turn([&] { b.bands(r > 0 ? his(r - 1) + reach : -INFINITY, r + 1 < P ? los(r + 1) - reach : INFINITY, left, right); });
+  sim_->in_turn(
+      [&] { b.bands(r > 0 ? his(r - 1) + reach : -INFINITY, r + 1 < P ? los(r + 1) - reach : INFINITY, left, right); });
   send_left_ = pack_band(left);
   send_right_ = pack_band(right);
   exchange_s_ += seconds_since(t0);
@@ -185,7 +191,7 @@ void DistributedSimulation::finish_exchange() {
   Ghosts g;
   for (const auto* bytes : {&from_above_, &from_below_}) unpack_band(*bytes, g);
   int cell = static_cast<int>(sim_->counts().first) - 1;  // ghost cells are numbered after the owned ones
-  for (long e = 0; e < g.elements(); ++e) {  // a band holds each cell's elements contiguously
+  for (long e = 0; e < g.elements(); ++e) {               // a band holds each cell's elements contiguously
     if (e == 0 || cell_id_of_key(g.keys[e]) != cell_id_of_key(g.keys[e - 1])) ++cell;
     g.info[e] = phys64::semlb_info_pack(cell, phys64::semlb_info_type(g.info[e]));
   }
@@ -241,7 +247,9 @@ Grid DistributedSimulation::work_grid_all_ranks() {
   return work_grid(lo, hi, scene_->cutoff);
 }
 
-bool DistributedSimulation::tracks_stages() const { return scene_->record_workload && sim_->backend().has_device_timers(); }
+bool DistributedSimulation::tracks_stages() const {
+  return scene_->record_workload && sim_->backend().has_device_timers();
+}
 
 void DistributedSimulation::stage_work_before() {
   PhaseScope phase(sim_->backend(), "workload");  // outside the step's timers
@@ -363,8 +371,9 @@ void DistributedSimulation::count_elements(WorkloadEvent& e) {
   for (double v : e.slice_elements) e.elements += static_cast<long>(v);
 }
 
-std::vector<double> DistributedSimulation::measured_slice_seconds(const WorkloadEvent& e, const std::vector<double>& work,
-                                                                  double pair, double device_s) {
+std::vector<double> DistributedSimulation::measured_slice_seconds(const WorkloadEvent& e,
+                                                                  const std::vector<double>& work, double pair,
+                                                                  double device_s) {
   const int S = dec_.slices, K = std::min(kCostRegions, S);
   // Regions: contiguous slices of about equal elements (the global counts: the same regions on every rank).
   std::vector<int> region(S);
@@ -373,7 +382,8 @@ std::vector<double> DistributedSimulation::measured_slice_seconds(const Workload
   for (int s = 0; s < S; ++s) {
     const double mid = before + e.slice_elements[s] / 2;
     before += e.slice_elements[s];
-    region[s] = total > 0 ? std::min(K - 1, static_cast<int>(mid * K / total)) : static_cast<int>(static_cast<long>(s) * K / S);
+    region[s] =
+        total > 0 ? std::min(K - 1, static_cast<int>(mid * K / total)) : static_cast<int>(static_cast<long>(s) * K / S);
   }
   const State& st = sim_->host_state();  // count_elements synced it
   std::vector<int> group(st.elements());
@@ -398,14 +408,16 @@ std::vector<double> DistributedSimulation::measured_slice_seconds(const Workload
     const int k = region[s];
     const double n = e.slice_elements[s];
     // the region's measured share of the pair forces, over its slices by W_s (by elements where it has no W_s)
-    const double within = region_work[k] > 0 ? work[s] / region_work[k] : (region_elements[k] > 0 ? n / region_elements[k] : 0.0);
+    const double within =
+        region_work[k] > 0 ? work[s] / region_work[k] : (region_elements[k] > 0 ? n / region_elements[k] : 0.0);
     const double pair_share = timed > 0 ? sums[k] / timed * within : (total > 0 ? n / total : 0.0);
     out[s] = F * pair_share + (total > 0 ? O * n / total : 0.0);
   }
   return out;
 }
 
-void DistributedSimulation::write_workload(const std::string& path, const std::string& command, const std::string& git_revision) {
+void DistributedSimulation::write_workload(const std::string& path, const std::string& command,
+                                           const std::string& git_revision) {
   EngineWorkload w;
   w.slices = dec_.slices;
   w.min_width = dec_.min_width;
@@ -420,7 +432,8 @@ void DistributedSimulation::write_workload(const std::string& path, const std::s
   w.git_revision = git_revision;
   w.device = sim_->backend().device_name();
   w.events = workload_;
-  if (!w.events.empty() && !w.events.front().slice_seconds.empty()) w.cost_regions = std::min(kCostRegions, dec_.slices);
+  if (!w.events.empty() && !w.events.front().slice_seconds.empty())
+    w.cost_regions = std::min(kCostRegions, dec_.slices);
   ::semlb::write_workload(path, w);
 }
 
@@ -452,7 +465,14 @@ void DistributedSimulation::write_trace(const TraceEvent& e) {
 }
 
 DecompositionCheckpoint DistributedSimulation::checkpoint() const {
-  return {"", mpi_->size(), dec_.slices, dec_.min_width, dec_.policy, cells_at_event_, dec_.x0, dec_.x0 + dec_.width * dec_.slices,
+  return {"",
+          mpi_->size(),
+          dec_.slices,
+          dec_.min_width,
+          dec_.policy,
+          cells_at_event_,
+          dec_.x0,
+          dec_.x0 + dec_.width * dec_.slices,
           balancer_->save_state()};
 }
 

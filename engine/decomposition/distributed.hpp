@@ -27,7 +27,7 @@ class DistributedSimulation {
   DistributedSimulation(const Scene& scene, const State& tissue, Mpi& mpi, const std::string& trace_path = "",
                         const std::optional<DecompositionCheckpoint>& restored = std::nullopt);
   void advance(long target);
-  State gather();  // rank 0: the whole tissue in cell-id order; other ranks: cells empty
+  State gather();                  // rank 0: the whole tissue in cell-id order; other ranks: cells empty
   std::pair<long, long> totals();  // cells and elements over all ranks (on every rank)
   long step() const { return sim_->host_state().step; }
   const std::vector<int>& boundaries() const { return balancer_->boundaries(); }
@@ -39,9 +39,9 @@ class DistributedSimulation {
   // Per rebalancing interval: the ranks' computation times and the global imbalance (T_max-T_min)/T_mean.
   struct Interval {
     long step;
-    std::vector<double> times;            // computation per rank, as the policy saw it (decomposition.timing)
+    std::vector<double> times;              // computation per rank, as the policy saw it (decomposition.timing)
     std::vector<double> exchange, migrate;  // per rank: ghost exchange; cell migration and rebalancing (wall seconds)
-    std::vector<double> wall, device;     // per rank: the step phases' wall seconds; device timers' seconds (0 without)
+    std::vector<double> wall, device;  // per rank: the step phases' wall seconds; device timers' seconds (0 without)
     std::vector<double> exchange_bytes, migrate_bytes;  // per rank: band bytes sent; cell bytes sent to other ranks
     std::vector<double> device_pair, device_list, device_cells;  // per rank: Backend::device_parts of `device`
     double imbalance;
@@ -72,8 +72,10 @@ class DistributedSimulation {
   // then between its step's turns, in the same collective).
   template <class F>
   void alone_in_turn(F&& f) {
-    if (mpi_->size() == 1) sim_->in_turn(f);
-    else f();
+    if (mpi_->size() == 1)
+      sim_->in_turn(f);
+    else
+      f();
   }
   std::vector<double> global_slice_work();
   std::vector<double> global_slice_work(const Grid& g);
@@ -92,8 +94,8 @@ class DistributedSimulation {
   std::ofstream trace_;
   std::vector<Interval> intervals_;
   double seconds_at_event_ = 0, device_at_event_ = 0;
-  double exchange_s_ = 0, migrate_s_ = 0;  // since the last rebalancing event
-  double exchange_bytes_ = 0, migrate_bytes_ = 0;  // since the last rebalancing event
+  double exchange_s_ = 0, migrate_s_ = 0;           // since the last rebalancing event
+  double exchange_bytes_ = 0, migrate_bytes_ = 0;   // since the last rebalancing event
   std::map<std::string, double> kernels_at_event_;  // Backend::step_kernel_seconds at the last event
   std::unique_ptr<DeviceTurns> turns_;              // decomposition.device_sharing: turns
   // With output.workload and device timers: the event's measured seconds per slice (WorkloadEvent::slice_seconds),
@@ -115,11 +117,11 @@ class DistributedSimulation {
   void stage_work_before();
   void stage_work_after();
   Grid stage_grid_;
-  std::vector<double> stage_work_;        // W_s before the current cell stage
-  std::vector<int64_t> stage_changes_;    // per slice, this interval's bits so far
-  int stage_ = 0;                         // cell stages in this interval so far
-  bool stage_pending_ = false;            // stage_work_before ran, its cell stage's after-count not yet
-  int fault_rank_ = -1;  // SEMLB_FAULT_INJECT=RANK:STEP: throws on that rank alone at that step (tests)
+  std::vector<double> stage_work_;      // W_s before the current cell stage
+  std::vector<int64_t> stage_changes_;  // per slice, this interval's bits so far
+  int stage_ = 0;                       // cell stages in this interval so far
+  bool stage_pending_ = false;          // stage_work_before ran, its cell stage's after-count not yet
+  int fault_rank_ = -1;                 // SEMLB_FAULT_INJECT=RANK:STEP: throws on that rank alone at that step (tests)
   long fault_step_ = -1;
 };
 

@@ -56,11 +56,13 @@ std::vector<double> Mpi::allgather(const std::vector<double>& mine) const {
 }
 
 void Mpi::allreduce_sum(std::vector<double>& v) const {
-  check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce");
+  check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD),
+        "MPI_Allreduce");
 }
 
 void Mpi::allreduce_sum(std::vector<int>& v) const {
-  check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_INT, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce");
+  check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_INT, MPI_SUM, MPI_COMM_WORLD),
+        "MPI_Allreduce");
 }
 
 long Mpi::allreduce_max(long value) const {
@@ -84,10 +86,12 @@ void Mpi::broadcast(std::string& text, int root) const {
 
 std::vector<char> Mpi::sendrecv(const std::vector<char>& send, int to, int from) const {
   long n_send = static_cast<long>(send.size()), n_recv = 0;
-  check(MPI_Sendrecv(&n_send, 1, MPI_LONG, to, 1, &n_recv, 1, MPI_LONG, from, 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "MPI_Sendrecv");
+  check(MPI_Sendrecv(&n_send, 1, MPI_LONG, to, 1, &n_recv, 1, MPI_LONG, from, 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+        "MPI_Sendrecv");
   std::vector<char> recv(from == MPI_PROC_NULL ? 0 : n_recv);
   check(MPI_Sendrecv(send.data(), static_cast<int>(n_send), MPI_BYTE, to, 2, recv.data(), static_cast<int>(recv.size()),
-                     MPI_BYTE, from, 2, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "MPI_Sendrecv");
+                     MPI_BYTE, from, 2, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+        "MPI_Sendrecv");
   return recv;
 }
 
@@ -112,13 +116,15 @@ Requests::~Requests() {
 void Requests::send(const std::vector<char>& bytes, int to, int tag) {
   if (to == MPI_PROC_NULL) return;
   requests_.emplace_back(MPI_REQUEST_NULL);
-  check(MPI_Isend(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, to, tag, MPI_COMM_WORLD, &requests_.back()), "MPI_Isend");
+  check(MPI_Isend(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, to, tag, MPI_COMM_WORLD, &requests_.back()),
+        "MPI_Isend");
 }
 
 void Requests::receive(std::vector<char>& bytes, int from, int tag) {
   if (from == MPI_PROC_NULL) return;
   requests_.emplace_back(MPI_REQUEST_NULL);
-  check(MPI_Irecv(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, from, tag, MPI_COMM_WORLD, &requests_.back()), "MPI_Irecv");
+  check(MPI_Irecv(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, from, tag, MPI_COMM_WORLD, &requests_.back()),
+        "MPI_Irecv");
 }
 
 void Requests::wait() {
@@ -143,8 +149,9 @@ std::vector<std::vector<char>> Mpi::alltoall(const std::vector<std::vector<char>
   std::exclusive_scan(recv_n.begin(), recv_n.end(), recv_off.begin(), 0);
   std::vector<char> send, recv(recv_off.back() + recv_n.back());
   for (const auto& p : parts) send.insert(send.end(), p.begin(), p.end());
-  check(MPI_Alltoallv(send.data(), send_n.data(), send_off.data(), MPI_BYTE, recv.data(), recv_n.data(), recv_off.data(),
-                      MPI_BYTE, MPI_COMM_WORLD), "MPI_Alltoallv");
+  check(MPI_Alltoallv(send.data(), send_n.data(), send_off.data(), MPI_BYTE, recv.data(), recv_n.data(),
+                      recv_off.data(), MPI_BYTE, MPI_COMM_WORLD),
+        "MPI_Alltoallv");
   std::vector<std::vector<char>> out(size_);
   for (int r = 0; r < size_; ++r) out[r].assign(recv.begin() + recv_off[r], recv.begin() + recv_off[r] + recv_n[r]);
   return out;
@@ -159,6 +166,9 @@ std::vector<std::vector<char>> Mpi::gather(const std::vector<char>& part, int ro
 
 void Mpi::barrier() const { check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier"); }
 
-void Mpi::abort(int code) const { MPI_Abort(MPI_COMM_WORLD, code); std::abort(); }
+void Mpi::abort(int code) const {
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::abort();
+}
 
 }  // namespace semlb::engine

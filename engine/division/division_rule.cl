@@ -3,12 +3,16 @@
  * (the host's index in division_rule_names(): semlb_cell_rules.division). Uniform branches. */
 static inline int semlb_divides(int rule, int type, int count, const double* centroid, const double* p) {
   switch (rule) {
-    case @INDEX@: return semlb_divides_@NAME@(type, count, centroid, p);
+    case @INDEX @:
+      return semlb_divides_ @NAME @(type, count, centroid, p);
   }
   return 0;
 }
-static inline void semlb_division_axis(int rule, const double* g, const double* centroid, const double* p, double* axis) {
+static inline void semlb_division_axis(int rule, const double* g, const double* centroid, const double* p,
+                                       double* axis) {
   switch (rule) {
-    case @INDEX@: semlb_division_axis_@NAME@(g, centroid, p, axis); return;
+    case @INDEX @:
+      semlb_division_axis_ @NAME @(g, centroid, p, axis);
+      return;
   }
 }

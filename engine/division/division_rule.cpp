@@ -30,8 +30,11 @@ class Division final : public Effect {
   ChosenRule rule_;
 };
 
-const Registrar<CellFieldInfo> depth("division.depth", {"division", 0.0, "divisions of the cell's lineage so far (an integer: the daughter id's bit)"});
-const Registrar<EffectInfo> effect("division", {50, [](const Section& s, const Scene&) { return std::make_unique<Division>(s); }});
+const Registrar<CellFieldInfo> depth("division.depth",
+                                     {"division", 0.0,
+                                      "divisions of the cell's lineage so far (an integer: the daughter id's bit)"});
+const Registrar<EffectInfo> effect("division",
+                                   {50, [](const Section& s, const Scene&) { return std::make_unique<Division>(s); }});
 
 }  // namespace
 

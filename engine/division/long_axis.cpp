@@ -12,7 +12,8 @@ namespace semlb::engine {
 namespace {
 
 const Registrar<DivisionRule> registrar("long_axis", {read_size_trigger, cellrules::semlb_divides_long_axis,
-                                                    cellrules::semlb_division_axis_long_axis, "{rule: long_axis, at_elements: 14}"});
+                                                      cellrules::semlb_division_axis_long_axis,
+                                                      "{rule: long_axis, at_elements: 14}"});
 
 }  // namespace
 }  // namespace semlb::engine

@@ -6,7 +6,8 @@ static inline int semlb_divides_long_axis(int type, int count, const double* cen
   (void)centroid;
   return semlb_cell_divides_by_size(type, count, p);
 }
-static inline void semlb_division_axis_long_axis(const double* g, const double* centroid, const double* p, double* axis) {
+static inline void semlb_division_axis_long_axis(const double* g, const double* centroid, const double* p,
+                                                 double* axis) {
   (void)centroid;
   (void)p;
   semlb_cell_long_axis(g, axis);

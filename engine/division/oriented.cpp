@@ -28,8 +28,9 @@ std::vector<double> read(const Section& s) {
   return p;
 }
 
-const Registrar<DivisionRule> registrar("oriented", {read, cellrules::semlb_divides_oriented, cellrules::semlb_division_axis_oriented,
-                                                   "{rule: oriented, axis: [0, 0, 1], at_elements: 14}"});
+const Registrar<DivisionRule> registrar("oriented", {read, cellrules::semlb_divides_oriented,
+                                                     cellrules::semlb_division_axis_oriented,
+                                                     "{rule: oriented, axis: [0, 0, 1], at_elements: 14}"});
 
 }  // namespace
 }  // namespace semlb::engine

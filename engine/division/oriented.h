@@ -9,7 +9,8 @@ static inline int semlb_divides_oriented(int type, int count, const double* cent
   (void)centroid;
   return semlb_cell_divides_by_size(type, count, p);
 }
-static inline void semlb_division_axis_oriented(const double* g, const double* centroid, const double* p, double* axis) {
+static inline void semlb_division_axis_oriented(const double* g, const double* centroid, const double* p,
+                                                double* axis) {
   (void)g;
   (void)centroid;
   for (int d = 0; d < 3; ++d) axis[d] = p[2 + d];

@@ -7,7 +7,8 @@ namespace semlb::engine {
 
 void CellFieldInfo::registering(const std::string& name, const CellFieldInfo& info) {
   if (info.effect.empty() || name.rfind(info.effect + ".", 0) != 0 || name.size() == info.effect.size() + 1)
-    throw std::logic_error("cell field '" + name + "': the name must be '" + info.effect + ".NAME' (its effect, a dot, a name)");
+    throw std::logic_error("cell field '" + name + "': the name must be '" + info.effect +
+                           ".NAME' (its effect, a dot, a name)");
 }
 
 void declare_cell_fields(State& s, const std::vector<std::string>& effects) {

@@ -7,7 +7,8 @@
 
 namespace semlb::engine {
 
-inline std::array<bool, kCellTypes> read_types(const Section& s, const std::string& key, const std::vector<std::string>& fallback) {
+inline std::array<bool, kCellTypes> read_types(const Section& s, const std::string& key,
+                                               const std::vector<std::string>& fallback) {
   std::array<bool, kCellTypes> on{};
   for (const auto& name : s.texts(key, fallback)) {
     const int t = type_from_name(name);

@@ -13,8 +13,8 @@ namespace semlb::engine {
 
 struct ChosenRule {
   std::string name;
-  int index = -1;               // in registry.names()
-  std::vector<double> params;   // at most SEMLB_CELL_RULE_PARAMS
+  int index = -1;              // in registry.names()
+  std::vector<double> params;  // at most SEMLB_CELL_RULE_PARAMS
 
   // Reads `key` of `s` (default `fallback`) as a name of the plug-in kind T (an InputError naming the field and the
   // known names otherwise), then the entry's parameters with its `read(s)`; std::logic_error when it derives more

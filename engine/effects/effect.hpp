@@ -22,13 +22,13 @@ class Effect {
   // Sets this effect's per-cell fields on the state before the run, when a value other than the registered initial
   // one is needed (growth: a random phase per cell); every declared field is allocated after (declare_cell_fields).
   virtual void prepare(State&) {}
-  virtual bool adds_forces() const { return false; }            // element stage, before integration
-  virtual void forces(Backend&, const Grid&) {}  // the part that needs no ghost (local)
+  virtual bool adds_forces() const { return false; }  // element stage, before integration
+  virtual void forces(Backend&, const Grid&) {}       // the part that needs no ghost (local)
   // The part of the forces that needs the ghosts (non-local), run after the ghost exchange arrived.
   virtual void nonlocal_forces(Backend&, const Grid&) {}
   virtual bool moves_after_integration() const { return false; }  // element stage, after integration
   virtual void after_integration(Backend&, long /*step*/) {}
-  virtual bool changes_cells() const { return false; }           // cell stage, every cell update
+  virtual bool changes_cells() const { return false; }  // cell stage, every cell update
   // Sets this effect's part of the cell stage's rules (growth or division), with the record index
   // of each field it owns in `s` (cell_field_index: s's cell_fields in name order, the record every backend keeps).
   virtual void cell_rules(CellRules&, const State& /*s*/) const {}
@@ -69,7 +69,8 @@ void register_plugin_effect(const std::string& kind, const std::string& name, co
 std::vector<std::unique_ptr<Effect>> make_effects(const Scene& scene);
 
 // The cell stage's rules of the effects that change cells (in their order) for the per-cell fields of `s`: the field
-// record holds s.cell_fields.size() doubles per cell, a field no listed effect owns has index -1; rules.single as given.
+// record holds s.cell_fields.size() doubles per cell, a field no listed effect owns has index -1; rules.single as
+// given.
 CellRules cell_rules_of(const std::vector<std::unique_ptr<Effect>>& effects, const State& s, bool single);
 
 }  // namespace semlb::engine

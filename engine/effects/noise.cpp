@@ -21,7 +21,9 @@ class Noise final : public Effect {
   uint64_t seed_;
 };
 
-const Registrar<EffectInfo> registrar("noise", {30, [](const Section& s, const Scene& scene) { return std::make_unique<Noise>(s, scene); }});
+const Registrar<EffectInfo> registrar("noise", {30, [](const Section& s, const Scene& scene) {
+                                                  return std::make_unique<Noise>(s, scene);
+                                                }});
 
 }  // namespace
 }  // namespace semlb::engine

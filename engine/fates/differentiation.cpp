@@ -17,9 +17,10 @@ std::vector<double> read(const Section& s) {
   return {s.real("basal_height", 8.0, 0, 1e9), s.real("granular_after", 40.0, 0, 1e12)};
 }
 
-const Registrar<CellFieldInfo> age("differentiation.age", {"differentiation", 0.0, "h since the cell's type last changed"});
-const Registrar<FateRule> registrar("differentiation",
-                                  {60, read, cellrules::semlb_fate_differentiation, "differentiation.age", "{basal_height: 6}"});
+const Registrar<CellFieldInfo> age("differentiation.age",
+                                   {"differentiation", 0.0, "h since the cell's type last changed"});
+const Registrar<FateRule> registrar("differentiation", {60, read, cellrules::semlb_fate_differentiation,
+                                                        "differentiation.age", "{basal_height: 6}"});
 
 }  // namespace
 }  // namespace semlb::engine

@@ -11,8 +11,10 @@ static inline int semlb_fate_differentiation(double cx, double cy, double cz, in
   (void)count;
   *age += elapsed;
   int next = *type;
-  if (next == 0 && cz > p[0]) next = 1;
-  else if (next == 1 && *age >= p[1]) next = 2;
+  if (next == 0 && cz > p[0])
+    next = 1;
+  else if (next == 1 && *age >= p[1])
+    next = 2;
   if (next == *type) return 0;
   *type = next;
   *age = 0;

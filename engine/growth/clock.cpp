@@ -16,7 +16,8 @@ namespace {
 // (period, type mask, max_elements, front, x0, speed, cycle_time): clock.h's parameters, then the cycle.
 std::vector<double> read(const Section& s) {
   const double cycle = s.real("cycle_time", 20.0, 1e-9, 1e12);
-  const long min = s.integer("min_elements", 10, 1, kMaxSlots - 1), max = s.integer("max_elements", 20, 1, kMaxSlots - 1);
+  const long min = s.integer("min_elements", 10, 1, kMaxSlots - 1),
+             max = s.integer("max_elements", 20, 1, kMaxSlots - 1);
   if (max <= min) s.fail("max_elements", "must exceed min_elements");
   const int types = type_mask(read_types(s, "types", {"basal"}));
   double front = 0, x0 = 0, speed = 0;
@@ -29,13 +30,22 @@ std::vector<double> read(const Section& s) {
     speed = f.real("speed", 0.0, -1e12, 1e12);
     f.finish();
   }
-  return {cycle / static_cast<double>(max - min), static_cast<double>(types), static_cast<double>(max), front, x0, speed, cycle};
+  return {cycle / static_cast<double>(max - min),
+          static_cast<double>(types),
+          static_cast<double>(max),
+          front,
+          x0,
+          speed,
+          cycle};
 }
 
-const Registrar<CellFieldInfo> clock("growth.clock", {"growth", 0.0, "h since the cell last added an element (starts at a random phase)"});
+const Registrar<CellFieldInfo> clock("growth.clock",
+                                     {"growth", 0.0,
+                                      "h since the cell last added an element (starts at a random phase)"});
 const Registrar<GrowthLaw> registrar("clock", {read, cellrules::semlb_growth_clock, "growth.clock",
-                                             [](const std::vector<double>& p, double u) { return p[0] * u; },
-                                             [](const std::vector<double>& p) { return p[6]; }, "{law: clock, cycle_time: 2}"});
+                                               [](const std::vector<double>& p, double u) { return p[0] * u; },
+                                               [](const std::vector<double>& p) { return p[6]; },
+                                               "{law: clock, cycle_time: 2}"});
 
 }  // namespace
 }  // namespace semlb::engine

@@ -4,7 +4,8 @@
 static inline int semlb_growth_law(int law, int type, int count, const double* centroid, double time, double elapsed,
                                    const double* p, double* field) {
   switch (law) {
-    case @INDEX@: return semlb_growth_@NAME@(type, count, centroid, time, elapsed, p, field);
+    case @INDEX @:
+      return semlb_growth_ @NAME @(type, count, centroid, time, elapsed, p, field);
   }
   return 0;
 }

@@ -33,7 +33,8 @@ class Growth final : public Effect {
     auto& f = s.cell_fields[law.field];
     if (f.size() == s.cell_id.size()) return;  // restored from a file
     f.resize(s.cell_id.size());
-    for (long c = 0; c < s.cells(); ++c) f[c] = law.initial(law_.params, uniform01(SEMLB_GROWTH_STREAM, s.cell_id[c], 0, 0));
+    for (long c = 0; c < s.cells(); ++c)
+      f[c] = law.initial(law_.params, uniform01(SEMLB_GROWTH_STREAM, s.cell_id[c], 0, 0));
   }
 
   void cell_rules(CellRules& r, const State& s) const override {
@@ -49,7 +50,8 @@ class Growth final : public Effect {
   double offset_;
 };
 
-const Registrar<EffectInfo> effect("growth", {40, [](const Section& s, const Scene&) { return std::make_unique<Growth>(s); }});
+const Registrar<EffectInfo> effect("growth",
+                                   {40, [](const Section& s, const Scene&) { return std::make_unique<Growth>(s); }});
 
 }  // namespace
 

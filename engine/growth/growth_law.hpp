@@ -17,8 +17,8 @@ namespace semlb::engine {
 // law's per-cell field (0 and discarded when it has none). Returns the elements to add now, >= 0, with count + births
 // below kMaxSlots (a law that breaks that stops the run naming the cell). The C++ instantiation of
 // `semlb_growth_NAME` of growth/NAME.h (double, as all cell bookkeeping, cells.h).
-using GrowthEvaluator = int (*)(int type, int count, const double* centroid, double time, double elapsed, const double* p,
-                                double* field);
+using GrowthEvaluator = int (*)(int type, int count, const double* centroid, double time, double elapsed,
+                                const double* p, double* field);
 
 // A registered growth law. Its name is the value of `effects.growth.law`, the stem of its header growth/NAME.h; the
 // OpenCL kernels call it by its index in GrowthLaws::names() (the generated dispatch semlb_growth_law, in name order

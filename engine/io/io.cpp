@@ -18,7 +18,8 @@ namespace {
 
 void write_decomposition(h5::File& f, const DecompositionCheckpoint& d) {
   const BalancerState& b = d.balancer;
-  f.write("/decomposition/boundaries", {b.boundaries.size()}, std::vector<int64_t>(b.boundaries.begin(), b.boundaries.end()));
+  f.write("/decomposition/boundaries", {b.boundaries.size()},
+          std::vector<int64_t>(b.boundaries.begin(), b.boundaries.end()));
   f.write("/decomposition/counters", {6},
           std::vector<int64_t>{kBalancerStateVersion, d.ranks, b.event, d.cells_at_event, d.slices, d.min_width});
   f.write("/decomposition/migration", {1}, std::vector<int64_t>{b.migration});
@@ -36,13 +37,14 @@ std::optional<DecompositionCheckpoint> read_decomposition(const std::string& pat
   auto ints = [&](const std::string& name, size_t size) {
     auto v = f.read_ints("/decomposition/" + name, dims);
     if (v.size() != size || dims.size() != 1)
-      throw InputError(path + ": dataset /decomposition/" + name + ": expected " + std::to_string(size) + " values in one dimension");
+      throw InputError(path + ": dataset /decomposition/" + name + ": expected " + std::to_string(size) +
+                       " values in one dimension");
     return v;
   };
   auto in_range = [&](int64_t v, int64_t lo, int64_t hi, const std::string& what) {
     if (v < lo || v > hi)
-      throw InputError(path + ": dataset /decomposition/counters: " + what + " = " + std::to_string(v) + " is outside [" +
-                       std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      throw InputError(path + ": dataset /decomposition/counters: " + what + " = " + std::to_string(v) +
+                       " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     return v;
   };
   const auto counters = ints("counters", 6);
@@ -133,8 +135,8 @@ void check_ids(const std::string& path, const std::vector<int64_t>& ids, const s
     if (depth_field) {
       const double d = (*depth_field)[c];
       if (!(d >= 0 && d <= kMaxDivisionDepth && d == std::floor(d)))
-        throw InputError(path + ": dataset /cells/fields/division.depth: value at " + std::to_string(c) + " is not an integer in [0, " +
-                         std::to_string(kMaxDivisionDepth) + "]");
+        throw InputError(path + ": dataset /cells/fields/division.depth: value at " + std::to_string(c) +
+                         " is not an integer in [0, " + std::to_string(kMaxDivisionDepth) + "]");
       depth[c] = static_cast<int>(d);
     }
     if (ids[c] < 0) throw InputError(at + "id " + std::to_string(ids[c]) + " at " + std::to_string(c) + " is negative");
@@ -145,8 +147,8 @@ void check_ids(const std::string& path, const std::vector<int64_t>& ids, const s
                        ", each division adds one bit; see division.depth)");
     const auto [it, fresh] = index.emplace(id, c);
     if (!fresh)
-      throw InputError(at + "id " + std::to_string(id) + " appears twice (cells " + std::to_string(it->second) + " and " +
-                       std::to_string(c) + "); cell ids must be unique");
+      throw InputError(at + "id " + std::to_string(id) + " appears twice (cells " + std::to_string(it->second) +
+                       " and " + std::to_string(c) + "); cell ids must be unique");
   }
   for (size_t c = 0; c < ids.size(); ++c)  // is an ancestor position of cell c taken by a shallower cell?
     for (int k = 0; k < depth[c]; ++k) {
@@ -164,7 +166,8 @@ void check_ids(const std::string& path, const std::vector<int64_t>& ids, const s
 State read_state(const std::string& path) {
   const auto f = h5::File::open_read(path);
   if (H5Aexists(f.id(), "format") > 0 && f.read_text_attr("format") != "semlb-state-v1")
-    throw InputError(path + ": attribute 'format' is '" + f.read_text_attr("format") + "', this build reads semlb-state-v1");
+    throw InputError(path + ": attribute 'format' is '" + f.read_text_attr("format") +
+                     "', this build reads semlb-state-v1");
   std::vector<hsize_t> dims;
   State s;
   s.position = f.read("/elements/position", dims);
@@ -178,15 +181,21 @@ State read_state(const std::string& path) {
   need_length(path, "/cells/count", dims, ids.size(), "cell");
   long total = 0;
   for (size_t c = 0; c < ids.size(); ++c) {
-    if (types[c] < 0 || types[c] >= kCellTypes) throw InputError(path + ": dataset /cells/type: value " + std::to_string(types[c]) + " at " + std::to_string(c) + " is not a type");
-    if (counts[c] < 1 || counts[c] >= kMaxSlots) throw InputError(path + ": dataset /cells/count: value at " + std::to_string(c) + " outside 1.." + std::to_string(kMaxSlots - 1));
+    if (types[c] < 0 || types[c] >= kCellTypes)
+      throw InputError(path + ": dataset /cells/type: value " + std::to_string(types[c]) + " at " + std::to_string(c) +
+                       " is not a type");
+    if (counts[c] < 1 || counts[c] >= kMaxSlots)
+      throw InputError(path + ": dataset /cells/count: value at " + std::to_string(c) + " outside 1.." +
+                       std::to_string(kMaxSlots - 1));
     total += counts[c];
   }
   if (static_cast<size_t>(total) != n)
-    throw InputError(path + ": dataset /cells/count sums to " + std::to_string(total) + " elements but /elements/position has " + std::to_string(n));
+    throw InputError(path + ": dataset /cells/count sums to " + std::to_string(total) +
+                     " elements but /elements/position has " + std::to_string(n));
   for (size_t i = 0; i < s.position.size(); ++i)
     if (!std::isfinite(s.position[i]))
-      throw InputError(path + ": dataset /elements/position: element " + std::to_string(i / 3) + " has a non-finite coordinate");
+      throw InputError(path + ": dataset /elements/position: element " + std::to_string(i / 3) +
+                       " has a non-finite coordinate");
   // Per-element copies written for viewers (the cell id, type and slot, the vertex connectivity): when present
   // they must agree with /cells.
   for (const std::string name : {"/elements/cell", "/elements/type", "/elements/slot", "/elements/vertex"}) {
@@ -195,12 +204,15 @@ State read_state(const std::string& path) {
     need_length(path, name, dims, n, "element");
     for (size_t c = 0, e = 0; c < ids.size(); ++c)
       for (long k = 0; k < counts[c]; ++k, ++e) {
-        const int64_t want = name == "/elements/cell" ? ids[c] : name == "/elements/type" ? types[c] : name == "/elements/slot" ? k
-                                                                                                  : static_cast<int64_t>(e);
+        const int64_t want = name == "/elements/cell"   ? ids[c]
+                             : name == "/elements/type" ? types[c]
+                             : name == "/elements/slot" ? k
+                                                        : static_cast<int64_t>(e);
         if (v[e] != want)
-          throw InputError(path + ": dataset " + name + ": element " + std::to_string(e) + " holds " + std::to_string(v[e]) +
-                           " but /cells/count places it in cell " + std::to_string(ids[c]) + " (type " + std::to_string(types[c]) +
-                           ", slot " + std::to_string(k) + "): expected " + std::to_string(want));
+          throw InputError(path + ": dataset " + name + ": element " + std::to_string(e) + " holds " +
+                           std::to_string(v[e]) + " but /cells/count places it in cell " + std::to_string(ids[c]) +
+                           " (type " + std::to_string(types[c]) + ", slot " + std::to_string(k) + "): expected " +
+                           std::to_string(want));
       }
   }
   s.cell_id.assign(ids.begin(), ids.end());
@@ -233,11 +245,12 @@ void write_xdmf(const std::string& path, const std::vector<Snapshot>& snapshots)
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Grid Name=\"tissue\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const auto& s : snapshots) {
     auto item = [&](const std::string& dims, const char* type, const char* dataset) {
-      x << "     <DataItem Dimensions=\"" << dims << "\" NumberType=\"" << type << "\" Precision=\"8\" Format=\"HDF\">" << s.file
-        << ":/elements/" << dataset << "</DataItem>\n";
+      x << "     <DataItem Dimensions=\"" << dims << "\" NumberType=\"" << type << "\" Precision=\"8\" Format=\"HDF\">"
+        << s.file << ":/elements/" << dataset << "</DataItem>\n";
     };
     const std::string n = std::to_string(s.elements);
-    x << "   <Grid Name=\"step_" << s.step << "\" GridType=\"Uniform\">\n    <Time Value=\"" << format_real(s.time) << "\"/>\n"
+    x << "   <Grid Name=\"step_" << s.step << "\" GridType=\"Uniform\">\n    <Time Value=\"" << format_real(s.time)
+      << "\"/>\n"
       << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\">\n";
     item(n, "Int", "vertex");  // one cell per element: without it ParaView's Xdmf3 reader makes no cells
     x << "    </Topology>\n    <Geometry GeometryType=\"XYZ\">\n";

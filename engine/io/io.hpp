@@ -13,12 +13,12 @@
 namespace semlb::engine {
 
 // A decomposed run's balancer as saved in its checkpoints (group /decomposition, format version
-// kBalancerStateVersion): the rank count, slice count, min width and policy it belongs to, the cell count at the last rebalancing
-// event (for the next event's growth flag), the x range the slices divide (um; a restart keeps it, so that
+// kBalancerStateVersion): the rank count, slice count, min width and policy it belongs to, the cell count at the last
+// rebalancing event (for the next event's growth flag), the x range the slices divide (um; a restart keeps it, so that
 // slice indices keep their meaning) and the Balancer's state (boundaries, event index, migration, the
 // policy's history as /decomposition/policy/NAME arrays).
 struct DecompositionCheckpoint {
-  std::string file;  // where it was read from (messages)
+  std::string file;                          // where it was read from (messages)
   int ranks = 0, slices = 0, min_width = 1;  // the partition model it belongs to
   std::string policy;
   long cells_at_event = 0;

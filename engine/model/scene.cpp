@@ -28,9 +28,12 @@ Origin origin_of(const std::string& field, const YAML::Node& n, const std::strin
 
 }  // namespace
 
-Section::Section(YAML::Node node, std::string path, std::string file, std::shared_ptr<const std::set<std::string>> overridden)
+Section::Section(YAML::Node node, std::string path, std::string file,
+                 std::shared_ptr<const std::set<std::string>> overridden)
     : Settings(path, origin_of(path, node.IsDefined() && !node.IsNull() ? node : YAML::Node(), file, overridden.get())),
-      node_(std::move(node)), file_(std::move(file)), overridden_(std::move(overridden)) {
+      node_(std::move(node)),
+      file_(std::move(file)),
+      overridden_(std::move(overridden)) {
   if (!node_.IsMap()) return;
   for (const auto& kv : node_) {
     const std::string key = kv.first.as<std::string>();
@@ -41,8 +44,10 @@ Section::Section(YAML::Node node, std::string path, std::string file, std::share
     } else if (kv.second.IsSequence()) {
       v.kind = Kind::list;
       for (const auto& item : kv.second) {
-        if (!item.IsScalar() && !item.IsNull()) v.kind = Kind::map;  // texts(): "must be a list" (of single values)
-        else v.items.push_back(item.as<std::string>());
+        if (!item.IsScalar() && !item.IsNull())
+          v.kind = Kind::map;  // texts(): "must be a list" (of single values)
+        else
+          v.items.push_back(item.as<std::string>());
       }
     } else {
       v.kind = kv.second.IsMap() ? Kind::map : Kind::none;
@@ -77,8 +82,10 @@ void apply_override(YAML::Node root, const std::string& assignment, std::set<std
   const auto parts = split(path, '.');
   for (size_t i = 0; i + 1 < parts.size(); ++i) {
     YAML::Node next = chain.back()[parts[i]];
-    if (!next || next.IsNull()) chain.back()[parts[i]] = YAML::Node(YAML::NodeType::Map);
-    else if (!next.IsMap()) throw InputError("--set " + path + ": '" + parts[i] + "' is not a map");
+    if (!next || next.IsNull())
+      chain.back()[parts[i]] = YAML::Node(YAML::NodeType::Map);
+    else if (!next.IsMap())
+      throw InputError("--set " + path + ": '" + parts[i] + "' is not a map");
     chain.push_back(chain.back()[parts[i]]);
   }
   chain.back()[parts.back()] = value;
@@ -144,14 +151,19 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
 
 const std::vector<SceneSetting>& scene_settings() {
   using T = SceneSetting::Type;
-  static const std::vector<SceneSetting> settings = {
-      {"cells", "tissue.cells", T::integer},          {"steps", "time.steps", T::integer},
-      {"dt", "time.dt", T::real},                     {"cutoff", "cutoff", T::real},
-      {"seed", "seed", T::integer},                   {"backend", "backend.name", T::text},
-      {"precision", "backend.precision", T::text},    {"platform", "backend.platform", T::text},
-      {"device", "backend.device", T::integer},       {"policy", "decomposition.policy", T::text},
-      {"initial", "decomposition.initial", T::text},  {"rebalance_every", "decomposition.rebalance_every", T::integer},
-      {"timing", "decomposition.timing", T::text}};
+  static const std::vector<SceneSetting> settings = {{"cells", "tissue.cells", T::integer},
+                                                     {"steps", "time.steps", T::integer},
+                                                     {"dt", "time.dt", T::real},
+                                                     {"cutoff", "cutoff", T::real},
+                                                     {"seed", "seed", T::integer},
+                                                     {"backend", "backend.name", T::text},
+                                                     {"precision", "backend.precision", T::text},
+                                                     {"platform", "backend.platform", T::text},
+                                                     {"device", "backend.device", T::integer},
+                                                     {"policy", "decomposition.policy", T::text},
+                                                     {"initial", "decomposition.initial", T::text},
+                                                     {"rebalance_every", "decomposition.rebalance_every", T::integer},
+                                                     {"timing", "decomposition.timing", T::text}};
   return settings;
 }
 

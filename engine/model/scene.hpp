@@ -38,11 +38,11 @@ class Section : public Settings {
 struct BackendConfig {
   std::string name = "cpu-binned";
   std::string precision = "double";  // double | float
-  int threads = 0;                    // cpu-binned's `threads`: 0 = all hardware threads
-  std::string platform;               // the OpenCL backends' `platform`: a platform name substring; empty: see docs/engine.md
-  int device = 0;                     // the OpenCL backends' `device`: the index within the chosen platform
-  int local_rank = 0;                 // added to `device` (one device per local MPI rank)
-  double skin = 0.0;                  // um, opencl-binned's `skin`: its neighbour list (docs/engine.md); 0: none, bins every step
+  int threads = 0;                   // cpu-binned's `threads`: 0 = all hardware threads
+  std::string platform;  // the OpenCL backends' `platform`: a platform name substring; empty: see docs/engine.md
+  int device = 0;        // the OpenCL backends' `device`: the index within the chosen platform
+  int local_rank = 0;    // added to `device` (one device per local MPI rank)
+  double skin = 0.0;     // um, opencl-binned's `skin`: its neighbour list (docs/engine.md); 0: none, bins every step
   // The scene's `backend` map (null: a config made in code, its fields as set), whose keys beside name and precision
   // the backend reads (backend_settings).
   std::shared_ptr<const Section> settings;
@@ -59,8 +59,8 @@ struct Scene {
   uint64_t seed = 1;
   std::array<double, 3> box_lo{}, box_hi{};  // resolved by the tissue generator when "auto"
   bool auto_box = true;
-  double cutoff = 8.75;           // um
-  double dt = 0.01;               // h
+  double cutoff = 8.75;  // um
+  double dt = 0.01;      // h
   long steps = 1000;
   double friction = 1.0;          // eta
   double max_displacement = 1.0;  // um per step; larger stops the run
@@ -71,7 +71,7 @@ struct Scene {
   bool record_workload = false;  // output.workload: DIR/workload.h5, the per-event workload (controllers/workload.hpp)
   BackendConfig backend;
   std::shared_ptr<Section> tissue;
-  std::shared_ptr<Section> decomposition;  // read by Decomposition::from_scene (decomposed runs only)
+  std::shared_ptr<Section> decomposition;                // read by Decomposition::from_scene (decomposed runs only)
   std::vector<std::pair<std::string, Section>> effects;  // in file order
 };
 

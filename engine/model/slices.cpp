@@ -19,7 +19,6 @@ namespace arith {
 #undef SEMLB_GLOBAL
 }  // namespace arith
 
-
 Grid Grid::cover(const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cutoff) {
   // 1e-4 of slack keeps bins >= cutoff even after float rounding of positions on a device
   const double edge = cutoff * (1 + 1e-4), limit = static_cast<double>(kMaxBins);
@@ -86,7 +85,9 @@ Grid work_grid(const std::array<double, 3>& lo, const std::array<double, 3>& hi,
 }
 
 namespace {
-long bin_index(const Grid& g, const std::array<int, 3>& b) { return (static_cast<long>(b[2]) * g.dims[1] + b[1]) * g.dims[0] + b[0]; }
+long bin_index(const Grid& g, const std::array<int, 3>& b) {
+  return (static_cast<long>(b[2]) * g.dims[1] + b[1]) * g.dims[0] + b[0];
+}
 }  // namespace
 
 std::vector<int> bin_counts(const State& s, const Grid& g) {

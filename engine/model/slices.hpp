@@ -58,5 +58,4 @@ std::vector<double> slice_workload(const State& cells, const SliceMap& d, double
 // Sums a bin-count array over the ranks in place (Mpi::allreduce_sum); empty: one device, nothing to sum.
 using CountReduce = std::function<void(std::vector<int>&)>;
 
-
 }  // namespace semlb::engine

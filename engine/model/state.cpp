@@ -30,7 +30,8 @@ int type_from_name(const std::string& name) {
 std::vector<int> State::element_info() const {
   std::vector<int> info(elements());
   for (long c = 0; c < cells(); ++c)
-    for (int k = 0; k < cell_count[c]; ++k) info[cell_first[c] + k] = phys64::semlb_info_pack(static_cast<int>(c), cell_type[c]);
+    for (int k = 0; k < cell_count[c]; ++k)
+      info[cell_first[c] + k] = phys64::semlb_info_pack(static_cast<int>(c), cell_type[c]);
   return info;
 }
 

@@ -48,8 +48,8 @@ State epidermal_sheet(const Section& t, uint64_t seed) {
   for (long c = 0; c < cells; ++c) {
     const long layer = c / per_layer, k = c % per_layer, i = k % nx, j = k / nx;
     const double stagger = layer % 2 ? 0.5 * spacing : 0.0;
-    const double cx = (i + 0.5 * (j % 2)) * spacing + stagger, cy = j * spacing * std::sqrt(3.0) / 2 + stagger / std::sqrt(3.0),
-                 cz = radius + layer * spacing * 0.85;
+    const double cx = (i + 0.5 * (j % 2)) * spacing + stagger,
+                 cy = j * spacing * std::sqrt(3.0) / 2 + stagger / std::sqrt(3.0), cz = radius + layer * spacing * 0.85;
     for (int e = 0; e < s.cell_count[c]; ++e) {
       const uint64_t key = element_key(static_cast<uint64_t>(c), e);
       double u[3], norm = 0;
@@ -87,7 +87,8 @@ std::pair<std::array<double, 3>, std::array<double, 3>> tissue_box(const State& 
   return padded_box(lo, hi, cutoff);
 }
 
-std::pair<std::array<double, 3>, std::array<double, 3>> padded_box(std::array<double, 3> lo, std::array<double, 3> hi, double cutoff) {
+std::pair<std::array<double, 3>, std::array<double, 3>> padded_box(std::array<double, 3> lo, std::array<double, 3> hi,
+                                                                   double cutoff) {
   for (int d = 0; d < 3; ++d) {
     lo[d] -= cutoff;
     hi[d] += cutoff;
@@ -97,9 +98,7 @@ std::pair<std::array<double, 3>, std::array<double, 3>> padded_box(std::array<do
   return {lo, hi};
 }
 
-void fit_box(Scene& scene, const State& s) {
-  std::tie(scene.box_lo, scene.box_hi) = tissue_box(s, scene.cutoff);
-}
+void fit_box(Scene& scene, const State& s) { std::tie(scene.box_lo, scene.box_hi) = tissue_box(s, scene.cutoff); }
 
 State make_tissue(Scene& scene, const std::function<State(const std::string& path)>& read_file) {
   const Section& t = *scene.tissue;

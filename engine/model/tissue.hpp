@@ -17,7 +17,8 @@ std::pair<std::array<double, 3>, std::array<double, 3>> element_bounds(const Sta
 // The box `domain: auto` gives a tissue: its extent plus one cutoff, from z = -cutoff, with headroom above.
 std::pair<std::array<double, 3>, std::array<double, 3>> tissue_box(const State& state, double cutoff);
 // The same box from an extent (lo, hi per axis, um) measured elsewhere (Backend::bounds()).
-std::pair<std::array<double, 3>, std::array<double, 3>> padded_box(std::array<double, 3> lo, std::array<double, 3> hi, double cutoff);
+std::pair<std::array<double, 3>, std::array<double, 3>> padded_box(std::array<double, 3> lo, std::array<double, 3> hi,
+                                                                   double cutoff);
 void fit_box(Scene& scene, const State& state);
 
 }  // namespace semlb::engine

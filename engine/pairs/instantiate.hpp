@@ -10,10 +10,10 @@
 #define SEMLB_PAIR_CAT2(a, b) a##b
 #define SEMLB_PAIR_CAT(a, b) SEMLB_PAIR_CAT2(a, b)
 #define SEMLB_PAIR_LAW SEMLB_PAIR_CAT(semlb_pair_, SEMLB_PAIR_NAME)
-#define SEMLB_PAIR_INSTANCE                                                                                      \
-  inline void pair(semlb_real dx, semlb_real dy, semlb_real dz, int ii, int ij, uint64_t ki, uint64_t kj,        \
-                   const semlb_real* p, semlb_real c2, int64_t* acc) {                                           \
-    if (semlb_pair_force(dx, dy, dz, ii, ij, p, c2, acc) < 0) semlb_coincident_force(ki, kj, ii, ij, p, acc);   \
+#define SEMLB_PAIR_INSTANCE                                                                                   \
+  inline void pair(semlb_real dx, semlb_real dy, semlb_real dz, int ii, int ij, uint64_t ki, uint64_t kj,     \
+                   const semlb_real* p, semlb_real c2, int64_t* acc) {                                        \
+    if (semlb_pair_force(dx, dy, dz, ii, ij, p, c2, acc) < 0) semlb_coincident_force(ki, kj, ii, ij, p, acc); \
   }
 
 namespace semlb::engine::phys64::SEMLB_PAIR_NAME {

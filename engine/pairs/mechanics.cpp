@@ -41,7 +41,8 @@ std::vector<double> read(const Section& s, double /*cutoff*/) {
   const Section pairs = s.child("pairs");
   for (const auto& key : pairs.keys()) {
     const auto dash = key.find('-');
-    const int a = type_from_name(key.substr(0, dash)), b = dash == std::string::npos ? -1 : type_from_name(key.substr(dash + 1));
+    const int a = type_from_name(key.substr(0, dash)),
+              b = dash == std::string::npos ? -1 : type_from_name(key.substr(dash + 1));
     if (a < 0 || b < 0) pairs.fail(key, "expected TYPE-TYPE with types basal, spinous, granular");
     const Morse m = read_morse(pairs.child(key), inter);
     put(SEMLB_MORSE_INTER(a, b), m);
@@ -54,7 +55,7 @@ std::vector<double> read(const Section& s, double /*cutoff*/) {
 static_assert(SEMLB_MORSE_TYPES == kCellTypes, "mechanics.h's table holds one inter set per pair of cell types");
 
 const Registrar<PairTerm> registrar("mechanics", {10, read, phys64::mechanics::pair, phys32::mechanics::pair,
-                                                "{intra: {V0: 1.2}, pairs: {basal-spinous: {V0: 0.3}}}"});
+                                                  "{intra: {V0: 1.2}, pairs: {basal-spinous: {V0: 0.3}}}"});
 
 }  // namespace
 }  // namespace semlb::engine

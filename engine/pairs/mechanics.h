@@ -7,7 +7,7 @@
  * SEMLB_MORSE_INTER(ti, tj); SEMLB_MORSE_TABLE_SIZE in all. */
 #define SEMLB_MORSE_TYPES 3
 #define SEMLB_MORSE_INTRA 0
-#define SEMLB_MORSE_INTER(ti, tj) (4 + 4 * ((ti) * SEMLB_MORSE_TYPES + (tj)))
+#define SEMLB_MORSE_INTER(ti, tj) (4 + 4 * ((ti)*SEMLB_MORSE_TYPES + (tj)))
 #define SEMLB_MORSE_TABLE_SIZE (4 + 4 * SEMLB_MORSE_TYPES * SEMLB_MORSE_TYPES)
 
 /* f(r) of one Morse set (SEMLB_PAIR_EXP: the OpenCL float build's native exp, else SEMLB_EXP). */

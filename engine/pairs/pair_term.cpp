@@ -1,4 +1,5 @@
-// The pair-term registry, and each term as an effect that adds the pair forces through Backend::pair_forces_local/nonlocal.
+// The pair-term registry, and each term as an effect that adds the pair forces through
+// Backend::pair_forces_local/nonlocal.
 #include "pair_term.hpp"
 
 #include "common/errors.hpp"
@@ -12,10 +13,12 @@ namespace {
 class PairTermEffect final : public Effect {
  public:
   PairTermEffect(const std::string& name, const Section& s, const Scene& scene)
-      : forces_{name, checked_plugin_params(PairTerm::kKind, name, PairTerms::at(name).read(s, scene.cutoff)), scene.cutoff} {
+      : forces_{name, checked_plugin_params(PairTerm::kKind, name, PairTerms::at(name).read(s, scene.cutoff)),
+                scene.cutoff} {
     for (const auto& [other, section] : scene.effects) {  // the later-listed term is the one refused
       if (other == name) break;
-      if (PairTerms::find(other)) throw InputError(s.where("") + "a scene lists one pair term, and '" + other + "' is listed already");
+      if (PairTerms::find(other))
+        throw InputError(s.where("") + "a scene lists one pair term, and '" + other + "' is listed already");
     }
   }
   std::string name() const override { return forces_.term; }
@@ -30,8 +33,9 @@ class PairTermEffect final : public Effect {
 }  // namespace
 
 void PairTerm::registering(const std::string& name, const PairTerm& term) {
-  register_plugin_effect(PairTerm::kKind, name, term,
-                         [name](const Section& s, const Scene& scene) { return std::make_unique<PairTermEffect>(name, s, scene); });
+  register_plugin_effect(PairTerm::kKind, name, term, [name](const Section& s, const Scene& scene) {
+    return std::make_unique<PairTermEffect>(name, s, scene);
+  });
 }
 
 std::string scene_pair_term(const Scene& scene) {

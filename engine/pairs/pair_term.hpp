@@ -43,7 +43,8 @@ struct PairTerm {
   static void registering(const std::string& name, const PairTerm& term);
 };
 using PairTerms = PluginKind<PairTerm>;
-// The pair term `scene` lists ("" when none): what the OpenCL backends build their program for (BackendConfig::pair_term).
+// The pair term `scene` lists ("" when none): what the OpenCL backends build their program for
+// (BackendConfig::pair_term).
 std::string scene_pair_term(const Scene& scene);
 
 }  // namespace semlb::engine

@@ -1,4 +1,5 @@
-// "relu": ya||a's piecewise-linear pair force as a pair term (evaluator: relu.h; docs/engine.md "Physics as implemented").
+// "relu": ya||a's piecewise-linear pair force as a pair term (evaluator: relu.h; docs/engine.md "Physics as
+// implemented").
 #include "pair_term.hpp"
 
 #include "common/text_io.hpp"
@@ -16,10 +17,13 @@ void read_set(const Section& s, double cutoff, const std::vector<double>& fallba
   // k_rep > 0: coincident elements are pushed apart by f(0) = k_rep r0
   const double k_rep = s.real("k_rep", fallback[0], 0, 1e9, true), k_adh = s.real("k_adh", fallback[1], 0, 1e9);
   const double r0 = s.real("r0", fallback[2], 0, 1e9, true), r_max = s.real("r_max", fallback[3], 0, 1e9, true);
-  if (!(r0 < r_max)) s.fail(s.has("r_max") ? "r_max" : "r0", "r0 (" + format_real(r0) + " um) must be below r_max (" + format_real(r_max) + " um)");
+  if (!(r0 < r_max))
+    s.fail(s.has("r_max") ? "r_max" : "r0",
+           "r0 (" + format_real(r0) + " um) must be below r_max (" + format_real(r_max) + " um)");
   if (r_max > cutoff)
-    s.fail("r_max", format_real(r_max) + " um" + (s.has("r_max") ? "" : " (the default)") + " is beyond the scene's cutoff (" +
-                        format_real(cutoff) + " um): pairs beyond the cutoff are never seen; raise `cutoff` or lower r_max");
+    s.fail("r_max", format_real(r_max) + " um" + (s.has("r_max") ? "" : " (the default)") +
+                        " is beyond the scene's cutoff (" + format_real(cutoff) +
+                        " um): pairs beyond the cutoff are never seen; raise `cutoff` or lower r_max");
   s.finish();
   p.insert(p.end(), {k_rep, k_adh, r0, r_max});
 }
@@ -35,7 +39,7 @@ std::vector<double> read(const Section& s, double cutoff) {
 }
 
 const Registrar<PairTerm> registrar("relu", {10, read, phys64::relu::pair, phys32::relu::pair,
-                                           "{intra: {k_rep: 2, k_adh: 0.5, r0: 4, r_max: 6}, inter: {k_adh: 0.1}}"});
+                                             "{intra: {k_rep: 2, k_adh: 0.5, r0: 4, r_max: 6}, inter: {k_adh: 0.1}}"});
 
 }  // namespace
 }  // namespace semlb::engine

@@ -30,10 +30,10 @@ SEMLB_DEFINE_RANDOM(double, semlb_uniform64, semlb_gauss64)
 typedef struct {
   double growth_p[SEMLB_CELL_RULE_PARAMS];   /* the growth law's derived parameters (growth/growth_law.hpp) */
   double division_p[SEMLB_CELL_RULE_PARAMS]; /* the division rule's (division/division_rule.hpp) */
-  double offset;         /* um from the centroid to a newborn element */
-  double time;           /* h: the stage's time, what a law may read (semlb_cell_stage_at) */
-  int growth;            /* the growth law's index in GrowthLaws::names(), -1: no growth */
-  int division;          /* the division rule's index in DivisionRules::names(), -1: no division */
+  double offset;                             /* um from the centroid to a newborn element */
+  double time;                               /* h: the stage's time, what a law may read (semlb_cell_stage_at) */
+  int growth;                                /* the growth law's index in GrowthLaws::names(), -1: no growth */
+  int division;                              /* the division rule's index in DivisionRules::names(), -1: no division */
   int single; /* 1: positions are float (newborns rounded to float before division sees them) */
   /* The per-cell fields (effects/cell_fields.hpp) as one record of `fields` doubles per cell, the State's
    * cell_fields in name order; the core reads two at their record index (-1: absent, read as 0 and not written).
@@ -139,7 +139,8 @@ typedef struct {
 } semlb_cell_split;
 
 static inline double semlb_cell_projection(const double* p, const semlb_cell_split* s) {
-  return (p[0] - s->centroid[0]) * s->axis[0] + (p[1] - s->centroid[1]) * s->axis[1] + (p[2] - s->centroid[2]) * s->axis[2];
+  return (p[0] - s->centroid[0]) * s->axis[0] + (p[1] - s->centroid[1]) * s->axis[1] +
+         (p[2] - s->centroid[2]) * s->axis[2];
 }
 
 /* The division's first half: the centroid (into s->centroid) and the gyration tensor g = (g00, g01, g02, g11, g12,

@@ -45,11 +45,11 @@ namespace semlb::engine {
 template <class Real>
 struct Physics;
 
-#define SEMLB_PHYSICS(REAL, NS)                                                                         \
-  template <>                                                                                           \
-  struct Physics<REAL> {                                                                                \
-    static int64_t fixed(REAL f) { return NS::semlb_to_fixed(f); }                                      \
-    static REAL step(int64_t f, REAL dt_eta) { return NS::semlb_displacement(f, dt_eta); }              \
+#define SEMLB_PHYSICS(REAL, NS)                                                                               \
+  template <>                                                                                                 \
+  struct Physics<REAL> {                                                                                      \
+    static int64_t fixed(REAL f) { return NS::semlb_to_fixed(f); }                                            \
+    static REAL step(int64_t f, REAL dt_eta) { return NS::semlb_displacement(f, dt_eta); }                    \
     static REAL gauss(uint64_t s, uint64_t k, uint64_t t, uint64_t c) { return NS::semlb_gauss(s, k, t, c); } \
   };
 SEMLB_PHYSICS(double, phys64)

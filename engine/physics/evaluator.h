@@ -49,7 +49,9 @@ static inline SEMLB_LONG semlb_scaled_to_fixed(semlb_real fs) {
 }
 
 /* One force component in fixed point. */
-static inline SEMLB_LONG semlb_to_fixed(semlb_real f) { return semlb_scaled_to_fixed(f * (semlb_real)SEMLB_FIXED_SCALE); }
+static inline SEMLB_LONG semlb_to_fixed(semlb_real f) {
+  return semlb_scaled_to_fixed(f * (semlb_real)SEMLB_FIXED_SCALE);
+}
 
 /* SplitMix64 finaliser: the counter-based generator shared by noise, growth and the tissue generator. */
 static inline SEMLB_ULONG semlb_mix(SEMLB_ULONG z) {
@@ -62,15 +64,15 @@ static inline SEMLB_ULONG semlb_mix(SEMLB_ULONG z) {
 /* Uniform in (0, 1] from the counter (seed, key, step, stream), and a standard normal by Box-Muller from
  * two counter streams, in type T: semlb_uniform / semlb_gauss in semlb_real here; cells.h defines the
  * double ones of the cell stage with the same macro. */
-#define SEMLB_DEFINE_RANDOM(T, UNIFORM, GAUSS)                                                                 \
-  static inline T UNIFORM(SEMLB_ULONG seed, SEMLB_ULONG key, SEMLB_ULONG step, SEMLB_ULONG stream) {           \
-    SEMLB_ULONG z = semlb_mix(semlb_mix(semlb_mix(seed ^ (stream << 56)) ^ key) ^ step);                      \
-    return (T)((double)((z >> 11) + 1) * (1.0 / 9007199254740992.0));                                        \
-  }                                                                                                          \
-  static inline T GAUSS(SEMLB_ULONG seed, SEMLB_ULONG key, SEMLB_ULONG step, SEMLB_ULONG stream) {             \
-    T u1 = UNIFORM(seed, key, step, 2 * stream);                                                             \
-    T u2 = UNIFORM(seed, key, step, 2 * stream + 1);                                                         \
-    return SEMLB_SQRT((T)-2.0 * SEMLB_LOG(u1)) * SEMLB_COS((T)6.283185307179586 * u2);                       \
+#define SEMLB_DEFINE_RANDOM(T, UNIFORM, GAUSS)                                                       \
+  static inline T UNIFORM(SEMLB_ULONG seed, SEMLB_ULONG key, SEMLB_ULONG step, SEMLB_ULONG stream) { \
+    SEMLB_ULONG z = semlb_mix(semlb_mix(semlb_mix(seed ^ (stream << 56)) ^ key) ^ step);             \
+    return (T)((double)((z >> 11) + 1) * (1.0 / 9007199254740992.0));                                \
+  }                                                                                                  \
+  static inline T GAUSS(SEMLB_ULONG seed, SEMLB_ULONG key, SEMLB_ULONG step, SEMLB_ULONG stream) {   \
+    T u1 = UNIFORM(seed, key, step, 2 * stream);                                                     \
+    T u2 = UNIFORM(seed, key, step, 2 * stream + 1);                                                 \
+    return SEMLB_SQRT((T)-2.0 * SEMLB_LOG(u1)) * SEMLB_COS((T)6.283185307179586 * u2);               \
   }
 SEMLB_DEFINE_RANDOM(semlb_real, semlb_uniform, semlb_gauss)
 

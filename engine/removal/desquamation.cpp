@@ -19,7 +19,8 @@ std::vector<double> read(const Section& s) {
   return {s.real("height", 0, 0, 1e9)};
 }
 
-const Registrar<RemovalRule> registrar("desquamation", {70, read, cellrules::semlb_remove_desquamation, "{height: 12}"});
+const Registrar<RemovalRule> registrar("desquamation",
+                                       {70, read, cellrules::semlb_remove_desquamation, "{height: 12}"});
 
 }  // namespace
 }  // namespace semlb::engine

@@ -24,7 +24,8 @@ class RemovalEffect final : public Effect {
 
 void RemovalRule::registering(const std::string& name, const RemovalRule& rule) {
   register_plugin_effect(RemovalRule::kKind, name, rule, [name](const Section& s, const Scene&) {
-    return std::make_unique<RemovalEffect>(name, checked_plugin_params(RemovalRule::kKind, name, RemovalRules::at(name).read(s)));
+    return std::make_unique<RemovalEffect>(
+        name, checked_plugin_params(RemovalRule::kKind, name, RemovalRules::at(name).read(s)));
   });
 }
 

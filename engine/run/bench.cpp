@@ -37,7 +37,8 @@ TissueStats tissue_stats(const State& s, const Grid& g, double cutoff, long samp
   for (long e = 0; e < n && sampled * n < 4e9; e += std::max(1L, n / sample), ++sampled)
     for (long o = 0; o < n; ++o) {
       double r2 = 0;
-      for (int d = 0; d < 3; ++d) r2 += (s.position[3 * e + d] - s.position[3 * o + d]) * (s.position[3 * e + d] - s.position[3 * o + d]);
+      for (int d = 0; d < 3; ++d)
+        r2 += (s.position[3 * e + d] - s.position[3 * o + d]) * (s.position[3 * e + d] - s.position[3 * o + d]);
       t.neighbours += o != e && r2 < cutoff * cutoff;
     }
   t.per_cutoff_cube /= static_cast<double>(n);
@@ -65,7 +66,8 @@ Timing time_scene(Scene& scene, long steps, long warmup, long profile_steps) {
   t.list = sim.backend().list_stats();
   t.list_builds = t.list.builds - builds_before;
   t.steps = steps;
-  for (const auto& [k, v] : sim.backend().kernel_seconds()) t.kernel_seconds[k] = v - (kernels_before.count(k) ? kernels_before.at(k) : 0.0);
+  for (const auto& [k, v] : sim.backend().kernel_seconds())
+    t.kernel_seconds[k] = v - (kernels_before.count(k) ? kernels_before.at(k) : 0.0);
   const State& s = sim.sync();
   t.cells = s.cells();
   t.elements = s.elements();
@@ -74,7 +76,8 @@ Timing time_scene(Scene& scene, long steps, long warmup, long profile_steps) {
     sim.profile = true;
     const auto before = sim.phase_seconds();
     sim.advance(sim.host_state().step + profile_steps);
-    for (size_t p = 0; p < before.size(); ++p) t.phase_seconds.push_back((sim.phase_seconds()[p] - before[p]) / profile_steps * steps);
+    for (size_t p = 0; p < before.size(); ++p)
+      t.phase_seconds.push_back((sim.phase_seconds()[p] - before[p]) / profile_steps * steps);
   }
   return t;
 }
@@ -82,13 +85,14 @@ Timing time_scene(Scene& scene, long steps, long warmup, long profile_steps) {
 CellStageTiming time_cell_stage(Scene& scene, long updates) {
   Simulation sim(scene, make_tissue(scene));
   if (!sim.has_cell_effects())
-    throw InputError(scene.path + ": field 'effects': the scene lists no cell effect (growth, division, differentiation)");
+    throw InputError(scene.path +
+                     ": field 'effects': the scene lists no cell effect (growth, division, differentiation)");
   sim.update_cells();  // untimed: first allocations
   const auto before = sim.cell_stage_seconds();
   for (long u = 0; u < updates; ++u) sim.update_cells();
   const State& s = sim.sync();
-  CellStageTiming t{s.cells(), s.elements(), updates, sim.backend().name(),
-                    sim.backend().device_name(), sim.cell_stage_seconds()};
+  CellStageTiming t{
+      s.cells(), s.elements(), updates, sim.backend().name(), sim.backend().device_name(), sim.cell_stage_seconds()};
   for (size_t p = 0; p < t.parts.size(); ++p)
     t.parts[p].second = (t.parts[p].second - before[p].second) / static_cast<double>(updates);
   return t;

@@ -25,11 +25,11 @@ struct Timing {
   double seconds = 0;  // wall time of `steps` steps after the warm-up, device work included
   std::string backend, device;
   std::vector<std::string> phases;
-  std::vector<double> phase_seconds;  // with per-phase synchronisation (a second, profiled pass)
-  TissueStats stats;  // of the generated tissue, before the first step
+  std::vector<double> phase_seconds;             // with per-phase synchronisation (a second, profiled pass)
+  TissueStats stats;                             // of the generated tissue, before the first step
   std::map<std::string, double> kernel_seconds;  // over the timed steps, when the backend profiles
-  ListStats list;               // the neighbour list after the timed steps (skin 0: none)
-  long list_builds = 0;         // list builds during the timed steps
+  ListStats list;                                // the neighbour list after the timed steps (skin 0: none)
+  long list_builds = 0;                          // list builds during the timed steps
   double element_steps_per_second() const { return seconds > 0 ? static_cast<double>(elements) * steps / seconds : 0; }
 };
 

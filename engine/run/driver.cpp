@@ -40,7 +40,8 @@ std::vector<std::string> earlier_rows(const std::string& path, long step) {
   if (!fs::exists(path)) return rows;
   const auto lines = split(read_file(path), '\n');
   for (size_t i = 1; i < lines.size(); ++i)
-    if (!lines[i].empty() && parse_integer(split(lines[i], ',')[0], semlb::where(path, static_cast<long>(i) + 1, "step")) <= step)
+    if (!lines[i].empty() &&
+        parse_integer(split(lines[i], ',')[0], semlb::where(path, static_cast<long>(i) + 1, "step")) <= step)
       rows.push_back(lines[i]);
   return rows;
 }
@@ -51,7 +52,8 @@ std::vector<Snapshot> earlier_snapshots(const std::string& dir, long step) {
   for (const auto& entry : fs::directory_iterator(dir + "/snapshots")) {
     const std::string name = entry.path().filename().string();
     if (name.rfind("step_", 0) != 0 || entry.path().extension() != ".h5") continue;
-    if (name.size() != 17 || name.substr(5, 9).find_first_not_of("0123456789") != std::string::npos) continue;  // step_NNNNNNNNN.h5
+    if (name.size() != 17 || name.substr(5, 9).find_first_not_of("0123456789") != std::string::npos)
+      continue;                                   // step_NNNNNNNNN.h5
     const long s = std::stol(name.substr(5, 9));  // nine digits, zero-padded by snapshot_name()
     if (s > step) continue;
     const State st = read_state(entry.path().string());
@@ -70,8 +72,8 @@ class StatusLine {
     shown_ = wall;
     shown_step_ = step;
     const double eta = eta_seconds(wall, static_cast<double>(step - first_), static_cast<double>(last_ - step));
-    line_.show(format_text("step %ld/%ld | cells %ld | elements %ld | %.1f s | ETA %.1f s", step, last_, cells, elements,
-                           wall, eta),
+    line_.show(format_text("step %ld/%ld | cells %ld | elements %ld | %.1f s | ETA %.1f s", step, last_, cells,
+                           elements, wall, eta),
                force);
   }
 
@@ -88,8 +90,13 @@ class RunOutputs {
  public:
   RunOutputs(const Scene& scene, const RunConfig& config, long first, std::string header,
              std::map<std::string, std::string> attrs)
-      : lock_(config.out_dir, config.wait), scene_(scene), dir_(config.out_dir), header_(std::move(header)), attrs_(std::move(attrs)) {
-    write_file_atomically(dir_ + "/scene.yaml", "# semlb " + config.git_revision + ": " + config.command_line + "\n" + scene.text);
+      : lock_(config.out_dir, config.wait),
+        scene_(scene),
+        dir_(config.out_dir),
+        header_(std::move(header)),
+        attrs_(std::move(attrs)) {
+    write_file_atomically(dir_ + "/scene.yaml",
+                          "# semlb " + config.git_revision + ": " + config.command_line + "\n" + scene.text);
     rows_ = earlier_rows(dir_ + "/run.csv", first);
     snapshots_ = earlier_snapshots(dir_, first);
   }
@@ -153,8 +160,9 @@ State failing_state(State s, long step, double dt) {
 void check_steps_ahead(const Scene& scene, const RunConfig& config, const State& initial) {
   if (scene.steps > initial.step || (config.restart.empty() && initial.step == 0)) return;
   const std::string from = config.restart.empty() ? "the tissue.file state" : config.restart;
-  throw InputError("--steps / time.steps: step " + std::to_string(scene.steps) + " is not after step " + std::to_string(initial.step) +
-                   " of " + from + ": nothing to run (give a final step after " + std::to_string(initial.step) + ")");
+  throw InputError("--steps / time.steps: step " + std::to_string(scene.steps) + " is not after step " +
+                   std::to_string(initial.step) + " of " + from + ": nothing to run (give a final step after " +
+                   std::to_string(initial.step) + ")");
 }
 
 // The next step at which the driver must stop to log or write a file.
@@ -174,12 +182,12 @@ class Run {
   virtual std::pair<long, long> totals() = 0;  // cells and elements (over every rank)
   // Per phase the seconds since the last call (decomposed: the slowest rank's), then the bytes h2d and d2h (summed).
   virtual std::pair<std::vector<double>, std::array<long, 2>> since_last() = 0;
-  virtual void mark() = 0;  // since_last counts from now (this rank's own baseline; not collective)
+  virtual void mark() = 0;          // since_last counts from now (this rank's own baseline; not collective)
   virtual bool any(bool mine) = 0;  // true when `mine` is true on some rank
   // The whole tissue (decomposed: gathered on rank 0, empty elsewhere), valid until the next call: no copy of a
   // one-device state.
   virtual const State& whole() = 0;
-  virtual void agreed(const std::function<void()>& f) = 0;  // f, whose errors every rank agrees on
+  virtual void agreed(const std::function<void()>& f) = 0;              // f, whose errors every rank agrees on
   virtual void save(RunOutputs& out, const State& all, long stop) = 0;  // the snapshot/checkpoint due at `stop`
   // The state to write as failure.h5 when `e` (thrown by advance) is a numerical failure; false to rethrow as is.
   virtual bool failed(const std::exception& e, State& frozen) = 0;
@@ -217,7 +225,7 @@ RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long fir
       if (root) out->save_first(all);
     });
   }
-  run.mark();  // the first row's bytes are its steps', not the first snapshot's download
+  run.mark();        // the first row's bytes are its steps', not the first snapshot's download
   const State none;  // what `all` is at a stop that writes no state
   double element_steps = 0, output_seconds = 0;
   try {
@@ -237,8 +245,8 @@ RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long fir
         if (log) {
           std::ostringstream row;
           const double w = seconds_since(t0);
-          row << stop << "," << format_real(static_cast<double>(stop) * scene.dt) << "," << cells << "," << elements << ","
-              << format_real(w - wall_before);
+          row << stop << "," << format_real(static_cast<double>(stop) * scene.dt) << "," << cells << "," << elements
+              << "," << format_real(w - wall_before);
           for (double t : since.first) row << "," << format_real(t);
           row << "," << since.second[0] << "," << since.second[1];
           out->log(row.str());
@@ -331,13 +339,15 @@ class OneDevice final : public Run {
     std::string csv = "kernel,launches,device_s\n";
     for (const auto& [k, t] : secs) {
       const auto n = sim_.backend().launches().find(k);
-      csv += k + "," + std::to_string(n == sim_.backend().launches().end() ? 0 : n->second) + "," + format_real(t) + "\n";
+      csv +=
+          k + "," + std::to_string(n == sim_.backend().launches().end() ? 0 : n->second) + "," + format_real(t) + "\n";
     }
     write_file_atomically(out.dir() + "/kernels.csv", csv);
   }
   std::string device() override { return sim_.backend().device_name(); }
   void breakdown(RunSummary& sum) override {
-    for (size_t p = 0; p < sim_.phases().size(); ++p) sum.phases.push_back(spread_of(sim_.phases()[p], {sim_.phase_seconds()[p]}));
+    for (size_t p = 0; p < sim_.phases().size(); ++p)
+      sum.phases.push_back(spread_of(sim_.phases()[p], {sim_.phase_seconds()[p]}));
     const ListStats list = sim_.backend().list_stats();
     sum.list_builds = list.builds;
     sum.list_skin = list.skin;
@@ -373,7 +383,8 @@ class Decomposed final : public Run {
   void save(RunOutputs& out, const State& all, long stop) override {
     const auto balancer = sim_.checkpoint();
     out.save(all, &balancer);
-    if (scene_.record_workload && scene_.checkpoint_every > 0 && stop % scene_.checkpoint_every == 0)  // a restart continues it
+    if (scene_.record_workload && scene_.checkpoint_every > 0 &&
+        stop % scene_.checkpoint_every == 0)  // a restart continues it
       sim_.write_workload(config_.out_dir + "/workload.h5", config_.command_line, config_.git_revision);
   }
   bool failed(const std::exception& e, State& frozen) override {
@@ -383,7 +394,8 @@ class Decomposed final : public Run {
     return true;
   }
   void finish(RunOutputs&, const State&) override {
-    if (scene_.record_workload) sim_.write_workload(config_.out_dir + "/workload.h5", config_.command_line, config_.git_revision);
+    if (scene_.record_workload)
+      sim_.write_workload(config_.out_dir + "/workload.h5", config_.command_line, config_.git_revision);
     namespace rt = rank_times;
     std::string rows;
     for (const char* c : rt::kColumns) (rows += rows.empty() ? "" : ",") += c;
@@ -392,13 +404,19 @@ class Decomposed final : public Run {
     for (const auto& iv : sim_.intervals())
       for (size_t r = 0; r < iv.times.size(); ++r) {
         const std::map<std::string_view, std::string> field = {
-            {rt::kStep, std::to_string(iv.step)}, {rt::kRank, std::to_string(r)}, {rt::kComputeS, format_real(iv.times[r])},
-            {rt::kExchangeS, format_real(iv.exchange[r])}, {rt::kMigrateS, format_real(iv.migrate[r])},
-            {rt::kImbalance, format_real(iv.imbalance)}, {rt::kMovedSlices, std::to_string(iv.moved)},
-            {rt::kWallS, format_real(iv.wall[r])}, {rt::kDeviceS, format_real(iv.device[r])},
+            {rt::kStep, std::to_string(iv.step)},
+            {rt::kRank, std::to_string(r)},
+            {rt::kComputeS, format_real(iv.times[r])},
+            {rt::kExchangeS, format_real(iv.exchange[r])},
+            {rt::kMigrateS, format_real(iv.migrate[r])},
+            {rt::kImbalance, format_real(iv.imbalance)},
+            {rt::kMovedSlices, std::to_string(iv.moved)},
+            {rt::kWallS, format_real(iv.wall[r])},
+            {rt::kDeviceS, format_real(iv.device[r])},
             {rt::kExchangeBytes, std::to_string(static_cast<long>(iv.exchange_bytes[r]))},
             {rt::kMigrateBytes, std::to_string(static_cast<long>(iv.migrate_bytes[r]))},
-            {rt::kDevicePairS, format_real(iv.device_pair[r])}, {rt::kDeviceListS, format_real(iv.device_list[r])},
+            {rt::kDevicePairS, format_real(iv.device_pair[r])},
+            {rt::kDeviceListS, format_real(iv.device_list[r])},
             {rt::kDeviceCellsS, format_real(iv.device_cells[r])}};
         for (size_t c = 0; c < rt::kColumns.size(); ++c) (rows += c ? "," : "") += field.at(rt::kColumns[c]);
         rows += "\n";
@@ -428,8 +446,9 @@ class Decomposed final : public Run {
                         " rebalancing intervals, to step " + std::to_string(sim_.intervals().back().step) +
                         "; after the last one they count in other";
     } else {
-      sum.phases_note = "exchange and migration: no rebalancing interval ended (decomposition.rebalance_every); they "
-                        "count in other";
+      sum.phases_note =
+          "exchange and migration: no rebalancing interval ended (decomposition.rebalance_every); they "
+          "count in other";
     }
     const ListStats list = sim_.local().backend().list_stats();
     std::vector<double> builds = {static_cast<double>(list.builds)};
@@ -494,9 +513,11 @@ RunSummary run_scene_decomposed(Scene& scene, const RunConfig& config, Mpi& mpi)
     if (!config.restart.empty() && scene.auto_box) fit_box(scene, initial);
     check_steps_ahead(scene, config, initial);
     const auto restored = config.restart.empty() ? std::nullopt : read_decomposition(config.restart);
-    if (restored && scene.auto_box) std::tie(scene.box_lo[0], scene.box_hi[0]) = std::pair(restored->x_lo, restored->x_hi);
+    if (restored && scene.auto_box)
+      std::tie(scene.box_lo[0], scene.box_hi[0]) = std::pair(restored->x_lo, restored->x_hi);
     tissue = seconds_since(t0);
-    sim = std::make_unique<DistributedSimulation>(scene, initial, mpi, root ? config.out_dir + "/trace.jsonl" : "", restored);
+    sim = std::make_unique<DistributedSimulation>(scene, initial, mpi, root ? config.out_dir + "/trace.jsonl" : "",
+                                                  restored);
   });
   const double device = seconds_since(t0) - tissue;  // rank 0's: its slab's setup and the collectives with it
   const long first = initial.step;

@@ -59,8 +59,8 @@ inline constexpr const char *kStep = "step", *kRank = "rank", *kComputeS = "comp
                             *kMigrateBytes = "migrate_bytes", *kDevicePairS = "device_pair_s",
                             *kDeviceListS = "device_list_s", *kDeviceCellsS = "device_cells_s";
 inline constexpr std::array<const char*, 14> kColumns = {
-    kStep,   kRank,          kComputeS,     kExchangeS,   kMigrateS,    kImbalance,   kMovedSlices,
-    kWallS,  kDeviceS,       kExchangeBytes, kMigrateBytes, kDevicePairS, kDeviceListS, kDeviceCellsS};
+    kStep,  kRank,    kComputeS,      kExchangeS,    kMigrateS,    kImbalance,   kMovedSlices,
+    kWallS, kDeviceS, kExchangeBytes, kMigrateBytes, kDevicePairS, kDeviceListS, kDeviceCellsS};
 }  // namespace rank_times
 
 // Output: DIR/final.h5, DIR/snapshots/step_NNNNNNNNN.h5 (the first step's included) + DIR/snapshots.xmf,

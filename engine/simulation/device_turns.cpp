@@ -41,7 +41,8 @@ std::string DeviceTurns::path_for(const std::string& job, const std::string& dev
   std::string name = "semlb-turns-" + job + "-" + device_key;
   for (char& c : name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.')) c = '_';
-  const std::filesystem::path dir = std::filesystem::is_directory("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
+  const std::filesystem::path dir =
+      std::filesystem::is_directory("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
   return (dir / name).string();
 }
 

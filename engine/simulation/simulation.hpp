@@ -85,9 +85,9 @@ class Simulation {
     }
     turns->release();
   }
-  State& state() { return state_; }     // the host state, for the decomposed run to edit, then reload()
-  void reload();                        // uploads state() again and refits the grid
-  void refit_grid();                    // after the backend's elements changed (a migration)
+  State& state() { return state_; }  // the host state, for the decomposed run to edit, then reload()
+  void reload();                     // uploads state() again and refits the grid
+  void refit_grid();                 // after the backend's elements changed (a migration)
 
  private:
   void step_once();

@@ -13,7 +13,8 @@ std::vector<double> read(const Section& s) {
   return {U / xi_w, 1 / xi_w, V / xi_a, 1 / xi_a};
 }
 
-const Registrar<ElementTerm> registrar("membrane", {20, read, phys64::semlb_term_membrane, phys32::semlb_term_membrane, "{}", nullptr});  // no initial-state check
+const Registrar<ElementTerm> registrar("membrane", {20, read, phys64::semlb_term_membrane, phys32::semlb_term_membrane,
+                                                    "{}", nullptr});  // no initial-state check
 
 }  // namespace
 }  // namespace semlb::engine

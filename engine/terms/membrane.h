@@ -2,8 +2,8 @@
  * exponential wall for every element and exponential adhesion for basal elements (type 0). C99 subset, no guard:
  * included once per precision by membrane.cpp and inlined into the OpenCL kernels (element_term.cl).
  * Parameters (reals), derived like a Morse set: (U_wall/xi_wall, 1/xi_wall, V_adh/xi_adh, 1/xi_adh). */
-static inline void semlb_term_membrane(semlb_real x, semlb_real y, semlb_real z, int type, SEMLB_CONST const semlb_real* m,
-                                       semlb_real* f) {
+static inline void semlb_term_membrane(semlb_real x, semlb_real y, semlb_real z, int type,
+                                       SEMLB_CONST const semlb_real* m, semlb_real* f) {
   semlb_real fz = m[0] * SEMLB_EXP(-z * m[1]);
   if (type == 0) fz -= m[2] * SEMLB_EXP(-z * m[3]);
   (void)x;

@@ -12,7 +12,9 @@ namespace {
 class TermEffect final : public Effect {
  public:
   TermEffect(std::string name, const Section& s)
-      : name_(std::move(name)), where_(s.where("")), params_(checked_plugin_params(ElementTerm::kKind, name_, ElementTerms::at(name_).read(s))) {}
+      : name_(std::move(name)),
+        where_(s.where("")),
+        params_(checked_plugin_params(ElementTerm::kKind, name_, ElementTerms::at(name_).read(s))) {}
   std::string name() const override { return name_; }
   void prepare(State& s) override {  // the initial state, before anything runs
     if (const auto& check = ElementTerms::at(name_).check)

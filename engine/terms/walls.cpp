@@ -1,4 +1,5 @@
-// "walls": lateral confinement walls at xlo/xhi/ylo/yhi as an element term (evaluator: walls.h; docs/engine.md "Physics as implemented").
+// "walls": lateral confinement walls at xlo/xhi/ylo/yhi as an element term (evaluator: walls.h; docs/engine.md "Physics
+// as implemented").
 #include "term.hpp"
 
 #include <algorithm>
@@ -49,14 +50,17 @@ std::string check(const State& s, const std::vector<double>& p) {
     }
     if (behind)
       return std::to_string(behind) + " of " + std::to_string(s.elements()) + " elements start behind the face " +
-             faces[f] + " = " + format_real(at) + " um (" + (axis ? "y" : "x") + " " + (sign > 0 ? "up to " : "down to ") +
-             format_real(worst) + " um, more than wall_xi inside the wall): walls confine a tissue that starts inside them";
+             faces[f] + " = " + format_real(at) + " um (" + (axis ? "y" : "x") + " " +
+             (sign > 0 ? "up to " : "down to ") + format_real(worst) +
+             " um, more than wall_xi inside the wall): walls confine a tissue that starts inside them";
   }
   return "";
 }
 
-const Registrar<ElementTerm> registrar("walls", {25, read, phys64::semlb_term_walls, phys32::semlb_term_walls,
-                                                    "{xlo: -20, xhi: 400, ylo: -20, yhi: 400, adhesion_V: 0.5, adhesion_xi: 20}", check});
+const Registrar<ElementTerm> registrar("walls",
+                                       {25, read, phys64::semlb_term_walls, phys32::semlb_term_walls,
+                                        "{xlo: -20, xhi: 400, ylo: -20, yhi: 400, adhesion_V: 0.5, adhesion_xi: 20}",
+                                        check});
 
 }  // namespace
 }  // namespace semlb::engine

@@ -8,7 +8,7 @@ static inline semlb_real semlb_walls_morse(semlb_real d, SEMLB_CONST const semlb
   return w[0] * SEMLB_EXP(-d * w[1]) - w[2] * SEMLB_EXP(-d * w[3]);
 }
 static inline void semlb_term_walls(semlb_real x, semlb_real y, semlb_real z, int type, SEMLB_CONST const semlb_real* w,
-                                   semlb_real* f) {
+                                    semlb_real* f) {
   (void)z;
   (void)type;
   f[0] = semlb_clamp_force(semlb_walls_morse(x - w[4], w) - semlb_walls_morse(w[5] - x, w));

@@ -62,7 +62,8 @@ std::string only_entry(const std::string& ptx, const std::string& kernel) {
   const size_t end = ptx.find("\n}\n", begin);
   if (end == std::string::npos) usage("program.bin: the entry " + kernel + " does not end");
   const std::string body = ptx.substr(begin, end + 3 - begin);
-  if (body.find("call") != std::string::npos) usage("program.bin: the entry " + kernel + " calls functions (not replayed)");
+  if (body.find("call") != std::string::npos)
+    usage("program.bin: the entry " + kernel + " calls functions (not replayed)");
   return ptx.substr(0, first) + body;
 }
 
@@ -76,10 +77,11 @@ std::string patch(std::string ptx) {
   const auto count = [](const std::string& s, const std::regex& r) {
     return std::distance(std::sregex_iterator(s.begin(), s.end(), r), std::sregex_iterator());
   };
-  std::printf("patch: %ld __constant pointer parameter(s), %ld register-addressed constant load(s), %ld cvta.const, "
-              "%ld %%envreg read(s)\n",
-              static_cast<long>(count(ptx, const_param)), static_cast<long>(count(ptx, const_load)),
-              static_cast<long>(count(ptx, cvta_const)), static_cast<long>(count(ptx, envreg)));
+  std::printf(
+      "patch: %ld __constant pointer parameter(s), %ld register-addressed constant load(s), %ld cvta.const, "
+      "%ld %%envreg read(s)\n",
+      static_cast<long>(count(ptx, const_param)), static_cast<long>(count(ptx, const_load)),
+      static_cast<long>(count(ptx, cvta_const)), static_cast<long>(count(ptx, envreg)));
   std::istringstream lines(ptx);
   for (std::string line; std::getline(lines, line);)
     if (line.find("%envreg") != std::string::npos) std::printf("  envreg line: %s\n", line.c_str());
@@ -87,7 +89,8 @@ std::string patch(std::string ptx) {
   ptx = std::regex_replace(ptx, const_load, "ld.global.nc$1$2");
   ptx = std::regex_replace(ptx, cvta_const, "cvta.global.u64");
   ptx = std::regex_replace(ptx, envreg, "0");
-  ptx = std::regex_replace(ptx, std::regex(R"(,\s*texmode_independent)"), "");  // OpenCL's texture mode; CUDA's is unified
+  ptx = std::regex_replace(ptx, std::regex(R"(,\s*texmode_independent)"),
+                           "");  // OpenCL's texture mode; CUDA's is unified
   return ptx;
 }
 
@@ -115,18 +118,23 @@ int main(int argc, char** argv) {
     std::string key;
     in >> key;
     bool ok = true;
-    if (key == "kernel") ok = static_cast<bool>(in >> kernel);
-    else if (key == "global") ok = static_cast<bool>(in >> global);
-    else if (key == "group") ok = static_cast<bool>(in >> group);
+    if (key == "kernel")
+      ok = static_cast<bool>(in >> kernel);
+    else if (key == "global")
+      ok = static_cast<bool>(in >> global);
+    else if (key == "group")
+      ok = static_cast<bool>(in >> group);
     else if (key == "arg") {
       size_t index = 0;
       Arg a;
       ok = (in >> index >> a.kind >> a.bytes) && index == args.size();
       args.push_back(a);
-    } else ok = false;
+    } else
+      ok = false;
     if (!ok) usage(dir + "/launch.txt:" + std::to_string(lineno) + ": cannot read '" + line + "'");
   }
-  if (kernel.empty() || !global || !group || global % group) usage(dir + "/launch.txt: kernel, global and group needed");
+  if (kernel.empty() || !global || !group || global % group)
+    usage(dir + "/launch.txt: kernel, global and group needed");
   for (size_t i = 0; i < args.size(); ++i) {
     Arg& a = args[i];
     if (a.kind == "local") usage("argument " + std::to_string(i) + ": __local arguments are not replayed");
@@ -155,10 +163,13 @@ int main(int argc, char** argv) {
   CUjit_option opts[] = {CU_JIT_ERROR_LOG_BUFFER, CU_JIT_ERROR_LOG_BUFFER_SIZE_BYTES, CU_JIT_INFO_LOG_BUFFER,
                          CU_JIT_INFO_LOG_BUFFER_SIZE_BYTES};
   void* vals[] = {log, reinterpret_cast<void*>(sizeof log), info, reinterpret_cast<void*>(sizeof info)};
-  if (const CUresult r = cuModuleLoadDataEx(&module, cubin.empty() ? static_cast<const void*>(text.c_str()) : cubin.data(), 4, opts, vals); r != CUDA_SUCCESS) {
+  if (const CUresult r = cuModuleLoadDataEx(
+          &module, cubin.empty() ? static_cast<const void*>(text.c_str()) : cubin.data(), 4, opts, vals);
+      r != CUDA_SUCCESS) {
     const char* name = nullptr;
     cuGetErrorName(r, &name);
-    std::fprintf(stderr, "ncu_replay: the PTX (%s/patched.ptx) did not load: %s\n%s\n%s\n", dir.c_str(), name ? name : "?", log, info);
+    std::fprintf(stderr, "ncu_replay: the PTX (%s/patched.ptx) did not load: %s\n%s\n%s\n", dir.c_str(),
+                 name ? name : "?", log, info);
     return 1;
   }
   CUfunction fn;
@@ -183,8 +194,8 @@ int main(int argc, char** argv) {
       if (a.kind == "buffer") check(cuMemcpyHtoD(a.dev, a.before.data(), a.bytes), "cuMemcpyHtoD");
   };
   const auto run = [&] {
-    check(cuLaunchKernel(fn, static_cast<unsigned>(global / group), 1, 1, static_cast<unsigned>(group), 1, 1, 0, nullptr,
-                         params.data(), nullptr),
+    check(cuLaunchKernel(fn, static_cast<unsigned>(global / group), 1, 1, static_cast<unsigned>(group), 1, 1, 0,
+                         nullptr, params.data(), nullptr),
           "cuLaunchKernel");
   };
   restore();
@@ -222,8 +233,8 @@ int main(int argc, char** argv) {
   std::sort(ms.begin(), ms.end());
   double sum = 0;
   for (float t : ms) sum += t;
-  std::printf("device time over %d launches: min %.3f ms, median %.3f ms, mean %.3f ms, max %.3f ms\n", repeats, ms.front(),
-              ms[ms.size() / 2], sum / ms.size(), ms.back());
+  std::printf("device time over %d launches: min %.3f ms, median %.3f ms, mean %.3f ms, max %.3f ms\n", repeats,
+              ms.front(), ms[ms.size() / 2], sum / ms.size(), ms.back());
   for (Arg& a : args)
     if (a.dev) cuMemFree(a.dev);
   cuModuleUnload(module);

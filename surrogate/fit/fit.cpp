@@ -30,8 +30,8 @@ namespace semlb::fit {
 namespace {
 
 // The search box of each parameter (inside its allowed range, repartition_params()): [0, upper].
-const std::map<std::string, double> kUpper{{"gain", 1.0}, {"noise_floor", 0.15}, {"trend", 1.0}, {"deadband", 0.005}, {"move_cost", 0.5},
-                                           {"fixed_cost", 0.2}};
+const std::map<std::string, double> kUpper{{"gain", 1.0},       {"noise_floor", 0.15}, {"trend", 1.0},
+                                           {"deadband", 0.005}, {"move_cost", 0.5},    {"fixed_cost", 0.2}};
 
 constexpr size_t kShortlist = 12;  // points of the search besides its best that validation chooses among
 
@@ -93,7 +93,8 @@ FitConfig load_fit_config(const std::string& path, const std::vector<std::string
   for (long seed : surrogate::parse_int_list(c.validation_surrogate_seeds, s.where("validation_surrogate_seeds")))
     if (!surrogate::kValidationSeeds.contains(seed))
       s.fail("validation_surrogate_seeds", "must lie in the validation range 8000-8999");
-  if (c.workloads.empty() && c.surrogate_episodes == 0) s.fail("workloads", "nothing to fit on: no workloads and no surrogate_episodes");
+  if (c.workloads.empty() && c.surrogate_episodes == 0)
+    s.fail("workloads", "nothing to fit on: no workloads and no surrogate_episodes");
   return c;
 }
 
@@ -120,12 +121,13 @@ EpisodeSet::EpisodeSet(const FitConfig& c, bool validation) : c_(c) {
       }
   }
   std::vector<long> seeds;
-  if (validation) seeds = surrogate::parse_int_list(c.validation_surrogate_seeds, "validation_surrogate_seeds");
+  if (validation)
+    seeds = surrogate::parse_int_list(c.validation_surrogate_seeds, "validation_surrogate_seeds");
   else
     for (long i = 0; i < c.surrogate_episodes; ++i) seeds.push_back(i);
   for (size_t i = 0; i < seeds.size(); ++i)
-    surrogate_episodes_.push_back(std::make_shared<const SurrogateEpisode>(
-        SurrogateEpisode{surrogate::make_scenario(seeds[i], static_cast<int>(ranks[i % ranks.size()])), c.surrogate_events}));
+    surrogate_episodes_.push_back(std::make_shared<const SurrogateEpisode>(SurrogateEpisode{
+        surrogate::make_scenario(seeds[i], static_cast<int>(ranks[i % ranks.size()])), c.surrogate_events}));
   base_ = losses([] { return make_learned_repartition(RepartitionParams{}); });
   const auto fixed = losses([] { return make_policy("static"); });
   for (size_t i = 0; i < base_.size(); ++i) base_[i] = std::min(base_[i], fixed[i]);
@@ -180,8 +182,10 @@ double EpisodeSet::objective(const RepartitionParams& p) const {
 
 FitResult run_fit(const FitConfig& c, const FitOptions& o) {
   const auto start = std::chrono::steady_clock::now();
-  const std::string log_path = o.log.empty() ? std::filesystem::path(o.out).replace_extension(".log.csv").string() : o.log;
-  for (const auto& [flag, path] : {std::pair{"--out", o.out}, std::pair{"--log", log_path}}) {  // before minutes of search
+  const std::string log_path =
+      o.log.empty() ? std::filesystem::path(o.out).replace_extension(".log.csv").string() : o.log;
+  for (const auto& [flag, path] :
+       {std::pair{"--out", o.out}, std::pair{"--log", log_path}}) {  // before minutes of search
     if (std::filesystem::is_directory(path)) throw InputError(std::string(flag) + ": '" + path + "' is a folder");
     const std::string probe = path + ".tmp";
     if (!std::ofstream(probe)) throw InputError(std::string(flag) + ": cannot write '" + path + "'");
@@ -212,7 +216,8 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
     log << "," << format_real(v) << "\n";
     if (v < best) best = v, best_x = x;
     if (o.progress && res.evaluations % 10 == 0)
-      std::fprintf(stderr, "\rfit: %s, evaluation %ld, best train objective %.5f   ", phase.c_str(), res.evaluations, best);
+      std::fprintf(stderr, "\rfit: %s, evaluation %ld, best train objective %.5f   ", phase.c_str(), res.evaluations,
+                   best);
     return v;
   };
   auto nlopt_f = [](unsigned dims, const double* x, double*, void* data) {
@@ -229,7 +234,10 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
     g.set_min_objective(nlopt_f, &f);
     std::vector<double> x(n, 0.1);
     double v = 0;
-    try { g.optimize(x, v); } catch (const nlopt::roundoff_limited&) {}
+    try {
+      g.optimize(x, v);
+    } catch (const nlopt::roundoff_limited&) {
+    }
     res.candidates.push_back({"global", from_unit(best_x, c.free), best, 0});
   }
   if (c.polish > 0) {
@@ -240,7 +248,10 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
     l.set_min_objective(nlopt_f, &f);
     std::vector<double> x = best_x;
     double v = 0;
-    try { l.optimize(x, v); } catch (const nlopt::roundoff_limited&) {}
+    try {
+      l.optimize(x, v);
+    } catch (const nlopt::roundoff_limited&) {
+    }
     res.candidates.push_back({"polished", from_unit(best_x, c.free), best, 0});
   }
   if (o.progress) std::fprintf(stderr, "\n");
@@ -263,8 +274,9 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
         for (double m0 : {0.0, 0.011, 0.03}) {
           RepartitionParams p;
           p.gain = g, p.noise_floor = e, p.fixed_cost = m0;
-          res.candidates.push_back({"grid gain " + format_real(g) + " noise_floor " + format_real(e) + " fixed_cost " +
-                                        format_real(m0), p, std::nan(""), 0});
+          res.candidates.push_back(
+              {"grid gain " + format_real(g) + " noise_floor " + format_real(e) + " fixed_cost " + format_real(m0), p,
+               std::nan(""), 0});
         }
   for (auto& cand : res.candidates) {
     if (std::isnan(cand.train)) cand.train = train.objective(cand.params);  // the grid's; the search's are known
@@ -278,10 +290,14 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
   const auto& ch = res.candidates[res.chosen];
   std::ostringstream cands;
   for (const auto& cand : res.candidates)
-    cands << cand.name << " train " << format_real(cand.train) << " validation " << format_real(cand.validation) << "; ";
+    cands << cand.name << " train " << format_real(cand.train) << " validation " << format_real(cand.validation)
+          << "; ";
   save_repartition_weights(o.out, ch.params,
-                           {{"chosen", ch.name}, {"candidates", cands.str()}, {"git_revision", o.git_revision},
-                            {"train_objective", format_real(ch.train)}, {"validation_objective", format_real(ch.validation)},
+                           {{"chosen", ch.name},
+                            {"candidates", cands.str()},
+                            {"git_revision", o.git_revision},
+                            {"train_objective", format_real(ch.train)},
+                            {"validation_objective", format_real(ch.validation)},
                             {"workloads", join(c.workloads)},
                             {"validation", join(c.validation)},
                             {"evaluations", std::to_string(res.evaluations)},

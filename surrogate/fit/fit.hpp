@@ -1,4 +1,5 @@
-// Offline fit of learned_repartition's parameters (NLopt, derivative-free) on recorded workloads and synthetic scenarios.
+// Offline fit of learned_repartition's parameters (NLopt, derivative-free) on recorded workloads and synthetic
+// scenarios.
 #pragma once
 #include <functional>
 #include <memory>
@@ -26,20 +27,20 @@ struct FitConfig {
   long evaluations = 300;          // global search (NLopt GN_CRS2_LM)
   long polish = 100;               // local search from its best (NLopt LN_SBPLX)
   long seed = 1, threads = 2;
-  bool grid = true;                // also offer validation a coarse grid over gain x noise_floor x fixed_cost
-  std::vector<std::string> free;   // the parameters searched (comma-separated names; default all); the others stay 0
+  bool grid = true;               // also offer validation a coarse grid over gain x noise_floor x fixed_cost
+  std::vector<std::string> free;  // the parameters searched (comma-separated names; default all); the others stay 0
 };
 // YAML keys as the fields' names (workloads and validation: comma-separated files); --set KEY=VALUE overrides. Strict:
 // an unknown key, a number out of range or a missing file is an InputError naming the file, line and field.
 FitConfig load_fit_config(const std::string& path, const std::vector<std::string>& overrides);
 
 // The objective of one episode set: the mean over its episodes of loop(theta) / loop(reference), the reference the
-// lower of the base rule's (all-zero parameters: the quantile cut, every event) and static's (never a move). A workload episode's loop is replay_workload's loop_s (computation plus
-// migration seconds); a synthetic one's, in units of the mean rank time, is sum_t (1 + (T_max - T_mean)/T_mean) +
-// migration P / S (a moved slice costs one interval of its computation, as migrate_s_per_slice does in the replay).
-// An episode's ratio r counts r + regret_weight max(r - 1, 0): losing to the reference weighs more than winning
-// (the targets are "never above static's" and "within 1% of the best"). The two kinds are weighted
-// (1 - surrogate_weight) : surrogate_weight when both are present.
+// lower of the base rule's (all-zero parameters: the quantile cut, every event) and static's (never a move). A workload
+// episode's loop is replay_workload's loop_s (computation plus migration seconds); a synthetic one's, in units of the
+// mean rank time, is sum_t (1 + (T_max - T_mean)/T_mean) + migration P / S (a moved slice costs one interval of its
+// computation, as migrate_s_per_slice does in the replay). An episode's ratio r counts r + regret_weight max(r - 1, 0):
+// losing to the reference weighs more than winning (the targets are "never above static's" and "within 1% of the
+// best"). The two kinds are weighted (1 - surrogate_weight) : surrogate_weight when both are present.
 class EpisodeSet {
  public:
   EpisodeSet(const FitConfig& c, bool validation);
@@ -74,7 +75,8 @@ struct FitOptions {
 };
 // Fits (the global search, then the local one from its best), shortlists the 12 next-best points it evaluated, adds
 // the coarse grid (48 points: gain 0.05, 0.13, 0.3, 0.5 x noise_floor 0, 0.03, 0.06, 0.1 x fixed_cost 0, 0.011,
-// 0.03) when `grid`, chooses among them all by validation, writes OUT (tmp + rename) and the log. InputError on bad input.
+// 0.03) when `grid`, chooses among them all by validation, writes OUT (tmp + rename) and the log. InputError on bad
+// input.
 FitResult run_fit(const FitConfig& c, const FitOptions& o);
 
 }  // namespace semlb::fit

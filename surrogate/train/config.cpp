@@ -37,7 +37,8 @@ void visit(C& c, F&& f) {
   f("clip", c.clip, kAnyReal), f("temp_start", c.temp_start, kPositive), f("temp_end", c.temp_end, kPositive);
   f("spread_weight", c.spread_weight, kAnyReal), f("migration_penalty", c.migration_penalty, kAnyReal);
   f("difficulty_floor", c.difficulty_floor, kAnyReal), f("hidden", c.hidden, 1, 1024);
-  f("ds_max_frac", c.ds_max_frac, Range{0, 1, true}), f("ranks_min", c.ranks_min, 2, 64), f("ranks_max", c.ranks_max, 2, 64);
+  f("ds_max_frac", c.ds_max_frac, Range{0, 1, true}), f("ranks_min", c.ranks_min, 2, 64),
+      f("ranks_max", c.ranks_max, 2, 64);
   f("seed", c.seed, std::numeric_limits<long>::min(), kLong), f("threads", c.threads, 1, kLong);
   f("validate_every", c.validate_every, std::numeric_limits<long>::min(), kLong);
   f("validation_seeds", c.validation_seeds), f("validation_ranks", c.validation_ranks);
@@ -51,17 +52,22 @@ void visit(C& c, F&& f) {
 struct Read {  // reads each field from the settings, in its range; an unset field keeps its default
   const Settings& s;
   void operator()(const char* key, long& v, long min, long max) const { v = s.integer(key, v, min, max); }
-  void operator()(const char* key, double& v, Range r) const { v = s.real(key, v, r.min, r.max, r.min_open, r.max_open); }
+  void operator()(const char* key, double& v, Range r) const {
+    v = s.real(key, v, r.min, r.max, r.min_open, r.max_open);
+  }
   void operator()(const char* key, std::string& v) const { v = s.text(key, v); }
 };
 
 // The checks that involve two fields, or a field's words; errors name the field's line or flag.
 void check(const TrainConfig& c, const Settings& s) {
   if (c.ranks_max < c.ranks_min) s.fail("ranks_max", "must be >= ranks_min (" + std::to_string(c.ranks_min) + ")");
-  if (c.imbalance_norm != "reactive" && c.imbalance_norm != "fixed") s.fail("imbalance_norm", "must be reactive or fixed");
-  if (c.migration_norm != "slices" && c.migration_norm != "reactive") s.fail("migration_norm", "must be slices or reactive");
+  if (c.imbalance_norm != "reactive" && c.imbalance_norm != "fixed")
+    s.fail("imbalance_norm", "must be reactive or fixed");
+  if (c.migration_norm != "slices" && c.migration_norm != "reactive")
+    s.fail("migration_norm", "must be slices or reactive");
   for (long seed : surrogate::parse_int_list(c.validation_seeds, "validation_seeds"))
-    if (!surrogate::kValidationSeeds.contains(seed)) s.fail("validation_seeds", "must lie in the validation range 8000-8999");
+    if (!surrogate::kValidationSeeds.contains(seed))
+      s.fail("validation_seeds", "must lie in the validation range 8000-8999");
   for (long r : surrogate::parse_int_list(c.validation_ranks, "validation_ranks"))
     if (r < 2 || r > 64) s.fail("validation_ranks", "each must be in [2, 64] (the training rank range's limits)");
   parse_feature_set(c.features, s.where("features"));
@@ -83,8 +89,10 @@ TrainConfig load_train_config(const std::string& path, const std::vector<std::st
 std::string to_yaml(const TrainConfig& c) {
   std::ostringstream out;
   visit(c, [&](const char* name, const auto& field, auto&&...) {
-    if constexpr (std::is_same_v<std::decay_t<decltype(field)>, double>) out << name << ": " << format_real(field) << "\n";
-    else out << name << ": " << field << "\n";
+    if constexpr (std::is_same_v<std::decay_t<decltype(field)>, double>)
+      out << name << ": " << format_real(field) << "\n";
+    else
+      out << name << ": " << field << "\n";
   });
   return out.str();
 }

@@ -26,12 +26,15 @@ namespace {
 
 // A window of a recorded engine workload (surrogate/workload_replay.hpp's track: W_s per slice, coarsened), at a rank
 // count that fits; the scenario carries only what the rollout reads (seed, ranks, slices, min width, jitter).
-void trace_episode(Episode& e, const TrainConfig& c, uint64_t key, uint64_t seed, const std::vector<EngineWorkload>& workloads) {
+void trace_episode(Episode& e, const TrainConfig& c, uint64_t key, uint64_t seed,
+                   const std::vector<EngineWorkload>& workloads) {
   const size_t k = rng::bits(key, 2, 0) % workloads.size();
   const EngineWorkload& w = workloads[k];
   surrogate::WorkloadReplay r;
   r.coarsen = 1 + static_cast<int>(rng::bits(key, 3, 0) % static_cast<uint64_t>(c.trace_coarsen_max));
-  while (r.coarsen > 1 && w.slices / r.coarsen < 2 * static_cast<int>(c.ranks_max) * ((w.min_width + r.coarsen - 1) / r.coarsen)) --r.coarsen;
+  while (r.coarsen > 1 &&
+         w.slices / r.coarsen < 2 * static_cast<int>(c.ranks_max) * ((w.min_width + r.coarsen - 1) / r.coarsen))
+    --r.coarsen;
   const int slices = w.slices / r.coarsen, min_width = (w.min_width + r.coarsen - 1) / r.coarsen;
   const int fit = std::max(2, std::min(static_cast<int>(c.ranks_max), slices / min_width));
   const int lo = std::min(static_cast<int>(c.ranks_min), fit);
@@ -69,7 +72,8 @@ Episode make_episode(const TrainConfig& c, long step, int index, const std::vect
     trace_episode(e, c, key, seed, workloads);
   } else {
     surrogate::ScenarioSet front;
-    if (kind < c.trace_fraction + (1 - c.trace_fraction) * c.front_fraction) {  // a proliferative front crossing the axis
+    if (kind <
+        c.trace_fraction + (1 - c.trace_fraction) * c.front_fraction) {  // a proliferative front crossing the axis
       front["front_amplitude"] = format_real(rng::uniform(0.5, 4.0, key, 8, 0));
       front["front_speed"] = format_real(rng::uniform(0.002, 0.012, key, 8, 1));
       front["front_start"] = format_real(rng::uniform(0.0, 0.5, key, 8, 2));
@@ -86,7 +90,8 @@ Episode make_episode(const TrainConfig& c, long step, int index, const std::vect
   }
   e.initial_boundaries = optimal_partition(e.work[0], e.scenario.ranks, e.scenario.min_width);
   const auto reactive = reactive_cost(e);
-  e.difficulty = c.imbalance_norm == "fixed" ? c.difficulty_floor : std::max(c.difficulty_floor, reactive.max_over_mean);
+  e.difficulty =
+      c.imbalance_norm == "fixed" ? c.difficulty_floor : std::max(c.difficulty_floor, reactive.max_over_mean);
   e.reactive_migration = reactive.migration;
   return e;
 }

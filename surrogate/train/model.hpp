@@ -22,8 +22,8 @@ GruWeights export_weights(Controller& model, double ds_max_frac, FeatureSet feat
 
 // Parity record: residuals of `model` (as trained, float32) for a fixed input sequence [T, B, F].
 struct Parity {
-  std::vector<long> shape;      // T, B, F
-  std::vector<double> inputs;   // T*B*F, row-major
+  std::vector<long> shape;        // T, B, F
+  std::vector<double> inputs;     // T*B*F, row-major
   std::vector<double> residuals;  // T*B
 };
 Parity record_parity(Controller& model, long events, long boundaries, uint64_t seed);

@@ -81,7 +81,8 @@ torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& e
     const auto& s = eps[e].scenario;
     right_edge[e] = static_cast<float>(s.slices);
     ranks[e] = static_cast<float>(s.ranks), difficulty[e] = static_cast<float>(eps[e].difficulty);
-    migration_scale[e] = c.migration_norm == "reactive" ? 1.0f / std::max(1.0f, static_cast<float>(eps[e].reactive_migration)) : 1.0f;
+    migration_scale[e] =
+        c.migration_norm == "reactive" ? 1.0f / std::max(1.0f, static_cast<float>(eps[e].reactive_migration)) : 1.0f;
     for (long i = 0; i < B; ++i) {
       const bool valid = i < s.ranks - 1;
       b0[e * B + i] = valid ? static_cast<float>(eps[e].initial_boundaries[i]) : right_edge[e];
@@ -91,7 +92,9 @@ torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& e
     for (long r = 0; r <= B; ++r) rmask[e * (B + 1) + r] = r < s.ranks;
   }
   const long N = static_cast<long>(flat.size());
-  auto tensor = [](std::vector<float>& v, std::vector<long> shape) { return torch::from_blob(v.data(), shape).clone(); };
+  auto tensor = [](std::vector<float>& v, std::vector<long> shape) {
+    return torch::from_blob(v.data(), shape).clone();
+  };
   const auto bmask_t = torch::from_blob(bmask.data(), {E, B}, torch::kUInt8).to(torch::kBool);
   const auto rmask_t = torch::from_blob(rmask.data(), {E, B + 1}, torch::kUInt8).to(torch::kBool);
   const auto rmask_f = rmask_t.to(torch::kFloat);
@@ -120,7 +123,8 @@ torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& e
     for (long e = 0; e < E; ++e) {
       const auto& ep = eps[e];
       Measurement m;
-      m.times = surrogate::measured_times(ep.scenario, static_cast<int>(t), rank_sums(ep.work[t], hard[e].boundaries()));
+      m.times =
+          surrogate::measured_times(ep.scenario, static_cast<int>(t), rank_sums(ep.work[t], hard[e].boundaries()));
       m.growth_phase = ep.growth_phase[t];
       m.growth_event = ep.growth_event[t];
       const Observation& obs = observed[e] = hard[e].observe(std::move(m));
@@ -135,8 +139,8 @@ torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& e
     h = h_next;
     const auto dsmax_t = tensor(dsmax, {N});
     const auto u = torch::clamp(tensor(mag, {N}) / dsmax_t.clamp_min(1e-12), 0.0, 1.0 - 1e-6);
-    const auto m = torch::relu(dsmax_t * torch::tanh(torch::atanh(u) + r));             // eq. 6
-    const auto step = tensor(dir, {N}) * (m + (torch::round(m) - m).detach());         // straight-through rounding
+    const auto m = torch::relu(dsmax_t * torch::tanh(torch::atanh(u) + r));     // eq. 6
+    const auto step = tensor(dir, {N}) * (m + (torch::round(m) - m).detach());  // straight-through rounding
 
     // The sweep is integer arithmetic: apply it exactly on the hard state (apply_moves, as deployed). A move
     // that was not truncated passes its gradient; a truncated boundary sits at a bound and gets none.
@@ -169,7 +173,8 @@ torch::Tensor soft_rollout_loss(Controller& model, const std::vector<Episode>& e
     raw_imbalance += rel.mean().item<double>();
     imbalance_terms = imbalance_terms + (rel + c.spread_weight * spread) / difficulty_t;
   }
-  const auto loss = (imbalance_terms / static_cast<double>(c.events) + c.migration_penalty * migration_scale_t * moved).mean();
+  const auto loss =
+      (imbalance_terms / static_cast<double>(c.events) + c.migration_penalty * migration_scale_t * moved).mean();
   if (stats) {
     stats->imbalance = raw_imbalance / c.events;
     stats->migration = moved.mean().item<double>();

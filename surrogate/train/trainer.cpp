@@ -96,7 +96,8 @@ long load_checkpoint(const std::string& path, Controller& model, torch::optim::A
 
 // Validation log: rows with step <= `keep_through` survive a resume, so no row is duplicated.
 void start_log(const std::string& path, long keep_through) {
-  std::string kept = "step,wall_seconds,loss,lr,temperature,val_imbalance,val_migration,reactive_imbalance,reactive_migration\n";
+  std::string kept =
+      "step,wall_seconds,loss,lr,temperature,val_imbalance,val_migration,reactive_imbalance,reactive_migration\n";
   if (keep_through >= 0 && fs::exists(path)) {
     std::ifstream in(path);
     std::string line;
@@ -118,7 +119,9 @@ void write_weights(const std::string& out, Controller& model, const TrainConfig&
     f.write_attr("training_seeds", std::string("0-7999"));
     f.write_attr("validation_seeds", c.validation_seeds);
     f.write_attr("config", to_yaml(c));
-    f.write("/parity/inputs", {static_cast<hsize_t>(p.shape[0]), static_cast<hsize_t>(p.shape[1]), static_cast<hsize_t>(p.shape[2])}, p.inputs);
+    f.write("/parity/inputs",
+            {static_cast<hsize_t>(p.shape[0]), static_cast<hsize_t>(p.shape[1]), static_cast<hsize_t>(p.shape[2])},
+            p.inputs);
     f.write("/parity/residuals", {static_cast<hsize_t>(p.shape[0]), static_cast<hsize_t>(p.shape[1])}, p.residuals);
   });
 }
@@ -187,19 +190,24 @@ TrainSummary run_training(const TrainConfig& c, const TrainOptions& o) {
     const Validation v = validate(c, &current);
     const long trained = std::max(0L, at - 1);  // the log names the last step's learning rate and temperature
     std::ofstream(log, std::ios::app) << at << "," << format_real(seconds()) << "," << format_real(last_loss) << ","
-                                      << format_real(learning_rate(c, trained)) << "," << format_real(temperature(c, trained)) << ","
-                                      << format_real(v.imbalance) << "," << format_real(v.migration) << ","
-                                      << format_real(reactive.imbalance) << "," << format_real(reactive.migration) << "\n";
-    progress.note(format_text("train: step %ld validation: imbalance %.3f%% (reactive %.3f%%), migration %.1f (reactive %.1f)", at,
-                              100 * v.imbalance, 100 * reactive.imbalance, v.migration, reactive.migration));
+                                      << format_real(learning_rate(c, trained)) << ","
+                                      << format_real(temperature(c, trained)) << "," << format_real(v.imbalance) << ","
+                                      << format_real(v.migration) << "," << format_real(reactive.imbalance) << ","
+                                      << format_real(reactive.migration) << "\n";
+    progress.note(
+        format_text("train: step %ld validation: imbalance %.3f%% (reactive %.3f%%), migration %.1f (reactive %.1f)",
+                    at, 100 * v.imbalance, 100 * reactive.imbalance, v.migration, reactive.migration));
     return v;
   };
 
   // The next batch is generated while this one trains (episodes depend only on (seed, step, index)).
-  auto prefetch = [&](long s) { return std::async(std::launch::async, [&c, &workloads, s] { return make_batch(c, s, workloads); }); };
+  auto prefetch = [&](long s) {
+    return std::async(std::launch::async, [&c, &workloads, s] { return make_batch(c, s, workloads); });
+  };
   auto next_batch = prefetch(step);
   for (; step < c.steps; ++step) {
-    for (auto& group : opt.param_groups()) static_cast<torch::optim::AdamOptions&>(group.options()).lr(learning_rate(c, step));
+    for (auto& group : opt.param_groups())
+      static_cast<torch::optim::AdamOptions&>(group.options()).lr(learning_rate(c, step));
     const std::vector<Episode> batch = next_batch.get();
     if (step + 1 < c.steps) next_batch = prefetch(step + 1);
     SoftStats stats;
@@ -214,10 +222,12 @@ TrainSummary run_training(const TrainConfig& c, const TrainOptions& o) {
     opt.step();
     const long done = step + 1;
     if (progress.on() && (done % 10 == 0 || done == c.steps)) {
-      const double s = seconds(), eta = eta_seconds(s, static_cast<double>(done - first), static_cast<double>(c.steps - done));
-      progress.show(format_text("train: step %ld/%ld  loss %.4f  soft imbalance %.2f%%  migration %.1f  lr %.2e  T %.2f  %.0f s  ETA %.0f s",
-                                done, c.steps, last_loss, 100 * stats.imbalance, stats.migration, learning_rate(c, step),
-                                temperature(c, step), s, eta));
+      const double s = seconds(),
+                   eta = eta_seconds(s, static_cast<double>(done - first), static_cast<double>(c.steps - done));
+      progress.show(format_text(
+          "train: step %ld/%ld  loss %.4f  soft imbalance %.2f%%  migration %.1f  lr %.2e  T %.2f  %.0f s  ETA %.0f s",
+          done, c.steps, last_loss, 100 * stats.imbalance, stats.migration, learning_rate(c, step),
+          temperature(c, step), s, eta));
     }
     if (c.validate_every > 0 && done % c.validate_every == 0 && done < c.steps) log_validation(done);
     if (done % c.checkpoint_every == 0 && done < c.steps) {
@@ -231,7 +241,8 @@ TrainSummary run_training(const TrainConfig& c, const TrainOptions& o) {
   sum.parity_error = gru_parity_error(o.out);
   if (!(sum.parity_error < 1e-5)) {
     fs::remove(o.out);
-    throw std::runtime_error("train: exported weights fail parity (max error " + std::to_string(sum.parity_error) + ")");
+    throw std::runtime_error("train: exported weights fail parity (max error " + std::to_string(sum.parity_error) +
+                             ")");
   }
   fs::remove(ckpt);
   sum.steps = c.steps;

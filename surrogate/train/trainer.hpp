@@ -8,9 +8,9 @@
 namespace semlb::train {
 
 struct TrainOptions {
-  std::string out;            // weights file (.h5), written last (tmp + rename)
-  std::string checkpoint;     // default: OUT.ckpt
-  std::string log;            // validation log CSV; default: OUT with .log.csv
+  std::string out;         // weights file (.h5), written last (tmp + rename)
+  std::string checkpoint;  // default: OUT.ckpt
+  std::string log;         // validation log CSV; default: OUT with .log.csv
   std::string git_revision = "unknown";
   bool progress = true;
 };

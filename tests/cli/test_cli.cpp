@@ -33,7 +33,8 @@ TEST(Cli, HelpForEverySubcommand) {
   std::string line;
   std::vector<std::string> subs;
   while (std::getline(lines, line))
-    if (line.rfind("  ", 0) == 0 && line.size() > 2 && line[2] != ' ') subs.push_back(line.substr(2, line.find(' ', 2) - 2));
+    if (line.rfind("  ", 0) == 0 && line.size() > 2 && line[2] != ' ')
+      subs.push_back(line.substr(2, line.find(' ', 2) - 2));
   for (const char* must : {"surrogate", "replay", "sweep", "bench", "sim"})
     EXPECT_NE(std::find(subs.begin(), subs.end(), must), subs.end()) << must << " missing from\n" << top.out;
   for (const auto& sub : subs) {
@@ -47,7 +48,8 @@ TEST(Cli, BadInputExitsTwoWithOneLineAndNoOutput) {
   const auto dir = fresh_dir("cli_bad");
   const std::string out = " --out " + dir + "/o";
   expect_bad_input("surrogate --policies static,warp" + out, "unknown policy 'warp'", dir + "/o/controller_eval.csv");
-  expect_bad_input("surrogate --policies static --seeds 9005-9000" + out, "--seeds: '9005-9000'", dir + "/o/controller_eval.csv");
+  expect_bad_input("surrogate --policies static --seeds 9005-9000" + out, "--seeds: '9005-9000'",
+                   dir + "/o/controller_eval.csv");
   expect_bad_input("surrogate --policies static --ranks 0" + out, "ranks", dir + "/o/controller_eval.csv");
   expect_bad_input("surrogate --policies gru --weights " + dir + "/none.h5" + out, "none.h5: no such file");
   expect_bad_input("surrogate --policies static --scenario slices=300 --scenario slices=400" + out,
@@ -56,9 +58,11 @@ TEST(Cli, BadInputExitsTwoWithOneLineAndNoOutput) {
   expect_bad_input("surrogate --policies static --events -3" + out, "--events");
   expect_bad_input("surrogate --policies static --frobnicate" + out, "frobnicate");
   expect_bad_input("warp", "warp");
-  write(dir + "/t.jsonl", "{\"event\":0,\"slices\":8,\"min_width\":2,\"boundaries\":[4],\"times\":[1,1]}\n\n"
-                          "{\"event\":1,\"slices\":8,\"min_width\":2,\"boundaries\":[4],\"times\":[1]}\n");
-  expect_bad_input("replay --policy reactive --trace " + dir + "/t.jsonl", "t.jsonl:3: field 'boundaries': event 1: boundaries has 1");
+  write(dir + "/t.jsonl",
+        "{\"event\":0,\"slices\":8,\"min_width\":2,\"boundaries\":[4],\"times\":[1,1]}\n\n"
+        "{\"event\":1,\"slices\":8,\"min_width\":2,\"boundaries\":[4],\"times\":[1]}\n");
+  expect_bad_input("replay --policy reactive --trace " + dir + "/t.jsonl",
+                   "t.jsonl:3: field 'boundaries': event 1: boundaries has 1");
   expect_bad_input("replay --policy reactive --trace " + dir + "/missing.jsonl", "missing.jsonl: cannot open trace");
 }
 
@@ -66,20 +70,25 @@ TEST(Cli, BadInputExitsTwoWithOneLineAndNoOutput) {
 // checked: not the CSV, not its .partial, not the results directory.
 TEST(Cli, ErrorsNameTheirSourceAndLeaveNoPartialFile) {
   const auto dir = fresh_dir("cli_source");
-  expect_bad_input("sweep " + source("experiments/controller_eval.yaml") + " --quiet --set ranks=2000 --results " + dir + "/r",
-                   "--set ranks: ranks = 2000 must be in [1, ", dir + "/r");
-  expect_bad_input("sweep " + source("experiments/controller_eval.yaml") + " --quiet --set events=1e3 --results " + dir + "/r",
-                   "--set events: '1e3' is not an integer", dir + "/r");
-  expect_bad_input("sweep " + source("experiments/controller_eval.yaml") + " --quiet --set ranks=2.5 --results " + dir + "/r",
-                   "--set ranks: '2.5' is not an integer", dir + "/r");
-  expect_bad_input("surrogate --policies static --ranks 2,2000 --quiet --out " + dir + "/o", "--ranks: ranks = 2000 must be in [1, ",
-                   dir + "/o");
+  expect_bad_input(
+      "sweep " + source("experiments/controller_eval.yaml") + " --quiet --set ranks=2000 --results " + dir + "/r",
+      "--set ranks: ranks = 2000 must be in [1, ", dir + "/r");
+  expect_bad_input(
+      "sweep " + source("experiments/controller_eval.yaml") + " --quiet --set events=1e3 --results " + dir + "/r",
+      "--set events: '1e3' is not an integer", dir + "/r");
+  expect_bad_input(
+      "sweep " + source("experiments/controller_eval.yaml") + " --quiet --set ranks=2.5 --results " + dir + "/r",
+      "--set ranks: '2.5' is not an integer", dir + "/r");
+  expect_bad_input("surrogate --policies static --ranks 2,2000 --quiet --out " + dir + "/o",
+                   "--ranks: ranks = 2000 must be in [1, ", dir + "/o");
   expect_bad_input("surrogate --policies reactive --param reactive.alpha=0 --quiet --out " + dir + "/o",
                    "--param reactive.alpha: policy parameter 'alpha': '0' is outside (0, 2)", dir + "/o");
   expect_bad_input("surrogate --policies holt --param holt.beta=0.5x --quiet --out " + dir + "/o",
                    "--param holt.beta: policy parameter 'beta': '0.5x' is not a number", dir + "/o");
-  expect_bad_input("surrogate --policies static --seeds 9000.0 --quiet --out " + dir + "/o", "--seeds: '9000.0': '9000.0' is not an integer", dir + "/o");
-  expect_bad_input("sim --quiet --scene " + source("scenes/epidermis.yaml") + " --set 'effects.noise={diffusoin: 0.1}' --out " + dir + "/s",
+  expect_bad_input("surrogate --policies static --seeds 9000.0 --quiet --out " + dir + "/o",
+                   "--seeds: '9000.0': '9000.0' is not an integer", dir + "/o");
+  expect_bad_input("sim --quiet --scene " + source("scenes/epidermis.yaml") +
+                       " --set 'effects.noise={diffusoin: 0.1}' --out " + dir + "/s",
                    "--set effects.noise: field 'effects.noise.diffusoin': unknown setting", dir + "/s");
   expect_bad_input("sim --quiet --scene " + source("tests/data/mm_domain.yaml") + " --out " + dir + "/s",
                    "mm_domain.yaml:5: field 'domain.hi': '0.15mm' is not a number", dir + "/s");
@@ -92,41 +101,47 @@ TEST(Cli, AmbiguousInputIsRefused) {
   const auto dir = fresh_dir("cli_ambiguous");
   const std::string scene = slurp(source("scenes/mechanics.yaml"));
   write(dir + "/dup.yaml", scene + "seed: 2\n");
-  expect_bad_input("sim --quiet --scene " + dir + "/dup.yaml --out " + dir + "/s", "dup.yaml:" , dir + "/s");
-  expect_bad_input("sim --quiet --scene " + dir + "/dup.yaml --out " + dir + "/s", "field 'seed': duplicate key (first at line ", dir + "/s");
+  expect_bad_input("sim --quiet --scene " + dir + "/dup.yaml --out " + dir + "/s", "dup.yaml:", dir + "/s");
+  expect_bad_input("sim --quiet --scene " + dir + "/dup.yaml --out " + dir + "/s",
+                   "field 'seed': duplicate key (first at line ", dir + "/s");
   write(dir + "/dup_nested.yaml", scene + "decomposition: {policy: static, policy: reactive}\n");
-  expect_bad_input("sim --quiet --scene " + dir + "/dup_nested.yaml --out " + dir + "/s", "field 'decomposition.policy': duplicate key",
-                   dir + "/s");
-  const std::string sim = "sim --scene " + source("scenes/mechanics.yaml") + " --set tissue.cells=20 --quiet --out " + dir + "/s";
+  expect_bad_input("sim --quiet --scene " + dir + "/dup_nested.yaml --out " + dir + "/s",
+                   "field 'decomposition.policy': duplicate key", dir + "/s");
+  const std::string sim =
+      "sim --scene " + source("scenes/mechanics.yaml") + " --set tissue.cells=20 --quiet --out " + dir + "/s";
   expect_bad_input(sim + " --set seed=010", "--set seed: '010' has a leading zero", dir + "/s");
   expect_bad_input(sim + " --steps 010", "--steps: '010' has a leading zero", dir + "/s");
   expect_bad_input(sim + " --steps 5 --set time.steps=abc", "--steps: time.steps is also given by --set", dir + "/s");
-  expect_bad_input(sim + " --set decomposition.polcy=reactive", "--set decomposition.polcy: unknown setting", dir + "/s");
+  expect_bad_input(sim + " --set decomposition.polcy=reactive", "--set decomposition.polcy: unknown setting",
+                   dir + "/s");
   expect_bad_input(sim + " --set decomposition.policy=warp", "--set decomposition.policy: ", dir + "/s");
   write(dir + "/m.yaml", "name: m\nname: n\nrunner: surrogate\n");
-  expect_bad_input("sweep " + dir + "/m.yaml --quiet --results " + dir + "/r", "m.yaml:2: field 'name': duplicate key (first at line 1)",
-                   dir + "/r");
+  expect_bad_input("sweep " + dir + "/m.yaml --quiet --results " + dir + "/r",
+                   "m.yaml:2: field 'name': duplicate key (first at line 1)", dir + "/r");
   ASSERT_EQ(run(semlb_bin() + " " + sim + " --steps 0 --set decomposition.policy=reactive").rc, 0);  // valid: accepted
 }
 
 // Integer flags go through the one strict parser: hex, '+', negative counts and trailing text are refused.
 TEST(Cli, IntegerFlagsAreStrict) {
   const auto dir = fresh_dir("cli_integers");
-  const std::string sim = "sim --scene " + source("scenes/mechanics.yaml") + " --set tissue.cells=20 --quiet --out " + dir + "/s";
+  const std::string sim =
+      "sim --scene " + source("scenes/mechanics.yaml") + " --set tissue.cells=20 --quiet --out " + dir + "/s";
   expect_bad_input(sim + " --steps 0x10", "--steps: '0x10' is not an integer", dir + "/s");
   expect_bad_input(sim + " --steps +7", "--steps: '+7' is not an integer", dir + "/s");
   expect_bad_input(sim + " --steps -1", "--steps: '-1' is outside [0, ", dir + "/s");
   expect_bad_input(sim + " --seed -5", "--seed: '-5' is outside [0, ", dir + "/s");
   expect_bad_input(sim + " --device -1", "--device: '-1' is outside [0, 1024]", dir + "/s");
-  expect_bad_input("surrogate --policies static --events 0x5 --quiet --out " + dir + "/o", "--events: '0x5' is not an integer",
+  expect_bad_input("surrogate --policies static --events 0x5 --quiet --out " + dir + "/o",
+                   "--events: '0x5' is not an integer", dir + "/o");
+  expect_bad_input("surrogate --policies static --jobs 0 --quiet --out " + dir + "/o", "--jobs: '0' is outside [1, ",
                    dir + "/o");
-  expect_bad_input("surrogate --policies static --jobs 0 --quiet --out " + dir + "/o", "--jobs: '0' is outside [1, ", dir + "/o");
 }
 
 TEST(Cli, SameSeedsGiveTheSameCsv) {
   const auto dir = fresh_dir("cli_det");
-  const std::string args = " surrogate --policies static,reactive,persistence,holt,oracle --ranks 2,8 --seeds 9000-9002 "
-                           "--events 30 --no-timing --quiet --out ";
+  const std::string args =
+      " surrogate --policies static,reactive,persistence,holt,oracle --ranks 2,8 --seeds 9000-9002 "
+      "--events 30 --no-timing --quiet --out ";
   ASSERT_EQ(run(semlb_bin() + args + dir + "/a").rc, 0);
   ASSERT_EQ(run(semlb_bin() + args + dir + "/b --jobs 2").rc, 0);
   const auto a = slurp(dir + "/a/controller_eval.csv");
@@ -139,8 +154,12 @@ TEST(Cli, SameSeedsGiveTheSameCsv) {
 
 TEST(Cli, ReplayOfADumpedTraceReproducesTheRollout) {
   const auto dir = fresh_dir("cli_replay");
-  ASSERT_EQ(run(semlb_bin() + " surrogate --policies reactive,holt,persistence,oracle --ranks 4 --seeds 9001 --events 40 "
-                "--dump-traces --quiet --out " + dir).rc, 0);
+  ASSERT_EQ(run(semlb_bin() +
+                " surrogate --policies reactive,holt,persistence,oracle --ranks 4 --seeds 9001 --events 40 "
+                "--dump-traces --quiet --out " +
+                dir)
+                .rc,
+            0);
   for (const char* policy : {"reactive", "holt", "persistence", "oracle"}) {
     const std::string trace = dir + "/traces/" + policy + "_P4_s9001.jsonl";
     ASSERT_TRUE(fs::exists(trace)) << trace;
@@ -164,15 +183,18 @@ TEST(Cli, ReplayOfADumpedTraceReproducesTheRollout) {
 // the seeds counted; --quiet leaves the last line only.
 TEST(Cli, SurrogateAndSweepEndWithATableOfWhatWasMeasured) {
   const auto dir = fresh_dir("cli_tables");
-  const auto r = run(semlb_bin() + " surrogate --policies static,reactive --ranks 2,4 --seeds 9000-9002 --events 20 --out " + dir + "/s");
+  const auto r =
+      run(semlb_bin() + " surrogate --policies static,reactive --ranks 2,4 --seeds 9000-9002 --events 20 --out " + dir +
+          "/s");
   ASSERT_EQ(r.rc, 0) << r.out;
-  EXPECT_TRUE(std::regex_search(r.out, std::regex("\npolicy +\\| P \\| imbalance % +\\| migration +\\| n\n")))
-      << r.out;
-  for (const char* row : {"static +\\| 2 \\| [0-9.]+ ± [0-9.]+ +\\| 0 ± 0 +\\| 3\n", "static +\\| 4 \\| ",
-                          "reactive \\| 2 \\| [0-9.]+ ± [0-9.]+ +\\| [0-9.]+ ± [0-9.]+ +\\| 3\n", "reactive \\| 4 \\| "})
+  EXPECT_TRUE(std::regex_search(r.out, std::regex("\npolicy +\\| P \\| imbalance % +\\| migration +\\| n\n"))) << r.out;
+  for (const char* row :
+       {"static +\\| 2 \\| [0-9.]+ ± [0-9.]+ +\\| 0 ± 0 +\\| 3\n", "static +\\| 4 \\| ",
+        "reactive \\| 2 \\| [0-9.]+ ± [0-9.]+ +\\| [0-9.]+ ± [0-9.]+ +\\| 3\n", "reactive \\| 4 \\| "})
     EXPECT_TRUE(std::regex_search(r.out, std::regex(std::string("\n") + row))) << row << "\n" << r.out;
   EXPECT_NE(r.out.find("\nwrote " + dir + "/s/controller_eval.csv (12 rows)\n"), std::string::npos) << r.out;
-  const auto q = run(semlb_bin() + " surrogate --policies static --ranks 2 --seeds 9000 --events 5 --quiet --out " + dir + "/q");
+  const auto q =
+      run(semlb_bin() + " surrogate --policies static --ranks 2 --seeds 9000 --events 5 --quiet --out " + dir + "/q");
   ASSERT_EQ(q.rc, 0) << q.out;
   EXPECT_EQ(q.out.find("imbalance %"), std::string::npos) << q.out;
   // Knob columns (POLICY.KEY) name each row's setting; of several settings of a policy at a P the line shows the one
@@ -180,16 +202,19 @@ TEST(Cli, SurrogateAndSweepEndWithATableOfWhatWasMeasured) {
   const auto k = run(semlb_bin() + " sweep " + source("experiments/controller_eval_engine.yaml") + " --results " + dir +
                      "/k --set ranks=2 --set seed=0");
   ASSERT_EQ(k.rc, 0) << k.out;
-  EXPECT_TRUE(std::regex_search(k.out, std::regex("\npolicy +\\| P \\| setting +\\| imbalance % +\\| migration +\\| loop s +\\| n\n")))
+  EXPECT_TRUE(std::regex_search(
+      k.out, std::regex("\npolicy +\\| P \\| setting +\\| imbalance % +\\| migration +\\| loop s +\\| n\n")))
       << k.out;
   EXPECT_TRUE(std::regex_search(k.out, std::regex("\nstatic +\\| 2 \\| default +\\| "))) << k.out;
-  EXPECT_TRUE(std::regex_search(k.out, std::regex("\nreactive +\\| 2 \\| tau=[0-9.]+ alpha=[0-9.]+ \\(least imbalance % of [0-9]+\\) +\\| ")))
+  EXPECT_TRUE(std::regex_search(
+      k.out, std::regex("\nreactive +\\| 2 \\| tau=[0-9.]+ alpha=[0-9.]+ \\(least imbalance % of [0-9]+\\) +\\| ")))
       << k.out;
   const auto w = run(semlb_bin() + " sweep " + source("experiments/controller_eval.yaml") + " --results " + dir +
                      "/w --set policy=static,gru --set ranks=2 --set seed=9000-9001 --set events=10");
   ASSERT_EQ(w.rc, 0) << w.out;
   EXPECT_TRUE(std::regex_search(w.out, std::regex("\npolicy \\| P \\| imbalance % +\\| migration +\\| n\n"))) << w.out;
-  EXPECT_TRUE(std::regex_search(w.out, std::regex("\ngru    \\| 2 \\| [0-9.]+ ± [0-9.]+ +\\| [0-9.]+ ± [0-9.]+ +\\| 2\n")))
+  EXPECT_TRUE(
+      std::regex_search(w.out, std::regex("\ngru    \\| 2 \\| [0-9.]+ ± [0-9.]+ +\\| [0-9.]+ ± [0-9.]+ +\\| 2\n")))
       << w.out;
 }
 
@@ -212,15 +237,17 @@ TEST(Cli, VersionNamesTheGitRevision) {
 TEST(Cli, ListPrintsTheRegistries) {
   const auto types = run(semlb_bin() + " list cell-types --json");
   ASSERT_EQ(types.rc, 0) << types.out;
-  EXPECT_EQ(types.out, "[\"basal\",\"spinous\",\"granular\"]\n");  // by type index, as the state files store them
+  EXPECT_EQ(types.out, "[\"basal\",\"spinous\",\"granular\"]\n");     // by type index, as the state files store them
   const auto fields = run(semlb_bin() + " list cell-fields --json");  // what the effects declare, in name order
   ASSERT_EQ(fields.rc, 0) << fields.out;
   EXPECT_EQ(fields.out, "[\"differentiation.age\",\"division.depth\",\"growth.clock\"]\n");
   // the plug-in kinds among the effects: each a registry of its own, each name an effect
   const auto effects = run(semlb_bin() + " list effects").out;
-  for (const auto& [what, want] : std::vector<std::pair<std::string, std::string>>{
-           {"pair-terms", "[\"mechanics\",\"relu\"]\n"}, {"element-terms", "[\"membrane\",\"walls\"]\n"},
-           {"fate-rules", "[\"differentiation\"]\n"}, {"removal-rules", "[\"desquamation\"]\n"}}) {
+  for (const auto& [what, want] :
+       std::vector<std::pair<std::string, std::string>>{{"pair-terms", "[\"mechanics\",\"relu\"]\n"},
+                                                        {"element-terms", "[\"membrane\",\"walls\"]\n"},
+                                                        {"fate-rules", "[\"differentiation\"]\n"},
+                                                        {"removal-rules", "[\"desquamation\"]\n"}}) {
     const auto r = run(semlb_bin() + " list " + what + " --json");
     ASSERT_EQ(r.rc, 0) << r.out;
     EXPECT_EQ(r.out, want) << what;
@@ -241,8 +268,9 @@ TEST(Cli, ListPrintsTheRegistries) {
   // engine-policies: the policies a simulation runs, the surrogate baselines that need the true work left out
   const auto engine = run(semlb_bin() + " list engine-policies --json");
   ASSERT_EQ(engine.rc, 0) << engine.out;
-  EXPECT_EQ(engine.out, "[\"all_tensor\",\"gromacs_dlb\",\"gru\",\"holt\",\"hoomd_balance\",\"lammps_shift\","
-                        "\"learned_repartition\",\"persistence\",\"reactive\",\"static\"]\n");
+  EXPECT_EQ(engine.out,
+            "[\"all_tensor\",\"gromacs_dlb\",\"gru\",\"holt\",\"hoomd_balance\",\"lammps_shift\","
+            "\"learned_repartition\",\"persistence\",\"reactive\",\"static\"]\n");
   for (const char* what : {"effects", "backends", "runners", "launchers"}) {
     const auto r = run(semlb_bin() + " list " + what + " --json");
     EXPECT_EQ(r.rc, 0) << what;
@@ -252,9 +280,10 @@ TEST(Cli, ListPrintsTheRegistries) {
   // the kinds come from the catalogue every registry adds itself to (common/registry.hpp listed_kinds)
   const auto kinds = run(semlb_bin() + " list kinds --json");
   ASSERT_EQ(kinds.rc, 0) << kinds.out;
-  EXPECT_EQ(kinds.out, "[\"backends\",\"cell-fields\",\"cell-types\",\"division-rules\",\"effects\",\"element-terms\","
-                       "\"engine-policies\",\"fate-rules\",\"growth-laws\",\"launchers\",\"pair-terms\",\"policies\","
-                       "\"removal-rules\",\"runners\"]\n");
+  EXPECT_EQ(kinds.out,
+            "[\"backends\",\"cell-fields\",\"cell-types\",\"division-rules\",\"effects\",\"element-terms\","
+            "\"engine-policies\",\"fate-rules\",\"growth-laws\",\"launchers\",\"pair-terms\",\"policies\","
+            "\"removal-rules\",\"runners\"]\n");
   for (const auto& what : semlb::split(run(semlb_bin() + " list kinds").out, '\n')) {
     if (what.empty()) continue;
     const auto r = run(semlb_bin() + " list " + what + " --json");
@@ -276,5 +305,6 @@ TEST(Cli, HelpListsEveryRegisteredName) {
   EXPECT_GE(n, 12);
   const auto sim = run(semlb_bin() + " sim --help");
   std::istringstream backends(run(semlb_bin() + " list backends").out + run(semlb_bin() + " list effects").out);
-  while (std::getline(backends, name)) EXPECT_NE(sim.out.find(name), std::string::npos) << name << " missing from sim --help";
+  while (std::getline(backends, name))
+    EXPECT_NE(sim.out.find(name), std::string::npos) << name << " missing from sim --help";
 }

@@ -61,11 +61,14 @@ TEST(Replay, ErrorsNameFileLineAndField) {
   const auto dir = fresh_dir("replay_errors");
   const std::string ok = "\"slices\":4,\"min_width\":1,\"boundaries\":[2],\"times\":[1,1]";
   write(dir + "/unknown.jsonl", "{\"event\":0," + ok + "}\n{\"event\":1," + ok + ",\"tiems\":[1,1]}\n");
-  expect_bad_input("replay --policy static --trace " + dir + "/unknown.jsonl", "unknown.jsonl:2: field 'tiems': unknown key");
+  expect_bad_input("replay --policy static --trace " + dir + "/unknown.jsonl",
+                   "unknown.jsonl:2: field 'tiems': unknown key");
   write(dir + "/twice.jsonl", "{\"event\":0,\"event\":1," + ok + "}\n");
-  expect_bad_input("replay --policy static --trace " + dir + "/twice.jsonl", "twice.jsonl:1: field 'event': given twice");
+  expect_bad_input("replay --policy static --trace " + dir + "/twice.jsonl",
+                   "twice.jsonl:1: field 'event': given twice");
   write(dir + "/times.jsonl", "\n{\"event\":0,\"slices\":4,\"min_width\":1,\"boundaries\":[2],\"times\":[1,-1]}\n");
-  expect_bad_input("replay --policy static --trace " + dir + "/times.jsonl", "times.jsonl:2: field 'times': event 0: times[1]");
+  expect_bad_input("replay --policy static --trace " + dir + "/times.jsonl",
+                   "times.jsonl:2: field 'times': event 0: times[1]");
   write(dir + "/nowork.jsonl", std::string(kTrace) + "{\"event\":3," + ok + "}\n");
   expect_bad_input("replay --score --policy static --trace " + dir + "/nowork.jsonl",
                    "nowork.jsonl:4: field 'slice_work': missing");
@@ -74,7 +77,8 @@ TEST(Replay, ErrorsNameFileLineAndField) {
   write(dir + "/nowork1.jsonl", "{\"event\":0," + ok + "}\n");
   expect_bad_input("replay --policy persistence --trace " + dir + "/nowork1.jsonl",
                    "nowork1.jsonl:1: policy 'persistence': event 0: policy 'persistence' needs slice_work");
-  expect_bad_input("replay --policy foresight --trace " + dir + "/nowork1.jsonl", "nowork1.jsonl:1: policy 'foresight'");
+  expect_bad_input("replay --policy foresight --trace " + dir + "/nowork1.jsonl",
+                   "nowork1.jsonl:1: policy 'foresight'");
   // a parameter's error names its --param, as `semlb surrogate`'s do; a parameter of another policy is refused
   for (const auto& [param, message] : std::vector<std::pair<std::string, std::string>>{
            {"holt.alpha=2", "--param holt.alpha: policy parameter 'alpha': '2' is outside (0, 1]"},
@@ -88,40 +92,50 @@ TEST(Replay, ErrorsNameFileLineAndField) {
 TEST(Replay, WorkloadAtARankCountThroughTheTimeModel) {
   const auto dir = fresh_dir("replay_workload");
   semlb::write_workload(dir + "/w.h5", semlb::test::hand_workload());
-  const std::string exact = " --time-model ghost_weight=0.5 --time-model speed_spread=0 --time-model jitter=0"
-                            " --time-model seconds_per_work=0.5 --time-model migrate_s_per_slice=0";
+  const std::string exact =
+      " --time-model ghost_weight=0.5 --time-model speed_spread=0 --time-model jitter=0"
+      " --time-model seconds_per_work=0.5 --time-model migrate_s_per_slice=0";
   const auto r = run(semlb_bin() + " replay --policy static --workload " + dir + "/w.h5 --ranks 2" + exact);
   ASSERT_EQ(r.rc, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out.substr(0, r.out.find('\n')));  // the JSON line (stdout), then the table
   EXPECT_DOUBLE_EQ(j["mean_imbalance"].get<double>(), 2.0 / 4.5);
   // The terminal's table (stderr): one row per policy and P, the imbalance in %.
   EXPECT_NE(r.out.find("\npolicy | P | events | imbalance % | migration | loop s | ideal s | migrate s\n"
-                       "static | 2 | 2      | 44.44       | 0         | 11     | "), std::string::npos) << r.out;
+                       "static | 2 | 2      | 44.44       | 0         | 11     | "),
+            std::string::npos)
+      << r.out;
   EXPECT_EQ(r.out.back(), '\n');
   EXPECT_DOUBLE_EQ(j["loop_s"].get<double>(), 11.0);
   EXPECT_EQ(j["ranks"], 2);
   EXPECT_EQ(j["events"], 2);
   expect_bad_input("replay --policy static --workload " + dir + "/w.h5", "--workload needs --ranks P");
-  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 5", "5 ranks of at least 1 slices do not fit in 4 slices");
-  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model jitter=lots", "--time-model jitter: 'lots' is not a number");
-  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model speed=1", "--time-model speed: unknown time model key (known: ");
-  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model truth=work --time-model truth=auto",
-                   "--time-model truth: given twice");
+  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 5",
+                   "5 ranks of at least 1 slices do not fit in 4 slices");
+  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model jitter=lots",
+                   "--time-model jitter: 'lots' is not a number");
+  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model speed=1",
+                   "--time-model speed: unknown time model key (known: ");
+  expect_bad_input(
+      "replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model truth=work --time-model truth=auto",
+      "--time-model truth: given twice");
   // the list keys act on a version 3 file's list seconds only: refused where they would do nothing
   expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model list_by=work",
                    "--time-model list_by: " + dir + "/w.h5 has no list seconds (part_seconds: a version 3 workload)");
   const std::string v3 = source("results/gpu/measured/runs/epidermis_development/record/workload.h5");
-  expect_bad_input("replay --policy static --workload " + v3 + " --ranks 2 --time-model truth=work --time-model element_s=1e-9",
-                   "--time-model element_s: truth=work replays W_s, which has no list seconds");
+  expect_bad_input(
+      "replay --policy static --workload " + v3 + " --ranks 2 --time-model truth=work --time-model element_s=1e-9",
+      "--time-model element_s: truth=work replays W_s, which has no list seconds");
   expect_bad_input("replay --policy static --workload " + v3 + " --ranks 2 --time-model element_s=2",
                    "--time-model element_s: '2' is outside [0, 1]");
-  const auto ok = run(semlb_bin() + " replay --policy static --workload " + v3 + " --ranks 2 --time-model list_by=work");
+  const auto ok =
+      run(semlb_bin() + " replay --policy static --workload " + v3 + " --ranks 2 --time-model list_by=work");
   EXPECT_EQ(ok.rc, 0) << ok.out;
   expect_bad_input("replay --policy static --workload " + dir + "/t.jsonl --ranks 2", "t.jsonl");
   expect_bad_input("replay --policy static", "give --trace or --workload");
   expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --score", "--score is for --trace");
   write(dir + "/t.jsonl", "");
-  for (const char* flag : {"--ranks 2", "--seed 1", "--coarsen 2", "--events 3", "--first-event 1", "--time-model jitter=0"})
+  for (const char* flag :
+       {"--ranks 2", "--seed 1", "--coarsen 2", "--events 3", "--first-event 1", "--time-model jitter=0"})
     expect_bad_input("replay --policy static --trace " + dir + "/t.jsonl " + flag,
                      std::string(flag).substr(0, std::string(flag).find(' ')) + " is for --workload, not --trace");
 }

@@ -17,13 +17,14 @@ TEST(CliSim, WritesFinalStateSnapshotsXdmfRunCsvAndSceneCopy) {
   const auto r = run(semlb_bin() + " sim --scene " + source("scenes/epidermis.yaml") + " --out " + dir +
                      "/out --steps 100 --set tissue.cells=20 --set output.snapshot_every=50 --quiet");
   ASSERT_EQ(r.rc, 0) << r.out;
-  for (const char* f : {"final.h5", "final.xmf", "run.csv", "scene.yaml", "snapshots.xmf", "snapshots/step_000000000.h5",
-                        "snapshots/step_000000050.h5", "snapshots/step_000000100.h5"})
+  for (const char* f : {"final.h5", "final.xmf", "run.csv", "scene.yaml", "snapshots.xmf",
+                        "snapshots/step_000000000.h5", "snapshots/step_000000050.h5", "snapshots/step_000000100.h5"})
     EXPECT_TRUE(fs::exists(dir + "/out/" + f)) << f;
   EXPECT_EQ(slurp(dir + "/out/run.csv").substr(0, 40), "step,time_h,cells,elements,wall_s,mechan");
   EXPECT_NE(slurp(dir + "/out/scene.yaml").find("cells: 20"), std::string::npos);
   const auto h5 = run("h5ls -r " + dir + "/out/final.h5");
-  for (const char* d : {"/elements/position", "/elements/cell", "/cells/type"}) EXPECT_NE(h5.out.find(d), std::string::npos) << h5.out;
+  for (const char* d : {"/elements/position", "/elements/cell", "/cells/type"})
+    EXPECT_NE(h5.out.find(d), std::string::npos) << h5.out;
 }
 
 // The end of a run, as LAMMPS ends one: the loop time, element-steps per second and a line per phase with its
@@ -34,34 +35,47 @@ TEST(CliSim, EndsWithTheLoopTimeAndAPhaseBreakdown) {
   const std::string args = " --scene " + source("scenes/epidermis.yaml") + " --steps 40 --set tissue.cells=20";
   const auto r = run(semlb_bin() + " sim" + args + " --out " + dir + "/one");
   ASSERT_EQ(r.rc, 0) << r.out;
-  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\nLoop time of [0-9.e+-]+ s on 1 rank for 40 steps with [0-9]+ elements at the end\n)")))
+  EXPECT_TRUE(std::regex_search(
+      r.out, std::regex(R"(\nLoop time of [0-9.e+-]+ s on 1 rank for 40 steps with [0-9]+ elements at the end\n)")))
       << r.out;
-  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\nPerformance: [0-9.e+]+ element-steps/s, [0-9.e+-]+ ms/step\n)"))) << r.out;
-  EXPECT_NE(r.out.find("phase      |    min (s) |    avg (s) |    max (s) |  %loop | imbalance %\n"), std::string::npos) << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\nPerformance: [0-9.e+]+ element-steps/s, [0-9.e+-]+ ms/step\n)")))
+      << r.out;
+  EXPECT_NE(r.out.find("phase      |    min (s) |    avg (s) |    max (s) |  %loop | imbalance %\n"), std::string::npos)
+      << r.out;
   const std::string number = R"( +[0-9.e+-]+ )";
   for (const char* phase : {"mechanics", "integrate", "cells"})  // one device: min = avg = max, no imbalance
-    EXPECT_TRUE(std::regex_search(r.out, std::regex(std::string("\n") + phase + " +\\|(" + number + "\\|){4} +0\\.0\n")))
-        << phase << "\n" << r.out;
-  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\noutput +\| +\| +[0-9.e+-]+ +\| +\| +[0-9.]+ \| +\(rank 0\)\n)"))) << r.out;
+    EXPECT_TRUE(
+        std::regex_search(r.out, std::regex(std::string("\n") + phase + " +\\|(" + number + "\\|){4} +0\\.0\n")))
+        << phase << "\n"
+        << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\noutput +\| +\| +[0-9.e+-]+ +\| +\| +[0-9.]+ \| +\(rank 0\)\n)")))
+      << r.out;
   EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\nother +\| +\| +[0-9.e+-]+ +\| )"))) << r.out;
   const auto last = r.out.substr(r.out.rfind("\n", r.out.size() - 2) + 1);
   EXPECT_EQ(last.rfind("semlb sim: 40 steps, ", 0), 0u) << last;
   // What the user waited for outside the loop: the start with its parts, the end, the process; the last line gives
   // the process's seconds as start + loop + end, each >= 0, and the start at least its parts.
   std::smatch st, tail;
-  ASSERT_TRUE(std::regex_search(r.out, st, std::regex(R"(\nStart ([0-9.e+-]+) s \(load ([0-9.e+-]+) s, tissue ([0-9.e+-]+) s, device ([0-9.e+-]+) s\); end ([0-9.e+-]+) s \(final\.h5 and the closing files ([0-9.e+-]+) s\); process ([0-9.e+-]+) s\n)")))
+  ASSERT_TRUE(std::regex_search(
+      r.out, st,
+      std::regex(
+          R"(\nStart ([0-9.e+-]+) s \(load ([0-9.e+-]+) s, tissue ([0-9.e+-]+) s, device ([0-9.e+-]+) s\); end ([0-9.e+-]+) s \(final\.h5 and the closing files ([0-9.e+-]+) s\); process ([0-9.e+-]+) s\n)")))
       << r.out;
   EXPECT_GT(std::stod(st[2]), 0.0) << st[0];  // loading the program is part of every start
   EXPECT_GE(std::stod(st[1]) + 0.011, std::stod(st[2]) + std::stod(st[3]) + std::stod(st[4])) << st[0];  // /proc: 10 ms
   EXPECT_GE(std::stod(st[5]) + 0.011, std::stod(st[6])) << st[0];
-  ASSERT_TRUE(std::regex_search(last, tail, std::regex(R"(elements in ([0-9.e+-]+) s \(start ([0-9.e+-]+) s, loop ([0-9.e+-]+) s, end ([0-9.e+-]+) s\) on )")))
+  ASSERT_TRUE(std::regex_search(
+      last, tail,
+      std::regex(
+          R"(elements in ([0-9.e+-]+) s \(start ([0-9.e+-]+) s, loop ([0-9.e+-]+) s, end ([0-9.e+-]+) s\) on )")))
       << last;
   for (int k = 2; k <= 4; ++k) EXPECT_GE(std::stod(tail[k]), 0.0) << last;
   EXPECT_NEAR(std::stod(tail[1]), std::stod(tail[2]) + std::stod(tail[3]) + std::stod(tail[4]), 0.01) << last;
   // The phases' shares and output and other add up to the loop (other is what the timers do not cover).
   double share = 0;
   std::smatch m;
-  for (auto it = r.out.cbegin(); std::regex_search(it, r.out.cend(), m, std::regex(R"(\| +([0-9.]+) \| +(?:[0-9.]+|\(rank 0\))? *\n)"));
+  for (auto it = r.out.cbegin();
+       std::regex_search(it, r.out.cend(), m, std::regex(R"(\| +([0-9.]+) \| +(?:[0-9.]+|\(rank 0\))? *\n)"));
        it = m.suffix().first)
     share += std::stod(m[1]);
   EXPECT_NEAR(share, 100.0, 1.0) << r.out;
@@ -71,22 +85,28 @@ TEST(CliSim, EndsWithTheLoopTimeAndAPhaseBreakdown) {
   EXPECT_EQ(q.out.find("Loop time"), std::string::npos) << q.out;
   EXPECT_NE(q.out.find("semlb sim: 40 steps, "), std::string::npos) << q.out;
 
-  const std::string mpi = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " SEMLB_MPIEXEC " --oversubscribe -np 2 ";
-  const auto d = run(mpi + semlb_bin() + " sim" + args + " --set decomposition.rebalance_every=10 --out " + dir + "/two");
+  const std::string mpi =
+      "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " SEMLB_MPIEXEC " --oversubscribe -np 2 ";
+  const auto d =
+      run(mpi + semlb_bin() + " sim" + args + " --set decomposition.rebalance_every=10 --out " + dir + "/two");
   ASSERT_EQ(d.rc, 0) << d.out;
   EXPECT_NE(d.out.find(" on 2 ranks for 40 steps"), std::string::npos) << d.out;
   for (const char* phase : {"mechanics", "exchange", "migration"})
-    EXPECT_TRUE(std::regex_search(d.out, std::regex(std::string("\n") + phase + " +\\|(" + number + "\\|){4} +[0-9.]+\n")))
-        << phase << "\n" << d.out;
+    EXPECT_TRUE(
+        std::regex_search(d.out, std::regex(std::string("\n") + phase + " +\\|(" + number + "\\|){4} +[0-9.]+\n")))
+        << phase << "\n"
+        << d.out;
   EXPECT_NE(d.out.find("\n(exchange and migration: over the 4 rebalancing intervals, to step 40; after the last one "
                        "they count in other)\n"),
             std::string::npos)
       << d.out;
-  EXPECT_TRUE(std::regex_search(d.out, std::regex(R"(\nStart [0-9.e+-]+ s \(load [0-9.e+-]+ s, tissue [0-9.e+-]+ s, device )")))
+  EXPECT_TRUE(
+      std::regex_search(d.out, std::regex(R"(\nStart [0-9.e+-]+ s \(load [0-9.e+-]+ s, tissue [0-9.e+-]+ s, device )")))
       << d.out;
   EXPECT_EQ(d.out.find("Loop time"), d.out.rfind("Loop time")) << "printed by one rank only\n" << d.out;
   // no rebalancing interval ended in 40 steps: no exchange or migration rows (they would read 0), and a note says so
-  const auto n = run(mpi + semlb_bin() + " sim" + args + " --set decomposition.rebalance_every=100 --out " + dir + "/none");
+  const auto n =
+      run(mpi + semlb_bin() + " sim" + args + " --set decomposition.rebalance_every=100 --out " + dir + "/none");
   ASSERT_EQ(n.rc, 0) << n.out;
   EXPECT_EQ(n.out.find("\nexchange "), std::string::npos) << n.out;
   EXPECT_NE(n.out.find("(exchange and migration: no rebalancing interval ended"), std::string::npos) << n.out;
@@ -103,11 +123,13 @@ TEST(CliSim, BadInputExitsTwoWithOneLineAndWritesNothing) {
   r = run(semlb_bin() + " sim --scene " + source("scenes/mechanics.yaml") + " --out " + dir + "/out --backend cuda");
   EXPECT_EQ(r.rc, 2) << r.out;
   EXPECT_FALSE(fs::exists(dir + "/out"));
-  r = run(semlb_bin() + " sim --scene " + source("scenes/mechanics.yaml") + " --out " + dir + "/out --set effects.growht={}");
+  r = run(semlb_bin() + " sim --scene " + source("scenes/mechanics.yaml") + " --out " + dir +
+          "/out --set effects.growht={}");
   EXPECT_EQ(r.rc, 2) << r.out;
   EXPECT_FALSE(fs::exists(dir + "/out"));
   // an OpenCL setting on a CPU backend: the backend does not use it
-  r = run(semlb_bin() + " sim --scene " + source("scenes/mechanics.yaml") + " --out " + dir + "/out --backend cpu-binned --platform Portable");
+  r = run(semlb_bin() + " sim --scene " + source("scenes/mechanics.yaml") + " --out " + dir +
+          "/out --backend cpu-binned --platform Portable");
   EXPECT_EQ(r.rc, 2) << r.out;
   EXPECT_NE(r.out.find("backend 'cpu-binned' does not use it"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("platform"), std::string::npos) << r.out;
@@ -137,12 +159,15 @@ TEST(CliSim, BenchEnginePrintsElementStepsPerSecond) {
 // --platform goes to the rows whose backend has a device (docs/cli.md's mixed command); a key no row's backend reads
 // is refused before anything is printed; --platform with no OpenCL row is refused naming it.
 TEST(CliSim, BenchEngineGivesThePlatformToTheOpenClRowsAndChecksEveryRowFirst) {
-  const auto mixed = run(semlb_bin() + " bench engine --backends cpu-binned,opencl-binned --cells 20 --steps 2 --warmup 1 --platform Portable");
+  const auto mixed =
+      run(semlb_bin() +
+          " bench engine --backends cpu-binned,opencl-binned --cells 20 --steps 2 --warmup 1 --platform Portable");
   if (mixed.rc == 0) {  // with PoCL: both rows
     EXPECT_NE(mixed.out.find("\ncpu-binned "), std::string::npos) << mixed.out;
     EXPECT_NE(mixed.out.find("\nopencl-binned "), std::string::npos) << mixed.out;
   }
-  const auto bad = run(semlb_bin() + " bench engine --backends serial,cpu-binned --cells 20 --steps 2 --set backend.bogus=1");
+  const auto bad =
+      run(semlb_bin() + " bench engine --backends serial,cpu-binned --cells 20 --steps 2 --set backend.bogus=1");
   EXPECT_EQ(bad.rc, 2) << bad.out;
   EXPECT_EQ(bad.out.find("semlb bench engine:"), std::string::npos) << "nothing printed before the error: " << bad.out;
   EXPECT_NE(bad.out.find("backend.bogus: backend 'serial' does not use it"), std::string::npos) << bad.out;
@@ -153,7 +178,9 @@ TEST(CliSim, BenchEngineGivesThePlatformToTheOpenClRowsAndChecksEveryRowFirst) {
 
 // opencl-binned with a neighbour list: the skin and the builds per step beside ms/step, and a line with its figures.
 TEST(CliSim, BenchEnginePrintsTheSkinAndTheListBuilds) {
-  const auto r = run(semlb_bin() + " bench engine --backends opencl-binned --cells 20 --steps 40 --warmup 1 --set backend.opencl-binned.skin=0.5");
+  const auto r = run(
+      semlb_bin() +
+      " bench engine --backends opencl-binned --cells 20 --steps 40 --warmup 1 --set backend.opencl-binned.skin=0.5");
   if (r.rc != 0) GTEST_SKIP() << "no OpenCL platform? " << r.out;
   const size_t at = r.out.find("\nopencl-binned ");
   ASSERT_NE(at, std::string::npos) << r.out;
@@ -169,7 +196,8 @@ TEST(CliSim, BenchEnginePrintsTheSkinAndTheListBuilds) {
 }
 
 TEST(CliSim, BenchEnginePrintsMsPerStepAndTheRatioToAPreviousFigure) {
-  const auto r = run(semlb_bin() + " bench engine --backends serial --cells 20,40 --steps 3 --warmup 1 --previous 1e9,1e9");
+  const auto r =
+      run(semlb_bin() + " bench engine --backends serial --cells 20,40 --steps 3 --warmup 1 --previous 1e9,1e9");
   ASSERT_EQ(r.rc, 0) << r.out;
   ASSERT_NE(r.out.find("ms/step"), std::string::npos) << r.out;
   size_t at = 0;
@@ -185,8 +213,8 @@ TEST(CliSim, BenchEnginePrintsMsPerStepAndTheRatioToAPreviousFigure) {
     EXPECT_EQ(builds, 0.0) << r.out;
     EXPECT_EQ(n, cells) << r.out;
     EXPECT_NEAR(ms, 1e3 * elements / rate, 1e-3 * ms) << r.out;  // both from one timing (rate to 4 digits)
-    EXPECT_NEAR(seconds, 3 * ms / 1e3, 1e-4) << r.out;                // seconds printed to 4 decimals
-    EXPECT_NEAR(ratio, 1e9 / ms, 0.01 * ratio) << r.out;  // previous / now
+    EXPECT_NEAR(seconds, 3 * ms / 1e3, 1e-4) << r.out;           // seconds printed to 4 decimals
+    EXPECT_NEAR(ratio, 1e9 / ms, 0.01 * ratio) << r.out;         // previous / now
   }
   const auto wrong = run(semlb_bin() + " bench engine --backends serial --cells 20,40 --steps 1 --previous 3.5");
   EXPECT_EQ(wrong.rc, 2) << wrong.out;
@@ -209,9 +237,11 @@ TEST(CliSim, BenchCellsTimesEachPartOfTheCellStage) {
     (std::string(part) == "total" ? total : sum) += ms;
   }
   EXPECT_NEAR(total, sum, 0.05 + 1e-3 * sum) << r.out;  // the parts add up to the total (printed rounded)
-  const auto bad = run(semlb_bin() + " bench cells --scene " + std::string(SEMLB_SOURCE_DIR) + "/scenes/mechanics.yaml --steps 1");
+  const auto bad =
+      run(semlb_bin() + " bench cells --scene " + std::string(SEMLB_SOURCE_DIR) + "/scenes/mechanics.yaml --steps 1");
   EXPECT_EQ(bad.rc, 2) << bad.out;
-  EXPECT_NE(bad.out.find("mechanics.yaml: field 'effects': the scene lists no cell effect"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("mechanics.yaml: field 'effects': the scene lists no cell effect"), std::string::npos)
+      << bad.out;
 }
 
 }  // namespace

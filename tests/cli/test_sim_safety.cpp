@@ -14,7 +14,8 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string sim(const std::string& out, const std::string& extra) {
-  return semlb_bin() + " sim --quiet --scene " + source("scenes/mechanics.yaml") + " --out " + out + " --set tissue.cells=30 " + extra;
+  return semlb_bin() + " sim --quiet --scene " + source("scenes/mechanics.yaml") + " --out " + out +
+         " --set tissue.cells=30 " + extra;
 }
 
 // Failure 5: out of space, the run stops with one line naming the file and exit 1 (no crash at exit), leaves no
@@ -30,7 +31,8 @@ TEST(CliSimSafety, FullDiskStopsWithOneLineAndLeavesNoPartialFile) {
     std::string at;
     ~Unmount() { run("umount " + at); }
   } unmount{mnt};
-  const auto r = run(within(300) + sim(mnt + "/o", "--steps 200 --set output.snapshot_every=10 --set output.checkpoint_every=50"));
+  const auto r =
+      run(within(300) + sim(mnt + "/o", "--steps 200 --set output.snapshot_every=10 --set output.checkpoint_every=50"));
   EXPECT_EQ(r.rc, 1) << r.out;
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
   EXPECT_NE(r.out.find(mnt + "/o/"), std::string::npos) << r.out;
@@ -81,9 +83,11 @@ TEST(CliSimSafety, SecondRunIntoAFolderInUseIsRefused) {
 TEST(CliSimSafety, InterruptedRunLeavesNoLock) {
   const auto dir = fresh_dir("sim_sigint");
   // python resets SIGINT, which a shell ignores in a background job, to its default before it runs semlb
-  run("(" + within(600) + "/usr/bin/python3 -c 'import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); "
-      "os.execv(sys.argv[1], sys.argv[1:])' " + sim(dir + "/o", "--steps 100000000") + " > " + dir + "/a.log 2>&1; echo $? > " +
-      dir + "/a.rc) > /dev/null 2>&1 &");
+  run("(" + within(600) +
+      "/usr/bin/python3 -c 'import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); "
+      "os.execv(sys.argv[1], sys.argv[1:])' " +
+      sim(dir + "/o", "--steps 100000000") + " > " + dir + "/a.log 2>&1; echo $? > " + dir +
+      "/a.rc) > /dev/null 2>&1 &");
   const auto t0 = std::chrono::steady_clock::now();
   while (!fs::exists(dir + "/o/run.csv") && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -105,8 +109,10 @@ TEST(CliSimSafety, SceneWeightsResolveBesideTheScene) {
   const auto dir = fresh_dir("sim_weights_beside");
   fs::create_directories(dir + "/sub");
   fs::copy_file(source("controllers/weights/gru_default.h5"), dir + "/sub/w.h5");
-  write(dir + "/sub/s.yaml", slurp(source("scenes/mechanics.yaml")) + "decomposition: {policy: gru, params: {weights: w.h5}}\n");
-  const auto r = run("cd " + dir + " && " + semlb_bin() + " sim --quiet --scene sub/s.yaml --out o --steps 10 --set tissue.cells=20");
+  write(dir + "/sub/s.yaml",
+        slurp(source("scenes/mechanics.yaml")) + "decomposition: {policy: gru, params: {weights: w.h5}}\n");
+  const auto r = run("cd " + dir + " && " + semlb_bin() +
+                     " sim --quiet --scene sub/s.yaml --out o --steps 10 --set tissue.cells=20");
   EXPECT_EQ(r.rc, 0) << r.out;
 }
 

@@ -58,8 +58,9 @@ TEST(Cleanup, StaleRunFoldersAreThoseOfProcessesNoLongerRunning) {
   const pid_t dead = ::fork();
   if (dead == 0) ::_exit(0);
   ::waitpid(dead, nullptr, 0);
-  for (const std::string name : {"semlb_mpi_" + std::to_string(dead) + "_1", "semlb_mpi_" + std::to_string(::getpid()) + "_2",
-                                 std::string("semlb_mpi_1_3"), std::string("semlb_mpi_x_4"), std::string("other_5")})
+  for (const std::string name :
+       {"semlb_mpi_" + std::to_string(dead) + "_1", "semlb_mpi_" + std::to_string(::getpid()) + "_2",
+        std::string("semlb_mpi_1_3"), std::string("semlb_mpi_x_4"), std::string("other_5")})
     fs::create_directories(dir + "/" + name);
   EXPECT_EQ(remove_stale_run_folders(dir, "semlb_mpi_"), 1);
   EXPECT_FALSE(fs::exists(dir + "/semlb_mpi_" + std::to_string(dead) + "_1"));

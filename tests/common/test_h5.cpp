@@ -49,7 +49,7 @@ TEST(H5, TextAttributesReadWhateverWayTheirWriterStoredThem) {
       {"vlen_utf8", want, true, H5T_CSET_UTF8, H5T_STR_NULLTERM},  // h5py: f.attrs["format"] = "semlb-workload"
       {"vlen_ascii", want, true, H5T_CSET_ASCII, H5T_STR_NULLTERM},
       {"fixed_nullterm", want + std::string(1, '\0'), false, H5T_CSET_ASCII, H5T_STR_NULLTERM},  // semlb's own
-      {"fixed_nullpad", want + std::string(3, '\0'), false, H5T_CSET_ASCII, H5T_STR_NULLPAD},   // numpy bytes_
+      {"fixed_nullpad", want + std::string(3, '\0'), false, H5T_CSET_ASCII, H5T_STR_NULLPAD},    // numpy bytes_
       {"fixed_exact", want, false, H5T_CSET_ASCII, H5T_STR_NULLPAD},
       {"fixed_spacepad", want + "   ", false, H5T_CSET_ASCII, H5T_STR_SPACEPAD},  // Fortran style
       {"fixed_utf8", want + std::string(1, '\0'), false, H5T_CSET_UTF8, H5T_STR_NULLTERM},

@@ -49,7 +49,8 @@ TEST(Settings, TypedReadsAreStrictAndRanged) {
   EXPECT_EQ(s.real("dt", 1, 0, 1), 0.01);
   EXPECT_EQ(s.real("absent", 7, 0, 1), 7);  // the fallback is not range-checked
   EXPECT_EQ(error_of([&] { s.real("dt", 1, 0.5, 1); }), "s.yaml:5: field 'time.dt': '0.01' is outside [0.5, 1]");
-  EXPECT_EQ(error_of([&] { s.real("dt", 1, 0.01, 1, true); }), "s.yaml:5: field 'time.dt': '0.01' is outside (0.01, 1]");
+  EXPECT_EQ(error_of([&] { s.real("dt", 1, 0.01, 1, true); }),
+            "s.yaml:5: field 'time.dt': '0.01' is outside (0.01, 1]");
   EXPECT_EQ(error_of([&] { s.integer("steps", 1, 0, 10); }),
             "s.yaml:6: field 'time.steps': '2.0' is not an integer (write integers without '.' or exponent)");
   EXPECT_EQ(error_of([&] { s.real("name", 1); }), "--set time.name: 'run' is not a number");

@@ -31,7 +31,8 @@ TEST(TextIo, AtomicWriteRoundTripsAndMissingFilesAreInputErrors) {
 
 // The one strict number parser: the whole token, finite, in range; integers written as integers.
 TEST(TextIo, ParseRealRefusesEverythingButAWholeFiniteNumber) {
-  for (const char* bad : {"0.15mm", "100um", "inf", "-inf", "nan", "1e400", " 5", "5 ", "0x10", "+5", "", "5,0", "1e", "."}) {
+  for (const char* bad :
+       {"0.15mm", "100um", "inf", "-inf", "nan", "1e400", " 5", "5 ", "0x10", "+5", "", "5,0", "1e", "."}) {
     try {
       parse_real(bad, "F:3: field 'x': ");
       ADD_FAILURE() << "accepted '" << bad << "'";
@@ -55,8 +56,8 @@ TEST(TextIo, ParseRealRefusesEverythingButAWholeFiniteNumber) {
 }
 
 TEST(TextIo, ParseIntegerRefusesRealsOverflowAndTrailingText) {
-  for (const char* bad : {"2.5", "2.0", "1e3", "9223372036854775808", "-9223372036854775809", " 5", "5 ", "0x10",
-                          "+5", "", "5x", "inf", "nan"})
+  for (const char* bad : {"2.5", "2.0", "1e3", "9223372036854775808", "-9223372036854775809", " 5", "5 ", "0x10", "+5",
+                          "", "5x", "inf", "nan"})
     EXPECT_THROW(parse_integer(bad, "w: "), InputError) << bad;
   EXPECT_EQ(parse_integer("9223372036854775807", ""), 9223372036854775807L);
   EXPECT_EQ(parse_integer("-12", ""), -12);

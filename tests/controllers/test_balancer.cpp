@@ -77,7 +77,8 @@ TEST(Balancer, RefusesAnInvalidMeasurementAndAnInvalidDecision) {
     b.rebalance(m);
     FAIL() << "an out-of-range boundary was accepted";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("event 0: policy 'wrong' returned an invalid partition"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("event 0: policy 'wrong' returned an invalid partition"), std::string::npos)
+        << e.what();
   }
   EXPECT_EQ(b.boundaries(), std::vector<int>{50});  // nothing was applied
   EXPECT_EQ(b.event(), 0);
@@ -125,7 +126,8 @@ TEST_P(BalancerRestart, ARestoredBalancerContinuesIdentically) {
     fresh_differs = fresh_differs || fresh.rebalance(d.next(fresh)).boundaries != expected.boundaries;
   }
   EXPECT_EQ(resumed.migration(), whole.migration());
-  EXPECT_TRUE(fresh_differs) << policy << ": a balancer without the saved history decided the same; the test would not see a lost state";
+  EXPECT_TRUE(fresh_differs)
+      << policy << ": a balancer without the saved history decided the same; the test would not see a lost state";
 }
 
 INSTANTIATE_TEST_SUITE_P(Policies, BalancerRestart, ::testing::Values("holt", "gru", "learned_repartition"));

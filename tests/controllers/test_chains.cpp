@@ -105,7 +105,7 @@ TEST(Chains, NearestPartitionKeepsAPartitionAlreadyWithinTheBoundAndRefusesAnImp
   const std::vector<double> work{1, 1, 1, 1, 1, 1, 1, 1};
   EXPECT_EQ(nearest_partition(work, std::vector<int>{3}, 1, 5.0), (std::vector<int>{3}));
   EXPECT_EQ(nearest_partition(work, std::vector<int>{2}, 1, 5.0), (std::vector<int>{3}));  // one slice, not two
-  EXPECT_TRUE(nearest_partition(work, std::vector<int>{}, 1, 8.0).empty());                  // one rank
+  EXPECT_TRUE(nearest_partition(work, std::vector<int>{}, 1, 8.0).empty());                // one rank
   EXPECT_THROW(nearest_partition(work, std::vector<int>{4}, 1, 3.9), InputError);
   EXPECT_THROW(nearest_partition(work, std::vector<int>{}, 1, 7.0), InputError);
 }

@@ -68,7 +68,7 @@ TEST(RepartitionPolicies, LazyOracleWaitsUntilTheTrueImbalanceExceedsTauThenMove
   EXPECT_EQ(make_policy("lazy_oracle", lenient)->decide(o), o.boundaries);
   PolicyParams strict(std::map<std::string, std::string>{{"tau", "0.1"}});
   EXPECT_EQ(make_policy("lazy_oracle", strict)->decide(o), (std::vector<int>{4}));  // 4 | 4.5 is already optimal
-  o.oracle_work = {1, 1, 1, 1, 1, 1, 3, 3};  // optimum 6 | 6: boundary 4 -> 6
+  o.oracle_work = {1, 1, 1, 1, 1, 1, 3, 3};                                         // optimum 6 | 6: boundary 4 -> 6
   EXPECT_EQ(make_policy("lazy_oracle", strict)->decide(o), (std::vector<int>{6}));
   PolicyParams slack({{"tau", "0.1"}, {"slack", "0.2"}});  // bound 7.2: boundary 5 (5 | 7) is nearer
   EXPECT_EQ(make_policy("lazy_oracle", slack)->decide(o), (std::vector<int>{5}));

@@ -118,7 +118,8 @@ TEST(Foresight, TwoRanksMatchesBruteForce) {
     const std::vector<int> initial = {S / 2};
     for (double lambda : {0.0, 0.01, 0.1, 0.3, 1.0}) {
       const auto r = foresight_path(work, initial, w, lambda);
-      EXPECT_NEAR(r.objective, brute_force(work, initial, w, lambda), 1e-12) << "trial " << trial << " lambda " << lambda;
+      EXPECT_NEAR(r.objective, brute_force(work, initial, w, lambda), 1e-12)
+          << "trial " << trial << " lambda " << lambda;
       EXPECT_NEAR(r.objective, path_objective(work, r.boundaries, lambda), 1e-12);
       for (const auto& b : r.boundaries) EXPECT_NO_THROW(check_partition(b, S, w));
     }
@@ -173,7 +174,8 @@ TEST(Foresight, RefusesBadInputAndOnlineUse) {
   o.times = {1, 1};
   EXPECT_THROW(p->decide(o), InputError);
   EXPECT_TRUE(policy_needs("foresight").true_work);  // so the engine refuses it at load time
-  EXPECT_THROW(make_policy("foresight", PolicyParams(std::map<std::string, std::string>{{"lambda", "-1"}})), InputError);
+  EXPECT_THROW(make_policy("foresight", PolicyParams(std::map<std::string, std::string>{{"lambda", "-1"}})),
+               InputError);
 }
 
 }  // namespace

@@ -69,8 +69,8 @@ TEST(Gru, StepMatchesTheGruEquations) {
 }
 
 TEST(Gru, ResidualMagnitudeClipsAtanhAndStaysBounded) {
-  EXPECT_EQ(residual_magnitude(3.0, 10.0, 0.0), 3.0);   // zero residual: exact identity
-  EXPECT_EQ(residual_magnitude(30.0, 10.0, 0.0), 10.0);  // proposal beyond the bound is clipped
+  EXPECT_EQ(residual_magnitude(3.0, 10.0, 0.0), 3.0);          // zero residual: exact identity
+  EXPECT_EQ(residual_magnitude(30.0, 10.0, 0.0), 10.0);        // proposal beyond the bound is clipped
   const double clipped = residual_magnitude(30.0, 10.0, 0.1);  // atanh(1 - 1e-6) finite, result <= bound
   EXPECT_TRUE(std::isfinite(clipped));
   EXPECT_LE(clipped, 10.0);
@@ -172,12 +172,16 @@ std::string refusal(const std::function<void(h5::File&)>& mutate, bool skip_weig
 TEST(GruWeightsFile, RefusesWrongShapesVersionsFeaturesAndMissingData) {
   const auto head = [](h5::File& f) { f.write("/head/weight", {1, 24}, std::vector<double>(24, 0.0)); };
   EXPECT_EQ(refusal(head), "");  // the well-formed file loads
-  EXPECT_NE(refusal([](h5::File& f) { f.write("/head/weight", {1, 20}, std::vector<double>(20, 0.0)); })
-                .find("/head/weight has shape 1x20, expected 1x24"), std::string::npos);
+  EXPECT_NE(refusal([](h5::File& f) {
+              f.write("/head/weight", {1, 20}, std::vector<double>(20, 0.0));
+            }).find("/head/weight has shape 1x20, expected 1x24"),
+            std::string::npos);
   EXPECT_NE(refusal(head, true).find("dataset /gru/weight_hh is missing"), std::string::npos);
   EXPECT_NE(refusal([](h5::File&) {}).find("/head/weight is missing"), std::string::npos);
-  EXPECT_NE(refusal([](h5::File& f) { f.write("/head/weight", {1, 24}, std::vector<double>(24, NAN)); })
-                .find("non-finite"), std::string::npos);
+  EXPECT_NE(refusal([](h5::File& f) {
+              f.write("/head/weight", {1, 24}, std::vector<double>(24, NAN));
+            }).find("non-finite"),
+            std::string::npos);
   const auto path = temp_file("version.h5");
   {
     auto f = h5::File::create(path);
@@ -224,20 +228,20 @@ TEST(Features, AreClampedAndDimensionless) {
 // boundary-v2 squashes where v1 clamps: equal to first order at small values, distinct (never flat) at engine values.
 TEST(Features, SetV2SquashesTheImbalancesAndTheLastMoveInsteadOfClamping) {
   BoundaryState s;
-  s.local_imbalance = 3.0;        // engine workloads: |I_t| up to ~1 and beyond
+  s.local_imbalance = 3.0;  // engine workloads: |I_t| up to ~1 and beyond
   s.prev_local_imbalance = 1.0;
   s.global_imbalance = 4.0;
   s.mean_width = 10;
   s.width_left = s.width_right = 10;
-  s.last_move = 10;               // 4 quarter-widths
+  s.last_move = 10;  // 4 quarter-widths
   s.ds_max = 1;
   const auto v1 = boundary_features(s, FeatureSet::v1), v2 = boundary_features(s, FeatureSet::v2);
   EXPECT_EQ(v1[0], 1.0);
-  EXPECT_DOUBLE_EQ(v2[0], 0.75);        // 3 / (1 + 3)
-  EXPECT_DOUBLE_EQ(v2[1], 2.0 / 3.0);   // change 2
+  EXPECT_DOUBLE_EQ(v2[0], 0.75);       // 3 / (1 + 3)
+  EXPECT_DOUBLE_EQ(v2[1], 2.0 / 3.0);  // change 2
   EXPECT_EQ(v1[2], 2.0);
-  EXPECT_DOUBLE_EQ(v2[2], 0.8);         // 4 / (1 + 4)
-  EXPECT_DOUBLE_EQ(v2[7], 0.8);         // last move 4 quarter-widths
+  EXPECT_DOUBLE_EQ(v2[2], 0.8);  // 4 / (1 + 4)
+  EXPECT_DOUBLE_EQ(v2[7], 0.8);  // last move 4 quarter-widths
   for (int i : {3, 4, 5, 6, 8, 9, 10, 11}) EXPECT_EQ(v1[i], v2[i]) << feature_names()[i];
   s.local_imbalance = 2.5;  // v1 cannot tell 2.5 from 3; v2 can
   EXPECT_EQ(boundary_features(s, FeatureSet::v1)[0], v1[0]);

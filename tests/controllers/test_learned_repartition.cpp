@@ -74,16 +74,20 @@ TEST(LearnedRepartition, TheCorrectionLearnsWhereWsMisjudgesTheTime) {
     auto p = make_policy("learned_repartition", params({{"gain", gain}}));
     std::vector<int> b{50};
     for (int t = 0; t < 40; ++t) b = p->decide(observe(b, work, cost));
-    if (std::string(gain) == "0") EXPECT_EQ(b, std::vector<int>{50});
-    else EXPECT_NEAR(b[0], 62.5, 1.0);
+    if (std::string(gain) == "0")
+      EXPECT_EQ(b, std::vector<int>{50});
+    else
+      EXPECT_NEAR(b[0], 62.5, 1.0);
   }
   // A gap within the noise floor is left alone: the gaps at 50 are log(50 / 75) = -0.41 and log(100 / 75) = 0.29, so
   // a floor of 0.42 keeps the cut, and one of 0.25 makes the lower slices cheaper and the upper dearer: it moves up.
   for (const char* floor : {"0.42", "0.25"}) {
     auto p = make_policy("learned_repartition", params({{"gain", "0.5"}, {"noise_floor", floor}}));
     const auto b = p->decide(observe({50}, work, cost));
-    if (std::string(floor) == "0.42") EXPECT_EQ(b, std::vector<int>{50});
-    else EXPECT_GT(b[0], 50);
+    if (std::string(floor) == "0.42")
+      EXPECT_EQ(b, std::vector<int>{50});
+    else
+      EXPECT_GT(b[0], 50);
   }
 }
 
@@ -97,8 +101,10 @@ TEST(LearnedRepartition, AMoveIsTakenWhenItsGainPaysForItsMigration) {
   EXPECT_EQ(make_policy("learned_repartition", params({}))->decide(o), std::vector<int>{54});
   EXPECT_EQ(make_policy("learned_repartition", params({{"move_cost", "1.0"}}))->decide(o), std::vector<int>{54});
   EXPECT_EQ(make_policy("learned_repartition", params({{"move_cost", "1.2"}}))->decide(o), std::vector<int>{50});
-  EXPECT_EQ(make_policy("learned_repartition", params({{"fixed_cost", "0.1"}}))->decide(o), std::vector<int>{50});  // 5.5
-  EXPECT_EQ(make_policy("learned_repartition", params({{"fixed_cost", "0.08"}}))->decide(o), std::vector<int>{54});  // 4.4
+  EXPECT_EQ(make_policy("learned_repartition", params({{"fixed_cost", "0.1"}}))->decide(o),
+            std::vector<int>{50});  // 5.5
+  EXPECT_EQ(make_policy("learned_repartition", params({{"fixed_cost", "0.08"}}))->decide(o),
+            std::vector<int>{54});  // 4.4
   EXPECT_EQ(make_policy("learned_repartition", params({{"deadband", "0.05"}}))->decide(o), std::vector<int>{50});
   EXPECT_EQ(make_policy("learned_repartition", params({{"deadband", "0.04"}}))->decide(o), std::vector<int>{54});
 }
@@ -116,8 +122,10 @@ TEST(LearnedRepartition, TheTrendCutsAheadOfAMovingFront) {
     std::vector<int> b{50};
     for (int start = 20; start <= 30; start += 2) b = p->decide(observe(b, at(start), at(start)));
     const auto now = equal_share_targets(at(30), 2)[0];
-    if (std::string(trend) == "0") EXPECT_NEAR(b[0], now, 0.5);
-    else EXPECT_NEAR(b[0], equal_share_targets(at(32), 2)[0], 1.0);
+    if (std::string(trend) == "0")
+      EXPECT_NEAR(b[0], now, 0.5);
+    else
+      EXPECT_NEAR(b[0], equal_share_targets(at(32), 2)[0], 1.0);
   }
 }
 
@@ -156,11 +164,36 @@ TEST(LearnedRepartition, WeightsRoundTripAndRefusals) {
       EXPECT_NE(std::string(e.what()).find(attr), std::string::npos) << e.what();
     }
   };
-  refused("format", [](h5::File& f) { H5Adelete(f.id(), "format"); f.write_attr("format", std::string("semlb-gru")); }, "format");
-  refused("version", [](h5::File& f) { H5Adelete(f.id(), "version"); f.write_attr("version", 2L); }, "version");
-  refused("range", [](h5::File& f) { H5Adelete(f.id(), "gain"); f.write_attr("gain", 1.5); }, "gain");
-  refused("nan", [](h5::File& f) { H5Adelete(f.id(), "trend"); f.write_attr("trend", std::nan("")); }, "trend");
-  refused("missing", [](h5::File& f) { H5Adelete(f.id(), "move_cost"); }, "move_cost");
+  refused(
+      "format",
+      [](h5::File& f) {
+        H5Adelete(f.id(), "format");
+        f.write_attr("format", std::string("semlb-gru"));
+      },
+      "format");
+  refused(
+      "version",
+      [](h5::File& f) {
+        H5Adelete(f.id(), "version");
+        f.write_attr("version", 2L);
+      },
+      "version");
+  refused(
+      "range",
+      [](h5::File& f) {
+        H5Adelete(f.id(), "gain");
+        f.write_attr("gain", 1.5);
+      },
+      "gain");
+  refused(
+      "nan",
+      [](h5::File& f) {
+        H5Adelete(f.id(), "trend");
+        f.write_attr("trend", std::nan(""));
+      },
+      "trend");
+  refused(
+      "missing", [](h5::File& f) { H5Adelete(f.id(), "move_cost"); }, "move_cost");
   PolicyParams by_file;
   by_file.set("weights", dir + "/w.h5");
   by_file.set("gain", "0");  // a parameter given overrides the file's

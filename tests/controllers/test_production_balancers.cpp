@@ -228,16 +228,26 @@ TEST(ProductionBalancers, ZeroEqualAndFullyPackedCasesNeverMove) {
 
 TEST(ProductionBalancers, ParameterRangesRefuseWorkTowardTheSlowerRank) {
   const std::vector<std::pair<const char*, std::pair<const char*, const char*>>> bad = {
-      {"gromacs_dlb", {"relax", "0"}},         {"gromacs_dlb", {"relax", "-0.5"}},
-      {"gromacs_dlb", {"relax", "2"}},         {"gromacs_dlb", {"cap", "0"}},
-      {"gromacs_dlb", {"cap", "1"}},           {"gromacs_dlb", {"threshold", "-0.01"}},
-      {"gromacs_dlb", {"threshold", "1.5"}},   {"hoomd_balance", {"max_scale", "0"}},
-      {"hoomd_balance", {"max_scale", "1"}},   {"hoomd_balance", {"tolerance", "-1"}},
-      {"hoomd_balance", {"max_iterations", "0"}}, {"hoomd_balance", {"max_iterations", "2.0"}},
-      {"all_tensor", {"gamma", "0"}},          {"all_tensor", {"gamma", "-4"}},
-      {"all_tensor", {"gamma", "0.5"}},        {"all_tensor", {"gamma", "nan"}},
-      {"lammps_shift", {"stopthresh", "0.9"}}, {"lammps_shift", {"niter", "0"}},
-      {"lammps_shift", {"threshold", "-1"}},   {"lammps_shift", {"bogus", "1"}},
+      {"gromacs_dlb", {"relax", "0"}},
+      {"gromacs_dlb", {"relax", "-0.5"}},
+      {"gromacs_dlb", {"relax", "2"}},
+      {"gromacs_dlb", {"cap", "0"}},
+      {"gromacs_dlb", {"cap", "1"}},
+      {"gromacs_dlb", {"threshold", "-0.01"}},
+      {"gromacs_dlb", {"threshold", "1.5"}},
+      {"hoomd_balance", {"max_scale", "0"}},
+      {"hoomd_balance", {"max_scale", "1"}},
+      {"hoomd_balance", {"tolerance", "-1"}},
+      {"hoomd_balance", {"max_iterations", "0"}},
+      {"hoomd_balance", {"max_iterations", "2.0"}},
+      {"all_tensor", {"gamma", "0"}},
+      {"all_tensor", {"gamma", "-4"}},
+      {"all_tensor", {"gamma", "0.5"}},
+      {"all_tensor", {"gamma", "nan"}},
+      {"lammps_shift", {"stopthresh", "0.9"}},
+      {"lammps_shift", {"niter", "0"}},
+      {"lammps_shift", {"threshold", "-1"}},
+      {"lammps_shift", {"bogus", "1"}},
   };
   for (const auto& [name, kv] : bad) {
     SCOPED_TRACE(std::string(name) + "." + kv.first + "=" + kv.second);

@@ -61,7 +61,7 @@ TEST(Reactive, NSlowIsTheWidthBeforeTheSweep) {
 TEST(Reactive, EqualZeroAndMinimalCases) {
   EXPECT_EQ(decide(obs({10, 20}, {2, 2, 2}, 30, 4)), (std::vector<int>{10, 20}));
   EXPECT_EQ(decide(obs({10, 20}, {0, 0, 0}, 30, 4)), (std::vector<int>{10, 20}));
-  EXPECT_TRUE(decide(obs({}, {3.0}, 30, 4)).empty());                          // P = 1
+  EXPECT_TRUE(decide(obs({}, {3.0}, 30, 4)).empty());                           // P = 1
   EXPECT_EQ(decide(obs({4, 8}, {1, 50, 1}, 12, 4)), (std::vector<int>{4, 8}));  // P * min_width == slices
 }
 

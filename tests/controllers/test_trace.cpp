@@ -42,11 +42,15 @@ TEST(Trace, ErrorsNameFileLineAndField) {
   EXPECT_EQ(error_of("{" + ok + R"(,"times":[1.0,1.1,0.9,1.0]})"), "");
   EXPECT_EQ(error_of("{" + ok + "}"), "t.jsonl:7: field 'times': missing");
   EXPECT_EQ(error_of("{" + ok + R"(,"times":"fast"})"), "t.jsonl:7: field 'times': has the wrong type (string)");
-  EXPECT_NE(error_of("{" + ok + R"(,"times":[1,1,-1,1]})").find("t.jsonl:7: field 'times': event 0: times[2]"), std::string::npos);
-  EXPECT_NE(error_of("{" + ok + R"(,"times":[1,1,1]})").find("boundaries has 3 entries but times has 3"), std::string::npos);
-  EXPECT_NE(error_of(R"({"event":0,"slices":10,"min_width":4,"boundaries":[3],"times":[1,1]})").find("width 3"), std::string::npos);
+  EXPECT_NE(error_of("{" + ok + R"(,"times":[1,1,-1,1]})").find("t.jsonl:7: field 'times': event 0: times[2]"),
+            std::string::npos);
+  EXPECT_NE(error_of("{" + ok + R"(,"times":[1,1,1]})").find("boundaries has 3 entries but times has 3"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"event":0,"slices":10,"min_width":4,"boundaries":[3],"times":[1,1]})").find("width 3"),
+            std::string::npos);
   EXPECT_EQ(error_of("{\"event\":"), "t.jsonl:7: not valid JSON (byte 10)");
-  EXPECT_NE(error_of("{" + ok + R"(,"times":[1,1,1,1],"slice_work":[1,2]})").find("slice_work has 2 entries"), std::string::npos);
+  EXPECT_NE(error_of("{" + ok + R"(,"times":[1,1,1,1],"slice_work":[1,2]})").find("slice_work has 2 entries"),
+            std::string::npos);
 }
 
 // Numbers in traces are strict: an integer field written 2.0 or 2.5 is refused (nlohmann would truncate),
@@ -54,14 +58,19 @@ TEST(Trace, ErrorsNameFileLineAndField) {
 TEST(Trace, NumbersAreStrict) {
   const std::string tail = R"(,"boundaries":[64,128,192],"times":[1.0,1.1,0.9,1.0]})";
   EXPECT_EQ(error_of(R"({"event":0,"slices":256,"min_width":4)" + tail), "");
-  EXPECT_EQ(error_of(R"({"event":0,"slices":256.5,"min_width":4)" + tail), "t.jsonl:7: field 'slices': 256.5 is not an integer");
-  EXPECT_EQ(error_of(R"({"event":0,"slices":256.0,"min_width":4)" + tail), "t.jsonl:7: field 'slices': 256.0 is not an integer");
+  EXPECT_EQ(error_of(R"({"event":0,"slices":256.5,"min_width":4)" + tail),
+            "t.jsonl:7: field 'slices': 256.5 is not an integer");
+  EXPECT_EQ(error_of(R"({"event":0,"slices":256.0,"min_width":4)" + tail),
+            "t.jsonl:7: field 'slices': 256.0 is not an integer");
   EXPECT_EQ(error_of(R"({"event":4294967296,"slices":256,"min_width":4)" + tail),
             "t.jsonl:7: field 'event': 4294967296 does not fit a 32-bit integer");
   EXPECT_EQ(error_of(R"({"event":0,"slices":256,"min_width":4,"boundaries":[64,128.5,192],"times":[1,1,1,1]})"),
             "t.jsonl:7: field 'boundaries': item 1: 128.5 is not an integer");
   const std::string head = R"({"event":0,"slices":256,"min_width":4,"boundaries":[64,128,192],)";
-  EXPECT_EQ(error_of(head + R"("times":[1,1e400,1,1]})"), "t.jsonl:7: a number does not fit a double (numbers must be finite)");
-  EXPECT_EQ(error_of(head + R"("times":[1,1,1,1],"growth_phase":-1e999})"), "t.jsonl:7: a number does not fit a double (numbers must be finite)");
-  EXPECT_EQ(error_of(head + R"("times":[1,1,1,1],"growth_event":1})"), "t.jsonl:7: field 'growth_event': has the wrong type (number)");
+  EXPECT_EQ(error_of(head + R"("times":[1,1e400,1,1]})"),
+            "t.jsonl:7: a number does not fit a double (numbers must be finite)");
+  EXPECT_EQ(error_of(head + R"("times":[1,1,1,1],"growth_phase":-1e999})"),
+            "t.jsonl:7: a number does not fit a double (numbers must be finite)");
+  EXPECT_EQ(error_of(head + R"("times":[1,1,1,1],"growth_event":1})"),
+            "t.jsonl:7: field 'growth_event': has the wrong type (number)");
 }

@@ -129,13 +129,18 @@ TEST(Workload, PartsAndCellStageChangesRoundTripAsVersionThree) {
     std::string message;
   };
   const std::vector<Case> cases = {
-      {[](EngineWorkload& w) { w.events[1].part_seconds[3] = 0.25; }, "field 'part_seconds': event 1: sums to 0.6875, but interval_s is 0.75"},
+      {[](EngineWorkload& w) { w.events[1].part_seconds[3] = 0.25; },
+       "field 'part_seconds': event 1: sums to 0.6875, but interval_s is 0.75"},
       {[](EngineWorkload& w) { w.events[0].part_seconds[1] = -0.0625, w.events[0].part_seconds[3] = 0.1875; },
        "field 'part_seconds': event 0: -0.0625 is not a finite non-negative number"},
-      {[](EngineWorkload& w) { w.events[1].part_seconds.pop_back(); }, "field 'part_seconds': event 1 has 3 entries, expected 4"},
-      {[](EngineWorkload& w) { w.events[1].part_seconds.clear(); }, "field 'part_seconds': present at some events and not at others"},
-      {[](EngineWorkload& w) { w.events[0].cell_stage_changes[1] = -1; }, "field 'cell_stage_changes': event 0: -1 is negative"},
-      {[](EngineWorkload& w) { w.events[0].cell_stage_changes.pop_back(); }, "field 'cell_stage_changes': event 0 has 2 entries, expected 3"},
+      {[](EngineWorkload& w) { w.events[1].part_seconds.pop_back(); },
+       "field 'part_seconds': event 1 has 3 entries, expected 4"},
+      {[](EngineWorkload& w) { w.events[1].part_seconds.clear(); },
+       "field 'part_seconds': present at some events and not at others"},
+      {[](EngineWorkload& w) { w.events[0].cell_stage_changes[1] = -1; },
+       "field 'cell_stage_changes': event 0: -1 is negative"},
+      {[](EngineWorkload& w) { w.events[0].cell_stage_changes.pop_back(); },
+       "field 'cell_stage_changes': event 0 has 2 entries, expected 3"},
       {[](EngineWorkload& w) {
          for (auto& e : w.events) e.slice_seconds.clear();
          w.cost_regions = 0;
@@ -151,7 +156,9 @@ TEST(Workload, PartsAndCellStageChangesRoundTripAsVersionThree) {
   }
   auto w2 = measured();
   w2.events[0].cell_stage_changes = {1, 0, 0};
-  EXPECT_NE(error_of([&] { write_workload(path, w2); }).find("field 'cell_stage_changes': event 0: present without part_seconds"),
+  EXPECT_NE(error_of([&] {
+              write_workload(path, w2);
+            }).find("field 'cell_stage_changes': event 0: present without part_seconds"),
             std::string::npos);
   write_workload(path, with_parts());
   {
@@ -167,13 +174,18 @@ TEST(Workload, MeasuredSecondsAreReadStrictly) {
     std::string message;
   };
   const std::vector<Case> cases = {
-      {[](EngineWorkload& w) { w.events[0].slice_seconds[2] = -1e-9; }, "field 'slice_seconds': event 0: -1e-09 is not a finite non-negative number"},
+      {[](EngineWorkload& w) { w.events[0].slice_seconds[2] = -1e-9; },
+       "field 'slice_seconds': event 0: -1e-09 is not a finite non-negative number"},
       {[](EngineWorkload& w) { w.events[1].slice_seconds[0] = std::nan(""); }, "field 'slice_seconds': event 1: nan"},
       {[](EngineWorkload& w) { w.events[1].slice_seconds[0] = INFINITY; }, "field 'slice_seconds': event 1: inf"},
-      {[](EngineWorkload& w) { w.events[1].slice_seconds.pop_back(); }, "field 'slice_seconds': event 1 has 2 entries, expected 3"},
-      {[](EngineWorkload& w) { w.events[1].slice_seconds.clear(); }, "field 'slice_seconds': present at some events and not at others"},
-      {[](EngineWorkload& w) { w.cost_regions = 0; }, "field 'cost_regions': must be >= 1 when the events carry slice_seconds"},
-      {[](EngineWorkload& w) { w.events[0].slice_seconds[0] = 0.25; }, "field 'slice_seconds': event 0: sums to 0.625, but interval_s is 0.5"},
+      {[](EngineWorkload& w) { w.events[1].slice_seconds.pop_back(); },
+       "field 'slice_seconds': event 1 has 2 entries, expected 3"},
+      {[](EngineWorkload& w) { w.events[1].slice_seconds.clear(); },
+       "field 'slice_seconds': present at some events and not at others"},
+      {[](EngineWorkload& w) { w.cost_regions = 0; },
+       "field 'cost_regions': must be >= 1 when the events carry slice_seconds"},
+      {[](EngineWorkload& w) { w.events[0].slice_seconds[0] = 0.25; },
+       "field 'slice_seconds': event 0: sums to 0.625, but interval_s is 0.5"},
       {[](EngineWorkload& w) { w.cost_regions = 4; }, "field 'cost_regions': must be in [0, slices], got 4"},
   };
   for (const auto& c : cases) {
@@ -191,14 +203,17 @@ TEST(Workload, MeasuredSecondsAreReadStrictly) {
     auto f = h5::File::open_write(path);
     H5Ldelete(f.id(), "events/slice_seconds", H5P_DEFAULT);
   }
-  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'slice_seconds': missing (dataset /events/slice_seconds)"), std::string::npos);
+  EXPECT_NE(
+      error_of([&] { read_workload(path); }).find("field 'slice_seconds': missing (dataset /events/slice_seconds)"),
+      std::string::npos);
   write_workload(path, measured());
   {
     auto f = h5::File::open_write(path);
     H5Ldelete(f.id(), "events/slice_seconds", H5P_DEFAULT);
     f.write("events/slice_seconds", {2, 2}, std::vector<double>(4, 0.1));
   }
-  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'slice_seconds': must be events x 3 (2 x 3)"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'slice_seconds': must be events x 3 (2 x 3)"),
+            std::string::npos);
 }
 
 TEST(Workload, InvalidContentIsRefusedNamingTheField) {
@@ -208,21 +223,29 @@ TEST(Workload, InvalidContentIsRefusedNamingTheField) {
   };
   const std::vector<Case> cases = {
       {[](EngineWorkload& w) { w.events[1].step = 20; }, "field 'step': event 1: steps must increase"},
-      {[](EngineWorkload& w) { w.events[0].slice_work[1] = 0.5; }, "field 'slice_work': event 0: 0.5 is not a non-negative integer"},
+      {[](EngineWorkload& w) { w.events[0].slice_work[1] = 0.5; },
+       "field 'slice_work': event 0: 0.5 is not a non-negative integer"},
       {[](EngineWorkload& w) { w.events[0].slice_work[1] = 4611686018427387904.0; },  // 2^62: an integer, too large
        "field 'slice_work': event 0: 4611686018427387904 exceeds 9e15, where counts stop being exact in doubles"},
       {[](EngineWorkload& w) { w.events[0].slice_work[1] = -1; }, "field 'slice_work': event 0"},
-      {[](EngineWorkload& w) { w.events[1].band_below.pop_back(); }, "field 'band_below': event 1 has 1 entries, expected 2"},
-      {[](EngineWorkload& w) { w.events[0].elements = 8; }, "field 'slice_elements': event 0: sums to 7, but elements is 8"},
+      {[](EngineWorkload& w) { w.events[1].band_below.pop_back(); },
+       "field 'band_below': event 1 has 1 entries, expected 2"},
+      {[](EngineWorkload& w) { w.events[0].elements = 8; },
+       "field 'slice_elements': event 0: sums to 7, but elements is 8"},
       {[](EngineWorkload& w) { w.events[0].growth_phase = 1; }, "field 'growth_phase': event 0: outside [0, 1)"},
       {[](EngineWorkload& w) { w.min_width = 4; }, "field 'min_width'"},
       {[](EngineWorkload& w) { w.events.clear(); }, "field 'events': the workload has no events"},
       {[](EngineWorkload& w) {  // elements 0 (slice_elements too) with work left
          w.events[0].elements = 0;
          w.events[0].slice_elements = {0, 0, 0};
-       }, "field 'slice_work': event 0: sums to 42 with 0 elements (each element adds at least 1)"},
-      {[](EngineWorkload& w) { w.events[1].slice_work = {0, 0, 0}; }, "field 'slice_work': event 1: sums to 0 with 7 elements"},
-      {[](EngineWorkload& w) { w.events[0].interval_s = w.events[1].interval_s = 0; }, "field 'interval_s': every event's interval is 0 s"},
+       },
+       "field 'slice_work': event 0: sums to 42 with 0 elements (each element adds at least 1)"},
+      {[](EngineWorkload& w) {
+         w.events[1].slice_work = {0, 0, 0};
+       },
+       "field 'slice_work': event 1: sums to 0 with 7 elements"},
+      {[](EngineWorkload& w) { w.events[0].interval_s = w.events[1].interval_s = 0; },
+       "field 'interval_s': every event's interval is 0 s"},
   };
   for (const auto& c : cases) {
     auto w = small();
@@ -252,12 +275,15 @@ TEST(Workload, FilesOfAnotherFormatVersionOrShapeAreRefused) {
     H5Adelete(f.id(), "version");
     f.write_attr("version", 4L);
   });
-  EXPECT_NE(error_of([&] { read_workload(path); }).find(path + ": field 'version': 4 (this semlb reads versions 1, 2 and 3)"), std::string::npos);
+  EXPECT_NE(
+      error_of([&] { read_workload(path); }).find(path + ": field 'version': 4 (this semlb reads versions 1, 2 and 3)"),
+      std::string::npos);
   rewrite([](h5::File& f) {
     H5Adelete(f.id(), "format");
     f.write_attr("format", std::string("semlb-state"));
   });
-  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'format': is 'semlb-state', expected 'semlb-workload'"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'format': is 'semlb-state', expected 'semlb-workload'"),
+            std::string::npos);
   {  // a state file or any other HDF5 file: no format attribute
     const auto other = tmp_path("other.h5");
     auto f = h5::File::create(other);
@@ -268,14 +294,16 @@ TEST(Workload, FilesOfAnotherFormatVersionOrShapeAreRefused) {
     H5Ldelete(f.id(), "events/band_above", H5P_DEFAULT);
     f.write("events/band_above", {2, 3}, std::vector<int64_t>(6, 0));
   });
-  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'band_above': must be events x 2 (2 x 2)"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'band_above': must be events x 2 (2 x 2)"),
+            std::string::npos);
   rewrite([](h5::File& f) {
     H5Ldelete(f.id(), "events/slice_work", H5P_DEFAULT);
     f.write("events/slice_work", {2, 3}, std::vector<double>(6, 1.5));
   });
   EXPECT_NE(error_of([&] { read_workload(path); }).find("slice_work"), std::string::npos);
   rewrite([](h5::File& f) { H5Ldelete(f.id(), "events/cells", H5P_DEFAULT); });
-  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'cells': missing (dataset /events/cells)"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'cells': missing (dataset /events/cells)"),
+            std::string::npos);
   EXPECT_NE(error_of([&] { read_workload(tmp_path("absent.h5")); }).find("absent.h5"), std::string::npos);
 }
 

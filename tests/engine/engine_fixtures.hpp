@@ -102,7 +102,8 @@ std::vector<double> section_params(const std::string& name, const std::string& y
 // The forces of the registered pair term `name` with the YAML map `yaml` read as its section effects.NAME (every key
 // read), at `cutoff` um.
 inline PairForces pair_forces(const std::string& name, const std::string& yaml, double cutoff) {
-  return {name, section_params(name, yaml, [&](const Section& s) { return PairTerms::at(name).read(s, cutoff); }), cutoff};
+  return {name, section_params(name, yaml, [&](const Section& s) { return PairTerms::at(name).read(s, cutoff); }),
+          cutoff};
 }
 // The force (force units) of pair term f.term on element i (info_i) from element j (info_j) at distance r um along
 // +x (double), its fixed-point sum read back: its x component (the others must be 0).
@@ -125,8 +126,9 @@ double coincident_kick(PairEvaluator<Real> law, const std::vector<Real>& p, Real
   return std::sqrt(norm);
 }
 // mechanics with inter-cell sets that differ per type pair (V0 0.3 + 0.1 (ta + tb)): type-dependent tables.
-inline const char* kTypedMorse = "{pairs: {basal-basal: {V0: 0.3}, basal-spinous: {V0: 0.4}, basal-granular: {V0: 0.5}, "
-                                 "spinous-spinous: {V0: 0.5}, spinous-granular: {V0: 0.6}, granular-granular: {V0: 0.7}}}";
+inline const char* kTypedMorse =
+    "{pairs: {basal-basal: {V0: 0.3}, basal-spinous: {V0: 0.4}, basal-granular: {V0: 0.5}, "
+    "spinous-spinous: {V0: 0.5}, spinous-granular: {V0: 0.6}, granular-granular: {V0: 0.7}}}";
 // The InputError message of kMechanicsYaml with `overrides`, constructed as a Simulation does (the effects' sections
 // read), or "no error".
 inline std::string scene_error(const std::vector<std::string>& overrides) {
@@ -149,8 +151,8 @@ inline void expect_errors_name_fields(const std::vector<std::pair<std::string, s
 // `semlb sim` under mpirun on `ranks` ranks, bounded by `seconds` (a hang fails the test); `env` holds VAR=VALUE
 // assignments for every rank.
 inline std::string mpirun_sim(int ranks, const std::string& env = "", int seconds = 300) {
-  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + env + " " + test::within(seconds) + SEMLB_MPIEXEC +
-         " --oversubscribe -np " + std::to_string(ranks) + " " + test::semlb_bin() + " sim";
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + env + " " + test::within(seconds) +
+         SEMLB_MPIEXEC + " --oversubscribe -np " + std::to_string(ranks) + " " + test::semlb_bin() + " sim";
 }
 
 // The rank-count harness: `semlb sim ARGS` on one device into DIR/single, then under mpirun on each of `ranks` into

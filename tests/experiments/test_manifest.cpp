@@ -67,7 +67,8 @@ TEST(Manifest, ProfilesAndOverrides) {
 }
 
 TEST(Manifest, ErrorsNameFileLineAndField) {
-  EXPECT_NE(error_of(std::string(kBase) + "colour: red\n").find(":15: field 'colour': unknown manifest key"), std::string::npos);
+  EXPECT_NE(error_of(std::string(kBase) + "colour: red\n").find(":15: field 'colour': unknown manifest key"),
+            std::string::npos);
   EXPECT_NE(error_of(kBase, "huge").find("no profile 'huge'"), std::string::npos);
   EXPECT_NE(error_of("name: x\nrunner: surrogate\n").find("field 'output': missing"), std::string::npos);
   EXPECT_NE(error_of("name: [x\n").find("m.yaml:2: YAML syntax error"), std::string::npos);
@@ -83,7 +84,8 @@ TEST(Manifest, AKeyIsAnAxisOrASettingNotBoth) {
   std::string both = kBase;
   both.replace(both.find("  events: 10\n"), 13, "  events: 10\n  ranks: 8\n");
   EXPECT_NE(error_of(both).find(":10: field 'set.ranks': 'ranks' is also an axis (line 6): give it in one place"),
-            std::string::npos) << error_of(both);
+            std::string::npos)
+      << error_of(both);
   std::string profile_set = kBase;
   profile_set.replace(profile_set.find("    set: {events: 100}"), 22, "    set: {events: 100, ranks: 8}");
   const auto m = load_manifest(manifest(profile_set), "paper", {});
@@ -101,7 +103,8 @@ TEST(Manifest, RunnerChecksSettingsBeforeRunning) {
     for (const auto& j : m.expand()) runner->check(j, m.path, {});
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(":5: field 'policy': unknown policy 'reactiv'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(":5: field 'policy': unknown policy 'reactiv'"), std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(make_runner("warp", m.path), InputError);
 }
@@ -161,9 +164,11 @@ TEST(Manifest, GroupErrorsNameFileLineAndField) {
   shared.replace(shared.find("    reactive.alpha"), 0, "    seed: [1]\n");
   EXPECT_NE(error_of(shared).find("m.yaml:10: field 'groups[0].seed': is also a shared axis"), std::string::npos)
       << error_of(shared);
-  EXPECT_NE(error_of(std::string(kBase) + "groups: {policy: [static]}\n").find(":15: field 'groups': must be a non-empty list"),
+  EXPECT_NE(error_of(std::string(kBase) + "groups: {policy: [static]}\n")
+                .find(":15: field 'groups': must be a non-empty list"),
             std::string::npos);
-  EXPECT_NE(error_of(std::string(kBase) + "groups:\n  - [static]\n").find(":16: field 'groups[0]': must be a non-empty mapping"),
+  EXPECT_NE(error_of(std::string(kBase) + "groups:\n  - [static]\n")
+                .find(":16: field 'groups[0]': must be a non-empty mapping"),
             std::string::npos);
   std::string empty = kGroups;
   empty.replace(empty.find("[4, 8, 16]"), 10, "[]");

@@ -17,8 +17,9 @@ namespace fs = std::filesystem;
 namespace {
 // Two rows of 60 cells on 2 ranks, 20 steps: seconds each.
 std::string engine_manifest(const std::string& axes, const std::string& set) {
-  return "name: engine\nrunner: mpi_sim\noutput: engine.csv\naxes:\n" + axes + "set:\n  scene: " +
-         source("scenes/epidermis.yaml") + "\n  ranks: 2\n  cells: 60\n  steps: 20\n  rebalance_every: 10\n" + set;
+  return "name: engine\nrunner: mpi_sim\noutput: engine.csv\naxes:\n" + axes +
+         "set:\n  scene: " + source("scenes/epidermis.yaml") +
+         "\n  ranks: 2\n  cells: 60\n  steps: 20\n  rebalance_every: 10\n" + set;
 }
 }  // namespace
 
@@ -27,7 +28,8 @@ std::string engine_manifest(const std::string& axes, const std::string& set) {
 TEST(MpiRunners, PolicyParametersReachTheRowsOfTheirPolicyOnly) {
   const auto dir = fresh_dir("mpi_policy_params");
   write(dir + "/m.yaml", engine_manifest("  policy: [static, holt]\n", "  holt.alpha: 0.3\n  holt.beta: 0.1\n"));
-  const auto r = run(semlb_bin() + " sweep " + dir + "/m.yaml --no-timing --quiet --keep-runs --results " + dir + "/out");
+  const auto r =
+      run(semlb_bin() + " sweep " + dir + "/m.yaml --no-timing --quiet --keep-runs --results " + dir + "/out");
   ASSERT_EQ(r.rc, 0) << r.out;
   std::map<std::string, YAML::Node> scene;  // each row's scene as run, by policy
   for (const auto& e : fs::directory_iterator(dir + "/out/runs")) {
@@ -49,7 +51,8 @@ TEST(MpiRunners, BadPolicyParameterIsRefusedAtItsLine) {
   write(dir + "/m.yaml", engine_manifest("  policy: [static, reactive]\n", "  holt.alpha: 7\n"));
   const auto r = run(semlb_bin() + " sweep " + dir + "/m.yaml --quiet --results " + dir + "/out");
   EXPECT_EQ(r.rc, 2) << r.out;
-  EXPECT_NE(r.out.find("m.yaml:12: field 'holt.*': policy parameter 'alpha': '7' is outside (0, 1]"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("m.yaml:12: field 'holt.*': policy parameter 'alpha': '7' is outside (0, 1]"), std::string::npos)
+      << r.out;
   EXPECT_FALSE(fs::exists(dir + "/out"));
 }
 
@@ -60,7 +63,8 @@ TEST(MpiRunners, OraclePoliciesAreRefusedBeforeAnythingRuns) {
   auto refused = [&](const std::string& manifest_text, const std::string& sets, const std::string& want) {
     write(dir + "/m.yaml", manifest_text);
     fs::remove_all(dir + "/out");
-    const auto r = run(within(60) + semlb_bin() + " sweep " + dir + "/m.yaml --quiet --keep-runs --results " + dir + "/out" + sets);
+    const auto r = run(within(60) + semlb_bin() + " sweep " + dir + "/m.yaml --quiet --keep-runs --results " + dir +
+                       "/out" + sets);
     EXPECT_EQ(r.rc, 2) << r.out;
     EXPECT_NE(r.out.find(want), std::string::npos) << r.out;
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
@@ -94,7 +98,8 @@ TEST(MpiRunners, SceneSettingsAreTypedAtTheirLine) {
   write(dir + "/m.yaml", text);
   const auto again = run(semlb_bin() + " sweep " + dir + "/m.yaml --quiet --results " + dir + "/out");
   EXPECT_EQ(again.rc, 2) << again.out;
-  EXPECT_NE(again.out.find("m.yaml:11: field 'rebalance_every': 'often' is not an integer"), std::string::npos) << again.out;
+  EXPECT_NE(again.out.find("m.yaml:11: field 'rebalance_every': 'often' is not an integer"), std::string::npos)
+      << again.out;
   EXPECT_FALSE(fs::exists(dir + "/out"));
 }
 
@@ -117,7 +122,8 @@ TEST(MpiRunners, RankTimesColumnsAreTheDeclaredOnes) {
   std::string text = engine_manifest("  policy: [reactive]\n", "  scene.decomposition.timing: modelled\n");
   text.replace(text.find("mpi_sim"), 7, "mpi_intervals");
   write(dir + "/m.yaml", text);
-  const auto r = run(semlb_bin() + " sweep " + dir + "/m.yaml --no-timing --quiet --keep-runs --results " + dir + "/out");
+  const auto r =
+      run(semlb_bin() + " sweep " + dir + "/m.yaml --no-timing --quiet --keep-runs --results " + dir + "/out");
   ASSERT_EQ(r.rc, 0) << r.out;
   std::string header;
   for (const char* c : semlb::engine::rank_times::kColumns) (header += header.empty() ? "" : ",") += c;
@@ -130,7 +136,8 @@ TEST(MpiRunners, RankTimesColumnsAreTheDeclaredOnes) {
   const auto csv = semlb::split(slurp(dir + "/out/engine.csv"), '\n');
   EXPECT_EQ(csv.at(0), "policy,step,rank,compute_s,imbalance,moved_slices");
   ASSERT_EQ(csv.size(), times.size());
-  for (size_t i = 1; i + 1 < times.size(); ++i) {  // same step, rank, imbalance, moved slices; compute_s 0 under --no-timing
+  for (size_t i = 1; i + 1 < times.size();
+       ++i) {  // same step, rank, imbalance, moved slices; compute_s 0 under --no-timing
     const auto f = semlb::split(times[i], ','), g = semlb::split(csv[i], ',');
     EXPECT_EQ(g, (std::vector<std::string>{"reactive", f[0], f[1], "0", f[5], f[6]})) << csv[i];
   }
@@ -141,20 +148,23 @@ TEST(MpiRunners, RankTimesColumnsAreTheDeclaredOnes) {
 // makes each launch's decisions, and so its imbalance and migration, the same.
 TEST(MpiRunners, EndToEndRowsPerLaunchInterleaved) {
   const auto dir = fresh_dir("mpi_end_to_end");
-  std::string text = "name: e2e\nrunner: mpi_end_to_end\noutput: e2e/load_balance.csv\nlaunches: 2\ngroups:\n"
-                     "  - {policy: [static, reactive], initial: [workload]}\n  - {policy: [static], initial: [uniform]}\n"
-                     "set:\n  scene: " + source("scenes/epidermis.yaml") +
-                     "\n  ranks: 2\n  cells: 60\n  steps: 20\n  rebalance_every: 10\n  gpus: 0\n  bind_to: none\n"
-                     "  scene.decomposition.timing: modelled\n";
+  std::string text =
+      "name: e2e\nrunner: mpi_end_to_end\noutput: e2e/load_balance.csv\nlaunches: 2\ngroups:\n"
+      "  - {policy: [static, reactive], initial: [workload]}\n  - {policy: [static], initial: [uniform]}\n"
+      "set:\n  scene: " +
+      source("scenes/epidermis.yaml") +
+      "\n  ranks: 2\n  cells: 60\n  steps: 20\n  rebalance_every: 10\n  gpus: 0\n  bind_to: none\n"
+      "  scene.decomposition.timing: modelled\n";
   write(dir + "/m.yaml", text);
   const auto r = run(semlb_bin() + " sweep " + dir + "/m.yaml --quiet --keep-runs --results " + dir + "/out");
   ASSERT_EQ(r.rc, 0) << r.out;
   const auto lines = semlb::split(slurp(dir + "/out/e2e/load_balance.csv"), '\n');
   ASSERT_EQ(lines.size(), 1u + 6u + 1u) << "header, 3 rows x 2 launches, the empty field after the last newline";
-  EXPECT_EQ(lines[0], "policy,initial,launch,gpus,ranks,cells_start,cells_end,steps,loop_s,compute_s,mean_imbalance,"
-                      "migrated_slices,machine");
-  const std::vector<std::vector<std::string>> keys = {{"static", "workload", "1"}, {"reactive", "workload", "1"},
-                                                      {"static", "uniform", "1"},  {"static", "workload", "2"},
+  EXPECT_EQ(lines[0],
+            "policy,initial,launch,gpus,ranks,cells_start,cells_end,steps,loop_s,compute_s,mean_imbalance,"
+            "migrated_slices,machine");
+  const std::vector<std::vector<std::string>> keys = {{"static", "workload", "1"},   {"reactive", "workload", "1"},
+                                                      {"static", "uniform", "1"},    {"static", "workload", "2"},
                                                       {"reactive", "workload", "2"}, {"static", "uniform", "2"}};
   std::vector<std::vector<std::string>> rows;
   for (size_t i = 1; i <= 6; ++i) rows.push_back(semlb::split(lines[i], ','));
@@ -188,7 +198,8 @@ TEST(MpiRunners, EndToEndRowsPerLaunchInterleaved) {
   write(dir + "/bad.yaml", text + "  map_by: \"core;rm\"\n");
   const auto bad = run(semlb_bin() + " sweep " + dir + "/bad.yaml --quiet --results " + dir + "/bad");
   EXPECT_EQ(bad.rc, 2) << bad.out;
-  EXPECT_NE(bad.out.find("bad.yaml:17: field 'map_by': must be an mpirun placement word"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("bad.yaml:17: field 'map_by': must be an mpirun placement word"), std::string::npos)
+      << bad.out;
 }
 
 // mpi_end_to_end with `segments: 2`: each launch runs as two `semlb sim` invocations, the second resuming from the
@@ -198,20 +209,26 @@ TEST(MpiRunners, EndToEndRowsPerLaunchInterleaved) {
 // split between two events (step 15 of 30, an event every 10 steps).
 TEST(MpiRunners, EndToEndSegmentsContinueTheUnsplitLaunch) {
   const auto dir = fresh_dir("mpi_end_to_end_segments");
-  const std::string text = "name: e2e\nrunner: mpi_end_to_end\noutput: e2e/load_balance.csv\naxes:\n"
-                           "  policy: [reactive, gru]\n  segments: [1, 2]\nset:\n  scene: " + source("scenes/epidermis.yaml") +
-                           "\n  ranks: 2\n  cells: 60\n  steps: 30\n  rebalance_every: 10\n  reactive.tau: 0.001\n"
-                           "  scene.decomposition.timing: modelled\n";
+  const std::string text =
+      "name: e2e\nrunner: mpi_end_to_end\noutput: e2e/load_balance.csv\naxes:\n"
+      "  policy: [reactive, gru]\n  segments: [1, 2]\nset:\n  scene: " +
+      source("scenes/epidermis.yaml") +
+      "\n  ranks: 2\n  cells: 60\n  steps: 30\n  rebalance_every: 10\n  reactive.tau: 0.001\n"
+      "  scene.decomposition.timing: modelled\n";
   write(dir + "/m.yaml", text);
-  const auto r = run(within(300) + semlb_bin() + " sweep " + dir + "/m.yaml --no-timing --quiet --keep-runs --results " + dir + "/out");
+  const auto r = run(within(300) + semlb_bin() + " sweep " + dir +
+                     "/m.yaml --no-timing --quiet --keep-runs --results " + dir + "/out");
   ASSERT_EQ(r.rc, 0) << r.out;
   const auto lines = semlb::split(slurp(dir + "/out/e2e/load_balance.csv"), '\n');
-  ASSERT_EQ(lines.size(), 1u + 4u + 1u) << "header, 2 policies x 2 segment counts, the empty field after the last newline";
-  EXPECT_EQ(lines[0], "segments,policy,initial,launch,gpus,ranks,cells_start,cells_end,steps,loop_s,compute_s,"
-                      "mean_imbalance,migrated_slices,machine");
+  ASSERT_EQ(lines.size(), 1u + 4u + 1u)
+      << "header, 2 policies x 2 segment counts, the empty field after the last newline";
+  EXPECT_EQ(lines[0],
+            "segments,policy,initial,launch,gpus,ranks,cells_start,cells_end,steps,loop_s,compute_s,"
+            "mean_imbalance,migrated_slices,machine");
   auto run_dir = [&](const std::string& policy, int segments) {
     for (const auto& e : fs::directory_iterator(dir + "/out/e2e/runs"))
-      if (e.path().filename().string().find("policy=" + policy + "_segments=" + std::to_string(segments)) != std::string::npos)
+      if (e.path().filename().string().find("policy=" + policy + "_segments=" + std::to_string(segments)) !=
+          std::string::npos)
         return e.path().string();
     return std::string();
   };
@@ -240,15 +257,18 @@ TEST(MpiRunners, EndToEndSegmentsContinueTheUnsplitLaunch) {
     ASSERT_EQ(trace.size(), 1u + 3u) << "3 events, then the empty field";
     EXPECT_EQ(slurp(b + "/trace.jsonl"), slurp(a + "/trace.jsonl")) << policy;
     EXPECT_EQ(modelled_columns(b + "/" + semlb::engine::rank_times::kFile),
-              modelled_columns(a + "/" + semlb::engine::rank_times::kFile)) << policy;
-    EXPECT_EQ(semlb::engine::read_state(b + "/final.h5").hash(), semlb::engine::read_state(a + "/final.h5").hash()) << policy;
+              modelled_columns(a + "/" + semlb::engine::rank_times::kFile))
+        << policy;
+    EXPECT_EQ(semlb::engine::read_state(b + "/final.h5").hash(), semlb::engine::read_state(a + "/final.h5").hash())
+        << policy;
     // the split launch ran as two: the first segment logged its last step, 15, which the unsplit run does not log
     const auto steps_logged = [](const std::string& run_csv) {
       std::vector<std::string> s;
       for (const auto& line : semlb::split(slurp(run_csv), '\n')) s.push_back(semlb::split(line + ",", ',')[0]);
       return s;
     };
-    EXPECT_EQ(steps_logged(b + "/run.csv"), (std::vector<std::string>{"step", "15", "30", ""})) << slurp(b + "/run.csv");
+    EXPECT_EQ(steps_logged(b + "/run.csv"), (std::vector<std::string>{"step", "15", "30", ""}))
+        << slurp(b + "/run.csv");
     EXPECT_EQ(steps_logged(a + "/run.csv"), (std::vector<std::string>{"step", "30", ""})) << slurp(a + "/run.csv");
   }
 }
@@ -285,7 +305,8 @@ TEST(MpiRunners, EndToEndSegmentsAreCheckedAndAFailedSegmentIsNamed) {
 // work units) of a 2-segment launch are the unsplit launch's, the intervals of both segments in order.
 TEST(MpiRunners, IntervalRowsOfASplitLaunchAreTheUnsplitOnes) {
   const auto dir = fresh_dir("mpi_intervals_segments");
-  std::string text = engine_manifest("  segments: [1, 2]\n", "  policy: reactive\n  reactive.tau: 0.001\n  scene.decomposition.timing: modelled\n");
+  std::string text = engine_manifest(
+      "  segments: [1, 2]\n", "  policy: reactive\n  reactive.tau: 0.001\n  scene.decomposition.timing: modelled\n");
   text.replace(text.find("mpi_sim"), 7, "mpi_intervals");
   text.replace(text.find("steps: 20"), 9, "steps: 30");
   write(dir + "/m.yaml", text);

@@ -25,7 +25,8 @@ const char* kTraceB =
 
 std::string manifest(const std::string& traces) {
   return "name: rs\nrunner: replay_score\noutput: rs/rs.csv\naxes:\n  policy: [static, reactive, lammps_shift]\nset:\n"
-         "  traces: " + traces + "\n";
+         "  traces: " +
+         traces + "\n";
 }
 
 }  // namespace
@@ -47,7 +48,8 @@ TEST(ReplayScore, OneRowPerTraceAndPolicyEqualToReplayScore) {
   for (size_t i = 1; i + 1 < lines.size(); ++i) {
     const auto f = semlb::split(lines[i], ',');
     ASSERT_EQ(f.size(), 8u) << lines[i];
-    const auto replay = run(semlb_bin() + " replay --score --policy " + f[0] + " --trace " + dir + "/res/" + f[1] + "/trace.jsonl");
+    const auto replay =
+        run(semlb_bin() + " replay --score --policy " + f[0] + " --trace " + dir + "/res/" + f[1] + "/trace.jsonl");
     ASSERT_EQ(replay.rc, 0) << replay.out;
     const auto want = nlohmann::json::parse(replay.out);
     EXPECT_EQ(std::stol(f[4]), want["events"].get<long>()) << lines[i];

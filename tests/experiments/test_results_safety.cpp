@@ -16,7 +16,8 @@ namespace {
 // 30 surrogate jobs, one row each.
 std::string surrogate_manifest(int events) {
   return "name: digest\nrunner: surrogate\noutput: sub/d.csv\naxes:\n  policy: [static, reactive, holt]\n  ranks: [2, 4]\n"
-         "  seed: \"9000-9004\"\nset:\n  events: " + std::to_string(events) + "\n";
+         "  seed: \"9000-9004\"\nset:\n  events: " +
+         std::to_string(events) + "\n";
 }
 std::string sh(const std::string& s) {  // one word for /bin/sh
   std::string q = "'";
@@ -71,16 +72,20 @@ TEST(ResultsSafety, ResumeRecomputesRowsMadeWithOtherSettings) {
   const size_t finished = data_lines(dir + "/cut3/sub/d.csv.partial");
   resumed = run(base + dir + "/cut3");
   ASSERT_EQ(resumed.rc, 0) << resumed.out;
-  EXPECT_NE(resumed.out.find("(30 jobs, " + std::to_string(finished) + " resumed; 30 rows)"), std::string::npos) << resumed.out;
+  EXPECT_NE(resumed.out.find("(30 jobs, " + std::to_string(finished) + " resumed; 30 rows)"), std::string::npos)
+      << resumed.out;
   EXPECT_EQ(slurp(dir + "/cut3/sub/d.csv"), ref10);
   // A file a setting names is part of the digest by its contents: weights rewritten in place between the runs.
   fs::copy_file(source("controllers/weights/gru_default.h5"), dir + "/w.h5");
   ASSERT_EQ(run("SEMLB_SWEEP_KILL_AFTER=7 " + base + dir + "/cut4 --set gru.weights=" + dir + "/w.h5").rc, 128 + 9);
   const size_t made = data_lines(dir + "/cut4/sub/d.csv.partial");
-  fs::copy_file(source("controllers/weights/gru_migration_penalty_8.h5"), dir + "/w.h5", fs::copy_options::overwrite_existing);
+  fs::copy_file(source("controllers/weights/gru_migration_penalty_8.h5"), dir + "/w.h5",
+                fs::copy_options::overwrite_existing);
   resumed = run(base + dir + "/cut4 --set gru.weights=" + dir + "/w.h5");
   ASSERT_EQ(resumed.rc, 0) << resumed.out;
-  EXPECT_NE(resumed.out.find("recomputing " + std::to_string(made) + " of the " + std::to_string(made) + " finished jobs"), std::string::npos)
+  EXPECT_NE(
+      resumed.out.find("recomputing " + std::to_string(made) + " of the " + std::to_string(made) + " finished jobs"),
+      std::string::npos)
       << resumed.out;
 }
 
@@ -128,9 +133,11 @@ TEST(ResultsSafety, InterruptedSweepLeavesNoLockAndRecordsAQuotedCommand) {
   for (const auto& [sig, rc] : {std::pair{"INT", 130}, std::pair{"TERM", 143}}) {
     const std::string out = dir + "/r" + sig;
     // python resets SIGINT, which a shell ignores in a background job, to its default before it runs the sweep
-    run("(" + within(600) + "/usr/bin/python3 -c 'import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); "
-        "os.execv(sys.argv[1], sys.argv[1:])' " + semlb_bin() + " sweep " + dir + "/m.yaml --no-timing --quiet --jobs 1 --results " +
-        out + " > " + out + ".log 2>&1; echo $? > " + out + ".rc) > /dev/null 2>&1 &");
+    run("(" + within(600) +
+        "/usr/bin/python3 -c 'import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); "
+        "os.execv(sys.argv[1], sys.argv[1:])' " +
+        semlb_bin() + " sweep " + dir + "/m.yaml --no-timing --quiet --jobs 1 --results " + out + " > " + out +
+        ".log 2>&1; echo $? > " + out + ".rc) > /dev/null 2>&1 &");
     ASSERT_TRUE(wait_for([&] { return fs::exists(out + "/sub/d.csv.partial"); }, 60)) << slurp(out + ".log");
     const std::string holder = slurp(out + "/sub/.semlb.lock");
     ASSERT_FALSE(holder.empty());
@@ -139,7 +146,8 @@ TEST(ResultsSafety, InterruptedSweepLeavesNoLockAndRecordsAQuotedCommand) {
     EXPECT_EQ(slurp(out + ".rc"), std::to_string(rc) + "\n") << sig << ": " << slurp(out + ".log");
     EXPECT_FALSE(fs::exists(out + "/sub/.semlb.lock")) << sig;
     write(dir + "/m x.yaml", surrogate_manifest(10));
-    const auto next = run(semlb_bin() + " sweep " + sh(dir + "/m x.yaml") + " --no-timing --quiet --results " + out + " --set events=10");
+    const auto next = run(semlb_bin() + " sweep " + sh(dir + "/m x.yaml") + " --no-timing --quiet --results " + out +
+                          " --set events=10");
     EXPECT_EQ(next.rc, 0) << next.out;
     EXPECT_EQ(next.out.find("stale lock"), std::string::npos) << next.out;
     const std::string copy = slurp(out + "/sub/d.manifest.yaml");
@@ -155,8 +163,9 @@ TEST(ResultsSafety, MpiRowsTakePathsWithShellCharacters) {
   const std::string odd = dir + "/a b $HOME 'q\" ;touch pwned; \xc3\xbc";
   fs::create_directories(odd);
   fs::copy_file(source("scenes/epidermis.yaml"), odd + "/sc ene $x;touch pwned2.yaml");
-  write(odd + "/m.yaml", "name: odd\nrunner: mpi_sim\noutput: odd.csv\naxes:\n  ranks: [1, 2]\nset:\n"
-                         "  scene: \"sc ene $x;touch pwned2.yaml\"\n  cells: 20\n  steps: 10\n  rebalance_every: 5\n");
+  write(odd + "/m.yaml",
+        "name: odd\nrunner: mpi_sim\noutput: odd.csv\naxes:\n  ranks: [1, 2]\nset:\n"
+        "  scene: \"sc ene $x;touch pwned2.yaml\"\n  cells: 20\n  steps: 10\n  rebalance_every: 5\n");
   const auto r = run("cd " + sh(dir) + " && " + within(300) + semlb_bin() + " sweep " + sh(odd + "/m.yaml") +
                      " --no-timing --quiet --results " + sh(odd + "/res $USER ;x"));
   ASSERT_EQ(r.rc, 0) << r.out;
@@ -169,14 +178,18 @@ TEST(ResultsSafety, MpiRowsTakePathsWithShellCharacters) {
 TEST(ResultsSafety, ManifestByBareNameResolvesItsSceneBesideIt) {
   const auto dir = fresh_dir("results_bare");
   fs::copy_file(source("scenes/mechanics.yaml"), dir + "/mech.yaml");
-  write(dir + "/s.yaml", "name: ss\nrunner: mpi_sim\noutput: ss/ss.csv\naxes:\n  ranks: [1]\nset:\n  scene: mech.yaml\n"
-                         "  cells: 20\n  steps: 10\n  policy: static\n  rebalance_every: 5\n");
-  auto r = run("cd " + sh(dir) + " && " + within(300) + semlb_bin() + " sweep s.yaml --no-timing --quiet --results res");
+  write(dir + "/s.yaml",
+        "name: ss\nrunner: mpi_sim\noutput: ss/ss.csv\naxes:\n  ranks: [1]\nset:\n  scene: mech.yaml\n"
+        "  cells: 20\n  steps: 10\n  policy: static\n  rebalance_every: 5\n");
+  auto r =
+      run("cd " + sh(dir) + " && " + within(300) + semlb_bin() + " sweep s.yaml --no-timing --quiet --results res");
   ASSERT_EQ(r.rc, 0) << r.out;
   EXPECT_EQ(data_lines(dir + "/res/ss/ss.csv"), 1u);
-  r = run("cd " + sh(source("experiments")) + " && " + within(300) + semlb_bin() +
-          " sweep strong_scaling.yaml --no-timing --quiet --set cells=20 --set ranks=1 --set steps=10 --set rebalance_every=5"
-          " --results " + sh(dir + "/exp"));
+  r = run(
+      "cd " + sh(source("experiments")) + " && " + within(300) + semlb_bin() +
+      " sweep strong_scaling.yaml --no-timing --quiet --set cells=20 --set ranks=1 --set steps=10 --set rebalance_every=5"
+      " --results " +
+      sh(dir + "/exp"));
   ASSERT_EQ(r.rc, 0) << r.out;
   EXPECT_EQ(data_lines(dir + "/exp/strong_scaling/strong_scaling.csv"), 1u);
 }

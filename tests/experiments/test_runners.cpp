@@ -36,19 +36,25 @@ TEST(Runners, EveryRunnerRefusesAnUnknownSettingAndNamesIt) {
       {"engine_timing", {{"steps", "10"}, {"scene.time.dt", "0.01"}, {"max_cells.serial", "100"}}, "this runner"},
       {"engine_accuracy", {{"hours", "1"}, {"cells", "20"}}, "this runner"},
       {"engine_observables", {{"sample_h", "1"}, {"backend", "serial"}}, "this runner"},
-      {"mpi_sim", {{"ranks", "2"}, {"segments", "2"}, {"reactive.tau", "0.1"}, {"scene.time.steps", "10"}}, "this runner"},
+      {"mpi_sim",
+       {{"ranks", "2"}, {"segments", "2"}, {"reactive.tau", "0.1"}, {"scene.time.steps", "10"}},
+       "this runner"},
       {"mpi_intervals", {{"ranks", "2"}, {"policy", "gru"}}, "this runner"},
       {"mpi_end_to_end", {{"launch", "1"}, {"bind_to", "core"}}, "this runner"},
-      {"surrogate", {{"policy", "static"}, {"ranks", "2"}, {"seed", "1"}, {"scenario.slices", "40"}, {"holt.alpha", "0.3"}},
+      {"surrogate",
+       {{"policy", "static"}, {"ranks", "2"}, {"seed", "1"}, {"scenario.slices", "40"}, {"holt.alpha", "0.3"}},
        "the surrogate runner"},
-      {"workload_eval", {{"policy", "static"}, {"coarsen", "2"}, {"time_model.sync_s", "0"}}, "the workload_eval runner"},
+      {"workload_eval",
+       {{"policy", "static"}, {"coarsen", "2"}, {"time_model.sync_s", "0"}},
+       "the workload_eval runner"},
       {"replay_score", {{"policy", "static"}, {"reactive.tau", "0.1"}}, "the replay_score runner"},
   };
   for (const auto& [runner, settings, words] : cases) {
     auto kv = settings;
     kv.push_back({"stpes", "5"});
     const std::string line = std::to_string(kv.size() + 2);
-    EXPECT_EQ(check_error(runner, job_of(kv)), "m.yaml:" + line + ": field 'stpes': unknown setting for " + words) << runner;
+    EXPECT_EQ(check_error(runner, job_of(kv)), "m.yaml:" + line + ": field 'stpes': unknown setting for " + words)
+        << runner;
   }
 }
 
@@ -66,10 +72,12 @@ TEST(Runners, TheJobsSceneNamesWhereSceneWasSet) {
     EXPECT_EQ(e.rfind("m.yaml:3: field 'scene': " + dir + "/bad.yaml:", 0), 0u) << runner << ": " << e;
     EXPECT_NE(e.find("field 'tiem': unknown setting"), std::string::npos) << runner << ": " << e;
   }
-  EXPECT_EQ(check_error("engine_timing", job_of({{"steps", "10"}})), "m.yaml: field 'scene': missing (engine runners need a scene file)");
+  EXPECT_EQ(check_error("engine_timing", job_of({{"steps", "10"}})),
+            "m.yaml: field 'scene': missing (engine runners need a scene file)");
   EXPECT_EQ(check_error("mpi_sim", job_of({{"ranks", "2"}})), "m.yaml: field 'scene': missing");
   // A mistyped override names its own line, not the scene's.
-  const std::string e = check_error("engine_timing", job_of({{"scene", test::source("scenes/mechanics.yaml")}, {"cells", "many"}}));
+  const std::string e =
+      check_error("engine_timing", job_of({{"scene", test::source("scenes/mechanics.yaml")}, {"cells", "many"}}));
   EXPECT_EQ(e.rfind("m.yaml:4: field 'cells': ", 0), 0u) << e;
 }
 

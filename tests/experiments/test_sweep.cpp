@@ -34,10 +34,10 @@ TEST(Sweep, KilledSweepResumesWithoutLosingOrDuplicatingRows) {
   EXPECT_TRUE(fs::exists(dir + "/ref/sub/resume.manifest.yaml"));
 
   const auto killed = run("SEMLB_SWEEP_KILL_AFTER=7 " + base + dir + "/cut");
-  EXPECT_EQ(killed.rc, 128 + 9) << killed.out;  // SIGKILL
+  EXPECT_EQ(killed.rc, 128 + 9) << killed.out;            // SIGKILL
   EXPECT_FALSE(fs::exists(dir + "/cut/sub/resume.csv"));  // no final file from an unfinished sweep
   auto partial = semlb::split(slurp(dir + "/cut/sub/resume.csv.partial"), '\n');
-  partial.pop_back();  // after the last newline
+  partial.pop_back();                          // after the last newline
   const size_t finished = partial.size() - 1;  // whole rows of finished jobs (--jobs 2: 7 or 8)
   ASSERT_GE(finished, 7u);
   ASSERT_LT(finished, 30u);
@@ -52,7 +52,8 @@ TEST(Sweep, KilledSweepResumesWithoutLosingOrDuplicatingRows) {
   write(dir + "/cut/sub/resume.csv.partial", text + "holt,4,90");  // and a torn last row
   const auto resumed = run(base + dir + "/cut");
   ASSERT_EQ(resumed.rc, 0) << resumed.out;
-  EXPECT_NE(resumed.out.find("(30 jobs, " + std::to_string(finished) + " resumed; 30 rows)"), std::string::npos) << resumed.out;
+  EXPECT_NE(resumed.out.find("(30 jobs, " + std::to_string(finished) + " resumed; 30 rows)"), std::string::npos)
+      << resumed.out;
   // .partial's rows start with their settings digest, which OUTPUT leaves out.
   const std::string row = original.substr(original.find(',') + 1), marked_row = marked.substr(marked.find(',') + 1);
   std::string want = reference;
@@ -95,7 +96,8 @@ TEST(Sweep, LauncherFlagsAreCheckedBeforeAnythingIsWritten) {
   // --dry-run prints the batch script for all 30 jobs (no Slurm needed) and writes nothing.
   r = run("env -u SLURM_CONF " + base + " --launcher slurm --dry-run --array-throttle 3 --time 1:00:00");
   EXPECT_EQ(r.rc, 0) << r.out;
-  for (const char* l : {"#SBATCH --ntasks=1\n", "#SBATCH --time=1:00:00\n", "%3\n", "30 of 30 jobs", " --task \"${jobs[$SLURM_ARRAY_TASK_ID]}\""})
+  for (const char* l : {"#SBATCH --ntasks=1\n", "#SBATCH --time=1:00:00\n", "%3\n", "30 of 30 jobs",
+                        " --task \"${jobs[$SLURM_ARRAY_TASK_ID]}\""})
     EXPECT_NE(r.out.find(l), std::string::npos) << l << "\n" << r.out;
   EXPECT_FALSE(fs::exists(dir + "/out"));
 }
@@ -105,22 +107,27 @@ TEST(Sweep, ShippedManifestsParse) {
     if (entry.path().extension() == ".yaml") {
       // each shipped manifest, shrunk to seconds
       const std::map<std::string, std::string> small = {
-          {"training_curve", " --set steps=1 --set batch=2 --set events=3 --set validation_seeds=8000 "
-                             "--set validation_ranks=2 --set validation_events=5"},
+          {"training_curve",
+           " --set steps=1 --set batch=2 --set events=3 --set validation_seeds=8000 "
+           "--set validation_ranks=2 --set validation_events=5"},
           {"single_device", " --set cells=20 --set steps=2 --set backend=serial,cpu-binned"},
           {"effects_cost", " --set cells=20 --set steps=2"},
-          {"accuracy_vs_time", " --set cells=10 --set hours=0.04 --set dt=0.02 --set cutoff=8.75 --set precision=double"},
+          {"accuracy_vs_time",
+           " --set cells=10 --set hours=0.04 --set dt=0.02 --set cutoff=8.75 --set precision=double"},
           {"accuracy_development", " --set cells=9 --set hours=2 --set sample_h=1"},
           {"strong_scaling", " --set cells=60 --set ranks=1 --set steps=20 --set rebalance_every=10"},
           {"load_balance", " --set cells=60 --set ranks=1 --set steps=20 --set rebalance_every=10 --set policy=static"},
           {"rank_balance", " --set cells=60 --set ranks=1 --set steps=20 --set rebalance_every=10 --set policy=static"},
-          {"end_to_end", " --set cells=20 --set ranks=1 --set steps=20 --set rebalance_every=10 --set policy=static "
-                         "--set launches=1"},
-          {"end_to_end_ranks", " --set cells=20 --set ranks=1 --set steps=20 --set rebalance_every=10 --set policy=static"},
+          {"end_to_end",
+           " --set cells=20 --set ranks=1 --set steps=20 --set rebalance_every=10 --set policy=static "
+           "--set launches=1"},
+          {"end_to_end_ranks",
+           " --set cells=20 --set ranks=1 --set steps=20 --set rebalance_every=10 --set policy=static"},
           {"replay_score", " --set traces=" + source("results/cpu") + " --set policy=static,foresight"}};
       const auto it = small.find(entry.path().stem().string());
       const std::string sets = it != small.end() ? it->second : " --set seed=9000 --set ranks=2 --set events=2";
-      const auto r = run(semlb_bin() + " sweep " + entry.path().string() + sets + " --quiet --results " + fresh_dir("shipped"));
+      const auto r =
+          run(semlb_bin() + " sweep " + entry.path().string() + sets + " --quiet --results " + fresh_dir("shipped"));
       EXPECT_EQ(r.rc, 0) << entry.path() << ": " << r.out;
     }
 }
@@ -130,9 +137,11 @@ TEST(Sweep, ShippedManifestsParse) {
 // --keep-runs keeps each run's files.
 TEST(Sweep, MpiSimTimesNestLaunchLoopComputationAndRunsAreKept) {
   const auto dir = fresh_dir("sweep_mpi_times");
-  const auto r = run(semlb_bin() + " sweep " + source("experiments/strong_scaling.yaml") +
-                     " --set cells=60 --set ranks=2 --set steps=40 --set rebalance_every=10 --set scene.output.log_every=10"
-                     " --quiet --keep-runs --results " + dir);
+  const auto r =
+      run(semlb_bin() + " sweep " + source("experiments/strong_scaling.yaml") +
+          " --set cells=60 --set ranks=2 --set steps=40 --set rebalance_every=10 --set scene.output.log_every=10"
+          " --quiet --keep-runs --results " +
+          dir);
   ASSERT_EQ(r.rc, 0) << r.out;
   std::vector<fs::path> kept;
   for (const auto& e : fs::directory_iterator(dir + "/strong_scaling/runs")) kept.push_back(e.path());
@@ -221,7 +230,8 @@ TEST(Sweep, ShippedManifestsPassTheirChecksAtEveryProfile) {
       }
   const auto dir = fresh_dir("check_refuses");
   write(dir + "/m.yaml", "name: w\nrunner: workload_eval\noutput: w.csv\naxes:\n  ranks: [2, 200]\n  workload: [" +
-                             source("results/cpu/workloads/small_dev_s1.h5") + "]\n  policy: [static]\n  seed: \"0\"\n");
+                             source("results/cpu/workloads/small_dev_s1.h5") +
+                             "]\n  policy: [static]\n  seed: \"0\"\n");
   const auto bad = run(semlb_bin() + " sweep " + dir + "/m.yaml --check --results " + dir + "/out");
   EXPECT_EQ(bad.rc, 2) << bad.out;
   EXPECT_NE(bad.out.find("200 ranks"), std::string::npos) << bad.out;

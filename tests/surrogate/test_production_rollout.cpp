@@ -17,7 +17,9 @@ using namespace semlb;
 
 TEST(ProductionBalancersRollout, BeatStaticOnEvaluationSeeds) {
   const std::vector<std::pair<const char*, PolicyParams>> policies = {
-      {"gromacs_dlb", {}}, {"hoomd_balance", {}}, {"all_tensor", {}},
+      {"gromacs_dlb", {}},
+      {"hoomd_balance", {}},
+      {"all_tensor", {}},
       {"lammps_shift", PolicyParams(std::map<std::string, std::string>{{"weight", "time"}})}};
   double static_sum = 0.0;
   std::vector<double> sums(policies.size(), 0.0);

@@ -51,7 +51,8 @@ TEST(Rollout, OracleIsTheFloorOfMaxOverMean) {
         const auto r = rollout(s, *p, events, true);
         Workload w(s);
         std::vector<double> out;
-        for (int t = 0; t < events; ++t, w.advance()) out.push_back(max_over_mean(rank_sums(w.work(), r.trace[t].obs.boundaries)));
+        for (int t = 0; t < events; ++t, w.advance())
+          out.push_back(max_over_mean(rank_sums(w.work(), r.trace[t].obs.boundaries)));
         double sum = 0;
         for (double v : out) sum += v;
         EXPECT_NEAR(sum / events, r.mean_max_over_mean, 1e-12) << name;  // the trace is the rollout's partition
@@ -62,7 +63,8 @@ TEST(Rollout, OracleIsTheFloorOfMaxOverMean) {
         const auto other = per_event(name);
         EXPECT_EQ(other[0], floor[0]) << name;
         for (int t = 1; t < events; ++t)
-          ASSERT_LE(floor[t], other[t] + 1e-12 * (1 + other[t])) << name << " seed " << seed << " P " << P << " event " << t;
+          ASSERT_LE(floor[t], other[t] + 1e-12 * (1 + other[t]))
+              << name << " seed " << seed << " P " << P << " event " << t;
       }
     }
   }

@@ -80,12 +80,14 @@ TEST(Scenario, OverridesReplaceOnlyTheirDrawAndDependentDrawsFollow) {
   ASSERT_EQ(b.hotspots.size(), a.hotspots.size());
   for (size_t h = 0; h < a.hotspots.size(); ++h) EXPECT_EQ(b.hotspots[h].velocity, a.hotspots[h].velocity);
   // slices sizes the texture; drift_speed scales the initial velocities (within the cap); min_width is kept.
-  const Scenario c = make_scenario(9004, 4, {{"slices", "73"}, {"min_width", "13"}, {"drift_speed", "0.0004"}, {"drift_max", "1"}});
+  const Scenario c =
+      make_scenario(9004, 4, {{"slices", "73"}, {"min_width", "13"}, {"drift_speed", "0.0004"}, {"drift_max", "1"}});
   EXPECT_EQ(c.slices, 73);
   EXPECT_EQ(c.texture.size(), 73u);
   EXPECT_EQ(c.min_width, 13);
   for (size_t h = 0; h < a.hotspots.size(); ++h)
-    if (std::fabs(a.hotspots[h].velocity) < a.drift_max) EXPECT_DOUBLE_EQ(c.hotspots[h].velocity, 2.0 * a.hotspots[h].velocity);
+    if (std::fabs(a.hotspots[h].velocity) < a.drift_max)
+      EXPECT_DOUBLE_EQ(c.hotspots[h].velocity, 2.0 * a.hotspots[h].velocity);
   EXPECT_EQ(Workload(c).work().size(), 73u);
   // Faster drift changes the workload more: growth and bursts off, L1 change of the work over 50 events.
   const ScenarioSet still = {{"burst_probability", "0"}, {"growth_rate", "0"}, {"growth_period", "100000"}};
@@ -113,15 +115,20 @@ TEST(Scenario, BadOverridesAreInputErrorsNamingTheKey) {
   EXPECT_NE(message({{"work_noise", "0.1x"}}).find("scenario.work_noise: '0.1x' is not a number"), std::string::npos);
   EXPECT_NE(message({{"time_jitter", "2"}}).find("scenario.time_jitter: "), std::string::npos);
   EXPECT_NE(message({{"slices", "2.5"}}).find("scenario.slices: "), std::string::npos);
-  EXPECT_NE(message({{"slices", "8"}, {"min_width", "3"}}).find("scenario.min_width: "), std::string::npos);  // 4 * 3 > 8
-  EXPECT_NE(message({{"growth_period", "10"}, {"growth_offset", "10"}}).find("scenario.growth_offset: "), std::string::npos);
+  EXPECT_NE(message({{"slices", "8"}, {"min_width", "3"}}).find("scenario.min_width: "),
+            std::string::npos);  // 4 * 3 > 8
+  EXPECT_NE(message({{"growth_period", "10"}, {"growth_offset", "10"}}).find("scenario.growth_offset: "),
+            std::string::npos);
   EXPECT_EQ(message({{"slices", "8"}, {"min_width", "2"}}), "no error");
 }
 
-// The moving front (never drawn, only by override): the work behind it grows as it advances, ahead of it nothing changes,
-// and without it the scenario is what the seed draws.
+// The moving front (never drawn, only by override): the work behind it grows as it advances, ahead of it nothing
+// changes, and without it the scenario is what the seed draws.
 TEST(Scenario, AProliferativeFrontRaisesTheWorkBehindItAsItMoves) {
-  const ScenarioSet still = {{"burst_probability", "0"}, {"growth_rate", "0"}, {"growth_period", "100000"}, {"drift_speed", "0"},
+  const ScenarioSet still = {{"burst_probability", "0"},
+                             {"growth_rate", "0"},
+                             {"growth_period", "100000"},
+                             {"drift_speed", "0"},
                              {"drift_walk", "0"}};
   ScenarioSet front = still;
   front.insert({{"front_amplitude", "2"}, {"front_speed", "0.01"}, {"front_start", "0.1"}});
@@ -131,8 +138,10 @@ TEST(Scenario, AProliferativeFrontRaisesTheWorkBehindItAsItMoves) {
   for (int t = 0; t < 40; ++t) wb.advance(), wf.advance();  // the front is at 0.1 + 0.4 = 0.5
   const int n = f.slices;
   auto at = [&](const Workload& w, double x) { return w.work()[static_cast<int>(x * n)]; };
-  EXPECT_NEAR(at(wf, 0.2) - at(wb, 0.2), 2.0 * f.texture[static_cast<int>(0.2 * n)] / n, 1e-12);  // 0.3 behind: the full ramp
-  EXPECT_NEAR(at(wf, 0.4) - at(wb, 0.4), 1.0 * f.texture[static_cast<int>(0.4 * n)] / n, 0.02 * 2.0 / n);  // 0.1 behind: half
+  EXPECT_NEAR(at(wf, 0.2) - at(wb, 0.2), 2.0 * f.texture[static_cast<int>(0.2 * n)] / n,
+              1e-12);  // 0.3 behind: the full ramp
+  EXPECT_NEAR(at(wf, 0.4) - at(wb, 0.4), 1.0 * f.texture[static_cast<int>(0.4 * n)] / n,
+              0.02 * 2.0 / n);          // 0.1 behind: half
   EXPECT_EQ(at(wf, 0.7), at(wb, 0.7));  // ahead of the front
   EXPECT_THROW(make_scenario(9010, 4, {{"front_amplitude", "-1"}}), semlb::InputError);
 }

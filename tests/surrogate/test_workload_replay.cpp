@@ -75,7 +75,9 @@ TEST(WorkloadReplay, MeasuredSecondsAreTheTruthWhenTheFileHasThem) {
     replay_workload(hand(), model, *policy, "static", "hand.h5");
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("hand.h5: field 'slice_seconds': --time-model truth=measured"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("hand.h5: field 'slice_seconds': --time-model truth=measured"),
+              std::string::npos)
+        << e.what();
   }
 }
 
@@ -138,7 +140,8 @@ TEST(WorkloadReplay, ListBuildsByChangedWorkWithAWeightAndAPerElementCost) {
     set_time_model(model.model, "list_by", "elements", "--time-model ");
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--time-model list_by: 'elements' is not one of stages, work"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("--time-model list_by: 'elements' is not one of stages, work"),
+              std::string::npos)
         << e.what();
   }
 }
@@ -162,7 +165,8 @@ TEST(WorkloadReplay, TruthAndOverheadKeysAreChecked) {
   EXPECT_EQ(m.truth, TimeModel::Truth::kMeasured);
   set_time_model(m, "rank_overhead_s", "0.002", "--time-model ");
   EXPECT_DOUBLE_EQ(m.rank_overhead_s, 0.002);
-  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{{"truth", "wall"}, {"rank_overhead_s", "-1"}, {"rank_overhead_s", "1x"}}) {
+  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
+           {"truth", "wall"}, {"rank_overhead_s", "-1"}, {"rank_overhead_s", "1x"}}) {
     try {
       set_time_model(m, k, v, "--time-model ");
       ADD_FAILURE() << k << "=" << v;
@@ -225,7 +229,9 @@ TEST(WorkloadReplay, RefusesRankCountsAndWindowsThatDoNotFit) {
     replay_workload(hand(), too_many, *policy, "static", "hand.h5");
     FAIL() << "5 ranks on 4 slices";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("hand.h5: --ranks 5: 5 ranks of at least 1 slices do not fit in 4 slices"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("hand.h5: --ranks 5: 5 ranks of at least 1 slices do not fit in 4 slices"),
+              std::string::npos)
+        << e.what();
   }
   auto late = exact(2);
   late.first_event = 2;

@@ -25,11 +25,11 @@ using testing::scene_from;
 
 // Positions after `steps` steps of mechanics + membrane on a random tissue, with the given backend.
 // `skin`: opencl-binned's neighbour list (0: the stencil over fresh bins every step).
-State run(const std::string& backend, const std::string& precision, State s, long steps, int threads = 0, double side = 40,
-          const std::string& skin = "1") {
+State run(const std::string& backend, const std::string& precision, State s, long steps, int threads = 0,
+          double side = 40, const std::string& skin = "1") {
   auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.precision=" + precision,
-                                                    "backend.cpu-binned.threads=" + std::to_string(threads), "effects.membrane={}",
-                                                    "backend.opencl-binned.skin=" + skin});
+                                                    "backend.cpu-binned.threads=" + std::to_string(threads),
+                                                    "effects.membrane={}", "backend.opencl-binned.skin=" + skin});
   scene.box_lo = {0, 0, 0};
   scene.box_hi = {side, side, side};
   Simulation sim(scene, std::move(s));
@@ -52,7 +52,8 @@ TEST(Backends, BinnedEqualsAllPairsBitForBit) {
 
 TEST(Backends, OpenClMatchesTheCppReference) {
   const auto backends = available_backends();
-  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end()) GTEST_SKIP() << "no OpenCL platform";
+  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end())
+    GTEST_SKIP() << "no OpenCL platform";
   const auto s = random_state(60, 9, 40.0, 12);
   const State ref = run("serial", "double", s, 5);
   // Stated tolerances (um after 5 steps): double 1e-9 (exp/sqrt ulps of the device library), float 1e-3.
@@ -64,13 +65,15 @@ TEST(Backends, OpenClMatchesTheCppReference) {
   EXPECT_EQ(run("opencl-allpairs", "float", s, 5).hash(), run("opencl-binned", "float", s, 5, 0, 40, "0").hash());
   // A grid of 22^3 = 10,648 bins: the bin scan spans 42 work-groups.
   const auto wide = random_state(3000, 4, 200.0, 15);
-  EXPECT_EQ(run("opencl-allpairs", "float", wide, 2, 0, 200).hash(), run("opencl-binned", "float", wide, 2, 0, 200).hash());
+  EXPECT_EQ(run("opencl-allpairs", "float", wide, 2, 0, 200).hash(),
+            run("opencl-binned", "float", wide, 2, 0, 200).hash());
   EXPECT_EQ(run("serial", "float", wide, 2, 0, 200).hash(), run("cpu-binned", "float", wide, 2, 0, 200).hash());
 }
 
 // Final positions of `steps` steps on a 200 um box (22^3 bins), or the state frozen
 // at the failing step when the run stops.
-State run_wide(const std::string& backend, const std::string& precision, State s, long steps, const std::string& skin = "1") {
+State run_wide(const std::string& backend, const std::string& precision, State s, long steps,
+               const std::string& skin = "1") {
   auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.precision=" + precision,
                                                     "backend.opencl-binned.skin=" + skin});
   scene.box_lo = {0, 0, 0};
@@ -89,7 +92,8 @@ State run_wide(const std::string& backend, const std::string& precision, State s
 // stencil, as in semlb_pair_force).
 TEST(Backends, BinnedMaskKeepsExactlyTheAllPairsPairs) {
   const auto backends = available_backends();
-  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end()) GTEST_SKIP() << "no OpenCL platform";
+  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end())
+    GTEST_SKIP() << "no OpenCL platform";
   auto crowded = random_state(1500, 4, 200.0, 21);
   const auto clump = random_state(30, 10, 6.0, 22);  // 300 elements within 6 um of (97, 97, 97)
   for (size_t i = 0; i < clump.position.size(); ++i) crowded.position[i] = clump.position[i] + 97.0;
@@ -103,19 +107,23 @@ TEST(Backends, BinnedMaskKeepsExactlyTheAllPairsPairs) {
     for (const auto& [name, s] : {std::pair{"crowded", crowded}, {"outside", outside}}) {
       const State all = run_wide("opencl-allpairs", precision, s, 2);
       for (const char* skin : {"0", "1"})  // the stencil over fresh bins, and the neighbour list
-        EXPECT_EQ(all.hash(), run_wide("opencl-binned", precision, s, 2, skin).hash()) << name << " " << precision << " skin " << skin;
+        EXPECT_EQ(all.hash(), run_wide("opencl-binned", precision, s, 2, skin).hash())
+            << name << " " << precision << " skin " << skin;
       EXPECT_NE(all.hash(), s.hash()) << name;  // the forces moved something
     }
   // All-pairs pairs a NaN element with every element, a binned backend with its stencil only: compare the
   // device's binned kernel with the C++ binned backend (same stencil); the NaN's partners take the clamped
   // force (a 1e4 um step), the others agree to 1e-9 um. (With a neighbour list a NaN element meets the elements
   // of the list's bins, of edge cutoff + skin: other partners, so the stencil is compared here.)
-  const State host = run_wide("cpu-binned", "double", nonfinite, 2), device = run_wide("opencl-binned", "double", nonfinite, 2, "0");
+  const State host = run_wide("cpu-binned", "double", nonfinite, 2),
+              device = run_wide("opencl-binned", "double", nonfinite, 2, "0");
   long partners = 0;
   for (size_t i = 0; i < host.position.size(); ++i) {
     const double a = host.position[i], b = device.position[i];
-    if (!std::isfinite(a) || !std::isfinite(b)) EXPECT_EQ(std::isnan(a) ? 0.0 : a, std::isnan(b) ? 0.0 : b) << i;
-    else EXPECT_NEAR(a, b, 1e-9) << i;
+    if (!std::isfinite(a) || !std::isfinite(b))
+      EXPECT_EQ(std::isnan(a) ? 0.0 : a, std::isnan(b) ? 0.0 : b) << i;
+    else
+      EXPECT_NEAR(a, b, 1e-9) << i;
     partners += std::abs(a - nonfinite.position[i]) > 100;
   }
   EXPECT_GT(partners, 3);
@@ -135,12 +143,13 @@ TEST(Backends, GhostBandsAndXRangeMatchTheHostState) {
       const double tol = std::string(precision) == "float" ? 1e-4 : 0.0;
       const auto [lo, hi] = b->x_extent();
       double want_lo = 1e300, want_hi = -1e300;
-      for (long e = 0; e < s.elements(); ++e) want_lo = std::min(want_lo, s.position[3 * e]), want_hi = std::max(want_hi, s.position[3 * e]);
+      for (long e = 0; e < s.elements(); ++e)
+        want_lo = std::min(want_lo, s.position[3 * e]), want_hi = std::max(want_hi, s.position[3 * e]);
       EXPECT_NEAR(lo, want_lo, tol) << name << " " << precision;
       EXPECT_NEAR(hi, want_hi, tol) << name << " " << precision;
       // both bands apart, one side only, neither, and overlapping bands (elements in both, listed in each)
-      for (auto [below, above] : {std::pair{30.0, 170.0}, std::pair{-1.0, double{INFINITY}}, std::pair{-double{INFINITY}, 100.0},
-                                  std::pair{120.0, 80.0}}) {
+      for (auto [below, above] : {std::pair{30.0, 170.0}, std::pair{-1.0, double{INFINITY}},
+                                  std::pair{-double{INFINITY}, 100.0}, std::pair{120.0, 80.0}}) {
         Ghosts down, up;
         b->bands(below, above, down, up);
         for (auto [band, is_below] : {std::pair{&down, true}, std::pair{&up, false}}) {
@@ -180,7 +189,8 @@ TEST(Backends, LocalPlusNonLocalEqualsTheFullPairForcesBitForBit) {
                                                   phys64::semlb_info_type(info)));
   auto scene = scene_from(testing::kMechanicsYaml, {});
   const Grid grid = Grid::cover({0, 0, 0}, {60, 60, 60}, scene.cutoff);
-  const PairForces table = testing::pair_forces("mechanics", testing::kTypedMorse, scene.cutoff);  // intra apart from inter
+  const PairForces table =
+      testing::pair_forces("mechanics", testing::kTypedMorse, scene.cutoff);  // intra apart from inter
   ASSERT_FALSE(table.params.empty());
   const long n = owned.elements();
   for (const auto& name : available_backends())
@@ -260,7 +270,7 @@ TEST(Backends, NonLocalForcesVisitOnlyTheBandsAndStayExact) {
     const double below = l.owned_lo > l.ghost_below ? l.owned_lo + reach : -INFINITY, above_x = l.owned_hi - reach;
     long want_items = 0, want_union = 0;  // elements in the lower band plus those in the upper one; in either
     for (long e = 0; e < owned.elements(); ++e) {
-      const bool d = owned.position[3 * e] < below, u = owned.position[3 * e] > above_x;
+      const bool d = owned.position[3 * e]<below, u = owned.position[3 * e]> above_x;
       want_items += d + u;
       want_union += d || u;
     }
@@ -307,7 +317,8 @@ TEST(Backends, NonLocalForcesVisitOnlyTheBandsAndStayExact) {
         const auto full = step(0, &items);
         EXPECT_EQ(step(1, &items), full) << name << " " << precision << " with the bands' selection";
         // OpenCL launches one item per band slot (an element in both bands idles in its second); C++ loops the union
-        EXPECT_EQ(items, name.rfind("opencl", 0) == 0 ? want_items : want_union) << name << " " << precision << ": the non-local kernel's items";
+        EXPECT_EQ(items, name.rfind("opencl", 0) == 0 ? want_items : want_union)
+            << name << " " << precision << ": the non-local kernel's items";
         EXPECT_EQ(step(2, &all_items), full) << name << " " << precision << " over every owned element";
         EXPECT_EQ(all_items, n) << name << " " << precision;
       }
@@ -348,9 +359,15 @@ TEST(Backends, UnlistedEffectsLaunchNothing) {
       {"serial", {{"forces_allpairs", 10}}},
       {"cpu-binned", {{"bin_sort", 10}, {"forces_binned", 10}}},
       {"opencl-allpairs", {{"forces_allpairs", 10}}},
-      // (the default skin 0: no neighbour list; with one: NeighbourList.LaunchesTheGatedBuildEveryStepAndTheCheckAfterTheFirst)
-      {"opencl-binned", {{"bin_count", 10}, {"scan_blocks", 10}, {"scan_sums", 10}, {"scan_add", 10}, {"scatter", 10},
-                         {"forces_binned", 10}}}};
+      // (the default skin 0: no neighbour list; with one:
+      // NeighbourList.LaunchesTheGatedBuildEveryStepAndTheCheckAfterTheFirst)
+      {"opencl-binned",
+       {{"bin_count", 10},
+        {"scan_blocks", 10},
+        {"scan_sums", 10},
+        {"scan_add", 10},
+        {"scatter", 10},
+        {"forces_binned", 10}}}};
   for (const auto& backend : available_backends())
     for (const bool extra : {false, true}) {  // mechanics only; then with membrane and noise listed too
       std::vector<std::string> sets = {"backend.name=" + backend};
@@ -416,7 +433,8 @@ TEST(Backends, CellEffectsLaunchTheCellStage) {
 // unknown kernel and a folder that cannot be made are refused naming the variable.
 TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
   const auto backends = available_backends();
-  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end()) GTEST_SKIP() << "no OpenCL platform";
+  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end())
+    GTEST_SKIP() << "no OpenCL platform";
   const std::string dir = test::fresh_dir("kernel_capture");
   const auto s = random_state(40, 9, 40.0, 21);
   setenv("SEMLB_OPENCL_CAPTURE", ("forces_binned:" + dir).c_str(), 1);
@@ -427,9 +445,22 @@ TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
   std::vector<std::string> lines;
   for (std::string line; std::getline(launch, line);) lines.push_back(line);
   const long n = static_cast<long>(s.position.size() / 3);
-  const std::vector<std::string> want = {"kernel forces_binned", "global " + std::to_string((n + 127) / 128 * 128), "group 128",
-      "arg 0 buffer", "arg 1 buffer", "arg 2 buffer", "arg 3 buffer", "arg 4 value 16", "arg 5 value 16", "arg 6 value 16",
-      "arg 7 buffer", "arg 8 value 4", "arg 9 buffer", "arg 10 buffer", "arg 11 value 4", "arg 12 value 4"};
+  const std::vector<std::string> want = {"kernel forces_binned",
+                                         "global " + std::to_string((n + 127) / 128 * 128),
+                                         "group 128",
+                                         "arg 0 buffer",
+                                         "arg 1 buffer",
+                                         "arg 2 buffer",
+                                         "arg 3 buffer",
+                                         "arg 4 value 16",
+                                         "arg 5 value 16",
+                                         "arg 6 value 16",
+                                         "arg 7 buffer",
+                                         "arg 8 value 4",
+                                         "arg 9 buffer",
+                                         "arg 10 buffer",
+                                         "arg 11 value 4",
+                                         "arg 12 value 4"};
   ASSERT_EQ(lines.size(), want.size());
   for (size_t i = 0; i < want.size(); ++i) EXPECT_EQ(lines[i].rfind(want[i], 0), 0u) << lines[i];
   const auto bytes = [&](const std::string& name) {
@@ -457,8 +488,9 @@ TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
   const std::vector<char> pos3((std::istreambuf_iterator<char>(third_pos)), std::istreambuf_iterator<char>());
   ASSERT_EQ(pos3.size(), bytes("arg0.bin").size());
   EXPECT_NE(pos3, bytes("arg0.bin"));
-  for (const std::string& bad : std::vector<std::string>{"forces_binned", "no_such_kernel:" + dir + "/x", "forces_binned:/proc/no/such",
-                                                         "forces_binned@0:" + dir, "forces_binned@2x:" + dir, "@2:" + dir}) {
+  for (const std::string& bad :
+       std::vector<std::string>{"forces_binned", "no_such_kernel:" + dir + "/x", "forces_binned:/proc/no/such",
+                                "forces_binned@0:" + dir, "forces_binned@2x:" + dir, "@2:" + dir}) {
     setenv("SEMLB_OPENCL_CAPTURE", bad.c_str(), 1);
     try {
       run("opencl-binned", "float", s, 1);
@@ -514,8 +546,9 @@ TEST(Backends, EachBackendReadsItsOwnSettingsAndRefusesTheOthers) {
   EXPECT_EQ(refused("cpu-binned", "platform", "Portable"), at + "platform': backend 'cpu-binned' does not use it");
   EXPECT_EQ(refused("opencl-allpairs", "skin", "0.5"), at + "skin': backend 'opencl-allpairs' does not use it");
   EXPECT_EQ(refused("opencl-binned", "threads", "1"), at + "threads': backend 'opencl-binned' does not use it");
-  EXPECT_NE(refused("cpu-binned", "cpu-binnd", "{threads: 1}").find("field 'backend.cpu-binnd': is not a backend (known: "),
-            std::string::npos);
+  EXPECT_NE(
+      refused("cpu-binned", "cpu-binnd", "{threads: 1}").find("field 'backend.cpu-binnd': is not a backend (known: "),
+      std::string::npos);
   // a backend's own map: applied when it runs, checked when another does; the flat keys override it
   EXPECT_EQ(settings("opencl-binned", "opencl-binned", "{skin: 0.5}").skin, 0.5);
   EXPECT_EQ(settings("cpu-binned", "opencl-binned", "{skin: 0.5}").skin, 0.0);
@@ -524,19 +557,25 @@ TEST(Backends, EachBackendReadsItsOwnSettingsAndRefusesTheOthers) {
             at + "opencl-binned.threads': backend 'opencl-binned' does not use it");
   EXPECT_EQ(refused("cpu-binned", "serial", "{threads: 1}"), at + "serial.threads': backend 'serial' does not use it");
   EXPECT_NE(refused("cpu-binned", "threads", "-1").find("threads"), std::string::npos);  // its range, as before
-  EXPECT_EQ(backend_settings(scene_from(yaml.substr(0, yaml.find("backend:")) + "backend:\n  name: opencl-binned\n"
-                                        "  skin: 1\n  opencl-binned: {skin: 0.5}\n").backend).skin, 1.0);
+  EXPECT_EQ(
+      backend_settings(scene_from(yaml.substr(0, yaml.find("backend:")) + "backend:\n  name: opencl-binned\n"
+                                                                          "  skin: 1\n  opencl-binned: {skin: 0.5}\n")
+                           .backend)
+          .skin,
+      1.0);
   // every shipped scene on every backend
   for (const char* file : {"scenes/epidermis.yaml", "scenes/mechanics.yaml", "scenes/epidermis_development.yaml"})
     for (const auto& name : Backends::names())
-      EXPECT_NO_THROW(backend_settings(load_scene(test::source(file), {"backend.name=" + name}).backend)) << file << " " << name;
+      EXPECT_NO_THROW(backend_settings(load_scene(test::source(file), {"backend.name=" + name}).backend))
+          << file << " " << name;
 }
 
 TEST(Backends, OpenClPlatformIsChosenByNameNotIndex) {
   if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL platform";
   EXPECT_THROW(cl::choose_device("no-such-platform", 0), InputError);
   EXPECT_THROW(cl::choose_device(cl::list_devices()[0].platform_name, 99), InputError);
-  EXPECT_EQ(cl::choose_device(cl::list_devices()[0].platform_name.substr(0, 4), 0).platform_name, cl::list_devices()[0].platform_name);
+  EXPECT_EQ(cl::choose_device(cl::list_devices()[0].platform_name.substr(0, 4), 0).platform_name,
+            cl::list_devices()[0].platform_name);
 }
 
 }  // namespace

@@ -40,7 +40,8 @@ TEST(Cells, JacobiFindsTheLongAxisOfHandMadeEllipsoids) {
   const double R[3][3] = {{s3, s2, s6}, {s3, -s2, s6}, {s3, 0, -2 * s6}};
   for (double v : axis_of(R, {9, 2, 1})) EXPECT_NEAR(v, s3, 1e-14);
   // the sign: the largest |component| is positive, whichever sign the rotation gives
-  const double S[3][3] = {{1 / std::sqrt(5.0), 2 / std::sqrt(5.0), 0}, {-2 / std::sqrt(5.0), 1 / std::sqrt(5.0), 0}, {0, 0, 1}};
+  const double S[3][3] = {
+      {1 / std::sqrt(5.0), 2 / std::sqrt(5.0), 0}, {-2 / std::sqrt(5.0), 1 / std::sqrt(5.0), 0}, {0, 0, 1}};
   const auto a = axis_of(S, {7, 3, 1});
   EXPECT_NEAR(a[0], -1 / std::sqrt(5.0), 1e-14);
   EXPECT_NEAR(a[1], 2 / std::sqrt(5.0), 1e-14);
@@ -78,14 +79,16 @@ TEST(Cells, CoincidentElementsSplitInHalvesBySlot) {
 // and the overdamped dynamics carry such differences along: double 1e-6, float 0.05.
 TEST(Cells, OpenClCellStageMatchesTheHostReference) {
   const auto backends = testing::available_backends();
-  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end()) GTEST_SKIP() << "no OpenCL platform";
+  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end())
+    GTEST_SKIP() << "no OpenCL platform";
   for (const char* precision : {"double", "float"}) {
     std::vector<State> out;
     for (const char* backend : {"serial", "opencl-binned"}) {
-      auto scene = load_scene(std::string(SEMLB_SOURCE_DIR) + "/scenes/epidermis.yaml",
-                              {"tissue.cells=12", "backend.name=" + std::string(backend), "backend.precision=" + std::string(precision),
-                               "effects.growth.cycle_time=1", "effects.differentiation.basal_height=2",
-                               "effects.differentiation.granular_after=1", "effects.noise.diffusion=0"});
+      auto scene = load_scene(
+          std::string(SEMLB_SOURCE_DIR) + "/scenes/epidermis.yaml",
+          {"tissue.cells=12", "backend.name=" + std::string(backend), "backend.precision=" + std::string(precision),
+           "effects.growth.cycle_time=1", "effects.differentiation.basal_height=2",
+           "effects.differentiation.granular_after=1", "effects.noise.diffusion=0"});
       Simulation sim(scene, make_tissue(scene));
       sim.advance(600);
       out.push_back(sim.sync().canonical());
@@ -101,7 +104,8 @@ TEST(Cells, OpenClCellStageMatchesTheHostReference) {
       for (size_t c = 0; c < f.size(); ++c) EXPECT_NEAR(f[c], dev.cell_fields.at(name)[c], 1e-9) << name;
     }
     double worst = 0;
-    for (size_t i = 0; i < ref.position.size(); ++i) worst = std::max(worst, std::abs(ref.position[i] - dev.position[i]));
+    for (size_t i = 0; i < ref.position.size(); ++i)
+      worst = std::max(worst, std::abs(ref.position[i] - dev.position[i]));
     std::printf("%s: %ld cells, max position difference %.3g um\n", precision, ref.cells(), worst);
     EXPECT_LT(worst, std::string(precision) == "double" ? 1e-6 : 0.05) << precision;
   }

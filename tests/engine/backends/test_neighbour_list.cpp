@@ -89,7 +89,8 @@ Walk walk(const std::string& backend, const std::string& precision, double skin,
     for (long i = 0; i < s.elements(); ++i)
       for (long j = i + 1; j < s.elements(); ++j) {
         double r2 = 0;
-        for (int a = 0; a < 3; ++a) r2 += (s.position[3 * i + a] - s.position[3 * j + a]) * (s.position[3 * i + a] - s.position[3 * j + a]);
+        for (int a = 0; a < 3; ++a)
+          r2 += (s.position[3 * i + a] - s.position[3 * j + a]) * (s.position[3 * i + a] - s.position[3 * j + a]);
         within += r2 < kCutoff * kCutoff;
       }
     w.within.push_back(within);
@@ -132,8 +133,10 @@ TEST(NeighbourList, AWrongTriggerMissesPairsAndIsCaught) {
   const std::string saved = before ? before : "";
   setenv("SEMLB_OPENCL_BUILD_OPTIONS", (saved + " -DSEMLB_NL_TRIGGER=3.0").c_str(), 1);
   const Walk list = walk("opencl-binned", "double", kSkin, 80, kSkin / 20);
-  if (before) setenv("SEMLB_OPENCL_BUILD_OPTIONS", saved.c_str(), 1);
-  else unsetenv("SEMLB_OPENCL_BUILD_OPTIONS");
+  if (before)
+    setenv("SEMLB_OPENCL_BUILD_OPTIONS", saved.c_str(), 1);
+  else
+    unsetenv("SEMLB_OPENCL_BUILD_OPTIONS");
   const Walk all = walk("opencl-allpairs", "double", 0, 80, kSkin / 20);
   long wrong = 0;
   for (size_t t = 0; t < all.forces.size(); ++t) wrong += list.forces[t] != all.forces[t];
@@ -163,8 +166,9 @@ effects:
     long cells0 = 0, builds = 0;
     for (const std::string v : {"opencl-allpairs", "opencl-binned", "opencl-binned skin"}) {
       const bool list = v == "opencl-binned skin";
-      auto scene = scene_from(yaml, {"backend.name=" + v.substr(0, v.find(' ')), std::string("backend.precision=") + precision,
-                                     "backend.opencl-binned.skin=" + std::string(list ? "0.5" : "0")});
+      auto scene =
+          scene_from(yaml, {"backend.name=" + v.substr(0, v.find(' ')), std::string("backend.precision=") + precision,
+                            "backend.opencl-binned.skin=" + std::string(list ? "0.5" : "0")});
       Simulation sim(scene, make_tissue(scene));
       cells0 = sim.host_state().cells();
       sim.advance(60);
@@ -187,7 +191,7 @@ TEST(NeighbourList, SkinIsANonNegativeLength) {
   EXPECT_EQ(skin({"backend.name=opencl-binned", "backend.skin=0.5"}), 0.5);
   EXPECT_EQ(skin({"backend.name=opencl-binned", "backend.opencl-binned.skin=0.5"}), 0.5);
   EXPECT_EQ(skin({"backend.opencl-binned.skin=0.5"}), 0.0);  // cpu-binned: opencl-binned's map only checked
-  EXPECT_EQ(skin({"backend.name=opencl-binned"}), 0.0);  // no list unless a scene asks for one
+  EXPECT_EQ(skin({"backend.name=opencl-binned"}), 0.0);      // no list unless a scene asks for one
 }
 
 // What a step launches with the list: its check from the second step on (the first builds unasked), the gated build
@@ -196,13 +200,14 @@ TEST(NeighbourList, SkinIsANonNegativeLength) {
 TEST(NeighbourList, LaunchesTheGatedBuildEveryStepAndTheCheckAfterTheFirst) {
   if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
   using Launches = std::map<std::string, long>;
-  const Launches list = {{"nl_check", 9}, {"bin_count", 10}, {"scan_blocks", 10}, {"scan_sums", 10}, {"scan_add", 10},
-                         {"scatter", 10}, {"nl_build", 10}, {"nl_done", 10}, {"nl_forces", 10}, {"nl_overflow", 10},
-                         {"zero_forces", 10}, {"integrate", 10}};
-  const Launches stencil = {{"bin_count", 10}, {"scan_blocks", 10}, {"scan_sums", 10}, {"scan_add", 10}, {"scatter", 10},
-                            {"forces_binned", 10}, {"zero_forces", 10}, {"integrate", 10}};
+  const Launches list = {{"nl_check", 9},   {"bin_count", 10},   {"scan_blocks", 10}, {"scan_sums", 10},
+                         {"scan_add", 10},  {"scatter", 10},     {"nl_build", 10},    {"nl_done", 10},
+                         {"nl_forces", 10}, {"nl_overflow", 10}, {"zero_forces", 10}, {"integrate", 10}};
+  const Launches stencil = {{"bin_count", 10}, {"scan_blocks", 10},   {"scan_sums", 10},   {"scan_add", 10},
+                            {"scatter", 10},   {"forces_binned", 10}, {"zero_forces", 10}, {"integrate", 10}};
   for (const auto& [skin, want] : {std::pair{"1", list}, {"0", stencil}}) {
-    auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=opencl-binned", std::string("backend.skin=") + skin});
+    auto scene =
+        scene_from(testing::kMechanicsYaml, {"backend.name=opencl-binned", std::string("backend.skin=") + skin});
     scene.box_lo = {0, 0, 0};
     scene.box_hi = {40, 40, 40};
     Simulation sim(scene, testing::random_state(10, 5, 40.0, 1));

@@ -27,8 +27,9 @@ using test::source;
 using test::within;
 
 // 400 cells over ~180 um in x: room for 4 slabs of min_width (3 cutoffs); one thread per rank.
-const std::string kArgs = " --scene " + source("scenes/epidermis.yaml") +
-                          " --quiet --set tissue.cells=400 --set backend.cpu-binned.threads=1 --set decomposition.rebalance_every=50";
+const std::string kArgs =
+    " --scene " + source("scenes/epidermis.yaml") +
+    " --quiet --set tissue.cells=400 --set backend.cpu-binned.threads=1 --set decomposition.rebalance_every=50";
 
 using testing::mpirun_sim;  // every run bounded: a hang fails the test
 
@@ -96,8 +97,13 @@ TEST(Decomposition, WorkloadIsTheSameOnOneDeviceAndOnOneTwoAndFourRanks) {
   const std::string reference = workload_of(dir + "/single/workload.h5");
   EXPECT_EQ(split(reference, '\n').size(), 4u) << "3 events and the final newline";
   for (const std::string variant : {"np1", "np2", "np4", "np2_reactive_uniform"}) {
-    const std::string extra = variant == "np2_reactive_uniform" ? " --set decomposition.policy=reactive --set decomposition.initial=uniform" : "";
-    r = run(mpirun_sim(variant == "np4" ? 4 : variant == "np1" ? 1 : 2) + args + extra + " --out " + dir + "/" + variant);
+    const std::string extra = variant == "np2_reactive_uniform"
+                                  ? " --set decomposition.policy=reactive --set decomposition.initial=uniform"
+                                  : "";
+    r = run(mpirun_sim(variant == "np4"   ? 4
+                       : variant == "np1" ? 1
+                                          : 2) +
+            args + extra + " --out " + dir + "/" + variant);
     ASSERT_EQ(r.rc, 0) << r.out;
     EXPECT_EQ(workload_of(dir + "/" + variant + "/workload.h5"), reference) << variant;
   }
@@ -133,7 +139,8 @@ TEST(Decomposition, OpenClRanksMatchOneOpenClDevice) {
     r = run(mpirun_sim(variant.rfind("np4", 0) == 0 ? 4 : 2) + args + extra + " --out " + dir + "/" + variant);
     ASSERT_EQ(r.rc, 0) << r.out;
     EXPECT_EQ(read_state(dir + "/" + variant + "/final.h5").hash(), reference) << variant;
-    EXPECT_EQ(workload_of(dir + "/" + variant + "/workload.h5"), workload) << variant << ": W_s on the device, counts summed over ranks";
+    EXPECT_EQ(workload_of(dir + "/" + variant + "/workload.h5"), workload)
+        << variant << ": W_s on the device, counts summed over ranks";
   }
 }
 
@@ -148,11 +155,13 @@ std::vector<std::map<std::string, std::string>> rank_time_rows(const std::string
 TEST(Decomposition, DeviceTimersAndTurnsKeepTheStateAndFeedTheDecisions) {
   if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL platform";
   const auto dir = fresh_dir("decomposition_device_timing");
-  const std::string args = kArgs + " --steps 100 --set backend.name=opencl-binned --set decomposition.rebalance_every=20";
+  const std::string args =
+      kArgs + " --steps 100 --set backend.name=opencl-binned --set decomposition.rebalance_every=20";
   auto r = run(semlb_bin() + " sim" + args + " --out " + dir + "/single");
   ASSERT_EQ(r.rc, 0) << r.out;
   const uint64_t reference = read_state(dir + "/single/final.h5").hash();
-  const std::string timed = " --set decomposition.timing=device --set decomposition.device_sharing=turns --set output.workload=true";
+  const std::string timed =
+      " --set decomposition.timing=device --set decomposition.device_sharing=turns --set output.workload=true";
   for (int ranks : {2, 4}) {
     for (const std::string skin : {"0", "0.5"}) {  // the stencil and the neighbour list (timed over regions alike)
       const std::string out = dir + "/np" + std::to_string(ranks) + "_skin" + skin;
@@ -214,7 +223,8 @@ TEST(Decomposition, DeviceTimersAndTurnsKeepTheStateAndFeedTheDecisions) {
 TEST(Decomposition, CellStageChangesMarkOnlyTheStagesThatRan) {
   if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL platform";
   const auto dir = fresh_dir("decomposition_stage_bits");
-  const auto r = run(semlb_bin() + " sim" + kArgs + " --steps 45 --set backend.name=opencl-binned --set decomposition.rebalance_every=15" +
+  const auto r = run(semlb_bin() + " sim" + kArgs +
+                     " --steps 45 --set backend.name=opencl-binned --set decomposition.rebalance_every=15" +
                      " --set decomposition.timing=device --set output.workload=true --out " + dir + "/out");
   ASSERT_EQ(r.rc, 0) << r.out;
   const auto w = read_workload(dir + "/out/workload.h5");
@@ -238,7 +248,8 @@ TEST(Decomposition, ARankWithoutElementsHasNearZeroDeviceTime) {
                      " --quiet --set tissue.cells=60 --steps 40 --set backend.name=opencl-binned"
                      " --set domain.lo=[-20,-20,-20] --set domain.hi=[400,60,60] --set decomposition.initial=uniform"
                      " --set decomposition.policy=static --set decomposition.rebalance_every=20"
-                     " --set decomposition.timing=device --set decomposition.device_sharing=turns --out " + dir + "/out");
+                     " --set decomposition.timing=device --set decomposition.device_sharing=turns --out " +
+                     dir + "/out");
   ASSERT_EQ(r.rc, 0) << r.out;
   for (const auto& row : rank_time_rows(dir + "/out")) {
     if (row.at("rank") != "0") continue;
@@ -263,10 +274,13 @@ TEST(Decomposition, DeviceTimersAndTurnsAreRefusedWhereTheyCannotWork) {
     EXPECT_NE(r.out.find(message), std::string::npos) << r.out;
     EXPECT_FALSE(std::filesystem::exists(dir + "/out")) << set;
   }
-  const auto r = run(semlb_bin() + " sim" + kArgs + " --steps 1 --set backend.name=opencl-binned --set decomposition.device_sharing=turns"
-                     " --set decomposition.overlap=true --out " + dir + "/out");
+  const auto r = run(semlb_bin() + " sim" + kArgs +
+                     " --steps 1 --set backend.name=opencl-binned --set decomposition.device_sharing=turns"
+                     " --set decomposition.overlap=true --out " +
+                     dir + "/out");
   EXPECT_EQ(r.rc, 2) << r.out;
-  EXPECT_NE(r.out.find("decomposition.overlap: true cannot be combined with device_sharing: turns"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("decomposition.overlap: true cannot be combined with device_sharing: turns"), std::string::npos)
+      << r.out;
 }
 
 TEST(Decomposition, OverlapIsTrueOrFalse) {
@@ -311,8 +325,8 @@ TEST(Decomposition, ARestartContinuesTheBalancerLineForLine) {
     const std::string args = kArgs + " --set decomposition.timing=modelled --set decomposition.policy=" + policy;
     auto r = run(mpirun_sim(3) + args + " --steps 300 --out " + dir + "/straight");
     ASSERT_EQ(r.rc, 0) << r.out;
-    r = run(mpirun_sim(3) + args + " --steps " + std::to_string(split_at) + " --set output.checkpoint_every=" +
-            std::to_string(split_at) + " --out " + dir + "/split");
+    r = run(mpirun_sim(3) + args + " --steps " + std::to_string(split_at) +
+            " --set output.checkpoint_every=" + std::to_string(split_at) + " --out " + dir + "/split");
     ASSERT_EQ(r.rc, 0) << r.out;
     r = run(mpirun_sim(3) + args + " --steps 300 --restart " + dir + "/split/checkpoint.h5 --out " + dir + "/split");
     ASSERT_EQ(r.rc, 0) << r.out;
@@ -328,11 +342,13 @@ TEST(Decomposition, ARestartContinuesTheBalancerLineForLine) {
       std::vector<std::string> out;
       for (const auto& line : split(read_file(file), '\n')) {
         auto f = split(line, ',');
-        if (f.size() == rank_times::kColumns.size()) out.push_back(f[0] + "," + f[1] + "," + f[2] + "," + f[5] + "," + f[6]);
+        if (f.size() == rank_times::kColumns.size())
+          out.push_back(f[0] + "," + f[1] + "," + f[2] + "," + f[5] + "," + f[6]);
       }
       return out;
     };
-    EXPECT_EQ(modelled_columns(dir + "/split/rank_times.csv"), modelled_columns(dir + "/straight/rank_times.csv")) << policy;
+    EXPECT_EQ(modelled_columns(dir + "/split/rank_times.csv"), modelled_columns(dir + "/straight/rank_times.csv"))
+        << policy;
     // The same run twice gives the same trace: modelled times do not depend on the launch.
     r = run(mpirun_sim(3) + args + " --steps 300 --out " + dir + "/again");
     ASSERT_EQ(r.rc, 0) << r.out;
@@ -360,8 +376,10 @@ TEST(Decomposition, ReplayingAnEngineTraceReproducesTheLearnedControllersDecisio
   auto r = run(mpirun_sim(3) + kArgs + " --steps 300 --set decomposition.policy=learned_repartition" + params +
                " --out " + dir);
   ASSERT_EQ(r.rc, 0) << r.out;
-  r = run(semlb_bin() + " replay --policy learned_repartition --param learned_repartition.gain=0.5 "
-          "--param learned_repartition.move_cost=0.01 --trace " + dir + "/trace.jsonl");
+  r = run(semlb_bin() +
+          " replay --policy learned_repartition --param learned_repartition.gain=0.5 "
+          "--param learned_repartition.move_cost=0.01 --trace " +
+          dir + "/trace.jsonl");
   ASSERT_EQ(r.rc, 0) << r.out;
   const auto trace = split(read_file(dir + "/trace.jsonl"), '\n'), replayed = split(r.out, '\n');
   ASSERT_GE(trace.size(), 5u);
@@ -385,8 +403,10 @@ TEST(Decomposition, AFailingRankStopsEveryRankNamingRankStepAndCause) {
 
 TEST(Decomposition, MechanicsOnlyScenesRebalanceToo) {
   const auto dir = fresh_dir("decomposition_mechanics");
-  const auto r = run(mpirun_sim(2) + " --scene " + source("scenes/mechanics.yaml") +
-                     " --quiet --set tissue.cells=400 --set backend.cpu-binned.threads=1 --steps 100 --set decomposition.rebalance_every=50 --out " + dir);
+  const auto r = run(
+      mpirun_sim(2) + " --scene " + source("scenes/mechanics.yaml") +
+      " --quiet --set tissue.cells=400 --set backend.cpu-binned.threads=1 --steps 100 --set decomposition.rebalance_every=50 --out " +
+      dir);
   ASSERT_EQ(r.rc, 0) << r.out;
   EXPECT_EQ(split(read_file(dir + "/rank_times.csv"), '\n').size(), 2 + 2u * 2) << read_file(dir + "/rank_times.csv");
   EXPECT_EQ(split(read_file(dir + "/trace.jsonl"), '\n').size(), 3u);
@@ -394,7 +414,8 @@ TEST(Decomposition, MechanicsOnlyScenesRebalanceToo) {
 
 TEST(Decomposition, TooManyRanksForTheDomainIsBadInput) {
   const auto dir = fresh_dir("decomposition_narrow");
-  const auto r = run(mpirun_sim(2) + " --scene " + source("scenes/epidermis.yaml") + " --quiet --set tissue.cells=4 --out " + dir + "/out");
+  const auto r = run(mpirun_sim(2) + " --scene " + source("scenes/epidermis.yaml") +
+                     " --quiet --set tissue.cells=4 --out " + dir + "/out");
   EXPECT_EQ(r.rc, 2) << r.out;
   EXPECT_NE(r.out.find("field 'decomposition.min_width'"), std::string::npos) << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
@@ -436,7 +457,8 @@ TEST(Decomposition, ACellReachingPastTheNextSlabStopsEveryRank) {
   s.cell_id = {0, 1};
   s.cell_type = {0, 0};
   s.cell_count = {7, 2};
-  for (double x : {5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 55.0, 62.0, 64.0}) s.position.insert(s.position.end(), {x, 5.0, 5.0});
+  for (double x : {5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 55.0, 62.0, 64.0})
+    s.position.insert(s.position.end(), {x, 5.0, 5.0});
   s.reindex();
   write_state(dir + "/long.h5", s, {});
   test::write(dir + "/scene.yaml", R"(name: long
@@ -460,15 +482,19 @@ effects: {mechanics: {}}
 TEST(Decomposition, APolicyTheEngineCannotFeedIsBadInputOnEveryRank) {
   const auto dir = fresh_dir("decomposition_oracle");
   for (const std::string policy : {"oracle", "lazy_oracle"}) {  // the policies that declare PolicyNeeds::true_work
-    const auto r = run(mpirun_sim(2, "", 60) + kArgs + " --steps 100 --set decomposition.policy=" + policy + " --out " + dir + "/out");
+    const auto r = run(mpirun_sim(2, "", 60) + kArgs + " --steps 100 --set decomposition.policy=" + policy + " --out " +
+                       dir + "/out");
     EXPECT_EQ(r.rc, 2) << r.out;
-    EXPECT_NE(r.out.find("semlb sim: --set decomposition.policy: '" + policy + "' needs the true work"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("semlb sim: --set decomposition.policy: '" + policy + "' needs the true work"),
+              std::string::npos)
+        << r.out;
     EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
   }
 }
 
-// An error on one rank alone, in the middle of a step with its ghost bands in flight (SEMLB_FAULT_INJECT=RANK:STEP), ends the whole job
-// within seconds with one line naming the rank and the cause; the last complete checkpoint stays readable.
+// An error on one rank alone, in the middle of a step with its ghost bands in flight (SEMLB_FAULT_INJECT=RANK:STEP),
+// ends the whole job within seconds with one line naming the rank and the cause; the last complete checkpoint stays
+// readable.
 TEST(Decomposition, AnErrorOnOneRankAloneEndsTheJobNamingTheRank) {
   for (int rank : {0, 2}) {
     const auto dir = fresh_dir("decomposition_fault_" + std::to_string(rank));

@@ -22,7 +22,8 @@ using test::within;
 std::string args(long cells, long steps) {
   return " --scene " + source("scenes/epidermis.yaml") + " --quiet --set tissue.cells=" + std::to_string(cells) +
          " --set backend.name=opencl-binned --set decomposition.rebalance_every=25 --set output.snapshot_every=0"
-         " --set output.checkpoint_every=0 --set output.log_every=25 --steps " + std::to_string(steps);
+         " --set output.checkpoint_every=0 --set output.log_every=25 --steps " +
+         std::to_string(steps);
 }
 
 struct Totals {
@@ -48,8 +49,6 @@ Totals read_run(const std::string& path) {
   return t;
 }
 
-
-
 // The sheet is square: 9x the cells is 9x the elements but 3x its y extent, so 3x the band across the slab
 // boundary. The bytes per step must follow the band (well below the element ratio).
 TEST(Traffic, DecomposedBytesPerStepFollowTheBandNotTheElements) {
@@ -68,8 +67,8 @@ TEST(Traffic, DecomposedBytesPerStepFollowTheBandNotTheElements) {
   const double byte_ratio = runs[1800].bytes / runs[200].bytes;
   EXPECT_GT(element_ratio, 8.0);
   EXPECT_GT(runs[200].bytes, 0.0) << "the bands cross";
-  EXPECT_LT(byte_ratio, 0.5 * element_ratio) << runs[200].bytes << " -> " << runs[1800].bytes << " bytes, elements x"
-                                             << element_ratio;
+  EXPECT_LT(byte_ratio, 0.5 * element_ratio)
+      << runs[200].bytes << " -> " << runs[1800].bytes << " bytes, elements x" << element_ratio;
 }
 
 // One device, no files due: the state stays on the device; per step only flags, counts and the grid's box cross.

@@ -48,11 +48,13 @@ TEST(DivisionRules, EveryRuleOnEveryBackendSplitsAsItsEvaluatorSays) {
       b->download(host);
       const std::string at = name + " on " + backend + " " + precision;
       EXPECT_EQ(host.hash(), want.hash()) << at;
-      EXPECT_EQ(host.cells(), before.cells() + std::count(before.cell_type.begin(), before.cell_type.end(), kBasal)) << at;
+      EXPECT_EQ(host.cells(), before.cells() + std::count(before.cell_type.begin(), before.cell_type.end(), kBasal))
+          << at;
       for (long c = 0; c < before.cells(); ++c) {  // every daughter beyond every stayer along the rule's axis
         if (before.cell_type[c] != kBasal) continue;
         const auto axis = axis_of(name, before, c, rules.division_p);
-        const long d = std::find(host.cell_id.begin(), host.cell_id.end(), daughter_id(before.cell_id[c], 0)) - host.cell_id.begin();
+        const long d = std::find(host.cell_id.begin(), host.cell_id.end(), daughter_id(before.cell_id[c], 0)) -
+                       host.cell_id.begin();
         ASSERT_LT(d, host.cells()) << at << ": cell " << c << " has no daughter";
         const auto ctr = centroid(before, c);
         double stay = -INFINITY, leave = INFINITY;
@@ -122,13 +124,14 @@ TEST(DivisionRules, LongAxisFollowsTheShapeOrientedItsAxis) {
 }
 
 TEST(DivisionRules, DivisionSettingsAreChecked) {
-  testing::expect_errors_name_fields({{"effects.division={rule: nope}", "effects.division.rule"},
-                                      {"effects.division={at_elements: 1}", "effects.division.at_elements"},
-                                      {"effects.division={types: [stem]}", "effects.division.types"},
-                                      {"effects.division={rule: oriented, axis: [0, 0, 0]}", "effects.division.axis"},
-                                      {"effects.division={rule: oriented, axis: [1, 2]}", "effects.division.axis"},
-                                      {"effects.division={rule: oriented, axis: [a, 0, 1]}", "effects.division.axis"},
-                                      {"effects.division={rule: long_axis, axis: [0, 0, 1]}", "effects.division.axis"}});
+  testing::expect_errors_name_fields(
+      {{"effects.division={rule: nope}", "effects.division.rule"},
+       {"effects.division={at_elements: 1}", "effects.division.at_elements"},
+       {"effects.division={types: [stem]}", "effects.division.types"},
+       {"effects.division={rule: oriented, axis: [0, 0, 0]}", "effects.division.axis"},
+       {"effects.division={rule: oriented, axis: [1, 2]}", "effects.division.axis"},
+       {"effects.division={rule: oriented, axis: [a, 0, 1]}", "effects.division.axis"},
+       {"effects.division={rule: long_axis, axis: [0, 0, 1]}", "effects.division.axis"}});
 }
 
 }  // namespace

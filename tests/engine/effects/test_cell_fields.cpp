@@ -35,10 +35,11 @@ TEST(CellFields, TheRegistryHoldsTheShippedFieldsAndRefusesBadNames) {
   EXPECT_EQ(CellFields::find("division.depth")->effect, "division");
   EXPECT_EQ(CellFields::find("no.such"), nullptr);
   EXPECT_NE(CellFields::known().find("division.depth, growth.clock"), std::string::npos) << CellFields::known();
-  EXPECT_THROW(Registrar<CellFieldInfo>("clock", {"growth", 0.0, ""}), std::logic_error);           // no "EFFECT." prefix
-  EXPECT_THROW(Registrar<CellFieldInfo>("growth.", {"growth", 0.0, ""}), std::logic_error);         // no name after it
-  EXPECT_THROW(Registrar<CellFieldInfo>("division.clock", {"growth", 0.0, ""}), std::logic_error);  // another effect's prefix
-  EXPECT_THROW(Registrar<CellFieldInfo>("growth.clock", {"growth", 0.0, ""}), std::logic_error);    // registered twice
+  EXPECT_THROW(Registrar<CellFieldInfo>("clock", {"growth", 0.0, ""}), std::logic_error);    // no "EFFECT." prefix
+  EXPECT_THROW(Registrar<CellFieldInfo>("growth.", {"growth", 0.0, ""}), std::logic_error);  // no name after it
+  EXPECT_THROW(Registrar<CellFieldInfo>("division.clock", {"growth", 0.0, ""}),
+               std::logic_error);  // another effect's prefix
+  EXPECT_THROW(Registrar<CellFieldInfo>("growth.clock", {"growth", 0.0, ""}), std::logic_error);  // registered twice
 }
 
 TEST(CellFields, ARunDeclaresTheFieldsOfItsListedEffectsAndKeepsRestoredOnes) {
@@ -62,11 +63,11 @@ TEST(CellFields, AFieldNoCoreFileNamesIsCarriedByEveryBackend) {
   const auto dir = test::fresh_dir("cell_fields");
   for (const auto& [backend, precision] : testing::backend_precisions()) {
     const std::string where = backend + " " + precision;
-    auto scene = load_scene(test::source("scenes/epidermis.yaml"),
-                            {"tissue.cells=12", "backend.name=" + backend, "backend.precision=" + precision,
-                             "effects.growth.cycle_time=1", "effects.differentiation.basal_height=2",
-                             "effects.differentiation.granular_after=1", "effects.noise.diffusion=0",
-                             "effects.desquamation={height: 6}"});
+    auto scene = load_scene(
+        test::source("scenes/epidermis.yaml"),
+        {"tissue.cells=12", "backend.name=" + backend, "backend.precision=" + precision, "effects.growth.cycle_time=1",
+         "effects.differentiation.basal_height=2", "effects.differentiation.granular_after=1",
+         "effects.noise.diffusion=0", "effects.desquamation={height: 6}"});
     const State tissue = make_tissue(scene);
     State tagged = tissue;
     for (uint64_t id : tagged.cell_id) tagged.cell_fields["clonal.mark"].push_back(mark_of(id));
@@ -76,7 +77,8 @@ TEST(CellFields, AFieldNoCoreFileNamesIsCarriedByEveryBackend) {
     State out = sim.sync();
     State want = plain.sync();
     EXPECT_EQ(out.hash(), want.hash()) << where;
-    EXPECT_LT(out.cells(), 12 + std::count_if(out.cell_id.begin(), out.cell_id.end(), [](uint64_t id) { return id >> kRootIdBits; }))
+    EXPECT_LT(out.cells(),
+              12 + std::count_if(out.cell_id.begin(), out.cell_id.end(), [](uint64_t id) { return id >> kRootIdBits; }))
         << where << ": cells were shed";
     ASSERT_TRUE(std::any_of(out.cell_id.begin(), out.cell_id.end(), [](uint64_t id) { return id >> kRootIdBits; }))
         << where << ": cells divided";

@@ -46,7 +46,8 @@ TEST(Effects, GrowthAddsOneElementPerPeriodUpToTheMaximum) {
   s.cell_fields["growth.clock"] = {0.0};
   for (int k = 1; k <= 15; ++k) {
     stage(s, r, 2.0);  // one period (20 h / 10 elements)
-    ASSERT_EQ(s.cell_count[0], std::min(10 + k, 20)) << "after " << k << " periods";  // one each, capped at max_elements
+    ASSERT_EQ(s.cell_count[0], std::min(10 + k, 20))
+        << "after " << k << " periods";  // one each, capped at max_elements
   }
   EXPECT_EQ(s.elements(), 20);
   for (long e = 10; e < 20; ++e)  // newborns sit at `offset` from the centroid at their birth
@@ -72,7 +73,7 @@ TEST(Effects, GrowthOnlyBehindTheProliferativeFront) {
   EXPECT_FALSE(stage(s, r, 2.0));
   EXPECT_EQ(s.elements(), 10);
   EXPECT_EQ(s.cell_fields["growth.clock"][0], 0.0);  // quiescent: the clock stands
-  semlb_cell_stage_at(&r, 10.0);  // front at 20 um = the centroid: behind (<=) counts
+  semlb_cell_stage_at(&r, 10.0);                     // front at 20 um = the centroid: behind (<=) counts
   EXPECT_TRUE(stage(s, r, 2.0));
   EXPECT_EQ(s.elements(), 11);
 }
@@ -82,7 +83,8 @@ TEST(Effects, GrowthOnlyBehindTheProliferativeFront) {
 TEST(Effects, GrowthFrontNeedsBothSettings) {
   State s = line_cell(10, 0, 5);
   EXPECT_EQ(rules_of("  growth: {cycle_time: 20}\n", s).growth_p[3], 0);
-  for (const char* bad : {"front: {x0: 1.0}", "front: {speed: 1.0}", "front: {x0: 1, speed: 1, width: 3}", "front: {x0: 1, speed: fast}"}) {
+  for (const char* bad : {"front: {x0: 1.0}", "front: {speed: 1.0}", "front: {x0: 1, speed: 1, width: 3}",
+                          "front: {x0: 1, speed: fast}"}) {
     try {
       rules_of(std::string("  growth: {") + bad + "}\n", s);
       ADD_FAILURE() << bad << " was accepted";
@@ -135,7 +137,8 @@ TEST(Effects, DivisionSplitsAcrossTheLongAxis) {
     // every element of the mother lies below every element of the daughter along the axis
     double mother_max = -1e9, daughter_min = 1e9;
     for (int k = 0; k < s.cell_count[0]; ++k) mother_max = std::max(mother_max, s.position[3 * k + axis]);
-    for (int k = 0; k < s.cell_count[1]; ++k) daughter_min = std::min(daughter_min, s.position[3 * (s.cell_first[1] + k) + axis]);
+    for (int k = 0; k < s.cell_count[1]; ++k)
+      daughter_min = std::min(daughter_min, s.position[3 * (s.cell_first[1] + k) + axis]);
     EXPECT_LT(mother_max, daughter_min) << "axis " << axis;
   }
 }
@@ -152,10 +155,12 @@ TEST(Effects, DivisionOfACoincidentClumpStillHalvesIt) {
 // The fate rule on every backend: `stages` cell stages of `elapsed` h each (Backend::cell_fate) of state s.
 void fates(State& s, const std::string& yaml, double elapsed, int stages, const std::string& backend) {
   if (!s.cell_fields.count("differentiation.age")) rules_of(yaml, s);  // declares differentiation.age (0 h)
-  const auto params = testing::section_params("differentiation", yaml.substr(yaml.find('{')), FateRules::at("differentiation").read);
+  const auto params =
+      testing::section_params("differentiation", yaml.substr(yaml.find('{')), FateRules::at("differentiation").read);
   auto b = testing::backend(backend, "double");
   b->upload(s);
-  for (int k = 0; k < stages; ++k) b->cell_fate(s, "differentiation", params, cell_field_index(s, "differentiation.age"), elapsed);
+  for (int k = 0; k < stages; ++k)
+    b->cell_fate(s, "differentiation", params, cell_field_index(s, "differentiation.age"), elapsed);
   b->download(s);
 }
 
@@ -191,17 +196,19 @@ TEST(Effects, UnknownEffectAndUnknownParameterAreRefusedWithTheirLine) {
     make_effects(scene);
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("field 'effects.growth.cycle_tim': unknown setting"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("field 'effects.growth.cycle_tim': unknown setting"), std::string::npos)
+        << e.what();
   }
 }
 
 TEST(Effects, EpidermisRunKeepsCountsConsistentWithGrowthAndDivision) {
-  auto scene = load_scene(std::string(SEMLB_SOURCE_DIR) + "/scenes/epidermis.yaml", {"tissue.cells=8", "time.steps=10000"});
+  auto scene =
+      load_scene(std::string(SEMLB_SOURCE_DIR) + "/scenes/epidermis.yaml", {"tissue.cells=8", "time.steps=10000"});
   Simulation sim(scene, make_tissue(scene));
   const long cells0 = sim.host_state().cells();
   sim.advance(10000);  // 100 h: five cell cycles
   const State& s = sim.sync();
-  EXPECT_GT(s.cells(), cells0);                                    // divisions happened
+  EXPECT_GT(s.cells(), cells0);  // divisions happened
   long sum = 0;
   std::set<uint64_t> ids(s.cell_id.begin(), s.cell_id.end());
   EXPECT_EQ(static_cast<long>(ids.size()), s.cells());
@@ -214,7 +221,6 @@ TEST(Effects, EpidermisRunKeepsCountsConsistentWithGrowthAndDivision) {
   for (double v : s.position) ASSERT_TRUE(std::isfinite(v));
   for (long e = 0; e < s.elements(); ++e) EXPECT_GT(s.position[3 * e + 2], -1.0);  // nothing fell through the membrane
 }
-
 
 // A decomposed run waits for the slowest rank in its ghost exchange, failure check and cell migration; a
 // rank's phase timers (its computation time, what the controllers balance) must not include those waits.

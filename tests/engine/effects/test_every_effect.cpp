@@ -1,8 +1,8 @@
 // Every registered effect, each with its registered example section beside mechanics (a pair term: instead of it;
 // growth and division once per registered growth law and division rule, with its example):
 // the same state on every backend this machine runs (bit for bit between the C++ backends and between the OpenCL
-// ones, within the stated 1e-9 um between the two kinds), and on 1, 2 and 4 ranks as on one device. A new effect is tested by being
-// registered (Cabana's harness: one test body over every backend and rank count).
+// ones, within the stated 1e-9 um between the two kinds), and on 1, 2 and 4 ranks as on one device. A new effect is
+// tested by being registered (Cabana's harness: one test body over every backend and rank count).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -34,7 +34,8 @@ std::vector<Case> cases() {
     if (name == "growth")
       for (const auto& law : GrowthLaws::names()) out.push_back({name, GrowthLaws::at(law).example, name + "_" + law});
     else if (name == "division")
-      for (const auto& rule : DivisionRules::names()) out.push_back({name, DivisionRules::at(rule).example, name + "_" + rule});
+      for (const auto& rule : DivisionRules::names())
+        out.push_back({name, DivisionRules::at(rule).example, name + "_" + rule});
     else
       out.push_back({name, Effects::at(name).example, name});
   return out;
@@ -52,8 +53,10 @@ class EveryEffect : public ::testing::TestWithParam<Case> {
   std::string scene() const {
     const std::string shipped = test::source("scenes/mechanics.yaml");
     if (!pair()) return shipped;
-    const std::string text = read_file(shipped), path = test::fresh_dir("every_effect_scene_" + GetParam().name) + "/scene.yaml";
-    write_file_atomically(path, text.substr(0, text.find("\neffects:")) + "\neffects:\n  " + effect() + ": " + GetParam().section + "\n");
+    const std::string text = read_file(shipped),
+                      path = test::fresh_dir("every_effect_scene_" + GetParam().name) + "/scene.yaml";
+    write_file_atomically(
+        path, text.substr(0, text.find("\neffects:")) + "\neffects:\n  " + effect() + ": " + GetParam().section + "\n");
     return path;
   }
   std::vector<std::string> set() const {
@@ -83,11 +86,14 @@ double max_difference(const State& a, const State& b) {
 
 TEST_P(EveryEffect, SameStateOnEveryBackend) {
   const std::string file = scene();
-  const auto on = [&](const std::string& backend, const std::string& precision) { return run(file, backend, precision, set()); };
+  const auto on = [&](const std::string& backend, const std::string& precision) {
+    return run(file, backend, precision, set());
+  };
   const State ref = on("serial", "double");
   EXPECT_EQ(on("cpu-binned", "double").hash(), ref.hash()) << "cpu-binned";
   const auto backends = testing::available_backends();
-  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end()) GTEST_SKIP() << "no OpenCL platform";
+  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end())
+    GTEST_SKIP() << "no OpenCL platform";
   const State binned = on("opencl-binned", "double");
   EXPECT_EQ(on("opencl-allpairs", "double").hash(), binned.hash()) << "opencl-allpairs";
   EXPECT_EQ(binned.cell_id, ref.cell_id);
@@ -97,9 +103,10 @@ TEST_P(EveryEffect, SameStateOnEveryBackend) {
 
 TEST_P(EveryEffect, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
   // 400 cells over ~140 um in x: room for 4 slabs; rebalanced every 20 steps, so cells migrate.
-  std::string args = " --scene " + scene() +
-                     " --quiet --set tissue.cells=400 --set backend.cpu-binned.threads=1 --set decomposition.rebalance_every=20"
-                     " --set time.cell_update_every=10 --steps 60";
+  std::string args =
+      " --scene " + scene() +
+      " --quiet --set tissue.cells=400 --set backend.cpu-binned.threads=1 --set decomposition.rebalance_every=20"
+      " --set time.cell_update_every=10 --steps 60";
   for (const auto& s : set()) args += " --set '" + s + "'";
   const std::string dir = test::fresh_dir("every_effect_" + GetParam().name);
   testing::expect_same_state_on_ranks(args, dir);
@@ -109,7 +116,8 @@ TEST_P(EveryEffect, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
   EXPECT_EQ(distinct.size(), header.size()) << read_file(dir + "/single/run.csv").substr(0, 200);
 }
 
-INSTANTIATE_TEST_SUITE_P(Registered, EveryEffect, ::testing::ValuesIn(cases()), [](const auto& info) { return info.param.name; });
+INSTANTIATE_TEST_SUITE_P(Registered, EveryEffect, ::testing::ValuesIn(cases()),
+                         [](const auto& info) { return info.param.name; });
 
 }  // namespace
 }  // namespace semlb::engine

@@ -32,7 +32,8 @@ TEST(FateRules, EveryRuleOnEveryBackendDecidesWhatItsEvaluatorDecides) {
   State s = testing::random_state(60, 8, 24.0, 31);
   s.cell_fields["growth.clock"] = std::vector<double>(s.cells());
   s.cell_fields["division.depth"] = std::vector<double>(s.cells());
-  for (long c = 0; c < s.cells(); ++c) s.cell_fields["growth.clock"][c] = 0.25 * c, s.cell_fields["division.depth"][c] = c % 5;
+  for (long c = 0; c < s.cells(); ++c)
+    s.cell_fields["growth.clock"][c] = 0.25 * c, s.cell_fields["division.depth"][c] = c % 5;
   for (const auto& name : FateRules::names()) {
     const auto names = Effects::names();
     EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name << " is not an effect";
@@ -54,7 +55,8 @@ TEST(FateRules, EveryRuleOnEveryBackendDecidesWhatItsEvaluatorDecides) {
         const State want = decided_by(name, host, params, field, 10.0);
         b->cell_fate(host, name, params, field, 10.0);
         b->download(host);
-        EXPECT_EQ(host.cell_type, want.cell_type) << name << " on " << backend << " " << precision << ", stage " << stage;
+        EXPECT_EQ(host.cell_type, want.cell_type)
+            << name << " on " << backend << " " << precision << ", stage " << stage;
         EXPECT_EQ(host.cell_fields, want.cell_fields) << name << " on " << backend << " " << precision;
         EXPECT_EQ(host.position, before.position) << name << " moved elements on " << backend;
       }
@@ -78,9 +80,10 @@ TEST(FateRules, EveryRuleOnEveryBackendDecidesWhatItsEvaluatorDecides) {
 }
 
 TEST(FateRules, DifferentiationSettingsAreChecked) {
-  testing::expect_errors_name_fields({{"effects.differentiation={basal_height: -1}", "effects.differentiation.basal_height"},
-                                      {"effects.differentiation={granular_after: x}", "effects.differentiation.granular_after"},
-                                      {"effects.differentiation={basal: 3}", "effects.differentiation.basal"}});
+  testing::expect_errors_name_fields(
+      {{"effects.differentiation={basal_height: -1}", "effects.differentiation.basal_height"},
+       {"effects.differentiation={granular_after: x}", "effects.differentiation.granular_after"},
+       {"effects.differentiation={basal: 3}", "effects.differentiation.basal"}});
 }
 
 }  // namespace

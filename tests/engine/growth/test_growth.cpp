@@ -50,7 +50,8 @@ TEST(GrowthLaws, EveryLawOnEveryBackendGrowsWhatItsEvaluatorGives) {
         EXPECT_EQ(host.cell_fields, want.cell_fields) << at;
         ASSERT_EQ(host.position.size(), want.position.size()) << at;
         double worst = 0;  // the newborns' draws (log, cos) may differ by ulps between the host and a device
-        for (size_t i = 0; i < host.position.size(); ++i) worst = std::max(worst, std::abs(host.position[i] - want.position[i]));
+        for (size_t i = 0; i < host.position.size(); ++i)
+          worst = std::max(worst, std::abs(host.position[i] - want.position[i]));
         EXPECT_LT(worst, precision == "double" ? 1e-9 : 1e-5) << at;
         born = host.elements() - s.elements();
       }
@@ -59,7 +60,8 @@ TEST(GrowthLaws, EveryLawOnEveryBackendGrowsWhatItsEvaluatorGives) {
   }
 }
 
-// clock.h by hand (its C++ instantiation, as registered): p = (period 2 h, basal only, max 20, front, x0, speed, cycle).
+// clock.h by hand (its C++ instantiation, as registered): p = (period 2 h, basal only, max 20, front, x0, speed,
+// cycle).
 TEST(GrowthLaws, ClockFollowsTheClockStopsAtTheMaximumAndWaitsForTheFront) {
   const GrowthEvaluator clock_law = GrowthLaws::at("clock").births;
   const double p[7] = {2, 1, 20, 0, 0, 0, 20}, centre[3] = {20, 0, 0};
@@ -111,11 +113,12 @@ TEST(GrowthLaws, ClockOfAnyMagnitudeEndsInBoundedTime) {
 }
 
 TEST(GrowthLaws, GrowthSettingsAreChecked) {
-  testing::expect_errors_name_fields({{"effects.growth={law: nope}", "effects.growth.law"},
-                                      {"effects.growth={law: clock, offset: -1}", "effects.growth.offset"},
-                                      {"effects.growth={cycle_time: 0}", "effects.growth.cycle_time"},
-                                      {"effects.growth={min_elements: 12, max_elements: 12}", "effects.growth.max_elements"},
-                                      {"effects.growth={rule: clock}", "effects.growth.rule"}});
+  testing::expect_errors_name_fields(
+      {{"effects.growth={law: nope}", "effects.growth.law"},
+       {"effects.growth={law: clock, offset: -1}", "effects.growth.offset"},
+       {"effects.growth={cycle_time: 0}", "effects.growth.cycle_time"},
+       {"effects.growth={min_elements: 12, max_elements: 12}", "effects.growth.max_elements"},
+       {"effects.growth={rule: clock}", "effects.growth.rule"}});
 }
 
 }  // namespace

@@ -68,7 +68,8 @@ TEST(Io, UnknownCellFieldsAreRefused) {
     read_state(dir + "/bad.h5");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.h5: dataset /cells/fields/polarity.angle: unknown cell field"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("bad.h5: dataset /cells/fields/polarity.angle: unknown cell field"),
+              std::string::npos)
         << e.what();
   }
 }
@@ -76,8 +77,10 @@ TEST(Io, UnknownCellFieldsAreRefused) {
 TEST(Io, DecompositionCheckpointRoundTripsAndIsChecked) {
   const auto dir = fresh_dir("io_decomposition");
   const State s = testing::random_state(6, 4, 20.0, 3);
-  DecompositionCheckpoint d{"", 3, 40, 4, "gru", 6, -1.5, 38.25,
-                            BalancerState{7, 12, {10, 25}, {{"hidden", {0.5, -0.25}}, {"tracker.prev_imbalance", {0.1, 0.2}}}}};
+  DecompositionCheckpoint d{
+      "",   3,     40,
+      4,    "gru", 6,
+      -1.5, 38.25, BalancerState{7, 12, {10, 25}, {{"hidden", {0.5, -0.25}}, {"tracker.prev_imbalance", {0.1, 0.2}}}}};
   write_state(dir + "/ok.h5", s, {}, &d);
   const auto back = read_decomposition(dir + "/ok.h5");
   ASSERT_TRUE(back);
@@ -151,11 +154,12 @@ TEST(Io, DuplicateCellIdsAreRefused) {
     read_state(test::source("tests/data/duplicate_ids/dupid.h5"));
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("dupid.h5: dataset /cells/id: id 5 appears twice"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("dupid.h5: dataset /cells/id: id 5 appears twice"), std::string::npos)
+        << e.what();
   }
   const auto dir = fresh_dir("io_dupid");
-  const auto r = test::run(test::semlb_bin() + " sim --quiet --scene " + test::source("tests/data/duplicate_ids/scene.yaml") +
-                           " --out " + dir + "/o");
+  const auto r = test::run(test::semlb_bin() + " sim --quiet --scene " +
+                           test::source("tests/data/duplicate_ids/scene.yaml") + " --out " + dir + "/o");
   EXPECT_EQ(r.rc, 2) << r.out;
   EXPECT_NE(r.out.find("dupid.h5: dataset /cells/id: id 5 appears twice"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(dir + "/o")) << r.out;
@@ -185,9 +189,21 @@ TEST(Io, StateFileInvariants) {
   };
   const int64_t daughter_bit = int64_t{1} << kRootIdBits;
   const std::vector<Case> cases = {
-      {"dup", [&](h5::File& f) { base(f, {3, 10, 3}); }, "dataset /cells/id: id 3 appears twice (cells 0 and 2)"},
-      {"negative", [&](h5::File& f) { base(f, {3, -1, 17}); }, "dataset /cells/id: id -1 at 1 is negative"},
-      {"high_bits", [&](h5::File& f) { base(f, {3, 10, 17 | daughter_bit}); }, "dataset /cells/id: id 1048593 at 2 has bits at or above 20"},
+      {"dup",
+       [&](h5::File& f) {
+         base(f, {3, 10, 3});
+       },
+       "dataset /cells/id: id 3 appears twice (cells 0 and 2)"},
+      {"negative",
+       [&](h5::File& f) {
+         base(f, {3, -1, 17});
+       },
+       "dataset /cells/id: id -1 at 1 is negative"},
+      {"high_bits",
+       [&](h5::File& f) {
+         base(f, {3, 10, 17 | daughter_bit});
+       },
+       "dataset /cells/id: id 1048593 at 2 has bits at or above 20"},
       {"future_daughter",  // cell 3 at depth 0 will give its first daughter id 3 | 2^20, which cell 2 already holds
        [&](h5::File& f) {
          base(f, {3, 10, 3 | daughter_bit});
@@ -261,11 +277,36 @@ TEST(Io, StateFileInvariants) {
          f.write("/cells/count", {3}, std::vector<int64_t>{4, 4, 4});
        },
        "dataset /elements/position: element 2 has a non-finite coordinate"},
-      {"step", [&](h5::File& f) { base(f, {3, 10, 17}); f.write_attr("step", -5L); }, "attribute 'step' is -5, must be >= 0"},
-      {"time_nan", [&](h5::File& f) { base(f, {3, 10, 17}); f.write_attr("time", double(NAN)); }, "attribute 'time' is not finite"},
-      {"time_neg", [&](h5::File& f) { base(f, {3, 10, 17}); f.write_attr("time", -1.0); }, "attribute 'time' is -1 h, must be >= 0"},
-      {"step_real", [&](h5::File& f) { base(f, {3, 10, 17}); f.write_attr("step", 2.5); }, "attribute 'step' must be one integer value"},
-      {"format", [&](h5::File& f) { base(f, {3, 10, 17}); f.write_attr("format", std::string("other")); }, "attribute 'format' is 'other'"},
+      {"step",
+       [&](h5::File& f) {
+         base(f, {3, 10, 17});
+         f.write_attr("step", -5L);
+       },
+       "attribute 'step' is -5, must be >= 0"},
+      {"time_nan",
+       [&](h5::File& f) {
+         base(f, {3, 10, 17});
+         f.write_attr("time", double(NAN));
+       },
+       "attribute 'time' is not finite"},
+      {"time_neg",
+       [&](h5::File& f) {
+         base(f, {3, 10, 17});
+         f.write_attr("time", -1.0);
+       },
+       "attribute 'time' is -1 h, must be >= 0"},
+      {"step_real",
+       [&](h5::File& f) {
+         base(f, {3, 10, 17});
+         f.write_attr("step", 2.5);
+       },
+       "attribute 'step' must be one integer value"},
+      {"format",
+       [&](h5::File& f) {
+         base(f, {3, 10, 17});
+         f.write_attr("format", std::string("other"));
+       },
+       "attribute 'format' is 'other'"},
   };
   for (const auto& c : cases) {
     const std::string path = dir + "/" + c.name + ".h5";
@@ -277,7 +318,8 @@ TEST(Io, StateFileInvariants) {
       read_state(path);
       ADD_FAILURE() << c.name << " accepted";
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(std::string(c.name) + ".h5: " + c.message), std::string::npos) << c.name << ": " << e.what();
+      EXPECT_NE(std::string(e.what()).find(std::string(c.name) + ".h5: " + c.message), std::string::npos)
+          << c.name << ": " << e.what();
     }
   }
   {  // what the division scheme itself produces is accepted: 3 divided once (depth 1) and its daughter
@@ -303,21 +345,29 @@ TEST(Io, SceneNumbersAreStrict) {
     load_scene(test::source("tests/data/mm_domain.yaml"), {});
     ADD_FAILURE();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("mm_domain.yaml:5: field 'domain.hi': '0.15mm' is not a number"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("mm_domain.yaml:5: field 'domain.hi': '0.15mm' is not a number"),
+              std::string::npos)
+        << e.what();
   }
   const std::string domain = "name: x\ndomain: {lo: [0, 0, 0], hi: [";
   EXPECT_EQ(error_of(domain + "100um, 80, 60]}\n"), "s.yaml:2: field 'domain.hi': '100um' is not a number");
-  EXPECT_EQ(error_of(domain + "inf, 80, 60]}\n"), "s.yaml:2: field 'domain.hi': 'inf' is not a finite number in the range of a double");
-  EXPECT_EQ(error_of(domain + "1e400, 80, 60]}\n"), "s.yaml:2: field 'domain.hi': '1e400' is not a finite number in the range of a double");
+  EXPECT_EQ(error_of(domain + "inf, 80, 60]}\n"),
+            "s.yaml:2: field 'domain.hi': 'inf' is not a finite number in the range of a double");
+  EXPECT_EQ(error_of(domain + "1e400, 80, 60]}\n"),
+            "s.yaml:2: field 'domain.hi': '1e400' is not a finite number in the range of a double");
   EXPECT_EQ(error_of(domain + "100, 80, 60]}\n"), "");
-  EXPECT_EQ(error_of("name: x\ntime: {steps: 2.0}\n"), "s.yaml:2: field 'time.steps': '2.0' is not an integer (write integers without '.' or exponent)");
-  EXPECT_EQ(error_of("name: x\ntime: {steps: 1e3}\n"), "s.yaml:2: field 'time.steps': '1e3' is not an integer (write integers without '.' or exponent)");
-  EXPECT_EQ(error_of("name: x\ntime: {steps: 2.5}\n"), "s.yaml:2: field 'time.steps': '2.5' is not an integer (write integers without '.' or exponent)");
+  EXPECT_EQ(error_of("name: x\ntime: {steps: 2.0}\n"),
+            "s.yaml:2: field 'time.steps': '2.0' is not an integer (write integers without '.' or exponent)");
+  EXPECT_EQ(error_of("name: x\ntime: {steps: 1e3}\n"),
+            "s.yaml:2: field 'time.steps': '1e3' is not an integer (write integers without '.' or exponent)");
+  EXPECT_EQ(error_of("name: x\ntime: {steps: 2.5}\n"),
+            "s.yaml:2: field 'time.steps': '2.5' is not an integer (write integers without '.' or exponent)");
   EXPECT_EQ(error_of("name: x\nseed: 0x10\n"), "s.yaml:2: field 'seed': '0x10' is not an integer");
   EXPECT_EQ(error_of("name: x\ncutoff: .nan\n"), "s.yaml:2: field 'cutoff': '.nan' is not a number");
   EXPECT_EQ(error_of("name: x\ncutoff: 8.75um\n"), "s.yaml:2: field 'cutoff': '8.75um' is not a number");
   EXPECT_EQ(error_of("name: x\n", {"time.dt=0.01h"}), "--set time.dt: '0.01h' is not a number");
-  EXPECT_EQ(error_of("name: x\ntime: {steps: 9223372036854775808}\n"), "s.yaml:2: field 'time.steps': '9223372036854775808' does not fit a 64-bit integer");
+  EXPECT_EQ(error_of("name: x\ntime: {steps: 9223372036854775808}\n"),
+            "s.yaml:2: field 'time.steps': '9223372036854775808' does not fit a 64-bit integer");
 }
 
 // A key inside a map given by --set is blamed on that --set, not on line 1 of the scene file.
@@ -337,9 +387,10 @@ TEST(Io, OutputTimesRoundTrip) {
   State s = testing::random_state(2, 4, 10.0, 3);
   s.step = 1234500;  // time = step * dt: 12345 h
   write_state(dir + "/start.h5", s, {});
-  write_file_atomically(dir + "/scene.yaml", "name: t\ntissue: {file: start.h5}\ntime: {dt: 0.01, steps: 1234503}\n"
-                                             "output: {log_every: 1, snapshot_every: 1}\nbackend: {name: serial}\n"
-                                             "effects:\n  mechanics: {}\n");
+  write_file_atomically(dir + "/scene.yaml",
+                        "name: t\ntissue: {file: start.h5}\ntime: {dt: 0.01, steps: 1234503}\n"
+                        "output: {log_every: 1, snapshot_every: 1}\nbackend: {name: serial}\n"
+                        "effects:\n  mechanics: {}\n");
   auto scene = load_scene(dir + "/scene.yaml", {});
   run_scene(scene, {dir + "/out", "", true, "test", ""});
   std::vector<double> csv_times, xmf_times;
@@ -367,11 +418,20 @@ TEST(Io, OutputTimesRoundTrip) {
 
 TEST(Io, RestartFromACheckpointContinuesBitForBit) {
   const std::string scene_file = std::string(SEMLB_SOURCE_DIR) + "/scenes/epidermis.yaml";
-  const std::vector<std::string> small = {"tissue.cells=20", "output.checkpoint_every=100", "output.snapshot_every=100"};
-  auto straight_scene = load_scene(scene_file, [&] { auto o = small; o.push_back("time.steps=200"); return o; }());
+  const std::vector<std::string> small = {"tissue.cells=20", "output.checkpoint_every=100",
+                                          "output.snapshot_every=100"};
+  auto straight_scene = load_scene(scene_file, [&] {
+    auto o = small;
+    o.push_back("time.steps=200");
+    return o;
+  }());
   const auto a = fresh_dir("io_straight"), b = fresh_dir("io_restart");
   run_scene(straight_scene, {a, "", true, "test", ""});
-  auto first_half = load_scene(scene_file, [&] { auto o = small; o.push_back("time.steps=100"); return o; }());
+  auto first_half = load_scene(scene_file, [&] {
+    auto o = small;
+    o.push_back("time.steps=100");
+    return o;
+  }());
   run_scene(first_half, {b, "", true, "test", ""});
   EXPECT_EQ(read_state(b + "/checkpoint.h5").step, 100);
   // Mark the first half's log row (its wall_s): the restart keeps it; a run from step 0 would rewrite it.
@@ -383,18 +443,23 @@ TEST(Io, RestartFromACheckpointContinuesBitForBit) {
   std::string marked;
   for (const auto& c : cells) marked += (marked.empty() ? "" : ",") + c;
   write_file_atomically(b + "/run.csv", rows[0] + "\n" + marked + "\n");
-  auto second_half = load_scene(scene_file, [&] { auto o = small; o.push_back("time.steps=200"); return o; }());
+  auto second_half = load_scene(scene_file, [&] {
+    auto o = small;
+    o.push_back("time.steps=200");
+    return o;
+  }());
   const RunSummary second = run_scene(second_half, {b, b + "/checkpoint.h5", true, "test", ""});
   EXPECT_EQ(second.steps, 100);  // it simulated steps 100..200 only
   EXPECT_EQ(read_state(a + "/final.h5").hash(), read_state(b + "/final.h5").hash());
   EXPECT_EQ(read_state(b + "/final.h5").step, 200);
   const auto straight = split(read_file(a + "/run.csv"), '\n'), restarted = split(read_file(b + "/run.csv"), '\n');
   ASSERT_EQ(restarted.size(), straight.size());
-  EXPECT_EQ(restarted[1], marked);  // the first half's row, kept as it was
+  EXPECT_EQ(restarted[1], marked);                // the first half's row, kept as it was
   for (size_t i = 1; i < straight.size(); ++i) {  // the same steps, times, cells and elements
     const auto want = split(straight[i], ','), got = split(restarted[i], ',');
     EXPECT_EQ(std::vector<std::string>(got.begin(), got.begin() + std::min<size_t>(4, got.size())),
-              std::vector<std::string>(want.begin(), want.begin() + std::min<size_t>(4, want.size()))) << i;
+              std::vector<std::string>(want.begin(), want.begin() + std::min<size_t>(4, want.size())))
+        << i;
   }
   // Snapshots of steps 0 (the first run's first state), 100 (once: the restart's first state is already
   // there) and 200, as in the straight run.

@@ -20,7 +20,8 @@ namespace {
 
 TEST(Model, ElementKeysGiveBackTheirCellId) {
   std::set<uint64_t> keys;
-  for (uint64_t id : {uint64_t{0}, uint64_t{1}, (uint64_t{1} << kRootIdBits) - 1, daughter_id(5, kMaxDivisionDepth - 1)})
+  for (uint64_t id :
+       {uint64_t{0}, uint64_t{1}, (uint64_t{1} << kRootIdBits) - 1, daughter_id(5, kMaxDivisionDepth - 1)})
     for (int slot : {0, 1, kMaxSlots - 1}) {
       EXPECT_EQ(cell_id_of_key(element_key(id, slot)), id) << id << " " << slot;
       keys.insert(element_key(id, slot));
@@ -42,16 +43,20 @@ TEST(Model, ElementInfoPacksTheCellIndexAndType) {
   s.cell_count = {2, 1};
   s.position.assign(9, 0.0);
   s.reindex();
-  EXPECT_EQ(s.element_info(), (std::vector<int>{phys64::semlb_info_pack(0, kGranular), phys64::semlb_info_pack(0, kGranular),
-                                                phys64::semlb_info_pack(1, kSpinous)}));
+  EXPECT_EQ(s.element_info(),
+            (std::vector<int>{phys64::semlb_info_pack(0, kGranular), phys64::semlb_info_pack(0, kGranular),
+                              phys64::semlb_info_pack(1, kSpinous)}));
 }
 
 // Every named setting reaches the scene field it names, with its value checked against its type.
 TEST(Model, SceneSettingsSetTheirKeysWithTypedValues) {
   const std::vector<std::pair<std::string, std::string>> given = {
-      {"cells", "40"},         {"steps", "7"},        {"dt", "0.005"},        {"cutoff", "9.5"},
-      {"seed", "3"},           {"backend", "opencl-allpairs"}, {"precision", "float"}, {"platform", "Portable"},
-      {"device", "2"},         {"policy", "holt"},    {"initial", "uniform"}, {"rebalance_every", "25"},
+      {"cells", "40"},        {"steps", "7"},
+      {"dt", "0.005"},        {"cutoff", "9.5"},
+      {"seed", "3"},          {"backend", "opencl-allpairs"},
+      {"precision", "float"}, {"platform", "Portable"},
+      {"device", "2"},        {"policy", "holt"},
+      {"initial", "uniform"}, {"rebalance_every", "25"},
       {"timing", "modelled"}};
   ASSERT_EQ(given.size(), scene_settings().size());
   std::vector<std::string> o;

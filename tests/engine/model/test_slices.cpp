@@ -13,8 +13,10 @@ namespace {
 // at 1e300 um, gets fewer, larger bins: never an int overflow, every bin edge still >= the cutoff.
 TEST(Slices, BinCountsStayWithinThirtyTwoBitsWithBinsOfAtLeastTheCutoff) {
   const std::array<double, 3> o{0, 0, 0};
-  for (const auto& [hi, cutoff] : {std::pair{std::array<double, 3>{2e9, 2e9, 2e9}, 1e-6}, {{1e300, 10, 10}, 8.75},
-                                   {{2e3, 2e3, 2e3}, 1.0}, {{1e9, 1, 1}, 1e-3}}) {
+  for (const auto& [hi, cutoff] : {std::pair{std::array<double, 3>{2e9, 2e9, 2e9}, 1e-6},
+                                   {{1e300, 10, 10}, 8.75},
+                                   {{2e3, 2e3, 2e3}, 1.0},
+                                   {{1e9, 1, 1}, 1e-3}}) {
     const Grid g = Grid::cover(o, hi, cutoff);
     EXPECT_LE(g.bins(), Grid::kMaxBins) << hi[0] << " / " << cutoff;
     for (int d = 0; d < 3; ++d) {

@@ -23,7 +23,10 @@ PairForces example(const std::string& name) { return testing::pair_forces(name, 
 
 template <class Real>
 PairEvaluator<Real> law(const std::string& name) {
-  if constexpr (std::is_same_v<Real, double>) return PairTerms::at(name).f64; else return PairTerms::at(name).f32;
+  if constexpr (std::is_same_v<Real, double>)
+    return PairTerms::at(name).f64;
+  else
+    return PairTerms::at(name).f32;
 }
 
 template <class Real>
@@ -54,7 +57,8 @@ void antisymmetric_and_order_independent(const std::string& name) {
   EXPECT_TRUE(std::isfinite(kick)) << name;
   // The fixed-point sum over 200 partners does not depend on their order.
   std::vector<std::array<Real, 3>> others(200);
-  for (auto& o : others) o = {static_cast<Real>(u(rng) * 0.8), static_cast<Real>(u(rng) * 0.8), static_cast<Real>(u(rng) * 0.8)};
+  for (auto& o : others)
+    o = {static_cast<Real>(u(rng) * 0.8), static_cast<Real>(u(rng) * 0.8), static_cast<Real>(u(rng) * 0.8)};
   const auto sum = [&] {
     int64_t acc[4] = {0, 0, 0, 0};
     for (const auto& o : others) pair(o[0], o[1], o[2], 4, 9, 1, 2, p.data(), c2, acc);
@@ -92,7 +96,8 @@ std::pair<std::vector<int64_t>, std::vector<double>> reference(const PairForces&
       if (i == j) continue;
       int64_t acc[4] = {0, 0, 0, 0};
       Real d[3];
-      for (int c = 0; c < 3; ++c) d[c] = static_cast<Real>(s.position[3 * i + c]) - static_cast<Real>(s.position[3 * j + c]);
+      for (int c = 0; c < 3; ++c)
+        d[c] = static_cast<Real>(s.position[3 * i + c]) - static_cast<Real>(s.position[3 * j + c]);
       pair(d[0], d[1], d[2], info[i], info[j], keys[i], keys[j], p.data(), c2, acc);
       for (int c = 0; c < 3; ++c) out[3 * i + c] += acc[c], scale[3 * i + c] += std::abs(static_cast<double>(acc[c]));
     }
@@ -134,7 +139,8 @@ TEST(PairTerms, EveryTermOnEveryBackendAddsWhatItsEvaluatorGives) {
 // The scene's effects with `name`'s example as its only pair term (kMechanicsYaml lists mechanics).
 std::string scene_with(const std::string& name, const std::string& extra = "") {
   std::string yaml = testing::kMechanicsYaml;
-  yaml = yaml.substr(0, yaml.find("effects:")) + "effects:\n  " + name + ": " + PairTerms::at(name).example + "\n" + extra;
+  yaml =
+      yaml.substr(0, yaml.find("effects:")) + "effects:\n  " + name + ": " + PairTerms::at(name).example + "\n" + extra;
   return yaml;
 }
 
@@ -148,7 +154,8 @@ TEST(PairTerms, EachIsAnEffectThatRunsAlone) {
       Simulation sim(scene, testing::random_state(20, 6, 30.0, 5));
       sim.advance(3);
       const auto& launched = sim.backend().launches();
-      const std::string kernel = backend == "serial" || backend == "opencl-allpairs" ? "forces_allpairs" : "forces_binned";
+      const std::string kernel =
+          backend == "serial" || backend == "opencl-allpairs" ? "forces_allpairs" : "forces_binned";
       EXPECT_EQ(launched.at(kernel), 3) << name << " on " << backend;
     }
   }
@@ -160,14 +167,16 @@ TEST(PairTerms, AScenelistsOnePairTerm) {
   const std::string second = names[0] == "mechanics" ? names[1] : names[0];
   // kMechanicsYaml lists mechanics; the term --set adds after it is the one refused, blamed on that flag.
   const std::string message = testing::scene_error({"effects." + second + "=" + PairTerms::at(second).example});
-  EXPECT_NE(message.find("a scene lists one pair term, and 'mechanics' is listed already"), std::string::npos) << message;
+  EXPECT_NE(message.find("a scene lists one pair term, and 'mechanics' is listed already"), std::string::npos)
+      << message;
   EXPECT_NE(message.find("--set effects." + second), std::string::npos) << message;
 }
 
 TEST(PairTerms, UnknownTermIsALogicError) {
   auto b = testing::backend("serial", "double");
   b->upload(testing::random_state(2, 2, 5.0, 1));
-  EXPECT_THROW(b->pair_forces({"no_such_term", {}, kCutoff}, Grid::cover({0, 0, 0}, {5, 5, 5}, kCutoff)), std::logic_error);
+  EXPECT_THROW(b->pair_forces({"no_such_term", {}, kCutoff}, Grid::cover({0, 0, 0}, {5, 5, 5}, kCutoff)),
+               std::logic_error);
 }
 
 }  // namespace

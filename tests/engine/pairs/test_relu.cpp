@@ -12,7 +12,8 @@ namespace {
 using testing::pair_force_x;
 
 TEST(Relu, PiecewiseLinearForceByHand) {
-  const PairForces f = testing::pair_forces("relu", "{intra: {k_rep: 2, k_adh: 0.5, r0: 4, r_max: 6}, inter: {k_adh: 0.1}}", 8.75);
+  const PairForces f =
+      testing::pair_forces("relu", "{intra: {k_rep: 2, k_adh: 0.5, r0: 4, r_max: 6}, inter: {k_adh: 0.1}}", 8.75);
   const int a = phys64::semlb_info_pack(0, 0), b = phys64::semlb_info_pack(1, 1);
   // intra: f = 2 max(4 - r, 0) - 0.5 max(r - 4, 0) for r < 6
   EXPECT_NEAR(pair_force_x(f, 1.0, a, a), 6.0, 1e-9);
@@ -30,7 +31,8 @@ TEST(Relu, PiecewiseLinearForceByHand) {
   EXPECT_NEAR(static_cast<double>(acc[1]) * SEMLB_FIXED_INV, -2.0, 1e-9);
   // coincident: |F| = f(0) = k_rep r0 = 8
   int64_t c[4];
-  EXPECT_NEAR(testing::coincident_kick(PairTerms::at("relu").f64, f.params, f.cutoff * f.cutoff, a, 100, 101, c), 8.0, 1e-6);
+  EXPECT_NEAR(testing::coincident_kick(PairTerms::at("relu").f64, f.params, f.cutoff * f.cutoff, a, 100, 101, c), 8.0,
+              1e-6);
 }
 
 // A scene with relu as its pair term and `set` overriding its section.
@@ -52,7 +54,7 @@ TEST(Relu, BadSectionsNameTheFieldAndTheCutoff) {
   m = relu_error("{intra: {k_spring: 1}}");
   EXPECT_NE(m.find("effects.relu.intra.k_spring"), std::string::npos) << m;
   EXPECT_EQ(relu_error("{intra: {r_max: 8.75}}"), "no error");  // at the cutoff itself: allowed
-  m = relu_error("{intra: {k_rep: 0}}");  // coincident elements would never part
+  m = relu_error("{intra: {k_rep: 0}}");                        // coincident elements would never part
   EXPECT_NE(m.find("effects.relu.intra.k_rep"), std::string::npos) << m;
   m = relu_error("{}", "6");  // the default r_max (7 um) beyond a cutoff of 6 um: refused, not shortened
   EXPECT_NE(m.find("effects.relu.intra.r_max"), std::string::npos) << m;

@@ -51,7 +51,8 @@ TEST(Desquamation, ShedsEveryCellAboveTheHeightAndNeverGivesItsIdAgain) {
       EXPECT_EQ(gone.count(s.cell_id[c]), 0u) << "id " << s.cell_id[c] << " given again at stage " << k;
     }
     if (k + 1 < shed.size()) {
-      std::set<uint64_t> now(s.cell_id.begin(), s.cell_id.end()), next(shed[k + 1].cell_id.begin(), shed[k + 1].cell_id.end());
+      std::set<uint64_t> now(s.cell_id.begin(), s.cell_id.end()),
+          next(shed[k + 1].cell_id.begin(), shed[k + 1].cell_id.end());
       for (uint64_t id : now)
         if (!next.count(id)) gone.insert(id);
     }
@@ -63,7 +64,8 @@ TEST(Desquamation, SameCellsOnEveryBackend) {
   const auto reference = stages("serial", "double").back();
   EXPECT_EQ(stages("cpu-binned", "double").back().hash(), reference.hash()) << "cpu-binned";
   const auto backends = testing::available_backends();
-  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end()) GTEST_SKIP() << "no OpenCL platform";
+  if (std::find(backends.begin(), backends.end(), "opencl-binned") == backends.end())
+    GTEST_SKIP() << "no OpenCL platform";
   for (const char* b : {"opencl-allpairs", "opencl-binned"}) {
     const auto s = stages(b, "double").back();
     EXPECT_EQ(s.canonical().cell_id, reference.canonical().cell_id) << b;  // positions within the stated 1e-9 um
@@ -73,10 +75,12 @@ TEST(Desquamation, SameCellsOnEveryBackend) {
 
 TEST(Desquamation, SameFinalStateOnOneTwoAndFourRanksAsOnOneDevice) {
   const auto dir = fresh_dir("desquamation_ranks");
-  const std::string args = " --scene " + source("scenes/epidermis.yaml") +
-                           " --quiet --set tissue.cells=400 --set backend.cpu-binned.threads=1 --set decomposition.rebalance_every=50"
-                           " --steps 150";
-  const State single = testing::expect_same_state_on_ranks(args + " --set 'effects.desquamation={height: " + kHeight + "}'", dir);
+  const std::string args =
+      " --scene " + source("scenes/epidermis.yaml") +
+      " --quiet --set tissue.cells=400 --set backend.cpu-binned.threads=1 --set decomposition.rebalance_every=50"
+      " --steps 150";
+  const State single =
+      testing::expect_same_state_on_ranks(args + " --set 'effects.desquamation={height: " + kHeight + "}'", dir);
   const auto plain = run(semlb_bin() + " sim" + args + " --out " + dir + "/plain");
   ASSERT_EQ(plain.rc, 0) << plain.out;
   EXPECT_LT(single.cells(), read_state(dir + "/plain/final.h5").cells()) << "nothing was shed";
@@ -89,7 +93,8 @@ TEST(Desquamation, SceneErrorsNameTheField) {
   EXPECT_NE(message("{height: 1e}").find("effects.desquamation.height"), std::string::npos) << message("{height: 1e}");
   EXPECT_NE(message("{height: 5, hieght: 3}").find("hieght"), std::string::npos) << message("{height: 5, hieght: 3}");
   // A misspelt key alone is named as such, not as a missing height.
-  EXPECT_NE(message("{heigth: 9}").find("'effects.desquamation.heigth': unknown setting (known: height)"), std::string::npos)
+  EXPECT_NE(message("{heigth: 9}").find("'effects.desquamation.heigth': unknown setting (known: height)"),
+            std::string::npos)
       << message("{heigth: 9}");
 }
 

@@ -19,7 +19,8 @@ State kept_by(const std::string& name, const State& s, const std::vector<double>
   State out = empty_like(s);
   for (long c = 0; c < s.cells(); ++c) {
     const auto ctr = centroid(s, c);
-    if (!RemovalRules::at(name).removes(ctr[0], ctr[1], ctr[2], s.cell_type[c], s.cell_count[c], params.data())) copy_cell(s, c, out);
+    if (!RemovalRules::at(name).removes(ctr[0], ctr[1], ctr[2], s.cell_type[c], s.cell_count[c], params.data()))
+      copy_cell(s, c, out);
   }
   out.reindex();
   return out;
@@ -30,7 +31,8 @@ TEST(RemovalRules, EveryRuleOnEveryBackendRemovesWhatItsEvaluatorFlags) {
   State s = testing::random_state(60, 8, 24.0, 31);
   s.cell_fields["growth.clock"] = std::vector<double>(s.cells());
   s.cell_fields["division.depth"] = std::vector<double>(s.cells());
-  for (long c = 0; c < s.cells(); ++c) s.cell_fields["growth.clock"][c] = 0.25 * c, s.cell_fields["division.depth"][c] = c % 5;
+  for (long c = 0; c < s.cells(); ++c)
+    s.cell_fields["growth.clock"][c] = 0.25 * c, s.cell_fields["division.depth"][c] = c % 5;
   for (const auto& name : RemovalRules::names()) {
     const auto names = Effects::names();
     EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name << " is not an effect";

@@ -14,7 +14,8 @@ using testing::available_backends;
 using testing::scene_from;
 
 Scene hard_scene(const std::string& backend, double dt) {
-  auto scene = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "time.dt=" + std::to_string(dt), "effects.membrane={}"});
+  auto scene = scene_from(testing::kMechanicsYaml,
+                          {"backend.name=" + backend, "time.dt=" + std::to_string(dt), "effects.membrane={}"});
   scene.box_lo = {-20, -20, -20};
   scene.box_hi = {60, 60, 60};
   return scene;
@@ -75,7 +76,8 @@ TEST(HardCases, NewbornOnTopOfAnExistingElementIsPushedOff) {
 // dt = 2 h must stop with a message naming the step, the element and the quantity.
 TEST(HardCases, LargestStableStepRunsAndOneBeyondStopsWithAMessage) {
   for (const auto& backend : available_backends()) {
-    auto stable = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "time.dt=0.1", "effects.membrane={}"});
+    auto stable =
+        scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "time.dt=0.1", "effects.membrane={}"});
     stable.box_lo = {-10, -10, -10};
     stable.box_hi = {80, 80, 40};
     Simulation ok(stable, testing::random_state(40, 15, 30.0, 6));
@@ -98,9 +100,9 @@ TEST(HardCases, LargestStableStepRunsAndOneBeyondStopsWithAMessage) {
 }
 
 // 1500 elements in a 1.5-um box with U0 = 1e7: every pair force at the 2^20 clamp, ~1500 partners each, so the |forces|
-// on an element add up to ~1.6e9 force units, beyond the bound's 2^30 (an int64 of 2^-32 units holds 2^31). Every backend (and
-// opencl-binned's neighbour list) stops at step 0 naming the element and the quantity, before any wrapped sum moves
-// the tissue on; the same tissue with U0 = 1 runs.
+// on an element add up to ~1.6e9 force units, beyond the bound's 2^30 (an int64 of 2^-32 units holds 2^31). Every
+// backend (and opencl-binned's neighbour list) stops at step 0 naming the element and the quantity, before any wrapped
+// sum moves the tissue on; the same tissue with U0 = 1 runs.
 TEST(HardCases, ForceSumsThatCouldLeaveInt64StopNamingTheElement) {
   const State s = testing::random_state(100, 15, 1.5, 8);
   std::vector<std::pair<std::string, std::string>> runs;
@@ -110,8 +112,9 @@ TEST(HardCases, ForceSumsThatCouldLeaveInt64StopNamingTheElement) {
     // dt 0.01: every element also moves too far, and the force sums' stop still wins (the cause, not the symptom)
     for (const auto& [precision, dt] : {std::pair{"double", "0.01"}, std::pair{"float", "1e-12"}}) {
       auto scene = scene_from(testing::kMechanicsYaml,
-                              {"backend.name=" + backend, "backend.opencl-binned.skin=" + skin, std::string("backend.precision=") + precision,
-                               std::string("time.dt=") + dt, "effects.mechanics={intra: {U0: 1e7, V0: 0}, inter: {U0: 1e7, V0: 0}}"});
+                              {"backend.name=" + backend, "backend.opencl-binned.skin=" + skin,
+                               std::string("backend.precision=") + precision, std::string("time.dt=") + dt,
+                               "effects.mechanics={intra: {U0: 1e7, V0: 0}, inter: {U0: 1e7, V0: 0}}"});
       Simulation sim(scene, s);
       try {
         sim.advance(2);
@@ -123,7 +126,8 @@ TEST(HardCases, ForceSumsThatCouldLeaveInt64StopNamingTheElement) {
         EXPECT_NE(m.find("more than 2^30 force units"), std::string::npos) << m;
       }
     }
-    auto weak = scene_from(testing::kMechanicsYaml, {"backend.name=" + backend, "backend.opencl-binned.skin=" + skin, "time.dt=1e-6"});
+    auto weak = scene_from(testing::kMechanicsYaml,
+                           {"backend.name=" + backend, "backend.opencl-binned.skin=" + skin, "time.dt=1e-6"});
     Simulation ok(weak, s);
     EXPECT_NO_THROW(ok.advance(2)) << backend;
   }
@@ -138,7 +142,9 @@ TEST(HardCases, NonFinitePositionIsNamed) {
     sim.advance(3);
     FAIL();
   } catch (const SimulationError& e) {
-    EXPECT_NE(std::string(e.what()).find("step 0: element 5 (cell 10, slot 1): position is not finite"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("step 0: element 5 (cell 10, slot 1): position is not finite"),
+              std::string::npos)
+        << e.what();
   }
 }
 

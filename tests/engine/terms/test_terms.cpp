@@ -19,7 +19,10 @@ namespace {
 template <class Real>
 std::vector<int64_t> reference(const std::string& name, const State& s, const std::vector<double>& params) {
   TermEvaluator<Real> evaluate;
-  if constexpr (std::is_same_v<Real, double>) evaluate = ElementTerms::at(name).f64; else evaluate = ElementTerms::at(name).f32;
+  if constexpr (std::is_same_v<Real, double>)
+    evaluate = ElementTerms::at(name).f64;
+  else
+    evaluate = ElementTerms::at(name).f32;
   const std::vector<Real> p(params.begin(), params.end());
   const auto info = s.element_info();
   std::vector<int64_t> out;
@@ -65,9 +68,11 @@ TEST(ElementTerms, EachIsAnEffectThatLaunchesOnlyItsOwnKernel) {
   for (const auto& name : ElementTerms::names()) {
     const auto names = Effects::names();
     ASSERT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
-    auto scene = testing::scene_from(testing::kMechanicsYaml, {"effects." + name + "=" + ElementTerms::at(name).example});
+    auto scene =
+        testing::scene_from(testing::kMechanicsYaml, {"effects." + name + "=" + ElementTerms::at(name).example});
     State s = testing::random_state(20, 6, 30.0, 5);
-    for (long e = 0; e < s.elements(); ++e) s.position[3 * e] += 5, s.position[3 * e + 1] += 5;  // inside the examples' faces
+    for (long e = 0; e < s.elements(); ++e)
+      s.position[3 * e] += 5, s.position[3 * e + 1] += 5;  // inside the examples' faces
     Simulation sim(scene, std::move(s));
     sim.advance(3);
     const auto& launched = sim.backend().launches();

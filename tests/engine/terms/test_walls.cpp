@@ -13,7 +13,9 @@
 namespace semlb::engine {
 namespace {
 
-std::vector<double> params(const std::string& yaml) { return testing::section_params("walls", yaml, ElementTerms::at("walls").read); }
+std::vector<double> params(const std::string& yaml) {
+  return testing::section_params("walls", yaml, ElementTerms::at("walls").read);
+}
 
 // The force on one element at (x, y, 5) from the walls of `yaml`, on the serial backend (double).
 std::array<double, 3> force_at(double x, double y, const std::string& yaml) {
@@ -32,7 +34,8 @@ std::array<double, 3> force_at(double x, double y, const std::string& yaml) {
 }
 
 TEST(Walls, EachFacePushesInwardWithTheMorseForceOfItsDistance) {
-  const std::string walls = "{xlo: 0, xhi: 20, ylo: -5, yhi: 5, wall_U: 2, wall_xi: 0.5, adhesion_V: 1, adhesion_xi: 2}";
+  const std::string walls =
+      "{xlo: 0, xhi: 20, ylo: -5, yhi: 5, wall_U: 2, wall_xi: 0.5, adhesion_V: 1, adhesion_xi: 2}";
   auto morse = [](double d) { return 2 / 0.5 * std::exp(-d / 0.5) - 1 / 2.0 * std::exp(-d / 2.0); };
   // 0.3 um inside xlo, 19.7 um inside xhi; 4 um inside ylo, 6 um inside yhi.
   const auto f = force_at(0.3, -1, walls);
@@ -80,10 +83,12 @@ TEST(Walls, SceneErrorsNameTheField) {
   // A face inside the starting tissue (random_state: 2 cells in a 5 um box) is refused before the run, naming it,
   // rather than failing at step 0 on the clamped force; within wall_xi (0.5 um) of the face is allowed.
   const std::string inside = message("{xhi: 2}");
-  EXPECT_EQ(inside.rfind("--set effects.walls: ", 0), 0u) << inside;  // (a scene file: FILE:LINE: field 'effects.walls': )
+  EXPECT_EQ(inside.rfind("--set effects.walls: ", 0), 0u)
+      << inside;  // (a scene file: FILE:LINE: field 'effects.walls': )
   EXPECT_NE(inside.find("start behind the face xhi = 2 um"), std::string::npos) << inside;
   EXPECT_EQ(message("{xhi: 5.4}"), "no error");
-  EXPECT_NE(message("{ylo: 4}").find("behind the face ylo = 4 um (y down to"), std::string::npos) << message("{ylo: 4}");
+  EXPECT_NE(message("{ylo: 4}").find("behind the face ylo = 4 um (y down to"), std::string::npos)
+      << message("{ylo: 4}");
   EXPECT_NE(message("{xlo: 0, xlow: 3}").find("xlow"), std::string::npos) << message("{xlo: 0, xlow: 3}");
   EXPECT_NE(message("{xlo: abc}").find("effects.walls.xlo"), std::string::npos) << message("{xlo: abc}");
 }

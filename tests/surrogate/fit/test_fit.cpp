@@ -44,8 +44,10 @@ void refused(const std::string& text, const std::string& what) {
 TEST(Fit, ConfigRefusalsNameTheFileLineAndField) {
   refused("workloads: " + kSmall + "\nevaluatons: 3\n", "fit.yaml:2: field 'evaluatons': unknown fit setting");
   refused("workloads: /no/such.h5\n", "field 'workloads': no such workload file '/no/such.h5'");
-  refused("workloads: " + kSmall + "\nfree: gain,speed\n", "field 'free': 'speed' is not a learned_repartition parameter");
-  refused("workloads: " + kSmall + "\nvalidation_surrogate_seeds: 9000\n", "must lie in the validation range 8000-8999");
+  refused("workloads: " + kSmall + "\nfree: gain,speed\n",
+          "field 'free': 'speed' is not a learned_repartition parameter");
+  refused("workloads: " + kSmall + "\nvalidation_surrogate_seeds: 9000\n",
+          "must lie in the validation range 8000-8999");
   refused("workloads: " + kSmall + "\nregret_weight: -1\n", "field 'regret_weight'");
   refused("workloads: " + kSmall + "\nranks: 2,one\n", "ranks");
   refused("surrogate_episodes: 0\n", "nothing to fit on");
@@ -59,9 +61,11 @@ TEST(Fit, ConfigRefusalsNameTheFileLineAndField) {
 // and rollout with the registered policy, over the lower of the base rule's and static's.
 TEST(Fit, ObjectiveIsTheReplaysAndTheSurrogatesLoopOverTheReference) {
   const auto dir = fresh_dir("fit_parity");
-  const auto c = fit::load_fit_config(write(dir, "workloads: " + kSmall + "\nranks: 2,4\nreplay_seeds: 3\n"
-                                                 "surrogate_episodes: 2\nsurrogate_events: 30\nregret_weight: 0\n"
-                                                 "surrogate_weight: 0.5\nthreads: 2\n"), {});
+  const auto c = fit::load_fit_config(write(dir, "workloads: " + kSmall +
+                                                     "\nranks: 2,4\nreplay_seeds: 3\n"
+                                                     "surrogate_episodes: 2\nsurrogate_events: 30\nregret_weight: 0\n"
+                                                     "surrogate_weight: 0.5\nthreads: 2\n"),
+                                      {});
   const fit::EpisodeSet set(c, false);
   ASSERT_EQ(set.size(), 4u);
   PolicyParams chosen, base;
@@ -93,7 +97,8 @@ TEST(Fit, ObjectiveIsTheReplaysAndTheSurrogatesLoopOverTheReference) {
 // depend on the thread count; its log has one row per evaluation.
 TEST(Fit, ASmallFitWritesTheCandidateValidationChose) {
   const auto dir = fresh_dir("fit_small");
-  const std::string text = "workloads: " + kSmall + "\nvalidation: " + source("results/cpu/workloads/small_epidermis_s1.h5") +
+  const std::string text = "workloads: " + kSmall +
+                           "\nvalidation: " + source("results/cpu/workloads/small_epidermis_s1.h5") +
                            "\nranks: 2,4\nreplay_seeds: 100\nsurrogate_episodes: 2\nsurrogate_events: 30\n"
                            "validation_surrogate_seeds: 8000-8001\nevaluations: 12\npolish: 6\n";
   std::vector<fit::FitResult> res;
@@ -114,8 +119,7 @@ TEST(Fit, ASmallFitWritesTheCandidateValidationChose) {
   EXPECT_EQ(r.candidates[0].name, "base");
   EXPECT_GT(r.candidates.size(), 3u + 48u);  // base, global, polished, the shortlist and the grid
   const auto w = load_repartition_weights(dir + "/w1.h5");
-  for (const auto& d : repartition_params())
-    EXPECT_EQ(w.*d.field, r.candidates[r.chosen].params.*d.field) << d.name;
+  for (const auto& d : repartition_params()) EXPECT_EQ(w.*d.field, r.candidates[r.chosen].params.*d.field) << d.name;
   std::ifstream log(dir + "/w1.log.csv");
   long lines = 0;
   for (std::string line; std::getline(log, line);) ++lines;
@@ -125,7 +129,8 @@ TEST(Fit, ASmallFitWritesTheCandidateValidationChose) {
 
 TEST(Fit, CommandLineErrorsExitTwo) {
   const auto dir = fresh_dir("fit_cli");
-  auto r = test::run(test::semlb_bin() + " fit --config " + write(dir, "workloads: /no/such.h5\n") + " --out " + dir + "/w.h5");
+  auto r = test::run(test::semlb_bin() + " fit --config " + write(dir, "workloads: /no/such.h5\n") + " --out " + dir +
+                     "/w.h5");
   EXPECT_EQ(r.rc, 2) << r.out;
   EXPECT_NE(r.out.find("field 'workloads'"), std::string::npos) << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir + "/w.h5"));

@@ -23,9 +23,9 @@ namespace fs = std::filesystem;
 
 namespace {
 TrainConfig tiny(long steps) {
-  return load_train_config("", {"steps=" + std::to_string(steps), "batch=4", "events=6", "validate_every=0",
-                                "validation_seeds=8000-8001", "validation_ranks=2,5", "validation_events=20",
-                                "checkpoint_every=2"});
+  return load_train_config(
+      "", {"steps=" + std::to_string(steps), "batch=4", "events=6", "validate_every=0", "validation_seeds=8000-8001",
+           "validation_ranks=2,5", "validation_events=20", "checkpoint_every=2"});
 }
 std::string train_to(const TrainConfig& c, const std::string& name) {
   const auto dir = test::fresh_dir("train_" + name);
@@ -57,7 +57,8 @@ TEST(TrainConfig, DefaultsFileAndErrors) {
     load_train_config(dir + "/bad.yaml", {});
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.yaml:2: field 'batchsize': unknown training setting"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("bad.yaml:2: field 'batchsize': unknown training setting"), std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(load_train_config("", {"lr=fast"}), InputError);
   EXPECT_THROW(load_train_config("", {"validation_seeds=9000-9001"}), InputError);  // evaluation seeds refused
@@ -120,13 +121,15 @@ TEST(Trainer, UntrainedExportReproducesReactive) {
   EXPECT_EQ(w.head_b, 0.0);
   EXPECT_EQ(w.parameter_count(), 2761);
   const auto r = test::run(test::semlb_bin() + " surrogate --policies reactive,gru --weights " + path +
-                           " --ranks 3,16 --seeds 9000-9002 --events 60 --no-timing --quiet --out " + fs::path(path).parent_path().string());
+                           " --ranks 3,16 --seeds 9000-9002 --events 60 --no-timing --quiet --out " +
+                           fs::path(path).parent_path().string());
   ASSERT_EQ(r.rc, 0) << r.out;
   std::istringstream csv(test::slurp(fs::path(path).parent_path().string() + "/controller_eval.csv"));
   std::string line;
   std::vector<std::string> reactive, gru;
   std::getline(csv, line);
-  while (std::getline(csv, line)) (line.rfind("reactive,", 0) == 0 ? reactive : gru).push_back(line.substr(line.find(',')));
+  while (std::getline(csv, line))
+    (line.rfind("reactive,", 0) == 0 ? reactive : gru).push_back(line.substr(line.find(',')));
   ASSERT_EQ(reactive.size(), 6u);
   EXPECT_EQ(reactive, gru);
 }
@@ -148,9 +151,20 @@ TEST(Trainer, TrainedWeightsPassParityAndRunsRepeat) {
 
 TEST(Trainer, KilledRunResumesToTheSameWeights) {
   // Validation every step, so that the log shows which steps each run trained.
-  const std::vector<std::string> sets = {"batch=4", "events=6", "validate_every=1", "validation_seeds=8000-8001",
-                                         "validation_ranks=2,5", "validation_events=20", "checkpoint_every=2"};
-  const auto ref = train_to(load_train_config("", [&] { auto s = sets; s.push_back("steps=4"); return s; }()), "ref");
+  const std::vector<std::string> sets = {"batch=4",
+                                         "events=6",
+                                         "validate_every=1",
+                                         "validation_seeds=8000-8001",
+                                         "validation_ranks=2,5",
+                                         "validation_events=20",
+                                         "checkpoint_every=2"};
+  const auto ref = train_to(load_train_config("",
+                                              [&] {
+                                                auto s = sets;
+                                                s.push_back("steps=4");
+                                                return s;
+                                              }()),
+                            "ref");
   const auto dir = test::fresh_dir("train_kill");
   std::string cmd = test::semlb_bin() + " train --steps 4 --out " + dir + "/w.h5";
   for (const auto& s : sets) cmd += " --set " + s;
