@@ -142,13 +142,13 @@ def code_tokens(text):
     return out
 
 
-def same_code(commit, path, repo=REPO):
-    """True when PATH (a C, C++ or OpenCL file) holds the same tokens (code_tokens) at COMMIT and at HEAD; False for
-    any other file, or one missing at either."""
+def same_code(commit, path, repo=REPO, head="HEAD"):
+    """True when PATH (a C, C++ or OpenCL file) holds the same tokens (code_tokens) at COMMIT and at HEAD (another
+    revision with head=); False for any other file, or one missing at either."""
     if not path.endswith(CODE_SUFFIXES):
         return False
     old, new = _git("rev-parse", "-q", "--verify", f"{commit}:{path}", repo=repo), \
-        _git("rev-parse", "-q", "--verify", f"HEAD:{path}", repo=repo)
+        _git("rev-parse", "-q", "--verify", f"{head}:{path}", repo=repo)
     if not old or not new:
         return False
     return old == new or (_blob_tokens(old, repo) is not None and _blob_tokens(old, repo) == _blob_tokens(new, repo))
@@ -182,8 +182,8 @@ def record(path, root=None):
 
 def status(commit, repo=REPO, paths=None):
     """(FRESH | STALE | UNKNOWN, detail): STALE when PATHS (default KERNEL_PATHS) hold something else at HEAD than at
-    COMMIT, comments and layout of source files aside (same_code; detail: the latest commit since that touched a file
-    that differs, 'abc1234 YYYY-MM-DD'); UNKNOWN when git cannot tell (detail: why)."""
+    COMMIT, comments and layout of source files aside (same_code; detail: the latest commit since that changed a file
+    that differs, other than in its layout, 'abc1234 YYYY-MM-DD'); UNKNOWN when git cannot tell (detail: why)."""
     if not commit:
         return UNKNOWN, "no commit recorded"
     if _git("rev-parse", "--git-dir", repo=repo) is None:
@@ -195,15 +195,17 @@ def status(commit, repo=REPO, paths=None):
     if changed is None:
         return UNKNOWN, "git diff failed"
     # the paths hold what they held then (a change undone since leaves the result current), or differ in comments
-    # and layout only. The detail: the newest commit since that touched a file that differs.
+    # and layout only. The detail: the newest commit since that changed the tokens of a file that differs.
     changed = set(changed.splitlines())
     if not changed:
         return FRESH, ""
-    log = _git("log", "--format=%x01%h %cs", "--name-only", f"{commit}..HEAD", "--", *paths, repo=repo) or ""
+    log = _git("log", "--format=%x01%H %h %cs", "--name-only", f"{commit}..HEAD", "--", *paths, repo=repo) or ""
     for entry in log.split("\x01")[1:]:
         head, *files = entry.splitlines()
-        if any(f in changed and not same_code(commit, f, repo) for f in files):
-            return STALE, head
+        full, short = head.split(" ", 1)
+        if any(f in changed and not same_code(commit, f, repo) and not same_code(f"{full}^", f, repo, full)
+               for f in files):
+            return STALE, short
     differ = sorted(f for f in changed if not same_code(commit, f, repo))
     return (STALE, differ[0]) if differ else (FRESH, "")
 

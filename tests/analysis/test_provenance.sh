@@ -81,6 +81,12 @@ open(f"{repo}/engine/backends/k.cl", "a").write("\n// trailing comment\n")
 subprocess.run(["git", "-C", repo, "commit", "-qam", "comment"], check=True)
 p._cache.clear()
 assert st(f3)[1].startswith(f6[:7]), st(f3)
+# nor a newer commit that changed the differing file's layout only (k.cpp reformatted)
+text = open(f"{repo}/engine/backends/k.cpp").read()
+open(f"{repo}/engine/backends/k.cpp", "w").write(text.replace("int f(int a, int b) {", "int f(int a,\n      int b) {"))
+subprocess.run(["git", "-C", repo, "commit", "-qam", "layout"], check=True)
+p._cache.clear()
+assert st(f3)[1].startswith(f6[:7]) and st(f1) == (p.FRESH, ""), (st(f3), st(f1))
 print("provenance, layout and comments: ok")
 PY
 # code_tokens: what a formatter changes gives the same tokens, what changes the program does not
