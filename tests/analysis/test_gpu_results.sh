@@ -37,7 +37,14 @@ since=$(mktemp); sleep 1
 bash "$src/scripts/gpu/pack_results.sh" "$work/out" "$since" "$work/pack2" | grep -q "nothing under" || fail "packed old files"
 touch "$work/out/workloads/controller_eval_engine_paper.csv"
 head -c 3000000 /dev/urandom > "$work/out/noise.bin"
+mkdir -p "$work/out/runs/r1"; echo partial > "$work/out/runs/r1/final.h5.tmp"  # a run stopped mid-write
 rc=0; PART_MB=1 MAX_PARTS=2 bash "$src/scripts/gpu/pack_results.sh" "$work/out" "$since" "$work/pack3" 2> "$work/pack3.err" || rc=$?
-[ "$rc" = 1 ] && grep -q "more than 2" "$work/pack3.err" && [ -z "$(ls "$work/pack3")" ] || { cat "$work/pack3.err"; fail "too many parts: exit $rc"; }
-rm -f "$since" "$work/out/noise.bin"
+# too many parts: the largest file is left out and named, what fits comes back, exit 1
+[ "$rc" = 1 ] && grep -q "left out out/noise.bin" "$work/pack3.err" && ls "$work/pack3"/results.tgz.* > /dev/null \
+  || { cat "$work/pack3.err"; fail "too many parts: exit $rc"; }
+mkdir -p "$work/unpacked3" && cat "$work/pack3"/results.tgz.* | tar xz -C "$work/unpacked3"
+cmp "$work/out/workloads/controller_eval_engine_paper.csv" "$work/unpacked3/out/workloads/controller_eval_engine_paper.csv" \
+  || fail "what fits was not packed"
+[ ! -e "$work/unpacked3/out/noise.bin" ] && [ ! -e "$work/unpacked3/out/runs/r1/final.h5.tmp" ] || fail "packed the left-out file or a partial write"
+rm -rf "$since" "$work/out/noise.bin" "$work/out/runs"
 echo "1 passed, 0 failed"
