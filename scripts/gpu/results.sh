@@ -8,6 +8,8 @@
 #   YALLA=DIR: the folder holding a ya||a clone as DIR/yalla (the peer stage is skipped without it: no network there).
 #   BUILD=DIR: where semlb is built (Release, no tests, no torch; default /tmp/semlb-gpu, as scripts/gpu_sweep.sh).
 #   REPLAY_SET="--set KEY=VALUE ...": extra settings of the replay sweep (a quick run: --set ranks=2 --set seed=0).
+#   JOBS=N (default 1): the workload stages still to do run N at once, taking turns on the device, as one step of the
+#   call (on the H200, 2026-12-04: six recordings three at once in 410 s, 10-12 minutes one at a time).
 #   CHECK=1: check every stage without a GPU (the sweeps' `--check`, the scripts present), write nothing, exit 0.
 #   PACK=DIR: on the way out (finished, failed or out of budget), what this call made under OUT goes to DIR as tar
 #   parts (scripts/gpu/pack_results.sh), for a machine whose files come back from one folder: unpacked beside OUT
@@ -16,6 +18,8 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")/../.." && pwd)
 OUT=${1:-$here/results/gpu}; shift || true
 BUDGET_S=${BUDGET_S:-420}
+JOBS=${JOBS:-1}
+[[ $JOBS =~ ^[1-9][0-9]*$ ]] || { echo "gpu-results: JOBS='$JOBS' is not a whole number >= 1" >&2; exit 2; }
 BUILD=${BUILD:-/tmp/semlb-gpu}
 PY=${PYTHON:-/usr/bin/python3}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OCL_ICD_FILENAMES=${OCL_ICD_FILENAMES:-libnvidia-opencl.so.1}
@@ -68,6 +72,35 @@ check_stage() {  # STAGE: what CHECK=1 verifies without a GPU
   esac
 }
 
+workload_provenance() {  # NAME: the library file's record in OUT/workloads/provenance.json
+  $PY - "$OUT/workloads/provenance.json" "$1" "$commit" "$(date -u +%F)" "$device" <<'EOF'
+import json, os, sys
+path, name, commit, date, device = sys.argv[1:]
+doc = json.load(open(path)) if os.path.exists(path) else {"how": "scripts/gpu/results.sh workload:NAME", "files": {}}
+rec = {"semlb_commit": commit, "date": date, "how": f"scripts/gpu/results.sh workload:{name}", "device": device}
+for ext in (".h5", ".run.csv", ".scene.yaml"):
+    doc.setdefault("files", {})[name + ext] = rec
+json.dump(doc, open(path + ".tmp", "w"), indent=1)
+os.replace(path + ".tmp", path)
+EOF
+}
+
+workload_group() {  # STAGE...: the workload stages named, JOBS at once taking turns on the device (workload_library.sh);
+                    # each file kept gets its record and its stage's marker, the others are retried by the next call
+  local names=() st stamp t0 rc=0
+  for st in "$@"; do names+=("${st#workload:}"); done
+  stamp=$(mktemp); t0=$(date +%s); sleep 1
+  MEASURED=1 JOBS=$JOBS bash "$here/scripts/gpu/workload_library.sh" "$S" "$OUT/workloads" "${names[@]}" || rc=$?
+  for st in "$@"; do
+    if [ "$OUT/workloads/${st#workload:}.h5" -nt "$stamp" ]; then
+      workload_provenance "${st#workload:}"
+      echo "$commit $(date -u +%FT%TZ) $(( $(date +%s) - t0 )) s (JOBS=$JOBS)" > "$OUT/.stages/${st//:/_}.done"
+    fi
+  done
+  rm -f "$stamp"
+  return "$rc"
+}
+
 run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run here (and says why)
   case $1 in
     single_device)  # the device backends only: serial all-pairs at 2000 cells is 20 min of one host core
@@ -94,17 +127,7 @@ run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run her
       provenance "$OUT/measured" "scripts/gpu/results.sh measured_time (scripts/gpu/measured_all.sh)";;
     workload:*)
       MEASURED=1 bash "$here/scripts/gpu/workload_library.sh" "$S" "$OUT/workloads" "${1#workload:}"  # version 3: measured seconds
-      $PY - "$OUT/workloads/provenance.json" "${1#workload:}" "$commit" "$(date -u +%F)" "$device" <<'EOF'
-import json, os, sys
-path, name, commit, date, device = sys.argv[1:]
-doc = json.load(open(path)) if os.path.exists(path) else {"how": "scripts/gpu/results.sh workload:NAME", "files": {}}
-rec = {"semlb_commit": commit, "date": date, "how": f"scripts/gpu/results.sh workload:{name}", "device": device}
-for ext in (".h5", ".run.csv", ".scene.yaml"):
-    doc.setdefault("files", {})[name + ext] = rec
-json.dump(doc, open(path + ".tmp", "w"), indent=1)
-os.replace(path + ".tmp", path)
-EOF
-      ;;
+      workload_provenance "${1#workload:}";;
     controller_eval_engine)  # the replays of the test workloads (CPU only), as workloads/controller_eval_engine_paper.*
       # shellcheck disable=SC2086
       "$S" sweep "$here/experiments/controller_eval_engine.yaml" --profile paper --results "$OUT/.replay" --quiet ${REPLAY_SET:-}
@@ -136,11 +159,20 @@ if [ -n "${PACK:-}" ]; then
   since=$(mktemp); sleep 1  # files made from the next second on are newer than it
   trap 'bash "$here/scripts/gpu/pack_results.sh" "$OUT" "$since" "$PACK" gpu-results; rm -f "$since"' EXIT
 fi
-left=()
+left=() grouped=" "
 for st in $want; do
   marker="$OUT/.stages/${st//:/_}.done"
   [ -f "$marker" ] && continue
+  case $grouped in *" $st "*) continue;; esac  # tried in this call's group (below): the next call retries it
   if [ $(( $(date +%s) - start )) -ge "$BUDGET_S" ]; then left+=("$st"); continue; fi
+  if [[ $st == workload:* ]] && [ "$JOBS" -gt 1 ]; then  # every workload stage still to do, at once
+    group=(); for w in $want; do [[ $w == workload:* ]] && [ ! -f "$OUT/.stages/${w//:/_}.done" ] && group+=("$w"); done
+    grouped+="${group[*]} "
+    echo "gpu-results: ${group[*]} (JOBS=$JOBS at once, $(( $(date +%s) - start )) s into this call)"
+    set +e; (set -e; workload_group "${group[@]}"); rc=$?; set -e
+    [ "$rc" = 0 ] || { echo "gpu-results: workload group failed (exit $rc); the next call retries what it did not keep" >&2; exit "$rc"; }
+    continue
+  fi
   echo "gpu-results: $st ($(( $(date +%s) - start )) s into this call)"
   t0=$(date +%s)
   set +e; (set -e; run_stage "$st"); rc=$?; set -e  # in a subshell of its own: any failing command fails the stage

@@ -47,4 +47,32 @@ cmp "$work/out/workloads/controller_eval_engine_paper.csv" "$work/unpacked3/out/
   || fail "what fits was not packed"
 [ ! -e "$work/unpacked3/out/noise.bin" ] && [ ! -e "$work/unpacked3/out/runs/r1/final.h5.tmp" ] || fail "packed the left-out file or a partial write"
 rm -rf "$since" "$work/out/noise.bin" "$work/out/runs"
+# JOBS=3: the workload stages still to do run at once (one workload_library.sh call); each file kept gets its record
+# and marker, a failed one neither (retried by the next call, which skips the done ones); a stand-in semlb (no GPU)
+# writes an empty HDF5 file (no timed regions to check) and fails with --seed 2
+mkdir -p "$work/fake/cli"
+cat > "$work/fake/cli/semlb" <<'SH'
+#!/usr/bin/env bash
+out=; args=("$@"); for ((i = 0; i < ${#args[@]}; i++)); do [ "${args[$i]}" = --out ] && out=${args[$((i + 1))]}; done
+echo "$PPID $*" >> "$(dirname "$0")/calls"
+[[ " $* " == *" --seed 2 "* ]] && exit 3
+/usr/bin/python3 -c 'import h5py, sys; h5py.File(sys.argv[1], "w")' "$out/workload.h5"; echo c > "$out/run.csv"; echo y > "$out/scene.yaml"
+SH
+chmod +x "$work/fake/cli/semlb"
+rc=0; JOBS=3 BUILD=$work/fake bash "$src/scripts/gpu/results.sh" "$work/wl" workload:epidermis_s1 workload:epidermis_half_s1 \
+  workload:dev_v24.8_s2 > "$work/wl.log" 2>&1 || rc=$?
+[ "$rc" = 1 ] || { cat "$work/wl.log"; fail "a failed recording in the group: exit $rc"; }
+[ "$(cut -d' ' -f1 "$work/fake/cli/calls" | sort -u | wc -l)" = 1 ] && [ "$(wc -l < "$work/fake/cli/calls")" = 3 ] \
+  || { cat "$work/fake/cli/calls"; fail "not one workload_library.sh call for the three"; }
+for n in epidermis_s1 epidermis_half_s1; do
+  [ -s "$work/wl/.stages/workload_$n.done" ] && grep -q "\"$n.h5\"" "$work/wl/workloads/provenance.json" || fail "$n: no marker or record"
+done
+[ ! -e "$work/wl/.stages/workload_dev_v24.8_s2.done" ] && ! grep -q dev_v24.8_s2 "$work/wl/workloads/provenance.json" \
+  || fail "the failed recording has a marker or a record"
+rc=0; JOBS=3 BUILD=$work/fake bash "$src/scripts/gpu/results.sh" "$work/wl" workload:epidermis_s1 workload:epidermis_half_s1 \
+  workload:dev_v24.8_s2 > "$work/wl2.log" 2>&1 || rc=$?
+[ "$rc" = 1 ] && [ "$(wc -l < "$work/fake/cli/calls")" = 4 ] && grep -q "dev_v24.8_s2 (JOBS=3" "$work/wl2.log" \
+  || { cat "$work/wl2.log"; fail "the next call did not retry only the failed one (exit $rc)"; }
+rc=0; JOBS=x bash "$src/scripts/gpu/results.sh" "$work/wl" list > /dev/null 2>&1 || rc=$?
+[ "$rc" = 2 ] || fail "JOBS=x: exit $rc"
 echo "1 passed, 0 failed"
