@@ -17,7 +17,7 @@ Action add_train(CLI::App& app) {
   auto* sub =
       app.add_subcommand("train", "Train the GRU controller (libtorch, CPU); resumes from OUT.ckpt after a kill");
   sub->add_option("--config", o->config,
-                  "Training config (YAML); default: the paper's recipe (surrogate/train/default.yaml)");
+                  "Training config (YAML); default: surrogate/train/default.yaml (the v1 recipe)");
   sub->add_option("--set", o->sets, "Override KEY=VALUE (repeatable), e.g. --set batch=16");
   sub->add_option("--steps", o->steps, "Optimisation steps (0 exports the untrained, zero-head model)")
       ->check(strict_integer(0));

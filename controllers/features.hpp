@@ -9,7 +9,7 @@
 namespace semlb {
 
 inline constexpr int kFeatureCount = 12;
-// Two sets of the same 12 inputs (docs/controllers.md "GRU features"): boundary-v1 clamps the imbalance, its change and
+// Two sets of the same 12 inputs (docs/controllers.md "Features"): boundary-v1 clamps the imbalance, its change and
 // the last move to [-1, 1] (the global imbalance to [0, 2]), which saturates on engine workloads (|I_t| ~ 1);
 // boundary-v2 maps them through x / (1 + |x|) instead (equal to x to first order, never flat). Weights files name their
 // set.

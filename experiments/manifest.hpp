@@ -1,6 +1,6 @@
 // Experiment manifests (YAML): a runner, axes expanded as a cartesian product (or a union of products, one per
 // axis group), fixed settings, profiles.
-// Format: README.md "Manifest format".
+// Format: docs/experiments.md "Manifest format".
 #pragma once
 #include <map>
 #include <string>

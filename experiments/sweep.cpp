@@ -440,7 +440,8 @@ SweepSummary run_sweep(const Manifest& m, const std::vector<std::string>& overri
   if (!launcher)
     throw InputError("--launcher: unknown launcher '" + o.launcher + "' (known: " + Launchers::known() + ")");
   // A SIGINT, SIGTERM or SIGHUP of the sweep stops the rows' children (mpiexec and its ranks), removes their run
-  // folders and the results folder's lock, then ends the sweep by that signal (docs/experiments.md, "Signals").
+  // folders and the results folder's lock, then ends the sweep by that signal (docs/experiments.md, "Resume,
+  // settings digests and locks").
   const SignalCleanup cleanup;
   return launcher->launch(m, overrides, o);
 }

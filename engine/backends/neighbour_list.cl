@@ -12,7 +12,7 @@
 
 /* Fraction of the skin an element may move before the list is rebuilt: half the skin less 2% for rounding (two
    elements that each moved less than this came closer by less than the skin). A build option so that the list
-   test can show a wrong trigger being caught (-DSEMLB_NL_TRIGGER=1.5). */
+   test can show a wrong trigger being caught (-DSEMLB_NL_TRIGGER=3.0). */
 #ifndef SEMLB_NL_TRIGGER
 #define SEMLB_NL_TRIGGER 0.49
 #endif
