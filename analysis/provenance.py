@@ -21,7 +21,7 @@ import subprocess
 import sys
 
 from pygments.lexers import CppLexer
-from pygments.token import Comment, Number, Operator, Punctuation, Text
+from pygments.token import Comment, Error, Number, Operator, Punctuation, Text
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -105,8 +105,13 @@ def code_tokens(text):
     whitespace between tokens: two texts that differ in comments and layout only give the same list. Operators and
     punctuation written together are split as a C++ lexer splits them (`a + +b` is not `a ++b`, `x - 1` is `x -1`);
     a preprocessor directive gives its keyword, whether a macro is function-like (`#define F (x)` is not
-    `#define F(x)`) and its tokens as code."""
+    `#define F(x)`) and its tokens as code. A text that is not C to the lexer (a template of embed_kernels.cmake,
+    `semlb_growth_@NAME@(`) gives one token: its text without comments and blank lines, every other space kept."""
     toks = list(CppLexer(stripnl=False).get_tokens(text))
+    if any(ttype in Error for ttype, _ in toks):  # not C: a template (`f_@NAME@(`), whose spacing and lines are syntax
+        kept = "".join(("\n" if value.endswith("\n") else "") if ttype in Comment and ttype not in Comment.Preproc and
+                       ttype not in Comment.PreprocFile else value for ttype, value in toks)
+        return [("template", "\n".join(line.rstrip() for line in kept.splitlines() if line.strip()))]
     out, run, gap, i = [], "", True, 0
 
     def flush():

@@ -97,7 +97,10 @@ from provenance import code_tokens as t
 same = [("#define M(a) \\\n  ((a)-1)  \\\n", "#define M(a) \\\n  ((a) - 1)            \\\n"),
         ("#if defined(X)\nint y;\n#endif\n", "#if defined( \\\n    X)\nint y;  // why\n#endif\n"),
         ('f("a" "b");', 'f("a"\n  "b");'), ("x=-1.0f;", "x = -1.0f;"), ("int *p;", "int* p;")]
-differ = [("#define A 1\nint x;\n", "#define A 1 int x;\n"), ("#define F(x) x\n", "#define F (x) x\n"),
+same += [("/* a template */\ncase @I@: return f_@NAME@(x);\n", "case @I@: return f_@NAME@(x);  // why\n\n")]
+differ = [("case @I@: return f_@NAME@(x);", "case @I @: return f_ @NAME @(x);"),
+          ("case @I@: return f_@NAME@(x);", "case @I@:\n  return f_@NAME@(x);"),
+          ("#define A 1\nint x;\n", "#define A 1 int x;\n"), ("#define F(x) x\n", "#define F (x) x\n"),
           ("y = x - -1;", "y = x--1;"), ('f("a b");', 'f("a  b");'), ('f("ab");', 'f("a" "b");'), ("a+++b;", "a + ++b;")]
 for a, b in same:
     assert t(a) == t(b), (a, b)
