@@ -1,7 +1,6 @@
 // `semlb replay`: apply a policy to a recorded trace, event after event, printing its decisions; with --score,
 // run it on the trace's recorded work and print one JSON line of metrics (docs/controllers.md "Replay").
 #include <iostream>
-#include <set>
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
@@ -85,25 +84,14 @@ Action add_replay(CLI::App& app) {
       r.first_event = o->first_event;
       r.events = o->events;
       r.coarsen = o->coarsen;
-      std::set<std::string> given;
       for (const auto& kv : o->model) {
         const auto eq = kv.find('=');
         if (eq == std::string::npos) throw InputError("--time-model: expected KEY=VALUE, got '" + kv + "'");
-        if (!given.insert(kv.substr(0, eq)).second)
+        if (r.model.given.count(kv.substr(0, eq)))
           throw InputError("--time-model " + kv.substr(0, eq) + ": given twice");
         surrogate::set_time_model(r.model, kv.substr(0, eq), kv.substr(eq + 1), "--time-model ");
       }
       const auto w = read_workload(o->workload);
-      // the list keys act on a version 3 file's list seconds under a measured truth: elsewhere they would do nothing
-      for (const char* key : {"list_by", "list_weight", "element_s"})
-        if (given.count(key)) {
-          if (w.events.empty() || w.events.front().part_seconds.empty())
-            throw InputError(std::string("--time-model ") + key + ": " + o->workload +
-                             " has no list seconds (part_seconds: a version 3 workload)");
-          if (r.model.truth == surrogate::TimeModel::Truth::kWork)
-            throw InputError(std::string("--time-model ") + key +
-                             ": truth=work replays W_s, which has no list seconds");
-        }
       const auto res = surrogate::replay_workload(w, r, *policy, o->policy, o->workload);
       const nlohmann::json out = {{"ranks", r.ranks},
                                   {"events", res.events},

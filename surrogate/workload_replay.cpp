@@ -87,6 +87,7 @@ void set_time_model(TimeModel& m, const std::string& key, const std::string& val
     for (const auto& k : time_model_keys()) known += (known.empty() ? "" : ", ") + k;
     throw InputError(at + "unknown time model key (known: " + known + ")");
   }
+  m.given.insert(key);
 }
 
 ReplayTrack replay_track(const EngineWorkload& w, const WorkloadReplay& r, const std::string& file) {
@@ -110,6 +111,15 @@ ReplayTrack replay_track(const EngineWorkload& w, const WorkloadReplay& r, const
                      ": field 'slice_seconds': --time-model truth=measured, but the file has no measured seconds "
                      "(a version 1 workload: record it with decomposition.timing: device)");
   t.measured = has && r.model.truth != TimeModel::Truth::kWork;
+  // the list keys act on a version 3 file's list seconds under a measured truth: elsewhere they would do nothing
+  for (const char* key : {"list_by", "list_weight", "element_s"})
+    if (r.model.given.count(key)) {
+      if (w.events.empty() || w.events.front().part_seconds.empty())
+        throw InputError(file + ": time model " + key + ": the file has no list seconds (part_seconds: a version 3 " +
+                         "workload)");
+      if (!t.measured)
+        throw InputError(file + ": time model " + key + ": truth=work replays W_s, which has no list seconds");
+    }
   double work = 0, seconds = 0;
   for (int e = r.first_event; e < last; ++e) {
     const WorkloadEvent& ev = w.events[e];

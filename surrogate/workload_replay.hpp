@@ -2,6 +2,7 @@
 // "Replay of engine workloads").
 #pragma once
 #include <cstdint>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -50,12 +51,13 @@ struct TimeModel {
   double jitter = 0.03;                  // sigma of the measurement noise (relative)
   double migrate_s_per_slice = 1.24e-4;  // seconds per slice moved
   double seconds_per_work = 0;           // c_w; 0: sum(interval_s) / sum(W_s) over the workload's events
+  std::set<std::string> given;           // the keys set_time_model set (replay_track refuses list keys that do nothing)
 };
 
 // The TimeModel keys ("ghost_weight", ...), and one "KEY=VALUE" set into `m` (strict numbers, each in its range:
 // ghost_weight and list_weight [0, 100], speed_spread and jitter [0, 0.3], migrate_s_per_slice, seconds_per_work and
 // rank_overhead_s [0, 1e6], element_s [0, 1]; truth one of auto, work, measured; list_by one of stages, work).
-// InputError prefixed by `where` naming the key.
+// InputError prefixed by `where` naming the key. The key joins m.given.
 const std::vector<std::string>& time_model_keys();
 void set_time_model(TimeModel& m, const std::string& key, const std::string& value, const std::string& where);
 

@@ -119,12 +119,13 @@ TEST(Replay, WorkloadAtARankCountThroughTheTimeModel) {
       "replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model truth=work --time-model truth=auto",
       "--time-model truth: given twice");
   // the list keys act on a version 3 file's list seconds only: refused where they would do nothing
-  expect_bad_input("replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model list_by=work",
-                   "--time-model list_by: " + dir + "/w.h5 has no list seconds (part_seconds: a version 3 workload)");
+  expect_bad_input(
+      "replay --policy static --workload " + dir + "/w.h5 --ranks 2 --time-model list_by=work",
+      dir + "/w.h5: time model list_by: the file has no list seconds (part_seconds: a version 3 workload)");
   const std::string v3 = source("results/gpu/measured/runs/epidermis_development/record/workload.h5");
   expect_bad_input(
       "replay --policy static --workload " + v3 + " --ranks 2 --time-model truth=work --time-model element_s=1e-9",
-      "--time-model element_s: truth=work replays W_s, which has no list seconds");
+      v3 + ": time model element_s: truth=work replays W_s, which has no list seconds");
   expect_bad_input("replay --policy static --workload " + v3 + " --ranks 2 --time-model element_s=2",
                    "--time-model element_s: '2' is outside [0, 1]");
   const auto ok =

@@ -133,9 +133,31 @@ TEST(WorkloadReplay, ListBuildsByChangedWorkWithAWeightAndAPerElementCost) {
   const auto r = replay_workload(hand_parts(), model, *policy, "static", "hand.h5");
   EXPECT_NEAR(r.compute_s, 6.0 + 4.3, 1e-12);
   EXPECT_NEAR(r.ideal_s, (2.2 + 6.0) / 2 + (4.3 + 2.225) / 2, 1e-12);
-  // a version 2 file has no list seconds and no elements per slice: the three keys change nothing there
-  const auto v2 = replay_workload(hand_measured(), model, *policy, "static", "hand.h5");
-  EXPECT_NEAR(v2.compute_s, 6 + 4, 1e-12);
+  // a version 2 file has no list seconds and no elements per slice, and truth=work replays W_s: the three keys would
+  // change nothing there, and are refused (any one of them), naming the file and the key
+  for (const char* key : {"list_by", "list_weight", "element_s"}) {
+    auto one = exact(2);
+    set_time_model(one.model, key, std::string(key) == "list_by" ? "work" : "0.5", "--time-model ");
+    try {
+      replay_workload(hand_measured(), one, *policy, "static", "hand.h5");
+      ADD_FAILURE() << key << ": no error on a version 2 file";
+    } catch (const InputError& e) {
+      EXPECT_NE(
+          std::string(e.what()).find("hand.h5: time model " + std::string(key) + ": the file has no list seconds"),
+          std::string::npos)
+          << e.what();
+    }
+    set_time_model(one.model, "truth", "work", "--time-model ");
+    try {
+      replay_workload(hand_parts(), one, *policy, "static", "hand.h5");
+      ADD_FAILURE() << key << ": no error under truth=work";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("truth=work replays W_s"), std::string::npos) << e.what();
+    }
+  }
+  auto plain = exact(2);
+  plain.model.ghost_weight = 0;
+  EXPECT_NEAR(replay_workload(hand_measured(), plain, *policy, "static", "hand.h5").compute_s, 6 + 4, 1e-12);
   try {
     set_time_model(model.model, "list_by", "elements", "--time-model ");
     ADD_FAILURE() << "no error";
