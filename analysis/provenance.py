@@ -13,7 +13,9 @@ C++ lexer's, comments and whitespace between tokens dropped; a preprocessor dire
 Usage: provenance.py [--results DIR] [--check]   (prints one line per record: path, commit, date, status)
 """
 import argparse
+import atexit
 import functools
+import hashlib
 import json
 import os
 import re
@@ -57,11 +59,49 @@ def _git(*args, repo=REPO):
 CODE_SUFFIXES = (".c", ".h", ".cc", ".cpp", ".hpp", ".cl")
 
 
-@functools.lru_cache(maxsize=None)
-def _blob_tokens(sha, repo=REPO):
-    """code_tokens of the git blob SHA (computed once per blob)."""
-    out = subprocess.run(["git", "-C", repo, "cat-file", "blob", sha], capture_output=True, timeout=30)
-    return code_tokens(out.stdout.decode("utf-8", "replace")) if out.returncode == 0 else None
+# code_tokens' digest per git blob, kept in the clone's git folder between runs (a blob never changes; the version
+# names the token rules, so a change to them starts afresh): lexing every version of every engine file takes
+# half a minute, reading the digests a moment.
+TOKEN_CACHE = "semlb-token-digests-v1.json"
+_digests = {}
+
+
+def _digest_cache(repo):
+    """{blob sha: digest or ''} of REPO, read from its git folder once (empty when absent or unreadable)."""
+    if repo not in _digests:
+        gitdir = _git("rev-parse", "--absolute-git-dir", repo=repo)
+        path = os.path.join(gitdir, TOKEN_CACHE) if gitdir else None
+        try:
+            with open(path) as f:
+                cache = json.load(f)
+        except (OSError, TypeError, ValueError):
+            cache = {}
+        _digests[repo] = (path, cache if isinstance(cache, dict) else {}, [False])
+        atexit.register(_save_digests, repo)
+    return _digests[repo]
+
+
+def _save_digests(repo):
+    """Writes REPO's digest cache back when it grew (atomically: a concurrent run loses at most its own additions)."""
+    path, cache, dirty = _digests[repo]
+    if path and dirty[0]:
+        try:
+            with open(path + f".{os.getpid()}", "w") as f:
+                json.dump(cache, f)
+            os.replace(path + f".{os.getpid()}", path)
+        except OSError:
+            pass
+
+
+def _blob_digest(sha, repo=REPO):
+    """sha256 of code_tokens of the git blob SHA, '' for a blob git cannot give; cached (_digest_cache)."""
+    _, cache, dirty = _digest_cache(repo)
+    if sha not in cache:
+        out = subprocess.run(["git", "-C", repo, "cat-file", "blob", sha], capture_output=True, timeout=30)
+        cache[sha] = hashlib.sha256(repr(code_tokens(out.stdout.decode("utf-8", "replace"))).encode()).hexdigest() \
+            if out.returncode == 0 else ""
+        dirty[0] = True
+    return cache[sha]
 
 
 # C and C++ punctuators of more than one character, longest first (maximal munch, C++20 [lex.pptoken] 3.3)
@@ -148,15 +188,20 @@ def code_tokens(text):
 
 
 def same_code(commit, path, repo=REPO, head="HEAD"):
-    """True when PATH (a C, C++ or OpenCL file) holds the same tokens (code_tokens) at COMMIT and at HEAD (another
-    revision with head=); False for any other file, or one missing at either."""
-    if not path.endswith(CODE_SUFFIXES):
-        return False
-    old, new = _git("rev-parse", "-q", "--verify", f"{commit}:{path}", repo=repo), \
-        _git("rev-parse", "-q", "--verify", f"{head}:{path}", repo=repo)
-    if not old or not new:
-        return False
-    return old == new or (_blob_tokens(old, repo) is not None and _blob_tokens(old, repo) == _blob_tokens(new, repo))
+    """True when PATH holds the same at COMMIT and at HEAD (another revision with head=) as far as staleness goes
+    (_state: the tokens of a C, C++ or OpenCL file, the bytes of any other); False where it is missing at either."""
+    old = _state(commit, path, repo)
+    return old is not None and old == _state(head, path, repo)
+
+
+def _state(rev, path, repo=REPO):
+    """What PATH holds at REV as far as staleness goes: the digest of its tokens (a C, C++ or OpenCL file,
+    code_tokens) or its blob; None where it is absent."""
+    sha = _git("rev-parse", "-q", "--verify", f"{rev}:{path}", repo=repo)
+    if not sha:
+        return None
+    digest = _blob_digest(sha, repo) if path.endswith(CODE_SUFFIXES) else ""
+    return ("tokens", digest) if digest else ("blob", sha)
 
 
 def record(path, root=None):
@@ -187,8 +232,9 @@ def record(path, root=None):
 
 def status(commit, repo=REPO, paths=None):
     """(FRESH | STALE | UNKNOWN, detail): STALE when PATHS (default KERNEL_PATHS) hold something else at HEAD than at
-    COMMIT, comments and layout of source files aside (same_code; detail: the latest commit since that changed a file
-    that differs, other than in its layout, 'abc1234 YYYY-MM-DD'); UNKNOWN when git cannot tell (detail: why)."""
+    COMMIT, comments and layout of source files aside (same_code; detail: the newest commit since that brought a
+    differing file to its state at HEAD, changes undone later and layout aside, 'abc1234 YYYY-MM-DD'); UNKNOWN when
+    git cannot tell (detail: why)."""
     if not commit:
         return UNKNOWN, "no commit recorded"
     if _git("rev-parse", "--git-dir", repo=repo) is None:
@@ -200,19 +246,42 @@ def status(commit, repo=REPO, paths=None):
     if changed is None:
         return UNKNOWN, "git diff failed"
     # the paths hold what they held then (a change undone since leaves the result current), or differ in comments
-    # and layout only. The detail: the newest commit since that changed the tokens of a file that differs.
-    changed = set(changed.splitlines())
-    if not changed:
-        return FRESH, ""
-    log = _git("log", "--format=%x01%H %h %cs", "--name-only", f"{commit}..HEAD", "--", *paths, repo=repo) or ""
-    for entry in log.split("\x01")[1:]:
-        head, *files = entry.splitlines()
-        full, short = head.split(" ", 1)
-        if any(f in changed and not same_code(commit, f, repo) and not same_code(f"{full}^", f, repo, full)
-               for f in files):
-            return STALE, short
-    differ = sorted(f for f in changed if not same_code(commit, f, repo))
+    # and layout only (each file checked when first needed). The detail: the newest commit since that brought a
+    # differing file to what it holds at HEAD, a change undone later (a detour: a format commit and its repair) not
+    # counted, along the first parents (a merge stands for its branch, so each commit's parent holds what the one
+    # before it left).
+    changed = {f for f in changed.splitlines() if f}
+    differs = functools.lru_cache(maxsize=None)(lambda f: not same_code(commit, f, repo))
+    log = _git("log", "--first-parent", "-m", "--format=%x01%H %h %cs", "--name-only", f"{commit}..HEAD", "--", *paths,
+               repo=repo) or ""
+    entries = [(e.splitlines()[0].split(" ", 1), set(e.splitlines()[1:])) for e in log.split("\x01")[1:]]
+    owners = {}
+    for (full, short), files in entries:
+        for f in sorted(files & changed):
+            if _state(full, f, repo) == _state(f"{full}^", f, repo) or not differs(f):
+                continue  # this commit changed its layout only, or the file holds what it held at COMMIT
+            if f not in owners:
+                owners[f] = _owner(f, commit, [e[0][0] for e in entries if f in e[1]], repo)
+            if owners[f] == full:
+                return STALE, short
+    differ = sorted(f for f in changed if differs(f))
     return (STALE, differ[0]) if differ else (FRESH, "")
+
+
+def _owner(path, commit, touching, repo):
+    """The commit (of TOUCHING, the commits since COMMIT that touched PATH, newest first) that brought PATH to what it
+    holds at HEAD: walked oldest first from COMMIT's state, a commit that returns the file to an earlier state undoes
+    the ones between (and itself); None when nothing remains."""
+    states, owners = [_state(commit, path, repo)], [None]
+    for full in reversed(touching):
+        k = _state(full, path, repo)
+        if k in states:
+            j = states.index(k)
+            del states[j + 1:], owners[j + 1:]
+        else:
+            states.append(k)
+            owners.append(full)
+    return owners[-1]
 
 
 def before(commit, repo=REPO):

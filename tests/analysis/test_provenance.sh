@@ -72,7 +72,7 @@ repo, f1, f2, f3, f4, f5, f6 = sys.argv[2:]
 st = lambda c: p.status(c, repo, p.ENGINE_PATHS)
 assert st(f1) == (p.FRESH, ""), st(f1)                 # f2..f6 leave only layout and comments against f1
 assert st(f2)[0] == p.FRESH and st(f6)[0] == p.FRESH
-assert st(f3)[0] == p.STALE and st(f3)[1].startswith(f6[:7]), st(f3)    # a ++b, k.cpp last touched in f6
+assert st(f3)[0] == p.STALE and st(f3)[1].startswith(f4[:7]), st(f3)    # a ++b: f4 made it a + +b (f5-f6 a detour)
 assert st(f4)[0] == p.STALE and st(f4)[1].startswith(f5[:7]), st(f4)    # the CMake line undone in f5
 assert st(f5)[0] == p.STALE and st(f5)[1].startswith(f6[:7]), st(f5)    # F (x) -> F(x): a directive's spacing
 # the detail names the newest commit that touched a file that differs, not a newer one that touched only files that
@@ -80,13 +80,13 @@ assert st(f5)[0] == p.STALE and st(f5)[1].startswith(f6[:7]), st(f5)    # F (x) 
 open(f"{repo}/engine/backends/k.cl", "a").write("\n// trailing comment\n")
 subprocess.run(["git", "-C", repo, "commit", "-qam", "comment"], check=True)
 p._cache.clear()
-assert st(f3)[1].startswith(f6[:7]), st(f3)
+assert st(f3)[1].startswith(f4[:7]), st(f3)
 # nor a newer commit that changed the differing file's layout only (k.cpp reformatted)
 text = open(f"{repo}/engine/backends/k.cpp").read()
 open(f"{repo}/engine/backends/k.cpp", "w").write(text.replace("int f(int a, int b) {", "int f(int a,\n      int b) {"))
 subprocess.run(["git", "-C", repo, "commit", "-qam", "layout"], check=True)
 p._cache.clear()
-assert st(f3)[1].startswith(f6[:7]) and st(f1) == (p.FRESH, ""), (st(f3), st(f1))
+assert st(f3)[1].startswith(f4[:7]) and st(f1) == (p.FRESH, ""), (st(f3), st(f1))
 print("provenance, layout and comments: ok")
 PY
 # code_tokens: what a formatter changes gives the same tokens, what changes the program does not
