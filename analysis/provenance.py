@@ -8,8 +8,8 @@ An optional `"depends": "kernels"` says the result times the engine only (no con
 A result is stale when the engine's kernels or the controllers (KERNEL_PATHS; only ENGINE_PATHS for a result that
 depends on the kernels alone) differ at HEAD from its own commit; unknown when git cannot say (a tarball without
 history, or a commit this clone does not hold). A C, C++ or OpenCL file whose tokens are the same at both commits
-(a change of comments, blank lines or layout only, as a formatter makes) is not a difference: the tokens are Pygments'
-C++ lexer's, comments and whitespace between tokens dropped; a preprocessor directive is compared with its spacing.
+(a change of comments, blank lines or layout only, as a formatter makes) is not a difference (code_tokens: Pygments'
+C++ lexer, comments and the whitespace between tokens dropped; a template that is not C compared by its text).
 Usage: provenance.py [--results DIR] [--check]   (prints one line per record: path, commit, date, status)
 """
 import argparse
@@ -60,8 +60,8 @@ CODE_SUFFIXES = (".c", ".h", ".cc", ".cpp", ".hpp", ".cl")
 
 
 # code_tokens' digest per git blob, kept in the clone's git folder between runs (a blob never changes; the version
-# names the token rules, so a change to them starts afresh): lexing every version of every engine file takes
-# half a minute, reading the digests a moment.
+# in the name stands for code_tokens' rules: raise it when they change): lexing every version of every engine file
+# takes half a minute, reading the digests a moment.
 TOKEN_CACHE = "semlb-token-digests-v1.json"
 _digests = {}
 
