@@ -72,12 +72,16 @@ check_stage() {  # STAGE: what CHECK=1 verifies without a GPU
   esac
 }
 
-workload_provenance() {  # NAME: the library file's record in OUT/workloads/provenance.json
-  $PY - "$OUT/workloads/provenance.json" "$1" "$commit" "$(date -u +%F)" "$device" <<'EOF'
+workload_provenance() {  # NAME: the library file's record in OUT/workloads/provenance.json (with a note where the
+                         # timed regions could not be checked here: workload_library.sh said so)
+  local checked=1; $PY -c 'import h5py, numpy, scipy' 2> /dev/null || checked=
+  $PY - "$OUT/workloads/provenance.json" "$1" "$commit" "$(date -u +%F)" "$device" "$checked" <<'EOF'
 import json, os, sys
-path, name, commit, date, device = sys.argv[1:]
+path, name, commit, date, device, checked = sys.argv[1:]
 doc = json.load(open(path)) if os.path.exists(path) else {"how": "scripts/gpu/results.sh workload:NAME", "files": {}}
 rec = {"semlb_commit": commit, "date": date, "how": f"scripts/gpu/results.sh workload:{name}", "device": device}
+if not checked:
+    rec["note"] = "timed regions not checked where it was made: analysis/measured_time.py --check-regions before use"
 for ext in (".h5", ".run.csv", ".scene.yaml"):
     doc.setdefault("files", {})[name + ext] = rec
 json.dump(doc, open(path + ".tmp", "w"), indent=1)

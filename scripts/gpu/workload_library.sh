@@ -6,8 +6,9 @@
 # Variants named small_* are the CPU versions for `make experiments` (2,500-4,900 cells, cpu-binned, results/cpu/workloads/).
 # Usage: bash scripts/gpu/workload_library.sh SEMLB OUT [VARIANT ...]   (default: every variant below but small_*)
 # JOBS=N runs N variants at once (default 1). With MEASURED=1 they take turns on the device
-# (decomposition.device_sharing: turns, one lock for the children of this script's shell): each run's device timers
-# time its own kernels alone, while the host parts (the per-event download and counting) overlap. Each measured file is checked
+# (decomposition.device_sharing: turns, one lock for the children of this script's shell, in batches of N started
+# together): each run's device timers time its own kernels alone, while the host parts (the per-event download and
+# counting) overlap. Each measured file is checked
 # (analysis/measured_time.py --check-regions: no timed region far above the others) before it is kept; where PYTHON
 # (default /usr/bin/python3) lacks h5py or numpy (a bare GPU machine) the check is skipped, saying so for each file:
 # run it where they are before committing the files.
@@ -53,9 +54,14 @@ want=("$@")
 # Every `semlb sim` is started from this shell itself (never from a subshell), so that all of them are children of
 # one process: under turns that is what puts them on one lock (the lock is named from the parent's pid,
 # DeviceTurns::path_for), and what keeps a recording's timed launches clear of the others' device work.
+# Under turns (MEASURED=1, JOBS > 1) they start in batches of JOBS and a batch waits for all of its recordings before
+# the next starts: a recording that ends removes the lock file (DeviceTurns' destructor), and one started after that
+# would lock a new file of the same name while the others still hold the old one.
+(( BASH_VERSINFO[0] > 5 || (BASH_VERSINFO[0] == 5 && BASH_VERSINFO[1] >= 1) )) ||
+  { echo "workload_library.sh: needs bash 5.1 or newer (wait -n -p), this is $BASH_VERSION" >&2; exit 2; }
 declare -A run_of=() name_of=() t0_of=()
 py=${PYTHON:-/usr/bin/python3}; can_check=
-"$py" -c 'import h5py, numpy' 2> /dev/null && can_check=1
+"$py" -c 'import h5py, numpy, scipy' 2> /dev/null && can_check=1  # analysis/measured_time.py's imports
 launch() {  # NAME SCENE STEPS EXTRA: starts one variant's recording in the background (run_of/name_of/t0_of by pid)
   local name=$1 scene=$2 steps=$3 extra=$4 run size skin
   if [[ $name == small_* ]]; then size=("${cpu[@]}"); else size=("${gpu[@]}"); fi
@@ -69,18 +75,25 @@ keep() {  # PID STATUS: a finished recording's files into OUT (none when it fail
   local pid=$1 rc=$2 run=${run_of[$1]} name=${name_of[$1]}
   local note=; [ "$rc" = 0 ] || note=", failed (exit $rc)"
   echo "$name: $(( $(date +%s) - t0_of[$pid] )) s wall$note"
-  unset "run_of[$pid]" "name_of[$pid]" "t0_of[$pid]"
-  if [ "$rc" != 0 ]; then rm -rf "$run"; return 1; fi
-  if [ -n "${MEASURED:-}" ] && [ -z "$can_check" ]; then
-    echo "$name: timed regions not checked ($py lacks h5py or numpy): run analysis/measured_time.py --check-regions" \
-      "$OUT/$name.h5 where they are"
+  unset "name_of[$pid]" "t0_of[$pid]"
+  local ok=1
+  if [ "$rc" != 0 ]; then
+    ok=
+  elif [ -n "${MEASURED:-}" ] && [ -z "$can_check" ]; then
+    echo "$name: timed regions not checked ($py lacks h5py, numpy or scipy): run analysis/measured_time.py" \
+      "--check-regions $OUT/$name.h5 where they are"
   elif [ -n "${MEASURED:-}" ] && ! "$py" "$here/analysis/measured_time.py" --check-regions "$run/workload.h5"; then
-    rm -rf "$run"; return 1  # a timed region overlapped other device work: not kept
+    ok=  # a timed region overlapped other device work: not kept
   fi
-  cp "$run/workload.h5" "$OUT/$name.h5"
-  cp "$run/run.csv" "$OUT/$name.run.csv"
-  cp "$run/scene.yaml" "$OUT/$name.scene.yaml"
-  rm -rf "$run"
+  # the three files under temporary names first, the workload last: an interrupted copy leaves no OUT/NAME.h5
+  if [ -n "$ok" ] && ! { cp "$run/run.csv" "$OUT/.$name.run.csv.tmp" && cp "$run/scene.yaml" "$OUT/.$name.scene.yaml.tmp" &&
+    cp "$run/workload.h5" "$OUT/.$name.h5.tmp" && mv "$OUT/.$name.run.csv.tmp" "$OUT/$name.run.csv" &&
+    mv "$OUT/.$name.scene.yaml.tmp" "$OUT/$name.scene.yaml" && mv "$OUT/.$name.h5.tmp" "$OUT/$name.h5"; }; then
+    echo "$name: its files could not be copied into $OUT" >&2; ok=
+  fi
+  rm -rf "$run" "$OUT/.$name".*.tmp
+  unset "run_of[$pid]"
+  [ -n "$ok" ]
 }
 reap() {  # waits for one recording to end and keeps it; returns 1 when it was not kept
   local pid rc=0
@@ -100,10 +113,14 @@ else
 fi
 mkdir -p "$OUT"
 failed=0
-trap 'kill "${!run_of[@]}" 2>/dev/null; rm -rf "${run_of[@]}"; exit 130' INT TERM
+trap 'kill "${!run_of[@]}" 2> /dev/null || true; wait 2> /dev/null || true; rm -rf "${run_of[@]}" "$OUT"/.*.tmp; exit 130' INT TERM
+batches=; [ -n "${MEASURED:-}" ] && [ "$JOBS" -gt 1 ] && batches=1
 for v in "${order[@]}"; do
   IFS='|' read -r name scene steps extra <<<"$v"
-  if [ "${#run_of[@]}" -ge "$JOBS" ]; then reap || failed=1; fi
+  if [ "${#run_of[@]}" -ge "$JOBS" ]; then
+    reap || failed=1
+    if [ -n "$batches" ]; then while [ "${#run_of[@]}" -gt 0 ]; do reap || failed=1; done; fi
+  fi
   launch "$name" "$scene" "$steps" "$extra"
 done
 while [ "${#run_of[@]}" -gt 0 ]; do reap || failed=1; done

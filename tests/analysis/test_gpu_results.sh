@@ -37,7 +37,8 @@ since=$(mktemp); sleep 1
 bash "$src/scripts/gpu/pack_results.sh" "$work/out" "$since" "$work/pack2" | grep -q "nothing under" || fail "packed old files"
 touch "$work/out/workloads/controller_eval_engine_paper.csv"
 head -c 3000000 /dev/urandom > "$work/out/noise.bin"
-mkdir -p "$work/out/runs/r1"; echo partial > "$work/out/runs/r1/final.h5.tmp"  # a run stopped mid-write
+mkdir -p "$work/out/runs/r1" "$work/out/development.tmp"  # a run stopped mid-write, a stage's unfinished folder
+echo partial > "$work/out/runs/r1/final.h5.tmp"; echo partial > "$work/out/development.tmp/x.csv"
 rc=0; PART_MB=1 MAX_PARTS=2 bash "$src/scripts/gpu/pack_results.sh" "$work/out" "$since" "$work/pack3" 2> "$work/pack3.err" || rc=$?
 # too many parts: the largest file is left out and named, what fits comes back, exit 1
 [ "$rc" = 1 ] && grep -q "left out out/noise.bin" "$work/pack3.err" && ls "$work/pack3"/results.tgz.* > /dev/null \
@@ -45,8 +46,9 @@ rc=0; PART_MB=1 MAX_PARTS=2 bash "$src/scripts/gpu/pack_results.sh" "$work/out" 
 mkdir -p "$work/unpacked3" && cat "$work/pack3"/results.tgz.* | tar xz -C "$work/unpacked3"
 cmp "$work/out/workloads/controller_eval_engine_paper.csv" "$work/unpacked3/out/workloads/controller_eval_engine_paper.csv" \
   || fail "what fits was not packed"
-[ ! -e "$work/unpacked3/out/noise.bin" ] && [ ! -e "$work/unpacked3/out/runs/r1/final.h5.tmp" ] || fail "packed the left-out file or a partial write"
-rm -rf "$since" "$work/out/noise.bin" "$work/out/runs"
+[ ! -e "$work/unpacked3/out/noise.bin" ] && [ ! -e "$work/unpacked3/out/runs/r1/final.h5.tmp" ] &&
+  [ ! -e "$work/unpacked3/out/development.tmp" ] || fail "packed the left-out file or a partial write"
+rm -rf "$since" "$work/out/noise.bin" "$work/out/runs" "$work/out/development.tmp"
 # JOBS=3: the workload stages still to do run at once (one workload_library.sh call); each file kept gets its record
 # and marker, a failed one neither (retried by the next call, which skips the done ones); a stand-in semlb (no GPU)
 # writes an empty HDF5 file (no timed regions to check) and fails with --seed 2

@@ -16,10 +16,11 @@ log=$FAKE_DIR/calls; out=
 args=("$@"); for ((i = 0; i < ${#args[@]}; i++)); do [ "${args[$i]}" = --out ] && out=${args[$((i + 1))]}; done
 touch "$FAKE_DIR/running.$$"
 echo "$PPID $(ls "$FAKE_DIR"/running.* | wc -l) $*" >> "$log"
-sleep 1
+if [[ " $* " == *"speed=24.8 "* && " $* " != *" --seed "* ]]; then sleep "${FAKE_LONG:-3}"; else sleep 1; fi
 rm -f "$FAKE_DIR/running.$$"
 [[ " $* " == *" --seed 2 "* ]] && exit 3
-echo h5 > "$out/workload.h5"; echo csv > "$out/run.csv"; echo yaml > "$out/scene.yaml"
+echo h5 > "$out/workload.h5"; echo yaml > "$out/scene.yaml"
+[[ " $* " == *" --seed 3 "* ]] || echo csv > "$out/run.csv"  # with --seed 3 a file is missing: the copy fails
 SH
 chmod +x "$fake"
 # stand-in for PYTHON: has h5py and numpy (`-c` succeeds); --check-regions exits FAKE_CHECK (0: the file passes)
@@ -31,6 +32,8 @@ MEASURED=1 JOBS=3 PYTHON=$work/py bash "$src/scripts/gpu/workload_library.sh" "$
 [ "$(wc -l < "$work/calls")" = 4 ] || fail "not four calls"
 [ "$(cut -d' ' -f1 "$work/calls" | sort -u | wc -l)" = 1 ] || { cat "$work/calls"; fail "recordings with different parents (different turn locks)"; }
 [ "$(cut -d' ' -f2 "$work/calls" | sort -n | tail -1)" -ge 2 ] || { cat "$work/calls"; fail "JOBS=3 ran one at a time"; }
+# under turns the fourth starts only when the first three have all ended (a batch): dev_v24.8_s1 runs 3 s, the others 1
+[ "$(tail -1 "$work/calls" | cut -d' ' -f2)" = 1 ] || { cat "$work/calls"; fail "the fourth started while a batch ran"; }
 [ "$(grep -c 'decomposition.timing=device --set decomposition.device_sharing=turns' "$work/calls")" = 4 ] || fail "MEASURED=1 JOBS=3 without device timers and turns"
 [ "$(grep -c -- '--check-regions' "$work/checks")" = 4 ] || fail "not every measured file checked"
 for n in dev_v24.8_s1 dev_v12.4_s1 dev_v6.2_s1 epidermis_s1; do
@@ -44,6 +47,16 @@ JOBS=2 bash "$src/scripts/gpu/workload_library.sh" "$fake" "$work/out" dev_v24.8
 grep -q "dev_v24.8_s2: .* s wall, failed (exit 3)" "$work/bad.log" || { cat "$work/bad.log"; fail "the failure not named"; }
 [ ! -e "$work/out/dev_v24.8_s2.h5" ] && [ -s "$work/out/epidermis_s1.h5" ] || fail "kept the failed one or lost the other"
 ! grep -q "device_sharing" "$work/calls" || fail "turns without MEASURED=1"
+# a recording whose files cannot all be copied is not kept, and leaves nothing behind
+rm -rf "$work/out"; rc=0
+JOBS=2 bash "$src/scripts/gpu/workload_library.sh" "$fake" "$work/out" epidermis_long_s3 epidermis_s1 > "$work/cp.log" 2>&1 || rc=$?
+[ "$rc" = 1 ] && [ ! -e "$work/out/epidermis_long_s3.h5" ] && [ -s "$work/out/epidermis_s1.h5" ] &&
+  [ -z "$(ls -A "$work/out" | grep -v '^epidermis_s1\.')" ] || { cat "$work/cp.log"; ls -A "$work/out"; fail "a failed copy: exit $rc"; }
+# SIGTERM (SIGINT alike; a background job ignores SIGINT): the running recordings stop, their run folders go, exit 130
+rm -rf "$work/out"; rc=0
+FAKE_LONG=30 JOBS=2 bash "$src/scripts/gpu/workload_library.sh" "$fake" "$work/out" epidermis_s1 dev_v24.8_s1 > "$work/int.log" 2>&1 &
+pid=$!; sleep 2.5; kill -TERM "$pid"; wait "$pid" || rc=$?
+[ "$rc" = 130 ] && [ -z "$(ls -A "$work/tmp")" ] || { cat "$work/int.log"; ls "$work/tmp"; fail "SIGTERM: exit $rc, or run folders left"; }
 # the region check refuses a file: nothing kept
 rm -rf "$work/out"; rc=0
 MEASURED=1 FAKE_CHECK=1 PYTHON=$work/py bash "$src/scripts/gpu/workload_library.sh" "$fake" "$work/out" epidermis_s1 \
