@@ -62,7 +62,7 @@ CODE_SUFFIXES = (".c", ".h", ".cc", ".cpp", ".hpp", ".cl")
 # code_tokens' digest per git blob, kept in the clone's git folder between runs (a blob never changes; the version
 # in the name stands for code_tokens' rules: raise it when they change): lexing every version of every engine file
 # takes half a minute, reading the digests a moment.
-TOKEN_CACHE = "semlb-token-digests-v1.json"
+TOKEN_CACHE = "semlb-token-digests-v2.json"
 _digests = {}
 
 
@@ -98,7 +98,8 @@ def _blob_digest(sha, repo=REPO):
     _, cache, dirty = _digest_cache(repo)
     if sha not in cache:
         out = subprocess.run(["git", "-C", repo, "cat-file", "blob", sha], capture_output=True, timeout=30)
-        cache[sha] = hashlib.sha256(repr(code_tokens(out.stdout.decode("utf-8", "replace"))).encode()).hexdigest() \
+        text = out.stdout.decode("utf-8", "surrogateescape")
+        cache[sha] = hashlib.sha256(repr(code_tokens(text)).encode("utf-8", "surrogateescape")).hexdigest() \
             if out.returncode == 0 else ""
         dirty[0] = True
     return cache[sha]
@@ -119,55 +120,52 @@ def _munch(run):
     return out
 
 
-def _directive(toks, i):
-    """(tokens, next index) of the preprocessor directive whose '#' is toks[i]: its keyword, for a #define whether the
-    macro is function-like (`F(x)`) or object-like (`F (x)`), then the code tokens of the rest, the line splices
-    (backslash-newline) and comments read as spaces."""
-    parts, i = [], i + 1
-    while i < len(toks):
-        ttype, value = toks[i]
-        spliced = "".join(parts).rstrip(" \t").endswith("\\")
-        if not spliced and ((ttype in Comment.Preproc and value == "\n") or
-                            (ttype in Comment.Single and value.endswith("\n"))):
-            break
-        parts.append(value if ttype in Comment.Preproc or ttype in Comment.PreprocFile else " ")
-        i += 1
-    body = re.sub(r"\\[ \t]*\n", " ", "".join(parts)).strip()
-    word, rest = re.match(r"(\w*)(.*)", body, re.S).groups()
-    out = [("directive", word)]
-    if word == "define":
-        out.append(("macro", "function" if re.match(r"\w+\(", rest.lstrip()) else "object"))
-    return out + code_tokens(rest) + [("directive", "end")], i + 1
+# Words that stand for what the C++ lexer would lose or misread in a directive (the lexer's own preprocessor states
+# read `#if 0` blocks and `//` inside a directive's strings as comments): each directive line becomes code between
+# DIRECTIVE and END, a function-like macro's name is followed by FUNCTION_MACRO, `#` and `##` become words.
+DIRECTIVE, END, FUNCTION_MACRO = "__semlb_directive__", "__semlb_directive_end__", "__semlb_function_macro__"
+STRINGIZE, PASTE = "__semlb_stringize__", "__semlb_paste__"
+
+
+def _directive_line(m):
+    """A directive line (re.Match of `^(indent)#(body)$`) as code the C++ lexer reads in its root state."""
+    indent, body = m.group(1), m.group(2)
+    d = re.match(r"(\s*define\s+\w+)(\(?)(.*)", body, re.S)
+    if d:  # `#define F(x)` is function-like, `#define F (x)` object-like
+        body = d.group(1) + (f" {FUNCTION_MACRO} (" if d.group(2) else " ") + d.group(3)
+    inc = re.match(r"(\s*include\s*)<([^>]*)>(.*)", body, re.S)
+    if inc:  # a header name is one token, spaces and all
+        body = f'{inc.group(1)}"<{inc.group(2)}>"{inc.group(3)}'
+    body = body.replace("##", f" {PASTE} ").replace("#", f" {STRINGIZE} ")
+    return f"{indent}{DIRECTIVE} {body}\n{END}"
+
+
+def _lex(text):
+    return list(CppLexer(stripnl=False).get_tokens(text))
 
 
 def code_tokens(text):
     """The tokens of C, C++ or OpenCL source TEXT (str) as [(token type, value)], without comments and without the
-    whitespace between tokens: two texts that differ in comments and layout only give the same list. Operators and
-    punctuation written together are split as a C++ lexer splits them (`a + +b` is not `a ++b`, `x - 1` is `x -1`);
-    a preprocessor directive gives its keyword, whether a macro is function-like (`#define F (x)` is not
-    `#define F(x)`) and its tokens as code. A text that is not C to the lexer (a template of embed_kernels.cmake,
-    `semlb_growth_@NAME@(`) gives one token: its text without comments and blank lines, every other space kept."""
-    toks = list(CppLexer(stripnl=False).get_tokens(text))
+    whitespace between tokens: two texts that differ in comments and layout only give the same list. Line splices
+    are removed first (C's translation phase 2). Operators and punctuation written together are split as a C++ lexer
+    splits them (`a + +b` is not `a ++b`, `x - 1` is `x -1`). A preprocessor directive is read as code between two
+    markers (_directive_line), so that `#if 0` blocks and strings in directives count, and `#define F (x)` is not
+    `#define F(x)`. A text that is not C to the lexer (a template of embed_kernels.cmake, `semlb_growth_@NAME@(`)
+    gives one token: its text without comments and blank lines, every other space kept."""
+    toks = _lex(text)
+    if not any(ttype in Error for ttype, _ in toks):
+        toks = _lex(re.sub(r"(?m)^([ \t]*)#(.*)$", _directive_line, re.sub(r"\\\r?\n", "", text)))
     if any(ttype in Error for ttype, _ in toks):  # not C: a template (`f_@NAME@(`), whose spacing and lines are syntax
-        kept = "".join(("\n" if value.endswith("\n") else "") if ttype in Comment and ttype not in Comment.Preproc and
-                       ttype not in Comment.PreprocFile else value for ttype, value in toks)
+        kept = "".join(("\n" if value.endswith("\n") else " ") if ttype in Comment else value for ttype, value in _lex(text))
         return [("template", "\n".join(line.rstrip() for line in kept.splitlines() if line.strip()))]
-    out, run, gap, i = [], "", True, 0
+    out, run, gap = [], "", True
 
     def flush():
         nonlocal run
         out.extend(("symbol", p) for p in _munch(run))
         run = ""
 
-    while i < len(toks):
-        ttype, value = toks[i]
-        if ttype in Comment.Preproc and value == "#":
-            flush()
-            tokens, i = _directive(toks, i)
-            out += tokens
-            gap = True
-            continue
-        i += 1
+    for ttype, value in toks:
         dropped = (ttype in Text and not value.strip()) or ttype in Comment
         if ttype in Number and value[:1] in "+-":  # a sign the lexer read into the number: an operator
             if gap:

@@ -102,6 +102,15 @@ differ = [("case @I@: return f_@NAME@(x);", "case @I @: return f_ @NAME @(x);"),
           ("case @I@: return f_@NAME@(x);", "case @I@:\n  return f_@NAME@(x);"),
           ("#define A 1\nint x;\n", "#define A 1 int x;\n"), ("#define F(x) x\n", "#define F (x) x\n"),
           ("y = x - -1;", "y = x--1;"), ('f("a b");', 'f("a  b");'), ('f("ab");', 'f("a" "b");'), ("a+++b;", "a + ++b;")]
+# what the lexer's own preprocessor states or the line splices would hide (a fresh reviewer's cases)
+differ += [("#if 0\nint a;\n#elif defined(A)\nint b;\n#endif\n", "#if 0\nint a;\n#elif defined(B)\nint b;\n#endif\n"),
+           ('#define URL "http://a.org"\n', '#define URL "http://b.net"\n'),
+           ('#define S "/*"\nint x = 1;\n/* */\n', '#define S "/*"\nint x = 2;\n/* */\n'),
+           ("x = -\\\n-y;", "x = - \\\n-y;"), ("#define F\\\n(x) x\n", "#define F (x) x\n"),
+           ("#include <a/ b.h>\n", "#include <a/b.h>\n"), ("#define S(x) #x\n", "#define S(x) x\n"),
+           ("int/**/y;", "inty;")]
+same += [("#define F(x)   ((x) - 1)  \\\n  + 2\n", "#define F(x) ((x)-1) + 2\n"),
+         ("#define P(a,b) a##b\n", "#define P(a, b) a ## b\n")]
 for a, b in same:
     assert t(a) == t(b), (a, b)
 for a, b in differ:
