@@ -90,19 +90,27 @@ EOF
 }
 
 workload_group() {  # STAGE...: the workload stages named, JOBS at once taking turns on the device (workload_library.sh);
-                    # each file kept gets its record and its stage's marker, the others are retried by the next call
-  local names=() st stamp t0 rc=0
+                    # each file kept gets its record and its stage's marker, also when the call is stopped (INT,
+                    # TERM) midway; the others are retried by the next call
+  local names=() st rc=0
   for st in "$@"; do names+=("${st#workload:}"); done
-  stamp=$(mktemp); t0=$(date +%s); sleep 1
+  group_stamp=$(mktemp); group_t0=$(date +%s); group=("$@"); sleep 1
+  trap 'mark_kept; exit 130' INT TERM
   MEASURED=1 JOBS=$JOBS bash "$here/scripts/gpu/workload_library.sh" "$S" "$OUT/workloads" "${names[@]}" || rc=$?
-  for st in "$@"; do
-    if [ "$OUT/workloads/${st#workload:}.h5" -nt "$stamp" ]; then
+  trap - INT TERM
+  mark_kept
+  return "$rc"
+}
+
+mark_kept() {  # the record and marker of each file of the group that workload_library.sh kept since it began
+  local st
+  for st in "${group[@]}"; do
+    if [ "$OUT/workloads/${st#workload:}.h5" -nt "$group_stamp" ] && [ ! -f "$OUT/.stages/${st//:/_}.done" ]; then
       workload_provenance "${st#workload:}"
-      echo "$commit $(date -u +%FT%TZ) $(( $(date +%s) - t0 )) s (JOBS=$JOBS)" > "$OUT/.stages/${st//:/_}.done"
+      echo "$commit $(date -u +%FT%TZ) $(( $(date +%s) - group_t0 )) s (JOBS=$JOBS)" > "$OUT/.stages/${st//:/_}.done"
     fi
   done
-  rm -f "$stamp"
-  return "$rc"
+  rm -f "$group_stamp"
 }
 
 run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run here (and says why)
@@ -163,6 +171,9 @@ if [ -n "${PACK:-}" ]; then
   since=$(mktemp); sleep 1  # files made from the next second on are newer than it
   trap 'bash "$here/scripts/gpu/pack_results.sh" "$OUT" "$since" "$PACK" gpu-results; rm -f "$since"' EXIT
 fi
+# INT or TERM (timeout -s INT signals the whole process group): the running stage finishes its own way out first
+# (a workload group marks what it kept), then this call exits, packing on the way (PACK)
+trap 'echo "gpu-results: stopped by a signal; the next call resumes" >&2; exit 130' INT TERM
 left=() grouped=" "
 for st in $want; do
   marker="$OUT/.stages/${st//:/_}.done"

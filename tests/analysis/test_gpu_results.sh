@@ -58,6 +58,7 @@ cat > "$work/fake/cli/semlb" <<'SH'
 out=; args=("$@"); for ((i = 0; i < ${#args[@]}; i++)); do [ "${args[$i]}" = --out ] && out=${args[$((i + 1))]}; done
 echo "$PPID $*" >> "$(dirname "$0")/calls"
 [[ " $* " == *" --seed 2 "* ]] && exit 3
+[ -n "${FAKE_SLEEP:-}" ] && [[ " $* " == *"epidermis.yaml"* ]] && sleep 30
 /usr/bin/python3 -c 'import h5py, sys; h5py.File(sys.argv[1], "w")' "$out/workload.h5"; echo c > "$out/run.csv"; echo y > "$out/scene.yaml"
 SH
 chmod +x "$work/fake/cli/semlb"
@@ -75,6 +76,14 @@ rc=0; JOBS=3 BUILD=$work/fake bash "$src/scripts/gpu/results.sh" "$work/wl" work
   workload:dev_v24.8_s2 > "$work/wl2.log" 2>&1 || rc=$?
 [ "$rc" = 1 ] && [ "$(wc -l < "$work/fake/cli/calls")" = 4 ] && grep -q "dev_v24.8_s2 (JOBS=3" "$work/wl2.log" \
   || { cat "$work/wl2.log"; fail "the next call did not retry only the failed one (exit $rc)"; }
+# a call stopped midway (TERM to its process group, as timeout sends; a background job ignores INT) still marks what
+# was kept: the stand-in's dev_v24.8_s1 ends at once, epidermis_s1 takes 30 s and is stopped
+rm -rf "$work/wl3"; rc=0
+FAKE_SLEEP=1 JOBS=2 BUILD=$work/fake setsid bash "$src/scripts/gpu/results.sh" "$work/wl3" workload:dev_v24.8_s1 \
+  workload:epidermis_s1 > "$work/wl3.log" 2>&1 &
+pid=$!; sleep 4; kill -TERM -- "-$pid"; wait "$pid" || rc=$?
+[ "$rc" != 0 ] && [ -s "$work/wl3/.stages/workload_dev_v24.8_s1.done" ] && [ ! -e "$work/wl3/.stages/workload_epidermis_s1.done" ] \
+  && grep -q '"dev_v24.8_s1.h5"' "$work/wl3/workloads/provenance.json" || { cat "$work/wl3.log"; fail "stopped midway: exit $rc, markers wrong"; }
 rc=0; JOBS=x bash "$src/scripts/gpu/results.sh" "$work/wl" list > /dev/null 2>&1 || rc=$?
 [ "$rc" = 2 ] || fail "JOBS=x: exit $rc"
 echo "1 passed, 0 failed"
