@@ -9,7 +9,8 @@
 #   BUILD=DIR: where semlb is built (Release, no tests, no torch; default /tmp/semlb-gpu, as scripts/gpu_sweep.sh).
 #   REPLAY_SET="--set KEY=VALUE ...": extra settings of the replay sweep (a quick run: --set ranks=2 --set seed=0).
 #   JOBS=N (default 1): the workload stages still to do run N at once, taking turns on the device, as one step of the
-#   call (on the H200, 2026-12-04: six recordings three at once in 410 s, 10-12 minutes one at a time).
+#   call (on the H200, 2026-12-04, before turns worked for them: six recordings three at once in 410 s, 10-12
+#   minutes one at a time).
 #   CHECK=1: check every stage without a GPU (the sweeps' `--check`, the scripts present), write nothing, exit 0.
 #   PACK=DIR: on the way out (finished, failed or out of budget), what this call made under OUT goes to DIR as tar
 #   parts (scripts/gpu/pack_results.sh), for a machine whose files come back from one folder: unpacked beside OUT
