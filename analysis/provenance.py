@@ -185,11 +185,11 @@ def code_tokens(text):
     return out
 
 
-def same_code(commit, path, repo=REPO, head="HEAD"):
-    """True when PATH holds the same at COMMIT and at HEAD (another revision with head=) as far as staleness goes
-    (_state: the tokens of a C, C++ or OpenCL file, the bytes of any other); False where it is missing at either."""
+def same_code(commit, path, repo=REPO):
+    """True when PATH holds the same at COMMIT and at HEAD as far as staleness goes (_state: the tokens of a C, C++ or
+    OpenCL file, the bytes of any other); False where it is missing at either."""
     old = _state(commit, path, repo)
-    return old is not None and old == _state(head, path, repo)
+    return old is not None and old == _state("HEAD", path, repo)
 
 
 def _state(rev, path, repo=REPO):
@@ -256,8 +256,8 @@ def status(commit, repo=REPO, paths=None):
     owners = {}
     for (full, short), files in entries:
         for f in sorted(files & changed):
-            if _state(full, f, repo) == _state(f"{full}^", f, repo) or not differs(f):
-                continue  # this commit changed its layout only, or the file holds what it held at COMMIT
+            if not differs(f):
+                continue  # the file holds what it held at COMMIT (a layout-only commit is no owner: _owner)
             if f not in owners:
                 owners[f] = _owner(f, commit, [e[0][0] for e in entries if f in e[1]], repo)
             if owners[f] == full:

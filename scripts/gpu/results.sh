@@ -73,10 +73,13 @@ check_stage() {  # STAGE: what CHECK=1 verifies without a GPU
   esac
 }
 
+# whether PY has what analysis/measured_time.py needs (the tables, the region check of a measured workload)
+has_analysis=1; "$PY" -c 'import h5py, numpy, scipy' 2> /dev/null || has_analysis=
+marker_of() { echo "$OUT/.stages/${1//:/_}.done"; }  # STAGE: the file that says it is done
+
 workload_provenance() {  # NAME: the library file's record in OUT/workloads/provenance.json (with a note where the
                          # timed regions could not be checked here: workload_library.sh said so)
-  local checked=1; $PY -c 'import h5py, numpy, scipy' 2> /dev/null || checked=
-  $PY - "$OUT/workloads/provenance.json" "$1" "$commit" "$(date -u +%F)" "$device" "$checked" <<'EOF'
+  $PY - "$OUT/workloads/provenance.json" "$1" "$commit" "$(date -u +%F)" "$device" "$has_analysis" <<'EOF'
 import json, os, sys
 path, name, commit, date, device, checked = sys.argv[1:]
 doc = json.load(open(path)) if os.path.exists(path) else {"how": "scripts/gpu/results.sh workload:NAME", "files": {}}
@@ -106,9 +109,9 @@ workload_group() {  # STAGE...: the workload stages named, JOBS at once taking t
 mark_kept() {  # the record and marker of each file of the group that workload_library.sh kept since it began
   local st
   for st in "${group[@]}"; do
-    if [ "$OUT/workloads/${st#workload:}.h5" -nt "$group_stamp" ] && [ ! -f "$OUT/.stages/${st//:/_}.done" ]; then
+    if [ "$OUT/workloads/${st#workload:}.h5" -nt "$group_stamp" ] && [ ! -f "$(marker_of "$st")" ]; then
       workload_provenance "${st#workload:}"
-      echo "$commit $(date -u +%FT%TZ) $(( $(date +%s) - group_t0 )) s (JOBS=$JOBS)" > "$OUT/.stages/${st//:/_}.done"
+      echo "$commit $(date -u +%FT%TZ) $(( $(date +%s) - group_t0 )) s (JOBS=$JOBS)" > "$(marker_of "$st")"
     fi
   done
   rm -f "$group_stamp"
@@ -133,7 +136,7 @@ run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run her
       provenance "$OUT/peer_yalla" "scripts/gpu/results.sh peer_yalla (scripts/gpu/peer_yalla/run.sh)" kernels;;
     measured_time)  # the measured end-to-end (docs/measured_time.md): runs under OUT/measured/runs, tables in OUT/measured
       [ -f "$here/scripts/gpu/measured_all.sh" ] || { echo "gpu-results: no scripts/gpu/measured_all.sh in this tree"; return 77; }
-      notables=; "$PY" -c 'import h5py, numpy, scipy' 2>/dev/null || notables=1
+      notables=; [ -n "$has_analysis" ] || notables=1
       NO_TABLES=$notables bash "$here/scripts/gpu/measured_all.sh" "$S" "$OUT/measured/runs" "$OUT/measured"
       [ -z "$notables" ] || echo "gpu-results: measured_time: runs only ($PY lacks h5py, numpy or scipy): make the" \
         "tables where they are: TABLES_ONLY=1 bash scripts/gpu/measured_all.sh SEMLB OUT/measured/runs OUT/measured"
@@ -177,12 +180,12 @@ fi
 trap 'echo "gpu-results: stopped by a signal; the next call resumes" >&2; exit 130' INT TERM
 left=() grouped=" "
 for st in $want; do
-  marker="$OUT/.stages/${st//:/_}.done"
+  marker=$(marker_of "$st")
   [ -f "$marker" ] && continue
   case $grouped in *" $st "*) continue;; esac  # tried in this call's group (below): the next call retries it
   if [ $(( $(date +%s) - start )) -ge "$BUDGET_S" ]; then left+=("$st"); continue; fi
   if [[ $st == workload:* ]] && [ "$JOBS" -gt 1 ]; then  # every workload stage still to do, at once
-    group=(); for w in $want; do [[ $w == workload:* ]] && [ ! -f "$OUT/.stages/${w//:/_}.done" ] && group+=("$w"); done
+    group=(); for w in $want; do [[ $w == workload:* ]] && [ ! -f "$(marker_of "$w")" ] && group+=("$w"); done
     grouped+="${group[*]} "
     echo "gpu-results: ${group[*]} (JOBS=$JOBS at once, $(( $(date +%s) - start )) s into this call)"
     set +e; (set -e; workload_group "${group[@]}"); rc=$?; set -e

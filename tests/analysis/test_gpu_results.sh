@@ -52,16 +52,8 @@ rm -rf "$since" "$work/out/noise.bin" "$work/out/runs" "$work/out/development.tm
 # JOBS=3: the workload stages still to do run at once (one workload_library.sh call); each file kept gets its record
 # and marker, a failed one neither (retried by the next call, which skips the done ones); a stand-in semlb (no GPU)
 # writes an empty HDF5 file (no timed regions to check) and fails with --seed 2
-mkdir -p "$work/fake/cli"
-cat > "$work/fake/cli/semlb" <<'SH'
-#!/usr/bin/env bash
-out=; args=("$@"); for ((i = 0; i < ${#args[@]}; i++)); do [ "${args[$i]}" = --out ] && out=${args[$((i + 1))]}; done
-echo "$PPID $*" >> "$(dirname "$0")/calls"
-[[ " $* " == *" --seed 2 "* ]] && exit 3
-[ -n "${FAKE_SLEEP:-}" ] && [[ " $* " == *"epidermis.yaml"* ]] && sleep 30
-/usr/bin/python3 -c 'import h5py, sys; h5py.File(sys.argv[1], "w")' "$out/workload.h5"; echo c > "$out/run.csv"; echo y > "$out/scene.yaml"
-SH
-chmod +x "$work/fake/cli/semlb"
+mkdir -p "$work/fake/cli" && cp "$src/tests/analysis/stand_in_semlb.sh" "$work/fake/cli/semlb"
+export FAKE_DIR=$work/fake/cli
 rc=0; JOBS=3 BUILD=$work/fake bash "$src/scripts/gpu/results.sh" "$work/wl" workload:epidermis_s1 workload:epidermis_half_s1 \
   workload:dev_v24.8_s2 > "$work/wl.log" 2>&1 || rc=$?
 [ "$rc" = 1 ] || { cat "$work/wl.log"; fail "a failed recording in the group: exit $rc"; }
@@ -79,7 +71,7 @@ rc=0; JOBS=3 BUILD=$work/fake bash "$src/scripts/gpu/results.sh" "$work/wl" work
 # a call stopped midway (TERM to its process group, as timeout sends; a background job ignores INT) still marks what
 # was kept: the stand-in's dev_v24.8_s1 ends at once, epidermis_s1 takes 30 s and is stopped
 rm -rf "$work/wl3"; rc=0
-FAKE_SLEEP=1 JOBS=2 BUILD=$work/fake setsid bash "$src/scripts/gpu/results.sh" "$work/wl3" workload:dev_v24.8_s1 \
+FAKE_SLOW="*epidermis.yaml*" FAKE_SLOW_S=30 JOBS=2 BUILD=$work/fake setsid bash "$src/scripts/gpu/results.sh" "$work/wl3" workload:dev_v24.8_s1 \
   workload:epidermis_s1 > "$work/wl3.log" 2>&1 &
 pid=$!; sleep 4; kill -TERM -- "-$pid"; wait "$pid" || rc=$?
 [ "$rc" != 0 ] && [ -s "$work/wl3/.stages/workload_dev_v24.8_s1.done" ] && [ ! -e "$work/wl3/.stages/workload_epidermis_s1.done" ] \

@@ -8,25 +8,11 @@ set -euo pipefail
 src=$1; work=$2
 rm -rf "$work"; mkdir -p "$work/tmp"
 fail() { echo "FAIL: $*"; exit 1; }
-fake=$work/semlb
-cat > "$fake" <<'SH'
-#!/usr/bin/env bash
-# stand-in for `semlb sim`: logs its parent pid, arguments and how many stand-ins ran at its start; fails with --seed 2
-log=$FAKE_DIR/calls; out=
-args=("$@"); for ((i = 0; i < ${#args[@]}; i++)); do [ "${args[$i]}" = --out ] && out=${args[$((i + 1))]}; done
-touch "$FAKE_DIR/running.$$"
-echo "$PPID $(ls "$FAKE_DIR"/running.* | wc -l) $*" >> "$log"
-if [[ " $* " == *"speed=24.8 "* && " $* " != *" --seed "* ]]; then sleep "${FAKE_LONG:-3}"; else sleep 1; fi
-rm -f "$FAKE_DIR/running.$$"
-[[ " $* " == *" --seed 2 "* ]] && exit 3
-echo h5 > "$out/workload.h5"; echo yaml > "$out/scene.yaml"
-[[ " $* " == *" --seed 3 "* ]] || echo csv > "$out/run.csv"  # with --seed 3 a file is missing: the copy fails
-SH
-chmod +x "$fake"
+fake=$src/tests/analysis/stand_in_semlb.sh  # dev_v24.8_s1 runs 3 s (FAKE_SLOW), the others 1
 # stand-in for PYTHON: has h5py and numpy (`-c` succeeds); --check-regions exits FAKE_CHECK (0: the file passes)
 printf '#!/usr/bin/env bash\n[ "$1" = -c ] && exit 0\necho "check-regions $*" >> "$FAKE_DIR/checks"; exit "${FAKE_CHECK:-0}"\n' > "$work/py"
 chmod +x "$work/py"
-export FAKE_DIR=$work TMPDIR=$work/tmp
+export FAKE_DIR=$work TMPDIR=$work/tmp FAKE_S=1 FAKE_SLOW="*speed=24.8 "
 MEASURED=1 JOBS=3 PYTHON=$work/py bash "$src/scripts/gpu/workload_library.sh" "$fake" "$work/out" \
   dev_v24.8_s1 dev_v12.4_s1 dev_v6.2_s1 epidermis_s1 > "$work/ok.log" 2>&1 || { cat "$work/ok.log"; fail "four recordings"; }
 [ "$(wc -l < "$work/calls")" = 4 ] || fail "not four calls"
@@ -54,7 +40,7 @@ JOBS=2 bash "$src/scripts/gpu/workload_library.sh" "$fake" "$work/out" epidermis
   [ -z "$(ls -A "$work/out" | grep -v '^epidermis_s1\.')" ] || { cat "$work/cp.log"; ls -A "$work/out"; fail "a failed copy: exit $rc"; }
 # SIGTERM (SIGINT alike; a background job ignores SIGINT): the running recordings stop, their run folders go, exit 130
 rm -rf "$work/out"; rc=0
-FAKE_LONG=30 JOBS=2 bash "$src/scripts/gpu/workload_library.sh" "$fake" "$work/out" epidermis_s1 dev_v24.8_s1 > "$work/int.log" 2>&1 &
+FAKE_SLOW_S=30 JOBS=2 bash "$src/scripts/gpu/workload_library.sh" "$fake" "$work/out" epidermis_s1 dev_v24.8_s1 > "$work/int.log" 2>&1 &
 pid=$!; sleep 2.5; kill -TERM "$pid"; wait "$pid" || rc=$?
 [ "$rc" = 130 ] && [ -z "$(ls -A "$work/tmp")" ] || { cat "$work/int.log"; ls "$work/tmp"; fail "SIGTERM: exit $rc, or run folders left"; }
 # the region check refuses a file: nothing kept
