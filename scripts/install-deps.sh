@@ -14,7 +14,7 @@ PACKAGES=(
   python3-pygments   # analysis/provenance.py: source compared by its tokens (comments and layout aside)
   clang-format       # tests/test_format.sh: every C, C++ and OpenCL source as .clang-format lays it out
   python3-paraview   # tests/engine/io/test_paraview.sh opens the XDMF outputs with ParaView's default reader
-  paraview xvfb xauth   # tests/analysis/test_figures.sh renders the Day 0-5 ParaView state with pvbatch on a virtual display
+  paraview xvfb   # tests/analysis/test_figures.sh renders the Day 0-5 ParaView state with pvbatch on a virtual display
   slurm-wlm munge    # tests/experiments/test_slurm.sh starts a single-node Slurm of its own
 )
 missing=()

@@ -85,19 +85,32 @@ scene = GetAnimationScene()
 scene.AnimationTime = reader.TimestepValues[-1]
 SaveScreenshot(sys.argv[2], view, ImageResolution=[640, 480])
 PY
-# Two tries (xvfb-run -a can lose the race for a display number); a failure prints what pvbatch and Xvfb said.
-shoot() { timeout 300 xvfb-run -a -e "$work/xvfb.log" pvbatch "$work/shot.py" "$r/figures/development_paraview.py" \
-            "$work/paraview.png" >"$work/pvbatch.log" 2>&1; }
+# pvbatch draws on an Xvfb of its own: -displayfd makes the server take a free display number itself (xvfb-run -a
+# picks one from the lock files before starting, a race another X server can win, and pvbatch then aborts with "bad X
+# server connection"). Three tries, each with its own logs; a failure prints what pvbatch and Xvfb said.
+on_xvfb() {  # on_xvfb LOG_PREFIX COMMAND...: run COMMAND with DISPLAY on a fresh Xvfb; the server's log in LOG_PREFIX.xvfb
+  local log=$1 n="" pid rc; shift
+  : > "$log.display"
+  Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp 3>"$log.display" 2>"$log.xvfb" & pid=$!
+  for _ in $(seq 100); do n=$(tr -dc 0-9 < "$log.display"); [ -n "$n" ] && break; kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+  if [ -z "$n" ]; then kill $pid 2>/dev/null; wait $pid 2>/dev/null; echo "Xvfb gave no display" >> "$log.xvfb"; return 1; fi
+  rc=0; DISPLAY=:$n timeout 300 "$@" || rc=$?
+  kill $pid 2>/dev/null; wait $pid 2>/dev/null || true
+  return $rc
+}
+shoot() { on_xvfb "$work/try$1" pvbatch "$work/shot.py" "$r/figures/development_paraview.py" "$work/paraview.png" \
+            >"$work/try$1.pvbatch" 2>&1; }
 # When pvbatch cannot draw even a sphere on this machine, the test is skipped (exit 77) with what it said, since the
 # state file is then not what fails; when the sphere draws and the state does not, the state file is wrong.
-if ! { shoot || shoot; }; then
+if ! { shoot 1 || shoot 2 || shoot 3; }; then
   printf 'from paraview.simple import *\nShow(Sphere())\nSaveScreenshot("%s", GetActiveViewOrCreate("RenderView"))\n' \
     "$work/sphere.png" > "$work/sphere.py"
-  if ! timeout 300 xvfb-run -a -e "$work/xvfb_sphere.log" pvbatch "$work/sphere.py" >"$work/sphere.log" 2>&1; then
-    echo "SKIPPED (the figures and the report passed): pvbatch on xvfb-run cannot draw a sphere on this machine:"; tail -n 40 "$work/sphere.log" "$work/xvfb_sphere.log"
+  if ! on_xvfb "$work/sphere" pvbatch "$work/sphere.py" >"$work/sphere.log" 2>&1; then
+    echo "SKIPPED (the figures and the report passed): pvbatch on Xvfb cannot draw a sphere on this machine:"; tail -n 40 "$work/sphere.log" "$work/sphere.xvfb"
     exit 77
   fi
-  echo "pvbatch could not render development_paraview.py:"; tail -n 40 "$work/pvbatch.log" "$work/xvfb.log"
+  echo "pvbatch could not render development_paraview.py (three tries):"
+  for t in 1 2 3; do tail -n 15 "$work/try$t.pvbatch" "$work/try$t.xvfb"; done
   exit 1
 fi
 "$py" - "$work/paraview.png" <<'PY'
