@@ -1,16 +1,11 @@
 // The backend registry and the host versions of the backend operations on cells (W_s, migration, removal, fates).
 #include "backend.hpp"
 
+#include <stdexcept>
+
 #include "common/errors.hpp"
-#include "fates/fate.hpp"
-#include "removal/removal.hpp"
 
 namespace semlb::engine {
-std::string Failure::quantity() const {
-  if (code == 3) return "force sum beyond the fixed-point range";
-  return code == 1 ? "position is not finite" : "displacement exceeds time.max_displacement";
-}
-
 BackendConfig backend_settings(const BackendConfig& config) {
   const BackendInfo* chosen = Backends::find(config.name);
   if (!chosen) throw InputError("backend '" + config.name + "' is unknown (known: " + Backends::known() + ")");
@@ -38,38 +33,16 @@ std::unique_ptr<Backend> make_backend(const BackendConfig& config) {
   return Backends::at(c.name).make(c);
 }
 
-Traffic Backend::traffic_total() const {
-  Traffic t;
-  for (const auto& [phase, bytes] : traffic_) t.h2d += bytes.h2d, t.d2h += bytes.d2h;
-  return t;
-}
-
-Backend::DeviceParts Backend::device_parts(const std::map<std::string, double>& kernels) {
-  DeviceParts p;
-  for (const auto& [key, t] : kernels) {
-    if (key.rfind("cells:", 0) == 0)
-      p.cells += t;
-    else if (key.rfind("list:", 0) == 0)
-      p.list += t;
-    else if (is_pair_force_kernel(key))
-      p.pair += t;
-  }
-  return p;
-}
-
-bool Backend::is_pair_force_kernel(const std::string& name) {
-  return name == "nl_forces" || name == "nl_overflow" || name == "forces_binned" || name == "forces_allpairs";
-}
-
-std::vector<double> Backend::slice_work(State& host, const SliceMap& map, const Grid& g, const CountReduce& reduce) {
+std::vector<double> HostCellOps::slice_work(State& host, const SliceMap& map, const Grid& g,
+                                            const CountReduce& reduce) {
   download(host);
   auto counts = bin_counts(host, g);
   if (reduce) reduce(counts);
   return cell_work(host, g, counts, map);
 }
 
-void Backend::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank,
-                           State& leavers, std::vector<int>& owner) {
+void HostCellOps::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank,
+                               State& leavers, std::vector<int>& owner) {
   download(host);
   owner.clear();
   State stay;
@@ -79,8 +52,10 @@ void Backend::take_leavers(State& host, const SliceMap& map, const std::vector<i
   upload(host);
 }
 
-long Backend::remove_cells(State& host, const std::string& rule, const std::vector<double>& params) {
-  const RemovalEvaluator removes = RemovalRules::at(rule).removes;
+long HostCellOps::remove_cells(State& host, const RemovalCall& r) {
+  if (!r.removes) throw std::logic_error("removal rule '" + r.rule + "' handed to the backend without its evaluator");
+  const RemovalEvaluator removes = r.removes;
+  const std::vector<double>& params = r.params;
   download(host);
   State kept = empty_like(host);
   long removed = 0;
@@ -98,9 +73,10 @@ long Backend::remove_cells(State& host, const std::string& rule, const std::vect
   return removed;
 }
 
-void Backend::cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field,
-                        double elapsed_h) {
-  const FateEvaluator decides = FateRules::at(rule).decides;
+void HostCellOps::cell_fate(State& host, const FateCall& r, int field, double elapsed_h) {
+  if (!r.decides) throw std::logic_error("fate rule '" + r.rule + "' handed to the backend without its evaluator");
+  const FateEvaluator decides = r.decides;
+  const std::vector<double>& params = r.params;
   download(host);
   std::vector<double>* column = host.cell_field_at(field);
   for (long c = 0; c < host.cells(); ++c) {
@@ -112,7 +88,7 @@ void Backend::cell_fate(State& host, const std::string& rule, const std::vector<
   upload(host);
 }
 
-void Backend::append_cells(State& host, const State& arrivals) {
+void HostCellOps::append_cells(State& host, const State& arrivals) {
   download(host);
   for (long c = 0; c < arrivals.cells(); ++c) copy_cell(arrivals, c, host);
   host.reindex();

@@ -3,16 +3,15 @@
 #include <climits>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
 
 #include "backend.hpp"
 #include "physics/cpu_physics.hpp"
-#include "pairs/pair_term.hpp"
-#include "terms/term.hpp"
 
 namespace semlb::engine {
 
 template <class Real>
-class CpuBackend : public Backend {
+class CpuBackend : public HostCellOps {
  public:
   explicit CpuBackend(int threads) : threads_(threads) {}
   std::string device_name() const override { return "host CPU"; }
@@ -92,9 +91,9 @@ class CpuBackend : public Backend {
   long owned() const { return owned_; }  // forces, integration and noise apply to elements [0, owned)
   long total() const { return static_cast<long>(info_.size()); }
 
-  // Pair term f.term in this precision (std::logic_error when unregistered): its evaluator, its parameters in Real,
-  // the squared cutoff in Real; `add` calls the evaluator unless r^2 >= cutoff2 (its own first test, done inline so
-  // that the candidates beyond the cutoff cost no call; a NaN distance goes on to the evaluator). acc[0..2] are the
+  // Pair term f.term in this precision (std::logic_error when handed without it): its evaluator, its parameters in
+  // Real, the squared cutoff in Real; `add` calls the evaluator unless r^2 >= cutoff2 (its own first test, done inline
+  // so that the candidates beyond the cutoff cost no call; a NaN distance goes on to the evaluator). acc[0..2] are the
   // fixed-point sums, acc[3] their bound (pair_force.h).
   struct PairLoop {
     PairEvaluator<Real> law;
@@ -103,25 +102,26 @@ class CpuBackend : public Backend {
     explicit PairLoop(const PairForces& f)
         : p(f.params.begin(), f.params.end()), c2(static_cast<Real>(f.cutoff * f.cutoff)) {
       if constexpr (std::is_same_v<Real, double>)
-        law = PairTerms::at(f.term).f64;
+        law = f.f64;
       else
-        law = PairTerms::at(f.term).f32;
+        law = f.f32;
+      if (!law) throw std::logic_error("pair term '" + f.term + "' handed to the backend without its evaluator");
     }
     void add(Real dx, Real dy, Real dz, int ii, int ij, uint64_t ki, uint64_t kj, int64_t* acc) const {
       if (!(dx * dx + dy * dy + dz * dz >= c2)) law(dx, dy, dz, ii, ij, ki, kj, p.data(), c2, acc);
     }
   };
 
-  void element_term(const std::string& name, const std::vector<double>& params) override {
-    const ElementTerm& term = engine::ElementTerms::at(name);
+  void element_term(const ElementTermCall& t) override {
     TermEvaluator<Real> evaluate;
     if constexpr (std::is_same_v<Real, double>)
-      evaluate = term.f64;
+      evaluate = t.f64;
     else
-      evaluate = term.f32;
-    count(name);
+      evaluate = t.f32;
+    if (!evaluate) throw std::logic_error("element term '" + t.name + "' handed to the backend without its evaluator");
+    count(t.name);
     ++terms_;
-    const std::vector<Real> p(params.begin(), params.end());
+    const std::vector<Real> p(t.params.begin(), t.params.end());
     const long n = owned_;
 #pragma omp parallel for schedule(static) num_threads(threads())
     for (long i = 0; i < n; ++i) {

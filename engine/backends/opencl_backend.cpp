@@ -273,11 +273,10 @@ std::vector<double> OpenClBackend<Real>::pair_force_seconds(const std::vector<in
 }
 
 template <class Real>
-void OpenClBackend<Real>::element_term(const std::string& name, const std::vector<double>& params) {
-  engine::ElementTerms::at(name);  // std::logic_error for an unregistered name
-  ++terms_;                        // its bound, added by integrate
-  launch(name.c_str(), owned_, kGroup, pos_.get(), plugin_parameters<Real>(term_params_, name, params), force_.get(),
-         owned());
+void OpenClBackend<Real>::element_term(const ElementTermCall& t) {
+  ++terms_;  // its bound, added by integrate
+  launch(t.name.c_str(), owned_, kGroup, pos_.get(), plugin_parameters<Real>(term_params_, t.name, t.params),
+         force_.get(), owned());
 }
 
 template <class Real>

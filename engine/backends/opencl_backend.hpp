@@ -31,7 +31,7 @@ struct LocalBytes {  // a __local kernel argument
 inline size_t round_up(size_t n, size_t m) { return (n + m - 1) / m * m; }
 
 template <class Real>
-class OpenClBackend final : public Backend {
+class OpenClBackend final : public HostCellOps {
   using Real4 = std::array<Real, 4>;
 
  public:
@@ -53,9 +53,8 @@ class OpenClBackend final : public Backend {
   void take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& leavers,
                     std::vector<int>& owner) override;
 
-  long remove_cells(State& host, const std::string& rule, const std::vector<double>& params) override;
-  void cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field,
-                 double elapsed_h) override;
+  long remove_cells(State& host, const RemovalCall& r) override;
+  void cell_fate(State& host, const FateCall& r, int field, double elapsed_h) override;
   void append_cells(State& host, const State& arrivals) override;
 
   void download(State& s) override;
@@ -100,7 +99,7 @@ class OpenClBackend final : public Backend {
   // item per owned element of the bands' selection (or every owned element without one).
   void pair_forces_nonlocal(const PairForces& f, const Grid& grid) override;
 
-  void element_term(const std::string& name, const std::vector<double>& params) override;
+  void element_term(const ElementTermCall& t) override;
 
   void integrate(double dt_over_eta, double max_step, long step) override {
     if (step > INT_MAX) throw std::runtime_error("opencl backends count steps in 32 bits");
@@ -347,8 +346,11 @@ class OpenClBackend final : public Backend {
   template <class... Args>
   void launch(const char* name, long items, size_t group, const Args&... args) {
     if (items <= 0) return;
+    const auto kernel = kernels_.find(name);
+    if (kernel == kernels_.end())  // a call made by hand for a plug-in that is not registered
+      throw std::logic_error(std::string("OpenCL kernel '") + name + "' is not in the program");
     count(name, items);  // every kernel enqueued, by name (launches(), launch_items())
-    cl_kernel k = kernels_.at(name).get();
+    cl_kernel k = kernel->second.get();
     cl_uint i = 0;
     (set_arg(k, i++, args, name), ...);
     const size_t global = round_up(static_cast<size_t>(items), group);

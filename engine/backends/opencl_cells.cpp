@@ -2,16 +2,14 @@
 // division rules (kernels cells_*), fate rules (fate_NAME), per-slice work, leavers and arrivals, the cells up and
 // down.
 #include "opencl_backend.hpp"
-#include "fates/fate.hpp"
 #include "growth/growth_law.hpp"
-#include "removal/removal.hpp"
 
 namespace semlb::engine::opencl_impl {
 
 template <class Real>
 std::vector<double> OpenClBackend<Real>::slice_work(State& host, const SliceMap& map, const Grid& g,
                                                     const CountReduce& reduce) {
-  if (!has_fp64_) return Backend::slice_work(host, map, g, reduce);
+  if (!has_fp64_) return HostCellOps::slice_work(host, map, g, reduce);
   const long bins = g.bins();
   if (bins > work_bins_capacity_) {
     work_bins_capacity_ = bins + bins / 4;
@@ -48,7 +46,7 @@ std::vector<double> OpenClBackend<Real>::slice_work(State& host, const SliceMap&
 template <class Real>
 void OpenClBackend<Real>::take_leavers(State& host, const SliceMap& map, const std::vector<int>& boundaries, int rank,
                                        State& leavers, std::vector<int>& owner) {
-  if (!has_fp64_) return Backend::take_leavers(host, map, boundaries, rank, leavers, owner);
+  if (!has_fp64_) return HostCellOps::take_leavers(host, map, boundaries, rank, leavers, owner);
   leavers = empty_like(host);
   owner.clear();
   near_valid_ = false;
@@ -87,7 +85,7 @@ void OpenClBackend<Real>::take_leavers(State& host, const SliceMap& map, const s
 
 template <class Real>
 void OpenClBackend<Real>::append_cells(State& host, const State& arrivals) {
-  if (!has_fp64_) return Backend::append_cells(host, arrivals);
+  if (!has_fp64_) return HostCellOps::append_cells(host, arrivals);
   near_valid_ = false;
   list_.invalidate();
   n_ = owned_;
@@ -288,40 +286,37 @@ std::array<long, 2> OpenClBackend<Real>::split_cells(long n) {
 }
 
 template <class Real>
-long OpenClBackend<Real>::remove_cells(State& host, const std::string& rule, const std::vector<double>& params) {
-  if (!has_fp64_) return Backend::remove_cells(host, rule, params);
-  RemovalRules::at(rule);  // std::logic_error for an unregistered rule
+long OpenClBackend<Real>::remove_cells(State& host, const RemovalCall& r) {
+  if (!has_fp64_) return HostCellOps::remove_cells(host, r);
+  const std::string& rule = r.rule;
   near_valid_ = false;
   n_ = owned_;  // the ghosts go
   const long n = cells_;
   if (n == 0) return 0;
   reserve_plan(n);
   launch(("remove_" + rule).c_str(), n, kGroup, static_cast<cl_int>(n), pos_.get(), cell_.first.get(),
-         cell_.count.get(), cell_.type.get(), plugin_parameters<double>(rule_params_, rule, params), births_.get(),
+         cell_.count.get(), cell_.type.get(), plugin_parameters<double>(rule_params_, rule, r.params), births_.get(),
          divides_.get(), counts2_.get());
   return split_cells(n)[0];
 }
 
 template <class Real>
-void OpenClBackend<Real>::cell_fate(State& host, const std::string& rule, const std::vector<double>& params, int field,
-                                    double elapsed_h) {
-  if (!has_fp64_) return Backend::cell_fate(host, rule, params, field, elapsed_h);
-  FateRules::at(rule);        // std::logic_error for an unregistered rule
+void OpenClBackend<Real>::cell_fate(State& host, const FateCall& r, int field, double elapsed_h) {
+  if (!has_fp64_) return HostCellOps::cell_fate(host, r, field, elapsed_h);
+  const std::string& rule = r.rule;
   host.cell_field_at(field);  // std::logic_error for an index outside the record (the device holds the same fields)
   const long n = cells_;
   if (n == 0) return;
   launch(("fate_" + rule).c_str(), n, kGroup, static_cast<cl_int>(n), elapsed_h,
-         plugin_parameters<double>(rule_params_, rule, params), static_cast<cl_int>(field), static_cast<cl_int>(nf()),
+         plugin_parameters<double>(rule_params_, rule, r.params), static_cast<cl_int>(field), static_cast<cl_int>(nf()),
          pos_.get(), cell_.first.get(), cell_.count.get(), cell_.type.get(), cell_.fields.get());
   cells_stale_ = true;
 }
 
 #define SEMLB_OPENCL_CELLS_INSTANCES(Real)                                                                         \
   template std::array<long, 2> OpenClBackend<Real>::split_cells(long n);                                           \
-  template long OpenClBackend<Real>::remove_cells(State& host, const std::string& rule,                            \
-                                                  const std::vector<double>& params);                              \
-  template void OpenClBackend<Real>::cell_fate(State& host, const std::string& rule,                               \
-                                               const std::vector<double>& params, int field, double elapsed_h);    \
+  template long OpenClBackend<Real>::remove_cells(State& host, const RemovalCall& r);                              \
+  template void OpenClBackend<Real>::cell_fate(State& host, const FateCall& r, int field, double elapsed_h);       \
   template std::vector<double> OpenClBackend<Real>::slice_work(State& host, const SliceMap& map, const Grid& g,    \
                                                                const CountReduce& reduce);                         \
   template void OpenClBackend<Real>::take_leavers(State& host, const SliceMap& map,                                \

@@ -69,21 +69,13 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
   State mine;  // every rank holds the whole tissue here: each keeps its own cells, nothing is sent
   split_by_owner(tissue, dec_, balancer_->boundaries(), mpi.rank(), mine);
   sim_ = std::make_unique<Simulation>(scene, std::move(mine), dec_.timing == "device");
-  sim_->before_forces = [this] { start_exchange(); };
-  if (dec_.overlap) {
-    sim_->post_exchange = [this] { post_exchange(); };
-    sim_->before_nonlocal_forces = [this] { finish_exchange(); };
-    sim_->progress = [this] { pending_.progress(); };
-  }
-  sim_->after_cells = [this] { migrate_cells(); };
-  if (tracks_stages()) sim_->before_cells = [this] { stage_work_before(); };
+  sim_->set_hooks(&hooks_);
   // Every rank opens the file here, before the collectives that follow the construction: none can have removed it
   // (at its end) before the last one opens it.
   if (dec_.device_sharing == "turns") {
     turns_ = std::make_unique<DeviceTurns>(DeviceTurns::path_for(job_name(), sim_->backend().device_key()));
     sim_->turns = turns_.get();
   }
-  sim_->failure_check = [this] { collective_check(); };
   trace_path_ = mpi.rank() == 0 ? trace_path : "";  // opened at the first event: nothing is written before
   if (!trace_path_.empty() && balancer_->event() > 0 && std::filesystem::exists(trace_path_))
     for (const auto& line : split(read_file(trace_path_), '\n'))  // a restart keeps the events before its own
@@ -108,6 +100,13 @@ double DistributedSimulation::compute_seconds() const {
   double s = 0;
   for (double p : sim_->phase_seconds()) s += p;
   return s;
+}
+
+unsigned DistributedSimulation::Hooks::mask() const {
+  unsigned m = kBeforeForces | kAfterCells | kFailureCheck;
+  if (d_.dec_.overlap) m |= kPostExchange | kBeforeNonlocalForces | kProgress;
+  if (d_.tracks_stages()) m |= kBeforeCells;
+  return m;
 }
 
 // Owned elements within the cutoff of a neighbour's elements go to that neighbour; only neighbours

@@ -54,7 +54,25 @@ class DistributedSimulation {
   void write_workload(const std::string& path, const std::string& command, const std::string& git_revision);
 
  private:
-  // The ghost exchange in three parts around the local forces (Simulation's before_forces, post_exchange and
+  // This run's points of the local simulation's step (StepHooks): the ghost exchange, the cell migration, the
+  // collective failure check, and a recording's W_s before each cell stage.
+  class Hooks final : public StepHooks {
+   public:
+    explicit Hooks(DistributedSimulation& d) : d_(d) {}
+    unsigned mask() const override;
+    void before_forces() override { d_.start_exchange(); }
+    void post_exchange() override { d_.post_exchange(); }
+    void before_nonlocal_forces() override { d_.finish_exchange(); }
+    void progress() override { d_.pending_.progress(); }
+    void before_cells() override { d_.stage_work_before(); }
+    void after_cells() override { d_.migrate_cells(); }
+    void failure_check() override { d_.collective_check(); }
+
+   private:
+    DistributedSimulation& d_;
+  };
+  Hooks hooks_{*this};
+  // The ghost exchange in three parts around the local forces (the before_forces, post_exchange and
   // before_nonlocal_forces hooks; all three in start_exchange without decomposition.overlap).
   void start_exchange();
   void post_exchange();

@@ -1,6 +1,6 @@
 // Effects register by name and run only when a scene lists them: element effects add forces or
-// displacements on the backend every step; cell effects contribute their parameters to the cell stage's rules
-// (physics/cells.h), which the backend runs every cell update.
+// displacements through the backend's force kernels every step; cell effects contribute their parameters to the cell
+// stage's rules (physics/cells.h), which the backend runs every cell update, or call its cell stage themselves.
 #pragma once
 #include <functional>
 #include <memory>
@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "backends/backend.hpp"
 #include "common/registry.hpp"
+#include "device/backend.hpp"
 #include "model/scene.hpp"
 #include "model/state.hpp"
 
@@ -23,18 +23,18 @@ class Effect {
   // one is needed (growth: a random phase per cell); every declared field is allocated after (declare_cell_fields).
   virtual void prepare(State&) {}
   virtual bool adds_forces() const { return false; }  // element stage, before integration
-  virtual void forces(Backend&, const Grid&) {}       // the part that needs no ghost (local)
+  virtual void forces(ForceKernels&, const Grid&) {}  // the part that needs no ghost (local)
   // The part of the forces that needs the ghosts (non-local), run after the ghost exchange arrived.
-  virtual void nonlocal_forces(Backend&, const Grid&) {}
+  virtual void nonlocal_forces(ForceKernels&, const Grid&) {}
   virtual bool moves_after_integration() const { return false; }  // element stage, after integration
-  virtual void after_integration(Backend&, long /*step*/) {}
+  virtual void after_integration(ForceKernels&, long /*step*/) {}
   virtual bool changes_cells() const { return false; }  // cell stage, every cell update
   // Sets this effect's part of the cell stage's rules (growth or division), with the record index
   // of each field it owns in `s` (cell_field_index: s's cell_fields in name order, the record every backend keeps).
   virtual void cell_rules(CellRules&, const State& /*s*/) const {}
   // Cell stage, after the backend ran the rules: changes the backend's cells itself (a removal rule: `host` is the
   // caller's State, stale on OpenCL). True when it removed or added elements (the grid may need refitting).
-  virtual bool after_cell_stage(Backend&, State& /*host*/) { return false; }
+  virtual bool after_cell_stage(CellStage&, State& /*host*/) { return false; }
   // The phase in [0, 1) of this effect's growth cycle at `time` (h), if it has one: what the controllers
   // see as Observation::growth_phase (paper Sec. IV-C).
   virtual std::optional<double> growth_phase(double /*time*/) const { return std::nullopt; }

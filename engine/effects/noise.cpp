@@ -14,7 +14,7 @@ class Noise final : public Effect {
       : amplitude_(std::sqrt(2 * s.real("diffusion", 0.01, 0, 1e9) * scene.dt)), seed_(scene.seed ^ kNoiseStream) {}
   std::string name() const override { return "noise"; }
   bool moves_after_integration() const override { return true; }
-  void after_integration(Backend& b, long step) override { b.noise(amplitude_, seed_, step); }
+  void after_integration(ForceKernels& b, long step) override { b.noise(amplitude_, seed_, step); }
 
  private:
   double amplitude_;

@@ -1,4 +1,4 @@
-// The fate-rule registry, and each rule as a cell effect that decides cell types through Backend::cell_fate.
+// The fate-rule registry, and each rule as a cell effect that decides cell types through CellStage::cell_fate.
 #include "fate.hpp"
 
 #include "effects/cell_fields.hpp"
@@ -11,19 +11,18 @@ namespace {
 // applies it to every cell, with the time one stage covers (Scene::cell_stage_h, as the stage's rules).
 class FateEffect final : public Effect {
  public:
-  FateEffect(std::string name, std::vector<double> params, double elapsed_h)
-      : name_(std::move(name)), params_(std::move(params)), elapsed_h_(elapsed_h) {}
-  std::string name() const override { return name_; }
+  FateEffect(const std::string& name, std::vector<double> params, double elapsed_h)
+      : call_(fate_call(name, std::move(params))), field_(FateRules::at(name).field), elapsed_h_(elapsed_h) {}
+  std::string name() const override { return call_.rule; }
   bool changes_cells() const override { return true; }
-  bool after_cell_stage(Backend& b, State& host) override {
-    const std::string& field = FateRules::at(name_).field;
-    b.cell_fate(host, name_, params_, field.empty() ? -1 : cell_field_index(host, field), elapsed_h_);
+  bool after_cell_stage(CellStage& b, State& host) override {
+    b.cell_fate(host, call_, field_.empty() ? -1 : cell_field_index(host, field_), elapsed_h_);
     return false;  // types and fields only: no element moved, none was added
   }
 
  private:
-  std::string name_;
-  std::vector<double> params_;
+  FateCall call_;
+  std::string field_;  // FateRule::field
   double elapsed_h_;
 };
 
@@ -34,6 +33,10 @@ void FateRule::registering(const std::string& name, const FateRule& rule) {
     return std::make_unique<FateEffect>(name, checked_plugin_params(FateRule::kKind, name, FateRules::at(name).read(s)),
                                         scene.cell_stage_h());
   });
+}
+
+FateCall fate_call(const std::string& rule, std::vector<double> params) {
+  return {rule, std::move(params), FateRules::at(rule).decides};
 }
 
 }  // namespace semlb::engine

@@ -9,16 +9,10 @@
 #include <vector>
 
 #include "common/registry.hpp"
+#include "device/backend.hpp"
 #include "model/scene.hpp"
 
 namespace semlb::engine {
-
-// The fate of one cell: centroid (cx, cy, cz) um, `count` elements, `elapsed` h since the last stage, `p` the rule's
-// derived parameters (FateRule::read); `type` (in/out) its cell type, `field` (in/out) its per-cell field (0 and
-// discarded when the rule has none). Returns 1 when the type changed. The C++ instantiation of `semlb_fate_NAME` of
-// fates/NAME.h (double: the cell stage's bookkeeping is double on every backend, cells.h).
-using FateEvaluator = int (*)(double cx, double cy, double cz, int count, double elapsed, const double* p, int* type,
-                              double* field);
 
 // A registered fate rule. Its name is its scene key (`effects.NAME`), the stem of its evaluator header fates/NAME.h
 // and, prefixed `fate_`, its OpenCL kernel's name in launches(). fates/NAME.cpp includes fates/NAME.h inside
@@ -39,5 +33,8 @@ struct FateRule {
   static void registering(const std::string& name, const FateRule& rule);
 };
 using FateRules = PluginKind<FateRule>;
+// What the backend runs for the registered fate rule `rule` (its evaluator; `params` its derived parameters);
+// std::logic_error for an unregistered rule.
+FateCall fate_call(const std::string& rule, std::vector<double> params);
 
 }  // namespace semlb::engine

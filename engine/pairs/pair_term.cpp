@@ -1,5 +1,5 @@
 // The pair-term registry, and each term as an effect that adds the pair forces through
-// Backend::pair_forces_local/nonlocal.
+// ForceKernels::pair_forces_local/nonlocal.
 #include "pair_term.hpp"
 
 #include "common/errors.hpp"
@@ -13,8 +13,9 @@ namespace {
 class PairTermEffect final : public Effect {
  public:
   PairTermEffect(const std::string& name, const Section& s, const Scene& scene)
-      : forces_{name, checked_plugin_params(PairTerm::kKind, name, PairTerms::at(name).read(s, scene.cutoff)),
-                scene.cutoff} {
+      : forces_(pair_forces_of(name,
+                               checked_plugin_params(PairTerm::kKind, name, PairTerms::at(name).read(s, scene.cutoff)),
+                               scene.cutoff)) {
     for (const auto& [other, section] : scene.effects) {  // the later-listed term is the one refused
       if (other == name) break;
       if (PairTerms::find(other))
@@ -23,8 +24,8 @@ class PairTermEffect final : public Effect {
   }
   std::string name() const override { return forces_.term; }
   bool adds_forces() const override { return true; }
-  void forces(Backend& b, const Grid& g) override { b.pair_forces_local(forces_, g); }
-  void nonlocal_forces(Backend& b, const Grid& g) override { b.pair_forces_nonlocal(forces_, g); }
+  void forces(ForceKernels& b, const Grid& g) override { b.pair_forces_local(forces_, g); }
+  void nonlocal_forces(ForceKernels& b, const Grid& g) override { b.pair_forces_nonlocal(forces_, g); }
 
  private:
   PairForces forces_;
@@ -36,6 +37,11 @@ void PairTerm::registering(const std::string& name, const PairTerm& term) {
   register_plugin_effect(PairTerm::kKind, name, term, [name](const Section& s, const Scene& scene) {
     return std::make_unique<PairTermEffect>(name, s, scene);
   });
+}
+
+PairForces pair_forces_of(const std::string& term, std::vector<double> params, double cutoff) {
+  const PairTerm& t = PairTerms::at(term);
+  return {term, std::move(params), cutoff, t.f64, t.f32};
 }
 
 std::string scene_pair_term(const Scene& scene) {

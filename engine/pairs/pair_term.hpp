@@ -8,17 +8,10 @@
 #include <vector>
 
 #include "common/registry.hpp"
+#include "device/backend.hpp"
 #include "model/scene.hpp"
 
 namespace semlb::engine {
-
-// The force on element i from element j added to acc[0..2] in fixed point (physics/pair_force.h: semlb_pair_force,
-// with the coincident fallback): d = Y_i - Y_j (um), the elements' packed infos and keys, `p` the term's derived
-// parameters, cutoff2 the squared cutoff (um^2). The C++ instantiation of one term in one precision
-// (pairs/instantiate.hpp).
-template <class Real>
-using PairEvaluator = void (*)(Real dx, Real dy, Real dz, int info_i, int info_j, uint64_t key_i, uint64_t key_j,
-                               const Real* p, Real cutoff2, int64_t* acc);
 
 // A registered pair term. Its name is its scene key (`effects.NAME`) and the stem of its evaluator header
 // pairs/NAME.h, whose `semlb_real semlb_pair_NAME(semlb_real r, int info_i, int info_j, SEMLB_CONST const
@@ -43,6 +36,9 @@ struct PairTerm {
   static void registering(const std::string& name, const PairTerm& term);
 };
 using PairTerms = PluginKind<PairTerm>;
+// What the backend runs for the registered pair term `term` (PairForces: its evaluators, `params` its derived
+// parameters, `cutoff` um); std::logic_error for an unregistered term.
+PairForces pair_forces_of(const std::string& term, std::vector<double> params, double cutoff);
 // The pair term `scene` lists ("" when none): what the OpenCL backends build their program for
 // (BackendConfig::pair_term).
 std::string scene_pair_term(const Scene& scene);

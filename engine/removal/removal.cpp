@@ -1,4 +1,4 @@
-// The removal-rule registry, and each rule as a cell effect that removes cells through Backend::remove_cells.
+// The removal-rule registry, and each rule as a cell effect that removes cells through CellStage::remove_cells.
 #include "removal.hpp"
 
 #include "effects/effect.hpp"
@@ -10,14 +10,13 @@ namespace {
 // removes the cells it flags.
 class RemovalEffect final : public Effect {
  public:
-  RemovalEffect(std::string name, std::vector<double> params) : name_(std::move(name)), params_(std::move(params)) {}
-  std::string name() const override { return name_; }
+  RemovalEffect(const std::string& name, std::vector<double> params) : call_(removal_call(name, std::move(params))) {}
+  std::string name() const override { return call_.rule; }
   bool changes_cells() const override { return true; }
-  bool after_cell_stage(Backend& b, State& host) override { return b.remove_cells(host, name_, params_) > 0; }
+  bool after_cell_stage(CellStage& b, State& host) override { return b.remove_cells(host, call_) > 0; }
 
  private:
-  std::string name_;
-  std::vector<double> params_;
+  RemovalCall call_;
 };
 
 }  // namespace
@@ -27,6 +26,10 @@ void RemovalRule::registering(const std::string& name, const RemovalRule& rule) 
     return std::make_unique<RemovalEffect>(
         name, checked_plugin_params(RemovalRule::kKind, name, RemovalRules::at(name).read(s)));
   });
+}
+
+RemovalCall removal_call(const std::string& rule, std::vector<double> params) {
+  return {rule, std::move(params), RemovalRules::at(rule).removes};
 }
 
 }  // namespace semlb::engine

@@ -9,14 +9,10 @@
 #include <vector>
 
 #include "common/registry.hpp"
+#include "device/backend.hpp"
 #include "model/scene.hpp"
 
 namespace semlb::engine {
-
-// 1 when the cell with centroid (cx, cy, cz) um, cell type `type` and `count` elements is removed; `p` the rule's
-// derived parameters (RemovalRule::read). The C++ instantiation of `semlb_remove_NAME` of removal/NAME.h (double:
-// the cell stage's bookkeeping is double on every backend, cells.h).
-using RemovalEvaluator = int (*)(double cx, double cy, double cz, int type, int count, const double* p);
 
 // A registered removal rule. Its name is its scene key (`effects.NAME`), the stem of its evaluator header
 // removal/NAME.h and, prefixed `remove_`, its OpenCL kernel's name in launches(). removal/NAME.cpp includes
@@ -36,5 +32,8 @@ struct RemovalRule {
   static void registering(const std::string& name, const RemovalRule& rule);
 };
 using RemovalRules = PluginKind<RemovalRule>;
+// What the backend runs for the registered removal rule `rule` (its evaluator; `params` its derived parameters);
+// std::logic_error for an unregistered rule.
+RemovalCall removal_call(const std::string& rule, std::vector<double> params);
 
 }  // namespace semlb::engine

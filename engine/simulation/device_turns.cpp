@@ -3,6 +3,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cctype>
@@ -13,22 +14,47 @@
 
 namespace semlb::engine {
 
-DeviceTurns::DeviceTurns(std::string path) : path_(std::move(path)) {
-  fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
-  if (fd_ < 0) throw std::runtime_error("device turns: cannot open " + path_ + ": " + std::strerror(errno));
+namespace {
+int open_lock(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+  if (fd < 0) throw std::runtime_error("device turns: cannot open " + path + ": " + std::strerror(errno));
+  return fd;
 }
+}  // namespace
+
+DeviceTurns::DeviceTurns(std::string path) : path_(std::move(path)), fd_(open_lock(path_)) {}
 
 DeviceTurns::~DeviceTurns() {
+  // The file is removed under the lock, so no process holds a turn on it then; one that waited on it finds it gone
+  // when its turn comes (acquire) and locks the path's new file with the rest.
+  try {
+    acquire();
+    ::unlink(path_.c_str());
+  } catch (...) {
+  }
   release();
   if (fd_ >= 0) ::close(fd_);
-  ::unlink(path_.c_str());  // the last process to leave removes it; one still running keeps its open file
 }
 
 void DeviceTurns::acquire() {
   if (held_) return;
-  while (::flock(fd_, LOCK_EX) != 0)
-    if (errno != EINTR) throw std::runtime_error("device turns: lock of " + path_ + " failed: " + std::strerror(errno));
-  held_ = true;
+  for (;;) {
+    while (::flock(fd_, LOCK_EX) != 0)
+      if (errno != EINTR)
+        throw std::runtime_error("device turns: lock of " + path_ + " failed: " + std::strerror(errno));
+    struct stat locked;
+    struct stat now;
+    if (::fstat(fd_, &locked) == 0 && ::stat(path_.c_str(), &now) == 0 && locked.st_ino == now.st_ino &&
+        locked.st_dev == now.st_dev) {
+      held_ = true;
+      return;
+    }
+    // The file was removed (a process that left) while this one waited: its lock guards nothing now.
+    ::flock(fd_, LOCK_UN);
+    ::close(fd_);
+    fd_ = -1;
+    fd_ = open_lock(path_);
+  }
 }
 
 void DeviceTurns::release() {

@@ -53,15 +53,24 @@ void Simulation::timed(size_t phase, F&& f) {
   const auto t0 = std::chrono::steady_clock::now();
   in_turn([&] {
     f();
-    if (profile) progress ? backend_->finish_while(progress) : backend_->finish();
+    if (profile) wait_for_device();
   });
   seconds_[phase] += seconds_since(t0);
 }
 
+void Simulation::wait_for_device() {
+  if (hooked(StepHooks::kProgress))
+    backend_->finish_while([this] { hooks_->progress(); });
+  else
+    backend_->finish();
+}
+
+void Simulation::checked() { hooked(StepHooks::kFailureCheck) ? hooks_->failure_check() : check(); }
+
 void Simulation::advance(long target) {
   while (state_.step < target) step_once();
   PhaseScope checking(*backend_, "check");
-  failure_check ? failure_check() : check();
+  checked();
 }
 
 void Simulation::reload() {
@@ -80,21 +89,21 @@ void Simulation::refit_grid() {
   }
 }
 
-// A decomposed step (distributed.cpp's hooks; docs/engine.md, "Overlap of the ghost exchange with force work"):
+// A decomposed step (StepHooks, distributed.cpp; docs/engine.md, "Overlap of the ghost exchange with force work"):
 // before_forces selects and downloads the bands; the first force effect's local part is enqueued, post_exchange
 // posts the bands (its time is the exchange's, not the phase's), and under `profile` MPI progresses (`progress`)
 // while the device computes; before_nonlocal_forces waits for the bands and sets the ghosts; the non-local parts.
 void Simulation::step_once() {
   const long step = state_.step;
   size_t phase = 0;
-  if (before_forces) before_forces();
+  if (hooked(StepHooks::kBeforeForces)) hooks_->before_forces();
   PhaseScope in_step(*backend_, "step");
   backend_->zero_forces();
   const size_t first_force = phase;
-  bool posted = !post_exchange;
+  bool posted = !hooked(StepHooks::kPostExchange);
   const auto post = [&] {  // seconds spent posting
     const auto t0 = std::chrono::steady_clock::now();
-    post_exchange();
+    hooks_->post_exchange();
     posted = true;
     return seconds_since(t0);
   };
@@ -105,12 +114,12 @@ void Simulation::step_once() {
       in_turn([&] {  // without turns: a decomposed run's bands are posted here, while the device computes
         e->forces(*backend_, grid_);
         posting = posted ? 0.0 : post();
-        if (profile) progress ? backend_->finish_while(progress) : backend_->finish();
+        if (profile) wait_for_device();
       });
       seconds_[phase++] += seconds_since(t0) - posting;
     }
   if (!posted) post();
-  if (before_nonlocal_forces) before_nonlocal_forces();
+  if (hooked(StepHooks::kBeforeNonlocalForces)) hooks_->before_nonlocal_forces();
   size_t force = first_force;
   for (const auto& e : effects_)
     if (e->adds_forces()) timed(force++, [&] { e->nonlocal_forces(*backend_, grid_); });
@@ -124,11 +133,11 @@ void Simulation::step_once() {
     // that a rank's computation time holds its own work and not its wait for the slowest rank.
     {
       PhaseScope checking(*backend_, "check");
-      failure_check ? failure_check() : check();
+      checked();
     }
-    if (before_cells) before_cells();
+    if (hooked(StepHooks::kBeforeCells)) hooks_->before_cells();
     timed(phase, [&] { update_cells(); });
-    if (after_cells) after_cells();
+    if (hooked(StepHooks::kAfterCells)) hooks_->after_cells();
   }
 }
 

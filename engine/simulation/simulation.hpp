@@ -26,6 +26,36 @@ struct SimulationError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The points of a step where the decomposed run (decomposition/distributed.cpp) acts, as LAMMPS gives a fix typed
+// hook points (Fix::setmask, "Modify the input script"): a StepHooks says which points it takes in mask(), and the
+// simulation calls those only. Every step: before_forces before the force effects' local parts (selects the bands),
+// post_exchange once the first local part is enqueued (posts them; timed apart from the phase),
+// before_nonlocal_forces before the non-local parts (waits for the bands and sets the ghosts); progress while the
+// device computes a phase (when `profile` waits for it: MPI progress of the bands); at each cell update
+// before_cells and after_cells around the stage (a recording run's W_s before it; the cell migration after it);
+// failure_check in place of Simulation::check (a collective check across ranks).
+class StepHooks {
+ public:
+  enum Point : unsigned {
+    kBeforeForces = 1u << 0,
+    kPostExchange = 1u << 1,
+    kBeforeNonlocalForces = 1u << 2,
+    kProgress = 1u << 3,
+    kBeforeCells = 1u << 4,
+    kAfterCells = 1u << 5,
+    kFailureCheck = 1u << 6,
+  };
+  virtual ~StepHooks() = default;
+  virtual unsigned mask() const = 0;  // the Points taken, or-ed
+  virtual void before_forces() {}
+  virtual void post_exchange() {}
+  virtual void before_nonlocal_forces() {}
+  virtual void progress() {}
+  virtual void before_cells() {}
+  virtual void after_cells() {}
+  virtual void failure_check() {}
+};
+
 class Simulation {
  public:
   // Builds the backend and the scene's effects (InputError on bad parameters) and uploads `state`. `device_timers`:
@@ -57,16 +87,9 @@ class Simulation {
   // Throws SimulationError if a kernel recorded a failure.
   void check();
 
-  // Hooks of the decomposed run (distributed.cpp); empty by default. Every step: before_forces before the force
-  // effects' local parts (selects the bands), post_exchange once the first local part is enqueued (posts them;
-  // timed apart from the phase), before_nonlocal_forces before the non-local parts (waits for the bands and
-  // sets the ghosts).
-  std::function<void()> before_forces, post_exchange, before_nonlocal_forces;
-  // Called while the device computes a phase (when `profile` waits for it): MPI progress of the ghost bands.
-  std::function<void()> progress;
-  std::function<void()> before_cells;   // before each cell update (a recording run's W_s before the stage)
-  std::function<void()> after_cells;    // after each cell update (cell migration)
-  std::function<void()> failure_check;  // replaces check() (a collective check across ranks)
+  // The decomposed run's hooks (StepHooks; null: none, the default). The simulation does not own them; they must
+  // outlive every advance() and update_cells() made while they are set.
+  void set_hooks(StepHooks* hooks) { hooks_ = hooks; }
   // Ranks sharing one device (decomposition.device_sharing: turns): when set, every piece of device work of this
   // simulation (each force part, integration, the cell stage, the failure read, a download) runs in a turn, and so
   // should the decomposed run's own device work (in_turn); null: no turns.
@@ -93,6 +116,9 @@ class Simulation {
   void step_once();
   template <class F>
   void timed(size_t phase, F&& f);
+  bool hooked(StepHooks::Point p) const { return hooks_ && (hooks_->mask() & p); }
+  void wait_for_device();  // the backend's finish(), with the progress hook while it waits when taken
+  void checked();          // the failure_check hook when taken, else check()
 
   Scene const* scene_;
   State state_;
@@ -104,6 +130,7 @@ class Simulation {
   std::vector<std::pair<std::string, double>> cell_parts_;
   bool has_cell_effects_ = false;
   CellRules rules_{};
+  StepHooks* hooks_ = nullptr;
 };
 
 }  // namespace semlb::engine

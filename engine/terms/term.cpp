@@ -1,4 +1,4 @@
-// The element-term registry, and each term as an effect that adds its forces through Backend::element_term.
+// The element-term registry, and each term as an effect that adds its forces through ForceKernels::element_term.
 #include "term.hpp"
 
 #include "common/errors.hpp"
@@ -11,21 +11,20 @@ namespace {
 // a term of an element's own position needs no ghost).
 class TermEffect final : public Effect {
  public:
-  TermEffect(std::string name, const Section& s)
-      : name_(std::move(name)),
-        where_(s.where("")),
-        params_(checked_plugin_params(ElementTerm::kKind, name_, ElementTerms::at(name_).read(s))) {}
-  std::string name() const override { return name_; }
+  TermEffect(const std::string& name, const Section& s)
+      : call_(element_term_call(name, checked_plugin_params(ElementTerm::kKind, name, ElementTerms::at(name).read(s)))),
+        where_(s.where("")) {}
+  std::string name() const override { return call_.name; }
   void prepare(State& s) override {  // the initial state, before anything runs
-    if (const auto& check = ElementTerms::at(name_).check)
-      if (const std::string why = check(s, params_); !why.empty()) throw InputError(where_ + why);
+    if (const auto& check = ElementTerms::at(call_.name).check)
+      if (const std::string why = check(s, call_.params); !why.empty()) throw InputError(where_ + why);
   }
   bool adds_forces() const override { return true; }
-  void forces(Backend& b, const Grid&) override { b.element_term(name_, params_); }
+  void forces(ForceKernels& b, const Grid&) override { b.element_term(call_); }
 
  private:
-  std::string name_, where_;
-  std::vector<double> params_;
+  ElementTermCall call_;
+  std::string where_;
 };
 
 }  // namespace
@@ -33,6 +32,11 @@ class TermEffect final : public Effect {
 void ElementTerm::registering(const std::string& name, const ElementTerm& term) {
   register_plugin_effect(ElementTerm::kKind, name, term,
                          [name](const Section& s, const Scene&) { return std::make_unique<TermEffect>(name, s); });
+}
+
+ElementTermCall element_term_call(const std::string& name, std::vector<double> params) {
+  const ElementTerm& term = ElementTerms::at(name);
+  return {name, std::move(params), term.f64, term.f32};
 }
 
 }  // namespace semlb::engine

@@ -8,16 +8,11 @@
 
 #include "physics/cpu_physics.hpp"
 #include "common/registry.hpp"
+#include "device/backend.hpp"
 #include "model/scene.hpp"
 #include "model/state.hpp"
 
 namespace semlb::engine {
-
-// The force (force units, before the fixed-point clamp) on one element at (x, y, z) um of cell type `type`,
-// written into f[0..2]; `p` the term's derived parameters (ElementTerm::read). The C++ instantiation of the
-// evaluator `semlb_term_NAME` of terms/NAME.h in one precision.
-template <class Real>
-using TermEvaluator = void (*)(Real x, Real y, Real z, int type, const Real* p, Real* f);
 
 // A registered element term. Its name is its scene key (`effects.NAME`), the stem of its evaluator header
 // terms/NAME.h (whose `semlb_term_NAME` the OpenCL kernel NAME calls) and its kernel's name in launches().
@@ -42,5 +37,8 @@ struct ElementTerm {
   static void registering(const std::string& name, const ElementTerm& term);
 };
 using ElementTerms = PluginKind<ElementTerm>;
+// What the backend runs for the registered element term `name` (its evaluators; `params` its derived parameters);
+// std::logic_error for an unregistered name.
+ElementTermCall element_term_call(const std::string& name, std::vector<double> params);
 
 }  // namespace semlb::engine

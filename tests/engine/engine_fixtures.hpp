@@ -102,8 +102,8 @@ std::vector<double> section_params(const std::string& name, const std::string& y
 // The forces of the registered pair term `name` with the YAML map `yaml` read as its section effects.NAME (every key
 // read), at `cutoff` um.
 inline PairForces pair_forces(const std::string& name, const std::string& yaml, double cutoff) {
-  return {name, section_params(name, yaml, [&](const Section& s) { return PairTerms::at(name).read(s, cutoff); }),
-          cutoff};
+  return pair_forces_of(
+      name, section_params(name, yaml, [&](const Section& s) { return PairTerms::at(name).read(s, cutoff); }), cutoff);
 }
 // The force (force units) of pair term f.term on element i (info_i) from element j (info_j) at distance r um along
 // +x (double), its fixed-point sum read back: its x component (the others must be 0).

@@ -160,7 +160,7 @@ void fates(State& s, const std::string& yaml, double elapsed, int stages, const 
   auto b = testing::backend(backend, "double");
   b->upload(s);
   for (int k = 0; k < stages; ++k)
-    b->cell_fate(s, "differentiation", params, cell_field_index(s, "differentiation.age"), elapsed);
+    b->cell_fate(s, fate_call("differentiation", params), cell_field_index(s, "differentiation.age"), elapsed);
   b->download(s);
 }
 
@@ -227,11 +227,16 @@ TEST(Effects, EpidermisRunKeepsCountsConsistentWithGrowthAndDivision) {
 TEST(Effects, CollectiveHooksOfTheCellStageAreNotTimedAsComputation) {
   auto scene = load_scene(std::string(SEMLB_SOURCE_DIR) + "/scenes/epidermis.yaml", {"tissue.cells=8"});
   Simulation sim(scene, make_tissue(scene));
-  int exchanges = 0, checks = 0, migrations = 0;
-  const auto nap = [](int ms) { std::this_thread::sleep_for(std::chrono::milliseconds(ms)); };
-  sim.before_forces = [&] { ++exchanges, nap(5); };
-  sim.failure_check = [&] { ++checks, nap(30); };
-  sim.after_cells = [&] { ++migrations, nap(30); };
+  struct Napping : StepHooks {
+    int exchanges = 0, checks = 0, migrations = 0;
+    static void nap(int ms) { std::this_thread::sleep_for(std::chrono::milliseconds(ms)); }
+    unsigned mask() const override { return kBeforeForces | kFailureCheck | kAfterCells; }
+    void before_forces() override { ++exchanges, nap(5); }
+    void failure_check() override { ++checks, nap(30); }
+    void after_cells() override { ++migrations, nap(30); }
+  } hooks;
+  sim.set_hooks(&hooks);
+  const int &exchanges = hooks.exchanges, &checks = hooks.checks, &migrations = hooks.migrations;
   const auto t0 = std::chrono::steady_clock::now();
   sim.advance(4 * scene.cell_update_every);
   const double wall = seconds_since(t0);
@@ -243,6 +248,41 @@ TEST(Effects, CollectiveHooksOfTheCellStageAreNotTimedAsComputation) {
   for (double p : sim.phase_seconds()) timed += p;
   EXPECT_GE(wall, naps);
   EXPECT_LT(timed, wall - naps + 1e-3);  // the naps are in the wall time only
+}
+
+// A hook runs only at the points its mask names (StepHooks, as a LAMMPS fix's setmask): the others are never called,
+// and a failure check left out of the mask is the simulation's own (which would throw on a failure).
+TEST(Effects, StepHooksRunOnlyAtThePointsOfTheirMask) {
+  auto scene = load_scene(std::string(SEMLB_SOURCE_DIR) + "/scenes/epidermis.yaml", {"tissue.cells=8"});
+  Simulation sim(scene, make_tissue(scene));
+  struct Counting : StepHooks {
+    unsigned taken = 0;
+    std::map<std::string, int> calls;
+    unsigned mask() const override { return taken; }
+    void before_forces() override { ++calls["before_forces"]; }
+    void post_exchange() override { ++calls["post_exchange"]; }
+    void before_nonlocal_forces() override { ++calls["before_nonlocal_forces"]; }
+    void before_cells() override { ++calls["before_cells"]; }
+    void after_cells() override { ++calls["after_cells"]; }
+    void failure_check() override { ++calls["failure_check"]; }
+  } hooks;
+  hooks.taken = StepHooks::kBeforeCells | StepHooks::kPostExchange;
+  sim.set_hooks(&hooks);
+  const long steps = 2 * scene.cell_update_every;
+  sim.advance(steps);
+  EXPECT_EQ(hooks.calls, (std::map<std::string, int>{{"before_cells", 2}, {"post_exchange", static_cast<int>(steps)}}));
+  hooks.calls.clear();
+  hooks.taken =
+      StepHooks::kBeforeForces | StepHooks::kBeforeNonlocalForces | StepHooks::kAfterCells | StepHooks::kFailureCheck;
+  sim.advance(2 * steps);
+  EXPECT_EQ(hooks.calls, (std::map<std::string, int>{{"after_cells", 2},
+                                                     {"before_forces", static_cast<int>(steps)},
+                                                     {"before_nonlocal_forces", static_cast<int>(steps)},
+                                                     {"failure_check", 3}}));  // 2 cell updates and advance's end
+  sim.set_hooks(nullptr);
+  hooks.calls.clear();
+  sim.advance(2 * steps + 1);
+  EXPECT_TRUE(hooks.calls.empty());
 }
 
 }  // namespace

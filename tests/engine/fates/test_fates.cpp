@@ -53,7 +53,7 @@ TEST(FateRules, EveryRuleOnEveryBackendDecidesWhatItsEvaluatorDecides) {
       State host = before;
       for (int stage = 1; stage <= 3; ++stage) {
         const State want = decided_by(name, host, params, field, 10.0);
-        b->cell_fate(host, name, params, field, 10.0);
+        b->cell_fate(host, fate_call(name, params), field, 10.0);
         b->download(host);
         EXPECT_EQ(host.cell_type, want.cell_type)
             << name << " on " << backend << " " << precision << ", stage " << stage;

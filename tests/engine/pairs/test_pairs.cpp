@@ -173,7 +173,8 @@ TEST(PairTerms, AScenelistsOnePairTerm) {
 }
 
 TEST(PairTerms, UnknownTermIsALogicError) {
-  auto b = testing::backend("serial", "double");
+  EXPECT_THROW(pair_forces_of("no_such_term", {}, kCutoff), std::logic_error);
+  auto b = testing::backend("serial", "double");  // a call made by hand: no evaluator to call
   b->upload(testing::random_state(2, 2, 5.0, 1));
   EXPECT_THROW(b->pair_forces({"no_such_term", {}, kCutoff}, Grid::cover({0, 0, 0}, {5, 5, 5}, kCutoff)),
                std::logic_error);

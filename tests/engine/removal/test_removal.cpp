@@ -46,7 +46,8 @@ TEST(RemovalRules, EveryRuleOnEveryBackendRemovesWhatItsEvaluatorFlags) {
       ASSERT_GT(want.cells(), 0) << name << ": the example removes every cell";
       ASSERT_LT(want.cells(), s.cells()) << name << ": the example removes nothing";
       State host = before;
-      EXPECT_EQ(b->remove_cells(host, name, params), s.cells() - want.cells()) << name << " on " << backend;
+      EXPECT_EQ(b->remove_cells(host, removal_call(name, params)), s.cells() - want.cells())
+          << name << " on " << backend;
       b->download(host);
       EXPECT_EQ(b->counts(host), (std::pair<long, long>{want.cells(), want.elements()})) << name << " on " << backend;
       EXPECT_EQ(host.cell_id, want.cell_id) << name << " on " << backend << " " << precision;
@@ -56,7 +57,7 @@ TEST(RemovalRules, EveryRuleOnEveryBackendRemovesWhatItsEvaluatorFlags) {
         EXPECT_EQ(b->launches().at("remove_" + name), 1);
       }
       // A second pass finds nothing more to remove and changes nothing.
-      EXPECT_EQ(b->remove_cells(host, name, params), 0);
+      EXPECT_EQ(b->remove_cells(host, removal_call(name, params)), 0);
     }
   }
 }

@@ -44,7 +44,7 @@ TEST(ElementTerms, EveryTermOnEveryBackendAddsWhatItsEvaluatorGives) {
       auto b = testing::backend(backend, precision);
       b->upload(s);
       b->zero_forces();
-      b->element_term(name, params);
+      b->element_term(element_term_call(name, params));
       const auto got = b->fixed_forces();
       const auto want = precision == "double" ? reference<double>(name, s, params) : reference<float>(name, s, params);
       ASSERT_EQ(got.size(), want.size());
@@ -81,6 +81,20 @@ TEST(ElementTerms, EachIsAnEffectThatLaunchesOnlyItsOwnKernel) {
       if (other != name) {
         EXPECT_EQ(launched.count(other), 0u) << other << " launched in a scene listing only " << name;
       }
+  }
+}
+
+// A backend runs what the effect hands it: a call made by hand for a term that is not registered is refused on every
+// backend (the C++ ones have no evaluator to call, OpenCL no kernel of that name), and the call maker refuses the name.
+TEST(ElementTerms, ACallForAnUnregisteredTermIsALogicErrorOnEveryBackend) {
+  EXPECT_THROW(element_term_call("no_such_term", {}), std::logic_error);
+  const State s = testing::random_state(4, 2, 10.0, 3);
+  for (const auto& [backend, precision] : testing::backend_precisions()) {
+    auto b = testing::backend(backend, precision);
+    b->upload(s);
+    b->zero_forces();
+    EXPECT_THROW(b->element_term(ElementTermCall{"no_such_term", {}}), std::logic_error) << backend << " " << precision;
+    EXPECT_EQ(b->launches().count("no_such_term"), 0u) << backend;
   }
 }
 

@@ -28,7 +28,7 @@ std::array<double, 3> force_at(double x, double y, const std::string& yaml) {
   auto b = testing::backend("serial", "double");
   b->upload(s);
   b->zero_forces();
-  b->element_term("walls", params(yaml));
+  b->element_term(element_term_call("walls", params(yaml)));
   const auto f = b->fixed_forces();
   return {f[0] * 0x1p-32, f[1] * 0x1p-32, f[2] * 0x1p-32};
 }
