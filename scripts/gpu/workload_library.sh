@@ -55,8 +55,9 @@ want=("$@")
 # one process: under turns that is what puts them on one lock (the lock is named from the parent's pid,
 # DeviceTurns::path_for), and what keeps a recording's timed launches clear of the others' device work.
 # Under turns (MEASURED=1, JOBS > 1) they start in batches of JOBS and a batch waits for all of its recordings before
-# the next starts: a recording that ends removes the lock file (DeviceTurns' destructor), and one started after that
-# would lock a new file of the same name while the others still hold the old one.
+# the next starts: a semlb before fdb9146 removed the lock file when a recording ended (DeviceTurns' destructor), and
+# one started after that locked a new file of the same name while the others still held the old one. Since fdb9146
+# the file goes under the lock and a waiter re-checks it, so batches only keep older binaries correct.
 (( BASH_VERSINFO[0] > 5 || (BASH_VERSINFO[0] == 5 && BASH_VERSINFO[1] >= 1) )) ||
   { echo "workload_library.sh: needs bash 5.1 or newer (wait -n -p), this is $BASH_VERSION" >&2; exit 2; }
 declare -A run_of=() name_of=() t0_of=()
