@@ -29,10 +29,11 @@ REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 # The paths whose changes make a committed timing or controller result stale: the kernels and their host code, the
 # shared C99 physics they compile (engine/physics), the per-pair and per-cell plug-ins, the step loop
-# (engine/simulation), W_s (model/slices), the decomposition (exchange, migration) and the controllers.
-ENGINE_PATHS = ["engine/physics", "engine/backends", "engine/pairs", "engine/terms", "engine/effects", "engine/growth",
-                "engine/division", "engine/fates", "engine/removal", "engine/simulation", "engine/model/slices.hpp",
-                "engine/model/slices.cpp", "engine/decomposition"]
+# (engine/simulation), W_s (model/slices), the decomposition (exchange, migration) and the controllers, and the
+# interface the backends implement (engine/device: its device-timer parts split the measured seconds).
+ENGINE_PATHS = ["engine/physics", "engine/device", "engine/backends", "engine/pairs", "engine/terms", "engine/effects",
+                "engine/growth", "engine/division", "engine/fates", "engine/removal", "engine/simulation",
+                "engine/model/slices.hpp", "engine/model/slices.cpp", "engine/decomposition"]
 KERNEL_PATHS = ENGINE_PATHS + ["controllers"]
 
 # Changes a reader knows the engine by: a result made before one of them is labelled "before <name>".

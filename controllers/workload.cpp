@@ -69,11 +69,14 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
   const bool measured = !w.events.front().slice_seconds.empty();
   if (measured && w.cost_regions < 1) fail(file, "cost_regions", "must be >= 1 when the events carry slice_seconds");
   const bool parts = !w.events.front().part_seconds.empty();
+  const bool triggers = !w.events.front().list_triggers.empty();
   for (const auto& e : w.events) {
     if (e.slice_seconds.empty() == measured) fail(file, "slice_seconds", "present at some events and not at others");
     if (e.part_seconds.empty() == parts) fail(file, "part_seconds", "present at some events and not at others");
+    if (e.list_triggers.empty() == triggers) fail(file, "list_triggers", "present at some events and not at others");
   }
   if (parts && !measured) fail(file, "part_seconds", "present without slice_seconds");
+  if (triggers && !parts) fail(file, "list_triggers", "present without part_seconds");
   const size_t S = static_cast<size_t>(w.slices);
   for (size_t t = 0; t < w.events.size(); ++t) {
     const WorkloadEvent& e = w.events[t];
@@ -107,6 +110,21 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
     } else if (!e.cell_stage_changes.empty()) {
       fail(file, "cell_stage_changes", "event " + std::to_string(i) + ": present without part_seconds");
     }
+    if (e.list_builds < 0) fail(file, "list_builds", "event " + std::to_string(i) + ": negative");
+    if (triggers) {
+      if (e.list_triggers.size() != S)
+        fail(file, "list_triggers",
+             "event " + std::to_string(i) + " has " + std::to_string(e.list_triggers.size()) + " entries, expected " +
+                 std::to_string(S));
+      const int64_t allowed = e.list_builds >= 31 ? (int64_t{1} << 31) - 1 : (int64_t{1} << e.list_builds) - 1;
+      for (int64_t m : e.list_triggers)
+        if (m < 0 || (m & ~allowed))
+          fail(file, "list_triggers",
+               "event " + std::to_string(i) + ": " + std::to_string(m) + " marks a build beyond the interval's " +
+                   std::to_string(e.list_builds) + " (bits 0-30 only)");
+    } else if (e.list_builds != 0) {
+      fail(file, "list_builds", "event " + std::to_string(i) + ": present without list_triggers");
+    }
     double n = 0;
     for (double x : e.slice_elements) n += x;
     if (n != static_cast<double>(e.elements))
@@ -134,7 +152,8 @@ void write_workload(const std::string& path, const EngineWorkload& w) {
     f.set_deflate(6);
     f.write_attr("format", std::string(kFormat));
     const bool measured = has_measured_cost(w), parts = !w.events.front().part_seconds.empty();
-    f.write_attr("version", parts ? EngineWorkload::kVersion : measured ? 2L : 1L);
+    const bool triggers = !w.events.front().list_triggers.empty();
+    f.write_attr("version", triggers ? 4L : parts ? 3L : measured ? 2L : 1L);
     if (measured) f.write_attr("cost_regions", static_cast<long>(w.cost_regions));
     f.write_attr("slices", static_cast<long>(w.slices));
     f.write_attr("min_width", static_cast<long>(w.min_width));
@@ -191,6 +210,15 @@ void write_workload(const std::string& path, const EngineWorkload& w) {
       f.write("events/part_seconds", {E, kParts}, seconds);
       f.write("events/cell_stage_changes", {E, S}, changes);
     }
+    if (triggers) {
+      std::vector<int64_t> builds, bits;
+      for (const auto& e : w.events) {
+        builds.push_back(e.list_builds);
+        bits.insert(bits.end(), e.list_triggers.begin(), e.list_triggers.end());
+      }
+      f.write("events/list_builds", {E}, builds);
+      f.write("events/list_triggers", {E, S}, bits);
+    }
     image = f.image();
   }
   write_file_atomically(path, image);
@@ -206,8 +234,10 @@ EngineWorkload read_workload(const std::string& path) {
   }
   if (format != kFormat) fail(path, "format", "is '" + format + "', expected '" + kFormat + "'");
   const long version = f.read_int_attr("version");
-  if (version < 1 || version > 3)
-    fail(path, "version", std::to_string(version) + " (this semlb reads versions 1, 2 and 3)");
+  if (version < 1 || version > EngineWorkload::kVersion)
+    fail(
+        path, "version",
+        std::to_string(version) + " (this semlb reads versions 1 to " + std::to_string(EngineWorkload::kVersion) + ")");
   EngineWorkload w;
   auto integer_attr = [&](const char* name, long lo, long hi) {
     const long v = f.read_int_attr(name);
@@ -271,7 +301,7 @@ EngineWorkload read_workload(const std::string& path) {
       fail(path, "slice_seconds",
            "must be events x " + std::to_string(S) + " (" + std::to_string(E) + " x " + std::to_string(S) + ")");
   }
-  if (version == 3) {
+  if (version >= 3) {
     parts = series("part_seconds", false);
     if (dims.size() != 2 || dims[0] != E || dims[1] != kParts)
       fail(path, "part_seconds",
@@ -282,6 +312,19 @@ EngineWorkload read_workload(const std::string& path) {
     changes = f.read_ints("events/cell_stage_changes", dims);  // bit masks: read as integers, not through doubles
     if (dims.size() != 2 || dims[0] != E || dims[1] != S)
       fail(path, "cell_stage_changes",
+           "must be events x " + std::to_string(S) + " (" + std::to_string(E) + " x " + std::to_string(S) + ")");
+  }
+  std::vector<int64_t> builds, triggers;
+  if (version == 4) {
+    for (const char* name : {"list_builds", "list_triggers"})
+      if (!f.has(std::string("events/") + name))
+        fail(path, name, std::string("missing (dataset /events/") + name + ")");
+    builds = f.read_ints("events/list_builds", dims);
+    if (dims.size() != 1 || dims[0] != E)
+      fail(path, "list_builds", "must hold one value per event (" + std::to_string(E) + ")");
+    triggers = f.read_ints("events/list_triggers", dims);  // bit masks: read as integers
+    if (dims.size() != 2 || dims[0] != E || dims[1] != S)
+      fail(path, "list_triggers",
            "must be events x " + std::to_string(S) + " (" + std::to_string(E) + " x " + std::to_string(S) + ")");
   }
   for (size_t t = 0; t < E; ++t) {
@@ -302,6 +345,10 @@ EngineWorkload read_workload(const std::string& path) {
     if (!parts.empty()) {
       e.part_seconds.assign(parts.begin() + t * kParts, parts.begin() + (t + 1) * kParts);
       e.cell_stage_changes.assign(changes.begin() + t * S, changes.begin() + (t + 1) * S);
+    }
+    if (!triggers.empty()) {
+      e.list_builds = static_cast<long>(builds[t]);
+      e.list_triggers.assign(triggers.begin() + t * S, triggers.begin() + (t + 1) * S);
     }
     w.events.push_back(std::move(e));
   }

@@ -34,12 +34,20 @@ struct WorkloadEvent {
   // slice's W_s changed at the interval's j-th cell stage: an element was added or removed within its reach, so a
   // rank holding the slice rebuilt its neighbour list then (a rank whose elements did not change keeps its list).
   std::vector<int64_t> cell_stage_changes;
+  // Version 4 files (a recording on one rank whose backend keeps a neighbour list: opencl-binned with a skin; else
+  // list_builds 0 and list_triggers empty): the list builds of the interval ending here, whatever started them, and
+  // per slice [slices] bit j (0 <= j < 31; the 31st and later builds share bit 30) set when, at the interval's j-th
+  // build, an element in the slice had moved past the list's displacement trigger, so a rank holding the slice would
+  // have rebuilt then (engine Instruments::take_list_triggers).
+  long list_builds = 0;
+  std::vector<int64_t> list_triggers;
 };
 
 struct EngineWorkload {
   // 1: W_s only; 2: with the measured slice_seconds of every event (and cost_regions); 3: version 2 with the
-  // part_seconds and cell_stage_changes of every event. All three are read.
-  static constexpr long kVersion = 3;
+  // part_seconds and cell_stage_changes of every event; 4: version 3 with the list_builds and list_triggers of every
+  // event. All four are read.
+  static constexpr long kVersion = 4;
   int cost_regions = 0;  // version 2: the regions the pair forces were timed over (0: no measured cost)
   int slices = 0, min_width = 1;
   double x0_um = 0, slice_width_um = 1, cutoff_um = 0, ghost_reach_um = 0;
@@ -55,10 +63,11 @@ bool has_measured_cost(const EngineWorkload& w);
 // "FILE: field 'NAME': reason" (FILE = `file`).
 void validate_workload(const EngineWorkload& w, const std::string& file);
 // Writes `w` to `path` atomically (built in memory, then write_file_atomically), deflate-compressed; validates first.
-// Version 3 when the events carry part_seconds (/events/part_seconds, /events/cell_stage_changes), version 2 (with
-// /events/slice_seconds and the cost_regions attribute) when they carry measured seconds only, else 1.
+// Version 4 when the events carry list_triggers (/events/list_builds, /events/list_triggers), 3 when they carry
+// part_seconds (/events/part_seconds, /events/cell_stage_changes), version 2 (with /events/slice_seconds and the
+// cost_regions attribute) when they carry measured seconds only, else 1.
 void write_workload(const std::string& path, const EngineWorkload& w);
-// Reads a workload file strictly: format "semlb-workload", version 1, 2 or 3 (another is refused by name), every
+// Reads a workload file strictly: format "semlb-workload", version 1 to 4 (another is refused by name), every
 // dataset present with its shape and type, then validate_workload. InputError "FILE: field 'NAME': reason".
 EngineWorkload read_workload(const std::string& path);
 

@@ -24,16 +24,39 @@
 #define NL_AT(s, c, kmax) ((((long)((s) >> 5) * ((kmax) >> 3) + (c)) * NL_WARP + ((s) & (NL_WARP - 1))) * NL_CHUNK)
 
 /* Sorted slot s of the last build: its position now (pos[sorted_index[s]]) into sorted_pos, and gate[0] = 1 when
-   it moved by more than SEMLB_NL_TRIGGER skin since the build (ref[s]) or its displacement is not finite. */
+   it moved by more than SEMLB_NL_TRIGGER skin since the build (ref[s]) or its displacement is not finite. With
+   slices > 0 (a recording's list triggers, docs/measured_time.md) also moved[k] = 1 for the slice k of its x now:
+   slice k covers [x0 + k / inv_width, x0 + (k + 1) / inv_width), clamped, NaN -> 0 (physics/slices.h semlb_slice_of,
+   here in the kernel's precision: an element on a slice edge may land in either). */
 __kernel void nl_check(__global const real4* pos, __global const int* sorted_index, __global const real4* ref,
-                       __global real4* sorted_pos, int n, SEMLB_REAL skin, __global int* gate) {
+                       __global real4* sorted_pos, int n, SEMLB_REAL skin, __global int* gate, __global int* moved,
+                       SEMLB_REAL x0, SEMLB_REAL inv_width, int slices) {
   int s = get_global_id(0);
   if (s >= n) return;
   SEMLB_REAL t = (SEMLB_REAL)SEMLB_NL_TRIGGER * skin, trigger2 = t * t;
   real4 p = pos[sorted_index[s]], r = ref[s];
   sorted_pos[s] = p;
   SEMLB_REAL dx = p.x - r.x, dy = p.y - r.y, dz = p.z - r.z;
-  if (!(dx * dx + dy * dy + dz * dz < trigger2)) gate[0] = 1;
+  if (!(dx * dx + dy * dy + dz * dz < trigger2)) {
+    gate[0] = 1;
+    if (slices > 0) {
+      SEMLB_REAL f = floor((p.x - x0) * inv_width);
+      moved[!(f >= 0) ? 0 : (f >= slices ? slices - 1 : (int)f)] = 1;
+    }
+  }
+}
+
+/* Gated, one item per slice, before nl_done: a build is due, the stats[1]-th since construction; the slices whose
+   elements triggered it (nl_check's moved) get bit min(stats[1] - base, 30) of their mask, `base` being the build
+   count at the start of the recording's interval (NeighbourList::take_triggers), and moved is cleared. */
+__kernel void nl_mark(__global const int* gate, __global const int* stats, __global int* moved, __global int* bits,
+                      int base, int slices) {
+  int k = get_global_id(0);
+  if (k >= slices || !gate[0]) return;
+  if (moved[k]) {
+    bits[k] |= 1 << min(stats[1] - base, 30);
+    moved[k] = 0;
+  }
 }
 
 /* Gated build: for each sorted slot, the sorted slots within the list radius (r^2 < list2; a NaN distance counts

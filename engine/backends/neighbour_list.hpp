@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "backend.hpp"
 #include "opencl.hpp"
@@ -37,6 +38,33 @@ class NeighbourList {
     return stats_;
   }
 
+  // Marks, from now on, which slices along x (slice k: [x0 + k width, x0 + (k + 1) width) um, `slices` of them)
+  // held an element past the displacement trigger at each build (Instruments::track_list_triggers).
+  template <class B>
+  void track_triggers(B& b, double x0, double width, int slices) {
+    if (!on() || slices <= 0) return;
+    x0_ = x0, width_ = width, slices_ = slices;
+    moved_ = b.buffer(static_cast<size_t>(slices) * sizeof(cl_int));
+    bits_ = b.buffer(static_cast<size_t>(slices) * sizeof(cl_int));
+    b.fill(moved_, 0, static_cast<size_t>(slices) * sizeof(cl_int));
+    b.fill(bits_, 0, static_cast<size_t>(slices) * sizeof(cl_int));
+    base_ = stats(b).builds;
+  }
+  // The builds since the last call (or track_triggers) and, per slice, the bits of those at which one of its elements
+  // had moved past the trigger (bit j: the j-th build of the span, the 31st and later sharing bit 30); then starts a
+  // new span. Blocking reads of 4 bytes per slice and 8; {0, {}} when not tracking.
+  template <class B>
+  ListTriggers take_triggers(B& b) {
+    if (slices_ <= 0) return {};
+    const long builds = stats(b).builds;
+    std::vector<cl_int> bits(static_cast<size_t>(slices_));
+    b.read(bits_, bits.data(), bits.size() * sizeof(cl_int));
+    b.fill(bits_, 0, bits.size() * sizeof(cl_int));
+    ListTriggers t{builds - base_, std::vector<int64_t>(bits.begin(), bits.end())};
+    base_ = builds;
+    return t;
+  }
+
   // Adds the local pair forces (the backend's owned elements [0, n), its pos_, on each other) to force and their
   // bounds to bound, as opencl-binned's stencil does.
   template <class B>
@@ -67,7 +95,9 @@ class NeighbourList {
       b.fill(gate_, 1, sizeof(cl_int));
     } else {
       b.launch("nl_check", n, kGroup, b.pos_.get(), sort_.sorted_index.get(), ref_.get(), sort_.sorted_pos.get(), ni,
-               static_cast<Real>(stats_.skin), gate_.get());
+               static_cast<Real>(stats_.skin), gate_.get(), slices_ > 0 ? moved_.get() : gate_.get(),
+               static_cast<Real>(x0_), static_cast<Real>(slices_ > 0 ? 1.0 / width_ : 0.0),
+               static_cast<cl_int>(slices_));
     }
     // the build, gated: bins of edge >= cutoff + skin (the backend's sort, grid-stride: a gated launch costs little)
     b.set_kernel_group("list:");  // the device timers' list part (Backend::device_parts)
@@ -77,6 +107,11 @@ class NeighbourList {
     const auto dims = b.int4(lg.dims);
     b.launch("nl_build", wide, kGroup, gate_.get(), sort_.sorted_pos.get(), sort_.starts.get(), lo, size, dims,
              static_cast<Real>(list * list), ni, kmax, count_.get(), list_.get(), stats_buf_.get());
+    b.set_kernel_group("");
+    if (slices_ > 0)
+      b.launch("nl_mark", slices_, kGroup, gate_.get(), stats_buf_.get(), moved_.get(), bits_.get(),
+               static_cast<cl_int>(base_), static_cast<cl_int>(slices_));
+    b.set_kernel_group("list:");
     b.launch("nl_done", 1, 1, gate_.get(), stats_buf_.get());
     b.set_kernel_group("");
     b.launch("nl_forces", n, kGroup, sort_.sorted_pos.get(), ref_.get(), sort_.sorted_index.get(), keys.get(),
@@ -150,6 +185,11 @@ class NeighbourList {
   Grid grid_;
   cl::BinSort sort_;  // the build's counting sort (its sorted_pos: the positions now, in the build's order)
   cl::Mem gate_, stats_buf_, count_, ref_, list_;
+  // the list triggers' slices (track_triggers): nl_check's flags, the span's bits, the build count at its start
+  cl::Mem moved_, bits_;
+  double x0_ = 0, width_ = 1;
+  int slices_ = 0;
+  long base_ = 0;
   cl::Event pending_;
   std::array<cl_int, 2> host_stats_{};
 };

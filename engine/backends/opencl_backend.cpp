@@ -337,11 +337,28 @@ void OpenClBackend<Real>::build(const std::string& pair_term) {
     clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, n, log.data(), nullptr);
     throw std::runtime_error("OpenCL: kernels failed to build on " + device_name() + ":\n" + log);
   }
-  for (const char* k :
-       {"bin_count",           "scan_blocks",     "scan_sums",       "scan_add",  "scatter",  "forces_binned",
-        "forces_binned_items", "forces_nonlocal", "forces_allpairs", "integrate", "noise",    "x_extent",
-        "band_flags",          "band_gather",     "bounds",          "nl_check",  "nl_build", "nl_done",
-        "nl_forces",           "nl_forces_items", "nl_overflow"}) {
+  for (const char* k : {"bin_count",
+                        "scan_blocks",
+                        "scan_sums",
+                        "scan_add",
+                        "scatter",
+                        "forces_binned",
+                        "forces_binned_items",
+                        "forces_nonlocal",
+                        "forces_allpairs",
+                        "integrate",
+                        "noise",
+                        "x_extent",
+                        "band_flags",
+                        "band_gather",
+                        "bounds",
+                        "nl_check",
+                        "nl_build",
+                        "nl_done",
+                        "nl_mark",
+                        "nl_forces",
+                        "nl_forces_items",
+                        "nl_overflow"}) {
     kernels_[k] = cl::Kernel(clCreateKernel(program_.get(), k, &err));
     cl::check(err, k);
   }

@@ -124,6 +124,10 @@ class OpenClBackend final : public HostCellOps {
   std::vector<double> pair_force_seconds(const std::vector<int>& group, int groups) override;
   std::string device_key() const override { return dev_.platform_name + "#" + std::to_string(dev_.index); }
   ListStats list_stats() override { return list_.stats(*this); }
+  void track_list_triggers(double x0_um, double width_um, int slices) override {
+    list_.track_triggers(*this, x0_um, width_um, slices);
+  }
+  ListTriggers take_list_triggers() override { return list_.take_triggers(*this); }
   std::vector<int64_t> fixed_forces() override {
     std::vector<int64_t> f(3 * owned_);
     read(force_, f.data(), f.size() * sizeof(int64_t));
@@ -345,10 +349,10 @@ class OpenClBackend final : public HostCellOps {
 
   template <class... Args>
   void launch(const char* name, long items, size_t group, const Args&... args) {
-    if (items <= 0) return;
     const auto kernel = kernels_.find(name);
     if (kernel == kernels_.end())  // a call made by hand for a plug-in that is not registered
       throw std::logic_error(std::string("OpenCL kernel '") + name + "' is not in the program");
+    if (items <= 0) return;
     count(name, items);  // every kernel enqueued, by name (launches(), launch_items())
     cl_kernel k = kernel->second.get();
     cl_uint i = 0;

@@ -88,6 +88,11 @@ DistributedSimulation::DistributedSimulation(const Scene& scene, const State& ti
       for (auto& e : read_workload(path.string()).events)
         if (e.step <= tissue.step) workload_.push_back(std::move(e));
   }
+  // A recording on one rank marks the slices that trigger its neighbour list's builds (WorkloadEvent::list_triggers):
+  // on P ranks each list is a rank's own, so the one-rank builds the field describes do not exist; a restart of a
+  // recording whose earlier events have none (an older file) continues without them, so that the file stays whole.
+  if (tracks_stages() && mpi.size() == 1 && (workload_.empty() || !workload_.front().list_triggers.empty()))
+    sim_->backend().track_list_triggers(dec_.x0, dec_.width, dec_.slices);
   if (const char* f = std::getenv("SEMLB_FAULT_INJECT")) {  // "RANK:STEP": a test of one rank's error (docs/engine.md)
     const auto parts = split(f, ':');
     if (parts.size() != 2) throw InputError("SEMLB_FAULT_INJECT: expected RANK:STEP, got '" + std::string(f) + "'");
@@ -326,6 +331,10 @@ Measurement DistributedSimulation::measure() {
       }
       e.part_seconds[3] = std::max(0.0, e.interval_s - e.part_seconds[0] - e.part_seconds[1] - e.part_seconds[2]);
       e.cell_stage_changes = stage_changes_.empty() ? std::vector<int64_t>(dec_.slices, 0) : stage_changes_;
+      ListTriggers triggers;
+      alone_in_turn([&] { triggers = b.take_list_triggers(); });  // {0, {}} on P ranks or without a list
+      e.list_builds = triggers.slices.empty() ? 0 : triggers.builds;
+      e.list_triggers = std::move(triggers.slices);
       stage_changes_.assign(dec_.slices, 0);
       stage_ = 0;
     }

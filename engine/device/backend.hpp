@@ -236,6 +236,13 @@ class Halo {
   virtual void append_cells(State& host, const State& arrivals) = 0;
 };
 
+// Which slices held an element that had moved past the neighbour list's displacement trigger at each build of a
+// span of steps (Instruments::take_list_triggers; docs/measured_time.md "List triggers").
+struct ListTriggers {
+  long builds = 0;              // list builds in the span, whatever started them (a trigger, the host, a cell stage)
+  std::vector<int64_t> slices;  // [slices] bit j: set at the span's j-th build (31st and later: bit 30); empty: none
+};
+
 // Part 5, instrumentation: what the backend counts and times (launches, host<->device bytes per phase, device
 // timers); the counters are kept here, the backends add to them.
 class Instruments {
@@ -284,6 +291,15 @@ class Instruments {
     (void)group, (void)groups;
     return {};
   }
+  // A recording's list triggers (WorkloadEvent::list_triggers): from now on the backend marks, at each neighbour-list
+  // build, the slices along x (slice k: [x0_um + k width_um, x0_um + (k + 1) width_um), `slices` of them, an x
+  // outside clamped) that held an owned element past the list's displacement trigger; take_list_triggers returns the
+  // span since the last take (or since tracking began) and starts the next. A backend without a list (all but
+  // opencl-binned with a skin) tracks nothing and takes {0, {}}.
+  virtual void track_list_triggers(double x0_um, double width_um, int slices) {
+    (void)x0_um, (void)width_um, (void)slices;
+  }
+  virtual ListTriggers take_list_triggers() { return {}; }
   // Bytes moved host<->device since construction, per phase (set_phase names it; "other" before the first).
   // OpenCL: every clEnqueueRead/WriteBuffer it does. The C++ backends hold the state in host memory: they
   // count nothing (their upload/download are copies between two host arrays).

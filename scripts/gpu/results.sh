@@ -142,7 +142,7 @@ run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run her
         "tables where they are: TABLES_ONLY=1 bash scripts/gpu/measured_all.sh SEMLB OUT/measured/runs OUT/measured"
       provenance "$OUT/measured" "scripts/gpu/results.sh measured_time (scripts/gpu/measured_all.sh)";;
     workload:*)
-      MEASURED=1 bash "$here/scripts/gpu/workload_library.sh" "$S" "$OUT/workloads" "${1#workload:}"  # version 3: measured seconds
+      MEASURED=1 bash "$here/scripts/gpu/workload_library.sh" "$S" "$OUT/workloads" "${1#workload:}"  # version 3 or 4: measured seconds
       workload_provenance "${1#workload:}";;
     controller_eval_engine)  # the replays of the test workloads (CPU only), as workloads/controller_eval_engine_paper.*
       # shellcheck disable=SC2086

@@ -22,7 +22,7 @@ here=$(cd "$(dirname "$0")/../.." && pwd)
 dev="$here/scenes/epidermis_development.yaml"
 epi="$here/scenes/epidermis.yaml"
 common=(--quiet --set output.snapshot_every=0 --set output.checkpoint_every=0 --set output.workload=true)
-# MEASURED=1: measured seconds per slice too (decomposition.timing: device, workload version 3; docs/measured_time.md),
+# MEASURED=1: measured seconds per slice too (decomposition.timing: device, workload version 3, 4 with opencl-binned's list; docs/measured_time.md),
 # with opencl-binned's neighbour list (backend.skin 0.5 unless the scene sets one): the fastest engine, the same tissue
 read -ra timing <<< "${MEASURED:+--set decomposition.timing=device}"
 [ -n "${MEASURED:-}" ] && [ "$JOBS" -gt 1 ] && timing+=(--set decomposition.device_sharing=turns)

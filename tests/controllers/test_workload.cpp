@@ -168,6 +168,86 @@ TEST(Workload, PartsAndCellStageChangesRoundTripAsVersionThree) {
   EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'cell_stage_changes': missing"), std::string::npos);
 }
 
+// with_parts() with the list triggers (version 4): 3 builds in event 0 (slice 0 triggered the first and third, slice
+// 2 the second), none in event 1 (the test below also saturates it: 40 builds, bit 30 for the 31st and later).
+EngineWorkload with_triggers() {
+  EngineWorkload w = with_parts();
+  w.events[0].list_builds = 3;
+  w.events[0].list_triggers = {5, 0, 2};
+  w.events[1].list_builds = 0;
+  w.events[1].list_triggers = {0, 0, 0};
+  return w;
+}
+
+TEST(Workload, ListTriggersRoundTripAsVersionFourAndAreReadStrictly) {
+  const auto path = tmp_path("triggers.h5");
+  auto saturated = with_triggers();
+  saturated.events[1].list_builds = 40;
+  saturated.events[1].list_triggers = {int64_t{1} << 30 | 1, 0, 0};
+  for (const auto& want : {with_triggers(), saturated}) {
+    write_workload(path, want);
+    EXPECT_EQ(h5::File::open_read(path).read_int_attr("version"), 4);
+    const auto w = read_workload(path);
+    for (size_t t = 0; t < 2; ++t) {
+      EXPECT_EQ(w.events[t].list_builds, want.events[t].list_builds);
+      EXPECT_EQ(w.events[t].list_triggers, want.events[t].list_triggers) << "bit masks kept exactly";
+      EXPECT_EQ(w.events[t].cell_stage_changes, want.events[t].cell_stage_changes);
+    }
+  }
+  write_workload(path, with_parts());  // without triggers: version 3, as before
+  EXPECT_EQ(h5::File::open_read(path).read_int_attr("version"), 3);
+  EXPECT_TRUE(read_workload(path).events[0].list_triggers.empty());
+  struct Case {
+    std::function<void(EngineWorkload&)> spoil;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {[](EngineWorkload& w) { w.events[0].list_triggers[2] = 8; },
+       "field 'list_triggers': event 0: 8 marks a build beyond the interval's 3"},
+      {[](EngineWorkload& w) { w.events[1].list_triggers[0] = 1; },
+       "field 'list_triggers': event 1: 1 marks a build beyond the interval's 0"},
+      {[](EngineWorkload& w) { w.events[0].list_triggers[1] = -1; }, "field 'list_triggers': event 0: -1 marks"},
+      {[](EngineWorkload& w) { w.events[0].list_triggers.pop_back(); },
+       "field 'list_triggers': event 0 has 2 entries, expected 3"},
+      {[](EngineWorkload& w) { w.events[1].list_triggers.clear(); },
+       "field 'list_triggers': present at some events and not at others"},
+      {[](EngineWorkload& w) { w.events[0].list_builds = -1; }, "field 'list_builds': event 0: negative"},
+      {[](EngineWorkload& w) {
+         for (auto& e : w.events) e.part_seconds.clear(), e.cell_stage_changes.clear();
+       },
+       "field 'list_triggers': present without part_seconds"},
+  };
+  for (const auto& c : cases) {
+    auto w = with_triggers();
+    c.spoil(w);
+    std::filesystem::remove(path);
+    EXPECT_NE(error_of([&] { write_workload(path, w); }).find(c.message), std::string::npos) << c.message;
+    EXPECT_FALSE(std::filesystem::exists(path)) << "nothing written for " << c.message;
+  }
+  auto w3 = with_parts();
+  w3.events[0].list_builds = 2;
+  EXPECT_NE(error_of([&] { write_workload(path, w3); }).find("field 'list_builds': event 0: present without"),
+            std::string::npos);
+  for (const char* name : {"list_triggers", "list_builds"}) {
+    write_workload(path, with_triggers());
+    {
+      auto f = h5::File::open_write(path);
+      H5Ldelete(f.id(), (std::string("events/") + name).c_str(), H5P_DEFAULT);
+    }
+    EXPECT_NE(error_of([&] { read_workload(path); }).find(std::string("field '") + name + "': missing"),
+              std::string::npos)
+        << name;
+  }
+  write_workload(path, with_triggers());
+  {
+    auto f = h5::File::open_write(path);
+    H5Adelete(f.id(), "version");
+    f.write_attr("version", 5L);
+  }
+  EXPECT_NE(error_of([&] { read_workload(path); }).find("field 'version': 5 (this semlb reads versions 1 to 4)"),
+            std::string::npos);
+}
+
 TEST(Workload, MeasuredSecondsAreReadStrictly) {
   struct Case {
     std::function<void(EngineWorkload&)> spoil;
@@ -273,10 +353,10 @@ TEST(Workload, FilesOfAnotherFormatVersionOrShapeAreRefused) {
       << "version 2 without its measured seconds";
   rewrite([](h5::File& f) {
     H5Adelete(f.id(), "version");
-    f.write_attr("version", 4L);
+    f.write_attr("version", 5L);
   });
   EXPECT_NE(
-      error_of([&] { read_workload(path); }).find(path + ": field 'version': 4 (this semlb reads versions 1, 2 and 3)"),
+      error_of([&] { read_workload(path); }).find(path + ": field 'version': 5 (this semlb reads versions 1 to 4)"),
       std::string::npos);
   rewrite([](h5::File& f) {
     H5Adelete(f.id(), "format");
