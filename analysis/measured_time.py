@@ -99,6 +99,11 @@ def loop_seconds(run, nvlink_gbs):
             "loop_s": compute + exchange + migrate}
 
 
+def bits(mask):
+    """The set bits of a non-negative integer mask (a slice's cell-stage or list-trigger bits)."""
+    return bin(int(mask)).count("1")
+
+
 class Workload:
     """The measured workload's per-event arrays (controllers/workload.hpp), by step."""
 
@@ -118,13 +123,18 @@ class Workload:
             # model_times, surrogate/workload_replay.hpp)
             self.list_s = e["part_seconds"][:, 1] if "part_seconds" in e else None
             self.changes = e["cell_stage_changes"][:] if "cell_stage_changes" in e else None
+            # version 4: the one rank's list builds and, per slice, the builds its elements triggered (list_by=triggers)
+            self.builds = e["list_builds"][:] if "list_triggers" in e else None
+            self.triggers = e["list_triggers"][:] if "list_triggers" in e else None
         self.at = {s: i for i, s in enumerate(self.steps)}
 
     def terms(self, step, boundaries):
         """Per rank the columns of the time model (surrogate/workload_replay.hpp, list_by=work): S_r (its slices'
         measured seconds, less the one-rank list builds spread by elements in version 3), sigma G_r (seconds per
         element x ghost elements received), n_r (its elements, version 3) and L Wch_r / W (the list seconds placed by
-        the W_s of its slices that changed at a cell stage, version 3); the last two are 0 for a version 2 file."""
+        the W_s of its slices that changed at a cell stage, version 3; in version 4, list_by=triggers: L b_r / k W_r / W,
+        b_r the builds its slices' triggers and cell stages claim, capped at the one rank's k); the last two are 0 for
+        a version 2 file."""
         i = self.at[step]
         cuts = [0] + list(boundaries) + [self.seconds.shape[1]]
         sigma = self.seconds[i].sum() / self.elements[i] if self.elements[i] > 0 else 0.0
@@ -139,7 +149,14 @@ class Workload:
         for q in range(len(cuts) - 1):
             lo, hi = cuts[q], cuts[q + 1]
             g = (self.below[i][lo - 1] if q > 0 else 0.0) + (self.above[i][hi - 1] if q + 2 < len(cuts) else 0.0)
-            placed = self.list_s[i] * changed[lo:hi].sum() / total_work if total_work > 0 else 0.0
+            if self.triggers is not None:
+                k = int(self.builds[i])
+                own = min(k, bits(np.bitwise_or.reduce(self.triggers[i][lo:hi])) +
+                          bits(np.bitwise_or.reduce(self.changes[i][lo:hi])))
+                placed = (self.list_s[i] * own / k * self.work[i][lo:hi].sum() / total_work
+                          if k > 0 and total_work > 0 else 0.0)
+            else:
+                placed = self.list_s[i] * changed[lo:hi].sum() / total_work if total_work > 0 else 0.0
             rows.append((seconds[lo:hi].sum(), sigma * g, n[lo:hi].sum(), placed))
         return np.array(rows)
 
@@ -452,7 +469,8 @@ def main():
     migrate_per_slice = float(np.mean(per_slice)) / (a.nvlink_gbs * 1e9)
     # the list keys where the record has list seconds (version 3); a version 2 record's model is the other two
     keys = MODEL_KEYS if w.list_s is not None else ("ghost_weight", "rank_overhead_s")
-    model_args = (["--time-model", "list_by=work"] if w.list_s is not None else []) + \
+    list_by = "triggers" if w.triggers is not None else "work"
+    model_args = (["--time-model", f"list_by={list_by}"] if w.list_s is not None else []) + \
         [x for k in keys for x in ("--time-model", f"{k}={model[k]!r}")]
     order = []
     for ranks in sorted({r[2] for r in end}):

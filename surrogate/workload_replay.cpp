@@ -71,8 +71,10 @@ void set_time_model(TimeModel& m, const std::string& key, const std::string& val
       m.list_by = TimeModel::ListBy::kStages;
     else if (value == "work")
       m.list_by = TimeModel::ListBy::kWork;
+    else if (value == "triggers")
+      m.list_by = TimeModel::ListBy::kTriggers;
     else
-      throw InputError(at + "'" + value + "' is not one of stages, work");
+      throw InputError(at + "'" + value + "' is not one of stages, work, triggers");
   } else if (key == "truth") {
     if (value == "auto")
       m.truth = TimeModel::Truth::kAuto;
@@ -120,6 +122,9 @@ ReplayTrack replay_track(const EngineWorkload& w, const WorkloadReplay& r, const
       if (!t.measured)
         throw InputError(file + ": time model " + key + ": truth=work replays W_s, which has no list seconds");
     }
+  if (r.model.list_by == TimeModel::ListBy::kTriggers && w.events.front().list_triggers.empty())
+    throw InputError(file + ": time model list_by: triggers, but the file has no list triggers (list_triggers: a " +
+                     "version 4 workload, recorded on one rank with opencl-binned's list)");
   double work = 0, seconds = 0;
   for (int e = r.first_event; e < last; ++e) {
     const WorkloadEvent& ev = w.events[e];
@@ -142,6 +147,10 @@ ReplayTrack replay_track(const EngineWorkload& w, const WorkloadReplay& r, const
         t.list_s.push_back(list);
         t.elements.push_back(coarse(ev.slice_elements, r.coarsen, t.slices));
         t.changes.push_back(coarse_bits(ev.cell_stage_changes, r.coarsen, t.slices));
+        if (!ev.list_triggers.empty()) {
+          t.builds.push_back(ev.list_builds);
+          t.triggers.push_back(coarse_bits(ev.list_triggers, r.coarsen, t.slices));
+        }
         auto sec = t.seconds.back();
         for (int s = 0; s < t.slices; ++s)
           sec[s] = std::max(0.0, sec[s] - (n > 0 ? list * t.elements.back()[s] / n : 0.0));
@@ -172,11 +181,17 @@ std::vector<double> model_times(const ReplayTrack& t, int event, const std::vect
     const int k = std::popcount(static_cast<uint64_t>(any));
     for (size_t q = 0; q < times.size(); ++q) {
       const int lo = q == 0 ? 0 : b[q - 1], hi = q + 1 < times.size() ? b[q] : t.slices;
-      int64_t mine = 0;
-      double nq = 0, changed_work = 0;
+      int64_t mine = 0, triggered = 0;
+      double nq = 0, changed_work = 0, rank_work = 0;
       for (int s = lo; s < hi; ++s) mine |= bits[s], nq += n[s], changed_work += bits[s] != 0 ? work[s] : 0.0;
       double list = 0;
-      if (m.list_by == TimeModel::ListBy::kWork) {
+      if (m.list_by == TimeModel::ListBy::kTriggers) {
+        for (int s = lo; s < hi; ++s) triggered |= t.triggers[event][s], rank_work += work[s];
+        const long k = t.builds[event];
+        const long own = std::min<long>(
+            k, std::popcount(static_cast<uint64_t>(triggered)) + std::popcount(static_cast<uint64_t>(mine)));
+        list = k > 0 && all_work > 0 ? t.list_s[event] * static_cast<double>(own) / k * rank_work / all_work : 0.0;
+      } else if (m.list_by == TimeModel::ListBy::kWork) {
         list = all_work > 0 ? t.list_s[event] * changed_work / all_work : 0.0;
       } else {
         const double share = k > 0 ? static_cast<double>(std::popcount(static_cast<uint64_t>(mine))) / k : 1.0;

@@ -34,13 +34,17 @@ namespace semlb::surrogate {
 // its slices changed and k those at which any slice did (a rank whose elements did not change keeps its list); with
 // list_by = work instead list_weight L Wch_r / W, Wch_r the W_s of r's slices that changed at some cell stage and W
 // all W_s (a rebuild costs what the slices' pairs cost; docs/measured_time.md "Time model"); either placement is
-// scaled by list_weight. A version 3 file also adds element_s n_r (the list check and sort launches of every step,
-// per owned element). `truth` chooses: auto
-// (measured when the file has it), work, or measured (an InputError for a file without it). rank_overhead_s (seconds
-// per interval and rank: the fixed cost of a rank's launches) is added under either truth.
+// scaled by list_weight. With list_by = triggers (a version 4 file: WorkloadEvent::list_builds and list_triggers)
+// rank r makes the builds at which one of its slices held an element past the list's trigger plus the cell stages at
+// which one of its slices changed, b_r = popcount(OR of r's trigger bits) + popcount(OR of r's stage bits), capped at
+// the one rank's k builds, each at its share of the one rank's build cost: list_weight L (b_r / k) (W_r / W), W_r the
+// W_s of r's slices (a rebuild rebuilds the rank's whole list). A version 3 file also adds element_s n_r (the list
+// check and sort launches of every step, per owned element). `truth` chooses: auto (measured when the file has it),
+// work, or measured (an InputError for a file without it). rank_overhead_s (seconds per interval and rank: the fixed
+// cost of a rank's launches) is added under either truth.
 struct TimeModel {
   enum class Truth { kAuto, kWork, kMeasured };
-  enum class ListBy { kStages, kWork };
+  enum class ListBy { kStages, kWork, kTriggers };
   Truth truth = Truth::kAuto;
   ListBy list_by = ListBy::kStages;      // version 3: where the list builds' seconds go
   double list_weight = 1;                // version 3: the share of the one-rank list seconds the ranks' builds take
@@ -56,7 +60,8 @@ struct TimeModel {
 
 // The TimeModel keys ("ghost_weight", ...), and one "KEY=VALUE" set into `m` (strict numbers, each in its range:
 // ghost_weight and list_weight [0, 100], speed_spread and jitter [0, 0.3], migrate_s_per_slice, seconds_per_work and
-// rank_overhead_s [0, 1e6], element_s [0, 1]; truth one of auto, work, measured; list_by one of stages, work).
+// rank_overhead_s [0, 1e6], element_s [0, 1]; truth one of auto, work, measured; list_by one of stages, work,
+// triggers).
 // InputError prefixed by `where` naming the key. The key joins m.given.
 const std::vector<std::string>& time_model_keys();
 void set_time_model(TimeModel& m, const std::string& key, const std::string& value, const std::string& where);
@@ -98,6 +103,9 @@ struct ReplayTrack {
   std::vector<double> list_s;
   std::vector<std::vector<double>> elements;
   std::vector<std::vector<int64_t>> changes;
+  // version 4 files (else empty): per event the one rank's list builds and per slice its trigger bits
+  std::vector<long> builds;
+  std::vector<std::vector<int64_t>> triggers;
   std::vector<double> phase;
   std::vector<bool> growth;
   double seconds_per_work = 0;

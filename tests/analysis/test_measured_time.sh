@@ -125,6 +125,25 @@ for step, want in ((10, (2.2, 6.0)), (20, (4.3, 2.225))):
     assert np.allclose(mt.predict(rows, model), want, atol=1e-12), (step, mt.predict(rows, model))
 print("version 3: ok")
 PYEOF
+# A version 4 workload: the list builds go to the ranks whose triggers and cell stages claim them, as the replay's hand
+# case with list_by=triggers (tests/surrogate/test_workload_replay.cpp ListBuildsByTriggersGoToTheRanksThatWouldHaveRebuilt):
+# no ghosts, list_weight 1: 1.9 | 5.7, then 3.95 | 1.9
+"$PY" - "$src/analysis" "$work/v3.h5" "$work/v4.h5" <<'PYEOF'
+import shutil, sys
+import h5py, numpy as np
+sys.path.insert(0, sys.argv[1])
+import measured_time as mt
+shutil.copy(sys.argv[2], sys.argv[3])
+with h5py.File(sys.argv[3], "a") as f:
+    f["events/list_builds"] = np.array([4, 2])
+    f["events/list_triggers"] = np.array([[0, 1, 4, 0], [0, 0, 0, 0]], np.int64)
+w = mt.Workload(sys.argv[3])
+model = {"ghost_weight": 0.0, "element_s": 0.0, "list_weight": 1.0, "rank_overhead_s": 0.0}
+for step, want in ((10, (1.9, 5.7)), (20, (3.95, 1.9))):
+    rows = np.column_stack([w.terms(step, [2]), np.zeros(2)])
+    assert np.allclose(mt.predict(rows, model), want, atol=1e-12), (step, mt.predict(rows, model))
+print("version 4: ok")
+PYEOF
 # --check-regions: 4 regions of one slice each, W_s 4 each; even seconds pass, one region at 5x the others exits 1
 # naming the file, the event and the region
 check() {  # SECONDS of events 0 and 1 (python lists)

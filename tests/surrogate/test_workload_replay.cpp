@@ -162,7 +162,39 @@ TEST(WorkloadReplay, ListBuildsByChangedWorkWithAWeightAndAPerElementCost) {
     set_time_model(model.model, "list_by", "elements", "--time-model ");
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--time-model list_by: 'elements' is not one of stages, work"),
+    EXPECT_NE(std::string(e.what()).find("--time-model list_by: 'elements' is not one of stages, work, triggers"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(WorkloadReplay, ListBuildsByTriggersGoToTheRanksThatWouldHaveRebuilt) {
+  // list_by=triggers on hand_parts() with list triggers (P=2 at [2], no ghosts; W_s 4, 4, 4, 4 then 8, 4, 2, 2).
+  // Event 0: 4 builds; slice 1 triggered build 0 and slice 2 build 2; stages 0-1 changed slices 0-1. Left: 1 trigger
+  // + 2 stages = 3 of 4 builds at its W_s share 8/16: 1.6 + 0.8 * 3/4 * 1/2 = 1.9; right: 1 of 4: 5.6 + 0.1 = 5.7.
+  // Event 1: 2 builds, no trigger; stage 0 on the left (12/16 of W_s), stages 0-1 on the right (4/16):
+  // 3.8 + 0.4 * 1/2 * 12/16 = 3.95 and 1.8 + 0.4 * 2/2 * 4/16 = 1.9.
+  auto w = hand_parts();
+  w.events[0].list_builds = 4, w.events[0].list_triggers = {0, 1, 4, 0};
+  w.events[1].list_builds = 2, w.events[1].list_triggers = {0, 0, 0, 0};
+  auto model = exact(2);
+  model.model.ghost_weight = 0;
+  set_time_model(model.model, "list_by", "triggers", "--time-model ");
+  auto policy = make_policy("static");
+  const auto r = replay_workload(w, model, *policy, "static", "hand.h5");
+  EXPECT_NEAR(r.compute_s, 5.7 + 3.95, 1e-12);
+  EXPECT_NEAR(r.ideal_s, (1.9 + 5.7) / 2 + (3.95 + 1.9) / 2, 1e-12);
+  // a rank's builds are capped at the one rank's: 1 build, which both a trigger and two stages claim on the left
+  w.events[1].list_builds = 1, w.events[1].list_triggers = {1, 0, 0, 0};
+  w.events[1].cell_stage_changes = {3, 0, 0, 0};
+  const auto capped = replay_workload(w, model, *policy, "static", "hand.h5");
+  EXPECT_NEAR(capped.ideal_s, (1.9 + 5.7) / 2 + (3.8 + 0.4 * 12.0 / 16 + 1.8) / 2, 1e-12);
+  // a version 3 file has no triggers: refused, naming the file and the field
+  try {
+    replay_workload(hand_parts(), model, *policy, "static", "hand.h5");
+    ADD_FAILURE() << "no error on a version 3 file";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("hand.h5: time model list_by: triggers, but the file has no list triggers"),
               std::string::npos)
         << e.what();
   }
