@@ -1,8 +1,6 @@
 // The backend registry and the host versions of the backend operations on cells (W_s, migration, removal, fates).
 #include "backend.hpp"
 
-#include <stdexcept>
-
 #include "common/errors.hpp"
 
 namespace semlb::engine {
@@ -53,8 +51,7 @@ void HostCellOps::take_leavers(State& host, const SliceMap& map, const std::vect
 }
 
 long HostCellOps::remove_cells(State& host, const RemovalCall& r) {
-  if (!r.removes) throw std::logic_error("removal rule '" + r.rule + "' handed to the backend without its evaluator");
-  const RemovalEvaluator removes = r.removes;
+  const RemovalEvaluator removes = evaluator_of(r.removes, "removal rule", r.rule);
   const std::vector<double>& params = r.params;
   download(host);
   State kept = empty_like(host);
@@ -74,8 +71,7 @@ long HostCellOps::remove_cells(State& host, const RemovalCall& r) {
 }
 
 void HostCellOps::cell_fate(State& host, const FateCall& r, int field, double elapsed_h) {
-  if (!r.decides) throw std::logic_error("fate rule '" + r.rule + "' handed to the backend without its evaluator");
-  const FateEvaluator decides = r.decides;
+  const FateEvaluator decides = evaluator_of(r.decides, "fate rule", r.rule);
   const std::vector<double>& params = r.params;
   download(host);
   std::vector<double>* column = host.cell_field_at(field);

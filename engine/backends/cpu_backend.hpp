@@ -3,7 +3,6 @@
 #include <climits>
 #include <cmath>
 #include <numeric>
-#include <stdexcept>
 
 #include "backend.hpp"
 #include "physics/cpu_physics.hpp"
@@ -102,10 +101,9 @@ class CpuBackend : public HostCellOps {
     explicit PairLoop(const PairForces& f)
         : p(f.params.begin(), f.params.end()), c2(static_cast<Real>(f.cutoff * f.cutoff)) {
       if constexpr (std::is_same_v<Real, double>)
-        law = f.f64;
+        law = evaluator_of(f.f64, "pair term", f.term);
       else
-        law = f.f32;
-      if (!law) throw std::logic_error("pair term '" + f.term + "' handed to the backend without its evaluator");
+        law = evaluator_of(f.f32, "pair term", f.term);
     }
     void add(Real dx, Real dy, Real dz, int ii, int ij, uint64_t ki, uint64_t kj, int64_t* acc) const {
       if (!(dx * dx + dy * dy + dz * dz >= c2)) law(dx, dy, dz, ii, ij, ki, kj, p.data(), c2, acc);
@@ -115,10 +113,9 @@ class CpuBackend : public HostCellOps {
   void element_term(const ElementTermCall& t) override {
     TermEvaluator<Real> evaluate;
     if constexpr (std::is_same_v<Real, double>)
-      evaluate = t.f64;
+      evaluate = evaluator_of(t.f64, "element term", t.name);
     else
-      evaluate = t.f32;
-    if (!evaluate) throw std::logic_error("element term '" + t.name + "' handed to the backend without its evaluator");
+      evaluate = evaluator_of(t.f32, "element term", t.name);
     count(t.name);
     ++terms_;
     const std::vector<Real> p(t.params.begin(), t.params.end());

@@ -26,6 +26,9 @@ class DistributedSimulation {
   // the run starts from the initial partition and restarted() says why.
   DistributedSimulation(const Scene& scene, const State& tissue, Mpi& mpi, const std::string& trace_path = "",
                         const std::optional<DecompositionCheckpoint>& restored = std::nullopt);
+  // Not copied or moved: the local simulation's hooks refer to this object.
+  DistributedSimulation(const DistributedSimulation&) = delete;
+  DistributedSimulation& operator=(const DistributedSimulation&) = delete;
   void advance(long target);
   State gather();                  // rank 0: the whole tissue in cell-id order; other ranks: cells empty
   std::pair<long, long> totals();  // cells and elements over all ranks (on every rank)

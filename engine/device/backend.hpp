@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,14 @@ struct Ghosts {
   std::vector<uint64_t> keys;
   long elements() const { return static_cast<long>(keys.size()); }
 };
+
+// The evaluator `f` of a call below (PairForces, ElementTermCall, RemovalCall, FateCall) for a C++ backend to run;
+// std::logic_error "KIND 'NAME' handed to the backend without its evaluator" for a call made by hand without one.
+template <class F>
+F evaluator_of(F f, const char* kind, const std::string& name) {
+  if (!f) throw std::logic_error(std::string(kind) + " '" + name + "' handed to the backend without its evaluator");
+  return f;
+}
 
 // Bytes copied between host and device, per phase of the run (Backend::traffic).
 struct Traffic {
