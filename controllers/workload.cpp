@@ -273,16 +273,28 @@ EngineWorkload read_workload(const std::string& path) {
   const auto step = series("step", true);
   if (dims.size() != 1) fail(path, "step", "must be one-dimensional");
   const size_t E = dims[0], S = static_cast<size_t>(w.slices);
-  auto column = [&](const std::string& name, bool integer) {
-    auto v = series(name, integer);
-    if (dims.size() != 1 || dims[0] != E) fail(path, name, "must hold one value per event (" + std::to_string(E) + ")");
-    return v;
-  };
-  auto matrix = [&](const std::string& name, size_t cols) {
-    auto v = series(name, true);
-    if (dims.size() != 2 || dims[0] != E || dims[1] != cols)
+  // The last read dataset's shape must be [E] (cols 0) or [E, cols].
+  auto shaped = [&](const std::string& name, size_t cols) {
+    if (cols == 0 && (dims.size() != 1 || dims[0] != E))
+      fail(path, name, "must hold one value per event (" + std::to_string(E) + ")");
+    if (cols > 0 && (dims.size() != 2 || dims[0] != E || dims[1] != cols))
       fail(path, name,
            "must be events x " + std::to_string(cols) + " (" + std::to_string(E) + " x " + std::to_string(cols) + ")");
+  };
+  auto column = [&](const std::string& name, bool integer) {
+    auto v = series(name, integer);
+    shaped(name, 0);
+    return v;
+  };
+  auto matrix = [&](const std::string& name, size_t cols, bool integer = true) {
+    auto v = series(name, integer);
+    shaped(name, cols);
+    return v;
+  };
+  auto exact_ints = [&](const std::string& name, size_t cols) {  // bit masks: read as integers, not through doubles
+    if (!f.has("events/" + name)) fail(path, name, "missing (dataset /events/" + name + ")");
+    auto v = f.read_ints("events/" + name, dims);
+    shaped(name, cols);
     return v;
   };
   const auto time = column("time_h", false), cells = column("cells", true), elements = column("elements", true);
@@ -296,36 +308,16 @@ EngineWorkload read_workload(const std::string& path) {
     if (H5Aexists(f.id(), "cost_regions") <= 0)
       fail(path, "cost_regions", "missing (a version " + std::to_string(version) + " file holds measured seconds)");
     w.cost_regions = static_cast<int>(integer_attr("cost_regions", 1, w.slices));
-    seconds = series("slice_seconds", false);
-    if (dims.size() != 2 || dims[0] != E || dims[1] != S)
-      fail(path, "slice_seconds",
-           "must be events x " + std::to_string(S) + " (" + std::to_string(E) + " x " + std::to_string(S) + ")");
+    seconds = matrix("slice_seconds", S, false);
   }
   if (version >= 3) {
-    parts = series("part_seconds", false);
-    if (dims.size() != 2 || dims[0] != E || dims[1] != kParts)
-      fail(path, "part_seconds",
-           "must be events x " + std::to_string(kParts) + " (" + std::to_string(E) + " x " + std::to_string(kParts) +
-               ")");
-    if (!f.has("events/cell_stage_changes"))
-      fail(path, "cell_stage_changes", "missing (dataset /events/cell_stage_changes)");
-    changes = f.read_ints("events/cell_stage_changes", dims);  // bit masks: read as integers, not through doubles
-    if (dims.size() != 2 || dims[0] != E || dims[1] != S)
-      fail(path, "cell_stage_changes",
-           "must be events x " + std::to_string(S) + " (" + std::to_string(E) + " x " + std::to_string(S) + ")");
+    parts = matrix("part_seconds", kParts, false);
+    changes = exact_ints("cell_stage_changes", S);
   }
   std::vector<int64_t> builds, triggers;
   if (version == 4) {
-    for (const char* name : {"list_builds", "list_triggers"})
-      if (!f.has(std::string("events/") + name))
-        fail(path, name, std::string("missing (dataset /events/") + name + ")");
-    builds = f.read_ints("events/list_builds", dims);
-    if (dims.size() != 1 || dims[0] != E)
-      fail(path, "list_builds", "must hold one value per event (" + std::to_string(E) + ")");
-    triggers = f.read_ints("events/list_triggers", dims);  // bit masks: read as integers
-    if (dims.size() != 2 || dims[0] != E || dims[1] != S)
-      fail(path, "list_triggers",
-           "must be events x " + std::to_string(S) + " (" + std::to_string(E) + " x " + std::to_string(S) + ")");
+    builds = exact_ints("list_builds", 0);
+    triggers = exact_ints("list_triggers", S);
   }
   for (size_t t = 0; t < E; ++t) {
     WorkloadEvent e;
