@@ -58,7 +58,7 @@ struct Traffic {
 // NAME, remove_NAME or fate_NAME), its C++ evaluator (what the C++ backends call; null in a call made by hand:
 // std::logic_error there) and its derived parameters (at most kMaxPluginParams reals).
 
-// The force on element i from element j added to acc[0..2] in fixed point (physics/pair_force.h: semlb_pair_force,
+// The force on element i from element j added to acc[0..2] in fixed point (pairs/pair_force.h: semlb_pair_force,
 // with the coincident fallback): d = Y_i - Y_j (um), the elements' packed infos and keys, `p` the term's derived
 // parameters, cutoff2 the squared cutoff (um^2). The C++ instantiation of one term in one precision
 // (pairs/instantiate.hpp).

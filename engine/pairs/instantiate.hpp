@@ -1,5 +1,5 @@
 // The pair term of SEMLB_PAIR_HEADER (a string literal) and SEMLB_PAIR_NAME (its name, an identifier) compiled for the
-// C++ backends in both precisions, with the pair loop's body (physics/pair_force.h) over its law: namespaces
+// C++ backends in both precisions, with the pair loop's body (pairs/pair_force.h) over its law: namespaces
 // phys64::NAME (double) and phys32::NAME (float) of cpu_physics.hpp, each with `pair`, a PairEvaluator. A term's
 // NAME.cpp includes this file once. No include guard: one inclusion per term file.
 #include "physics/cpu_physics.hpp"
@@ -18,12 +18,12 @@
 
 namespace semlb::engine::phys64::SEMLB_PAIR_NAME {
 #include SEMLB_PAIR_HEADER
-#include "physics/pair_force.h"
+#include "pairs/pair_force.h"
 SEMLB_PAIR_INSTANCE
 }  // namespace semlb::engine::phys64::SEMLB_PAIR_NAME
 namespace semlb::engine::phys32::SEMLB_PAIR_NAME {
 #include SEMLB_PAIR_HEADER
-#include "physics/pair_force.h"
+#include "pairs/pair_force.h"
 SEMLB_PAIR_INSTANCE
 }  // namespace semlb::engine::phys32::SEMLB_PAIR_NAME
 #undef SEMLB_PAIR_INSTANCE

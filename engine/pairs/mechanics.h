@@ -1,7 +1,7 @@
 /* "mechanics": the SEM Morse law between elements (eq. 1's V_ele; Newman 2005, Math. Biosci. Eng. 2:613; Sandersius &
  * Newman 2008, Phys. Biol. 5:015002): V(r) = U0 exp(-r/xi1) - V0 exp(-r/xi2), so f(r) = -dV/dr = U0/xi1 exp(-r/xi1)
  * - V0/xi2 exp(-r/xi2), positive repulsive; the intra-cell set between elements of one cell, else the inter-cell
- * set of the two cells' types (selective adhesion). C99 subset, no guard (physics/pair_force.h says why).
+ * set of the two cells' types (selective adhesion). C99 subset, no guard (pairs/pair_force.h says why).
  * Parameters (reals): Morse sets stored as derived constants (U0/xi1, 1/xi1, V0/xi2, 1/xi2), computed on the host
  * (mechanics.cpp) so that the kernels divide nothing: the intra set at 0, the inter set of types (ti, tj) at
  * SEMLB_MORSE_INTER(ti, tj); SEMLB_MORSE_TABLE_SIZE in all. */

@@ -81,6 +81,22 @@ TEST(Workload, RoundTripKeepsEveryField) {
   }
 }
 
+// A valid workload spoiled one way, and what writing it must say.
+struct Spoiled {
+  std::function<void(EngineWorkload&)> spoil;
+  std::string message;
+};
+// Each case of `cases` applied to a copy of `valid`: write_workload refuses it with its message and writes nothing.
+void expect_refused(const EngineWorkload& valid, const std::vector<Spoiled>& cases, const std::string& path) {
+  for (const auto& c : cases) {
+    auto w = valid;
+    c.spoil(w);
+    std::filesystem::remove(path);
+    EXPECT_NE(error_of([&] { write_workload(path, w); }).find(c.message), std::string::npos) << c.message;
+    EXPECT_FALSE(std::filesystem::exists(path)) << "nothing written for " << c.message;
+  }
+}
+
 // small() with measured seconds (version 2): event 0's sum 0.5 s, event 1's 0.75 s, each its interval_s.
 EngineWorkload measured() {
   EngineWorkload w = small();
@@ -124,11 +140,7 @@ TEST(Workload, PartsAndCellStageChangesRoundTripAsVersionThree) {
     EXPECT_EQ(w.events[t].part_seconds, with_parts().events[t].part_seconds);
     EXPECT_EQ(w.events[t].cell_stage_changes, with_parts().events[t].cell_stage_changes) << "bit masks kept exactly";
   }
-  struct Case {
-    std::function<void(EngineWorkload&)> spoil;
-    std::string message;
-  };
-  const std::vector<Case> cases = {
+  const std::vector<Spoiled> cases = {
       {[](EngineWorkload& w) { w.events[1].part_seconds[3] = 0.25; },
        "field 'part_seconds': event 1: sums to 0.6875, but interval_s is 0.75"},
       {[](EngineWorkload& w) { w.events[0].part_seconds[1] = -0.0625, w.events[0].part_seconds[3] = 0.1875; },
@@ -147,13 +159,7 @@ TEST(Workload, PartsAndCellStageChangesRoundTripAsVersionThree) {
        },
        "field 'part_seconds': present without slice_seconds"},
   };
-  for (const auto& c : cases) {
-    auto w = with_parts();
-    c.spoil(w);
-    std::filesystem::remove(path);
-    EXPECT_NE(error_of([&] { write_workload(path, w); }).find(c.message), std::string::npos) << c.message;
-    EXPECT_FALSE(std::filesystem::exists(path)) << "nothing written for " << c.message;
-  }
+  expect_refused(with_parts(), cases, path);
   auto w2 = measured();
   w2.events[0].cell_stage_changes = {1, 0, 0};
   EXPECT_NE(error_of([&] {
@@ -197,11 +203,7 @@ TEST(Workload, ListTriggersRoundTripAsVersionFourAndAreReadStrictly) {
   write_workload(path, with_parts());  // without triggers: version 3, as before
   EXPECT_EQ(h5::File::open_read(path).read_int_attr("version"), 3);
   EXPECT_TRUE(read_workload(path).events[0].list_triggers.empty());
-  struct Case {
-    std::function<void(EngineWorkload&)> spoil;
-    std::string message;
-  };
-  const std::vector<Case> cases = {
+  const std::vector<Spoiled> cases = {
       {[](EngineWorkload& w) { w.events[0].list_triggers[2] = 8; },
        "field 'list_triggers': event 0: 8 marks a build beyond the interval's 3"},
       {[](EngineWorkload& w) { w.events[1].list_triggers[0] = 1; },
@@ -217,13 +219,7 @@ TEST(Workload, ListTriggersRoundTripAsVersionFourAndAreReadStrictly) {
        },
        "field 'list_triggers': present without part_seconds"},
   };
-  for (const auto& c : cases) {
-    auto w = with_triggers();
-    c.spoil(w);
-    std::filesystem::remove(path);
-    EXPECT_NE(error_of([&] { write_workload(path, w); }).find(c.message), std::string::npos) << c.message;
-    EXPECT_FALSE(std::filesystem::exists(path)) << "nothing written for " << c.message;
-  }
+  expect_refused(with_triggers(), cases, path);
   auto w3 = with_parts();
   w3.events[0].list_builds = 2;
   EXPECT_NE(error_of([&] { write_workload(path, w3); }).find("field 'list_builds': event 0: present without"),
@@ -249,11 +245,7 @@ TEST(Workload, ListTriggersRoundTripAsVersionFourAndAreReadStrictly) {
 }
 
 TEST(Workload, MeasuredSecondsAreReadStrictly) {
-  struct Case {
-    std::function<void(EngineWorkload&)> spoil;
-    std::string message;
-  };
-  const std::vector<Case> cases = {
+  const std::vector<Spoiled> cases = {
       {[](EngineWorkload& w) { w.events[0].slice_seconds[2] = -1e-9; },
        "field 'slice_seconds': event 0: -1e-09 is not a finite non-negative number"},
       {[](EngineWorkload& w) { w.events[1].slice_seconds[0] = std::nan(""); }, "field 'slice_seconds': event 1: nan"},
@@ -268,14 +260,7 @@ TEST(Workload, MeasuredSecondsAreReadStrictly) {
        "field 'slice_seconds': event 0: sums to 0.625, but interval_s is 0.5"},
       {[](EngineWorkload& w) { w.cost_regions = 4; }, "field 'cost_regions': must be in [0, slices], got 4"},
   };
-  for (const auto& c : cases) {
-    auto w = measured();
-    c.spoil(w);
-    const auto path = tmp_path("bad_measured.h5");
-    std::filesystem::remove(path);
-    EXPECT_NE(error_of([&] { write_workload(path, w); }).find(c.message), std::string::npos) << c.message;
-    EXPECT_FALSE(std::filesystem::exists(path)) << "nothing written for " << c.message;
-  }
+  expect_refused(measured(), cases, tmp_path("bad_measured.h5"));
   // A version 2 file whose dataset is missing or of another shape
   const auto path = tmp_path("edit_measured.h5");
   write_workload(path, measured());

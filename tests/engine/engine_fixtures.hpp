@@ -90,6 +90,17 @@ inline std::unique_ptr<Backend> backend(const std::string& name, const std::stri
   c.precision = precision;
   return make_backend(c);
 }
+// `call(backend, host)` on every backend and precision this machine runs, each holding `s` (host: a copy of it) must
+// throw std::logic_error: a call made by hand for a plug-in that is not registered (device/backend.hpp).
+template <class Call>
+void expect_logic_error_on_every_backend(const State& s, const Call& call) {
+  for (const auto& [name, precision] : backend_precisions()) {
+    auto b = backend(name, precision);
+    b->upload(s);
+    State host = s;
+    EXPECT_THROW(call(*b, host), std::logic_error) << name << " " << precision;
+  }
+}
 // What `read` (a plug-in's ElementTerm::read or RemovalRule::read) derives from the YAML map `yaml` read as the
 // section effects.NAME; every key must have been read (Section::finish).
 template <class Read>

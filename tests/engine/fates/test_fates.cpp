@@ -90,14 +90,9 @@ TEST(FateRules, DifferentiationSettingsAreChecked) {
 // kernel fate_NAME on OpenCL), as is the name by the call maker.
 TEST(FateRules, ACallForAnUnregisteredRuleIsALogicErrorOnEveryBackend) {
   EXPECT_THROW(fate_call("no_such_rule", {}), std::logic_error);
-  const State s = testing::random_state(6, 4, 12.0, 5);
-  for (const auto& [backend, precision] : testing::backend_precisions()) {
-    auto b = testing::backend(backend, precision);
-    b->upload(s);
-    State host = s;
-    EXPECT_THROW(b->cell_fate(host, FateCall{"no_such_rule", {}}, -1, 1.0), std::logic_error)
-        << backend << " " << precision;
-  }
+  testing::expect_logic_error_on_every_backend(testing::random_state(6, 4, 12.0, 5), [](Backend& b, State& host) {
+    b.cell_fate(host, FateCall{"no_such_rule", {}}, -1, 1.0);
+  });
 }
 
 }  // namespace

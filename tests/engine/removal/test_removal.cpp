@@ -66,14 +66,9 @@ TEST(RemovalRules, EveryRuleOnEveryBackendRemovesWhatItsEvaluatorFlags) {
 // kernel remove_NAME on OpenCL), as is the name by the call maker.
 TEST(RemovalRules, ACallForAnUnregisteredRuleIsALogicErrorOnEveryBackend) {
   EXPECT_THROW(removal_call("no_such_rule", {}), std::logic_error);
-  const State s = testing::random_state(6, 4, 12.0, 5);
-  for (const auto& [backend, precision] : testing::backend_precisions()) {
-    auto b = testing::backend(backend, precision);
-    b->upload(s);
-    State host = s;
-    EXPECT_THROW(b->remove_cells(host, RemovalCall{"no_such_rule", {}}), std::logic_error)
-        << backend << " " << precision;
-  }
+  testing::expect_logic_error_on_every_backend(testing::random_state(6, 4, 12.0, 5), [](Backend& b, State& host) {
+    b.remove_cells(host, RemovalCall{"no_such_rule", {}});
+  });
 }
 
 }  // namespace
