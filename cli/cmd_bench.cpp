@@ -123,8 +123,9 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
                 t.list.skin, static_cast<double>(t.list_builds) / static_cast<double>(steps), ratio.c_str(),
                 stats.per_cutoff_cube, stats.candidates, stats.neighbours, t.device.c_str());
     if (t.list.skin > 0)
-      std::printf("    list: skin %.3g um, %ld builds in %ld steps, at most %ld partners per element, %ld stored\n",
-                  t.list.skin, t.list_builds, steps, t.list.max_partners, t.list.kmax);
+      std::printf("    list: skin %.3g um%s, %ld builds in %ld steps, at most %ld partners per element, %ld stored\n",
+                  t.list.skin, t.list.newton ? " (half: newton)" : "", t.list_builds, steps, t.list.max_partners,
+                  t.list.kmax);
     for (const auto& [kernel, secs] : t.kernel_seconds)  // with SEMLB_OPENCL_PROFILE=1
       std::printf("    kernel %-20s %10.4f ms/step\n", kernel.c_str(), 1e3 * secs / steps);
   });

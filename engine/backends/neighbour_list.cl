@@ -8,7 +8,14 @@
    nl[NL_AT(s, c, kmax)] (column-major per warp of 32 slots: the 32 lanes' chunk c is 1 KB in a row, and a warp's
    whole list is one block of kmax x 128 bytes, so that its loads and the build's stores touch one page, and the
    build stores whole sectors (8 partners at a time from registers), not one word per partner); a slot with more than
-   kmax partners keeps its count and takes the exact 27-bin stencil of the build's bins instead. */
+   kmax partners keeps its count and takes the exact 27-bin stencil of the build's bins instead.
+   -DSEMLB_NEWTON (opencl-binned's `newton: true`, LAMMPS's `newton on`): a half list, each pair once (partners j > s),
+   its force added to both elements with 64-bit atomic adds; fixed-point sums do not depend on their order, so the
+   forces are those of the full list bit for bit (pair_force.h semlb_pair_force_newton). */
+
+#ifdef SEMLB_NEWTON
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+#endif
 
 /* Fraction of the skin an element may move before the list is rebuilt: half the skin less 2% for rounding (two
    elements that each moved less than this came closer by less than the skin). A build option so that the list
@@ -60,7 +67,8 @@ __kernel void nl_mark(__global const int* gate, __global const int* stats, __glo
 }
 
 /* Gated build: for each sorted slot, the sorted slots within the list radius (r^2 < list2; a NaN distance counts
-   as within, as in semlb_pair_force) among the 27 bins around its own, itself excluded; the first kmax are stored,
+   as within, as in semlb_pair_force) among the 27 bins around its own, itself excluded (with SEMLB_NEWTON those
+   after it alone); the first kmax are stored,
    8 at a time (a chunk gathered in registers, then one 32-byte store). stats[0] = the largest count (atomic_max), read
    by the host to size kmax. */
 __kernel void nl_build(__global const int* gate, __global const real4* sorted_pos, __global const int* starts, real4 lo,
@@ -75,7 +83,11 @@ __kernel void nl_build(__global const int* gate, __global const real4* sorted_po
     int8 chunk = (int8)(0);
     SEMLB_STENCIL_ROWS(b.x, b.y, b.z, dims.x, dims.y, dims.z, first_bin, last_bin) {
       int last = starts[last_bin + 1];
+#ifdef SEMLB_NEWTON
+      for (int j = max(starts[first_bin], s + 1); j < last; ++j) { /* the half list: partners after s */
+#else
       for (int j = starts[first_bin]; j < last; ++j) {
+#endif
         real4 q = sorted_pos[j];
         SEMLB_REAL dx = me.x - q.x, dy = me.y - q.y, dz = me.z - q.z;
         if (j == s || dx * dx + dy * dy + dz * dz >= list2) continue;
@@ -99,11 +111,70 @@ __kernel void nl_done(__global int* gate, __global int* stats) {
   ++stats[1];
 }
 
+/* Adds a sum acc (three fixed-point force components, then the bound) to element i's: with SEMLB_NEWTON atomically
+   (the half list's slots add to their partners too), and not at all when nothing was added (acc[3], a pair's bound, is
+   at least 1); otherwise a plain add (slot s alone writes its element). */
+static inline void nl_add(__global long* force, __global long* bound, int i, const long* acc) {
+#ifdef SEMLB_NEWTON
+  if (acc[3] == 0) return;
+  atom_add(&force[3 * i], acc[0]);
+  atom_add(&force[3 * i + 1], acc[1]);
+  atom_add(&force[3 * i + 2], acc[2]);
+  atom_add(&bound[i], acc[3]);
+#else
+  force[3 * i] += acc[0];
+  force[3 * i + 1] += acc[1];
+  force[3 * i + 2] += acc[2];
+  bound[i] += acc[3];
+#endif
+}
+
+/* The pair of element i (at me, its info, sorted slot s) and sorted slot j: its force on i into acc and, with
+   SEMLB_NEWTON, its force on j added to j's sums at once. */
+static inline void nl_pair(int i, real4 me, int info, int j, __global const real4* sorted_pos,
+                           __global const int* sorted_index, __global const ulong* keys,
+                           __constant const SEMLB_REAL* table, SEMLB_REAL cutoff2, long* acc, __global long* force,
+                           __global long* bound) {
+  real4 q = sorted_pos[j];
+#ifdef SEMLB_NEWTON
+  int k = sorted_index[j];
+  long acc_j[4] = {0, 0, 0, 0};
+  if (semlb_pair_force_newton(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc, acc_j) < 0) {
+    semlb_coincident_force(keys[i], keys[k], info, INFO(q.w), table, acc);
+    semlb_coincident_force(keys[k], keys[i], INFO(q.w), info, table, acc_j);
+  }
+  nl_add(force, bound, k, acc_j);
+#else
+  if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
+    semlb_coincident_force(keys[i], keys[sorted_index[j]], info, INFO(q.w), table, acc);
+#endif
+}
+
+/* A slot over kmax: the exact stencil of the build's bins around its position at the build, ref[s] (bins of edge
+   >= cutoff + skin: every partner within the cutoff now was within cutoff + skin then, hence in those bins); with
+   SEMLB_NEWTON its pairs with the slots after it alone, as the half list. */
+static inline void nl_stencil(int s, int i, real4 me, __global const real4* sorted_pos, __global const real4* ref,
+                              __global const int* sorted_index, __global const ulong* keys,
+                              __global const int* starts, real4 lo, real4 size, int4 dims,
+                              __constant const SEMLB_REAL* table, SEMLB_REAL cutoff2, long* acc, __global long* force,
+                              __global long* bound) {
+  int4 b = bin3(ref[s], lo, size, dims);
+#ifdef SEMLB_NEWTON
+  int info = INFO(me.w);
+  SEMLB_STENCIL_ROWS(b.x, b.y, b.z, dims.x, dims.y, dims.z, first_bin, last_bin) {
+    int last = starts[last_bin + 1];
+    for (int j = max(starts[first_bin], s + 1); j < last; ++j)
+      nl_pair(i, me, info, j, sorted_pos, sorted_index, keys, table, cutoff2, acc, force, bound);
+  }
+#else
+  stencil_forces(me, i, s, b, dims, sorted_pos, sorted_index, starts, keys, table, cutoff2, acc);
+#endif
+}
+
 /* Local pair forces (owned on owned) over the list on sorted slot s of the build. Every listed pair goes
    through semlb_pair_force, which keeps those within the cutoff now: the same pairs and the same fixed-point sums
    as the stencil and as all pairs, as long as no element moved by more than the trigger since the build. A slot
-   over kmax takes the stencil of the build's bins around its position at the build (bins of edge >= cutoff +
-   skin: every partner within the cutoff now was within cutoff + skin then, hence in those bins). */
+   over kmax takes nl_stencil instead. */
 static inline void nl_slot_forces(int s, __global const real4* sorted_pos, __global const real4* ref,
                                   __global const int* sorted_index, __global const ulong* keys,
                                   __global const int* nl_count, __global const int* nl, int kmax,
@@ -119,25 +190,19 @@ static inline void nl_slot_forces(int s, __global const real4* sorted_pos, __glo
     for (int base = 0; base < count; base += 4) {
       int4 v = vload4(0, nl + NL_AT(s, base >> 3, kmax) + (base & 7));
       int m = min(4, count - base);
-      for (int k = 0; k < m; ++k) {
-        int j = k == 0 ? v.x : (k == 1 ? v.y : (k == 2 ? v.z : v.w));
-        real4 q = sorted_pos[j];
-        if (semlb_pair_force(me.x - q.x, me.y - q.y, me.z - q.z, info, INFO(q.w), table, cutoff2, acc) < 0)
-          semlb_coincident_force(keys[i], keys[sorted_index[j]], info, INFO(q.w), table, acc);
-      }
+      for (int k = 0; k < m; ++k)
+        nl_pair(i, me, info, k == 0 ? v.x : (k == 1 ? v.y : (k == 2 ? v.z : v.w)), sorted_pos, sorted_index, keys,
+                table, cutoff2, acc, force, bound);
     }
   } else {
 #ifdef SEMLB_NL_SPLIT
     return; /* nl_overflow's */
 #else
-    stencil_forces(me, i, s, bin3(ref[s], lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table, cutoff2,
-                   acc);
+    nl_stencil(s, i, me, sorted_pos, ref, sorted_index, keys, starts, lo, size, dims, table, cutoff2, acc, force,
+               bound);
 #endif
   }
-  force[3 * i] += acc[0];
-  force[3 * i + 1] += acc[1];
-  force[3 * i + 2] += acc[2];
-  bound[i] += acc[3];
+  nl_add(force, bound, i, acc);
 }
 
 /* The local pair forces over the list: one item per sorted slot of the build. */
@@ -178,11 +243,8 @@ __kernel void nl_overflow(__global const real4* sorted_pos, __global const real4
   real4 me = sorted_pos[s];
   int i = sorted_index[s];
   long acc[4] = {0, 0, 0, 0};
-  stencil_forces(me, i, s, bin3(ref[s], lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table,
-                 cutoff * cutoff, acc);
-  force[3 * i] += acc[0];
-  force[3 * i + 1] += acc[1];
-  force[3 * i + 2] += acc[2];
-  bound[i] += acc[3];
+  nl_stencil(s, i, me, sorted_pos, ref, sorted_index, keys, starts, lo, size, dims, table, cutoff * cutoff, acc, force,
+             bound);
+  nl_add(force, bound, i, acc);
 #endif
 }

@@ -22,7 +22,9 @@ namespace opencl_impl {
 
 template <class Real>
 OpenClBackend<Real>::OpenClBackend(const BackendConfig& c, bool binned)
-    : binned_(binned), list_(binned ? c.skin : 0.0, build_options().find("SEMLB_NL_SPLIT") != std::string::npos) {
+    : binned_(binned),
+      list_(binned ? c.skin : 0.0, binned && c.newton,
+            build_options().find("SEMLB_NL_SPLIT") != std::string::npos) {
   dev_ = cl::choose_device(c.platform, c.device, c.local_rank);
   cl_device_fp_config fp64 = 0;
   clGetDeviceInfo(dev_.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, nullptr);
@@ -328,8 +330,8 @@ void OpenClBackend<Real>::build(const std::string& pair_term) {
   program_ = cl::Program(clCreateProgramWithSource(ctx_.get(), 1, &text, nullptr, &err));
   cl::check(err, "clCreateProgramWithSource");
   const std::string options = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") +
-                              (has_fp64_ ? " -DSEMLB_CELLS" : "") + " -DSEMLB_PAIR_TERM=semlb_pair_" + pair_term + " " +
-                              build_options();
+                              (has_fp64_ ? " -DSEMLB_CELLS" : "") + (list_.newton() ? " -DSEMLB_NEWTON" : "") +
+                              " -DSEMLB_PAIR_TERM=semlb_pair_" + pair_term + " " + build_options();
   if (clBuildProgram(program_.get(), 1, &dev_.device, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
     size_t n = 0;
     clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
@@ -455,12 +457,15 @@ std::unique_ptr<Backend> make(const BackendConfig& c) {
   return std::make_unique<OpenClBackend<double>>(c, Binned);
 }
 // backend: {name: opencl-allpairs | opencl-binned, platform: NAME substring, device: index, skin: um (opencl-binned's
-// neighbour list, 0: none)}.
+// neighbour list, 0: none), newton: true | false (opencl-binned's half list; only with skin > 0)}.
 template <bool Binned>
 void read(const Section& s, BackendConfig& c) {
   c.platform = s.text("platform", c.platform);
   c.device = static_cast<int>(s.integer("device", c.device, 0, 1024));
-  if (Binned) c.skin = s.real("skin", c.skin, 0, 1e3);
+  if (!Binned) return;
+  c.skin = s.real("skin", c.skin, 0, 1e3);
+  c.newton = s.boolean("newton", c.newton);
+  if (c.newton && c.skin <= 0) s.fail("newton", "the half list needs the neighbour list: set skin > 0");
 }
 const Registrar<BackendInfo> allpairs("opencl-allpairs", {make<false>, read<false>});
 const Registrar<BackendInfo> binned("opencl-binned", {make<true>, read<true>});

@@ -43,6 +43,7 @@ struct BackendConfig {
   int device = 0;        // the OpenCL backends' `device`: the index within the chosen platform
   int local_rank = 0;    // added to `device` (one device per local MPI rank)
   double skin = 0.0;     // um, opencl-binned's `skin`: its neighbour list (docs/engine.md); 0: none, bins every step
+  bool newton = false;   // opencl-binned's `newton`: a half list, each pair once (docs/engine.md); needs skin > 0
   // The scene's `backend` map (null: a config made in code, its fields as set), whose keys beside name and precision
   // the backend reads (backend_settings).
   std::shared_ptr<const Section> settings;

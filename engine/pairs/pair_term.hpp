@@ -15,7 +15,9 @@ namespace semlb::engine {
 
 // A registered pair term. Its name is its scene key (`effects.NAME`) and the stem of its evaluator header
 // pairs/NAME.h, whose `semlb_real semlb_pair_NAME(semlb_real r, int info_i, int info_j, SEMLB_CONST const
-// semlb_real* p)` gives f(r) = -dV/dr (force units, positive repulsive) for 0 <= r < cutoff um. pairs/NAME.cpp
+// semlb_real* p)` gives f(r) = -dV/dr (force units, positive repulsive) for 0 <= r < cutoff um, the same for
+// (info_j, info_i) as for (info_i, info_j) (Newton's third law: opencl-binned's `newton` evaluates a pair once and
+// gives j the negated force; test_pairs checks it for every registered term). pairs/NAME.cpp
 // compiles it in both precisions (#define SEMLB_PAIR_HEADER "pairs/NAME.h" and SEMLB_PAIR_NAME NAME, then
 // #include "pairs/instantiate.hpp") and registers phys64::NAME::pair and phys32::NAME::pair as f64 and f32.
 struct PairTerm {

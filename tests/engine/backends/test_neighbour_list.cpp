@@ -70,13 +70,14 @@ struct Walk {
 };
 
 // `steps` steps of: the pair forces (read back), then Brownian moves of sigma um per coordinate (the noise kernel).
-Walk walk(const std::string& backend, const std::string& precision, double skin, long steps, double sigma) {
+Walk walk(const std::string& backend, const std::string& precision, double skin, long steps, double sigma,
+          bool newton = false, State s = pair_sites(7)) {
   BackendConfig c;
   c.name = backend;
   c.precision = precision;
   c.skin = skin;
+  c.newton = newton;
   auto b = make_backend(c);
-  State s = pair_sites(7);
   b->upload(s);
   const Grid g = Grid::cover({0, 0, 0}, {200, 200, 140}, kCutoff);
   Walk w;
@@ -101,7 +102,7 @@ Walk walk(const std::string& backend, const std::string& precision, double skin,
 }
 
 // Pairs cross the cutoff while the list is reused (the in-cutoff count changes between builds), and every step's
-// forces equal all pairs' bit for bit, in both precisions.
+// forces equal all pairs' bit for bit, in both precisions, with the full list and the half one (newton).
 TEST(NeighbourList, SeesExactlyTheAllPairsPairsWhileElementsMoveAcrossHalfTheSkin) {
   if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
   for (const char* precision : {"double", "float"}) {
@@ -109,11 +110,13 @@ TEST(NeighbourList, SeesExactlyTheAllPairsPairsWhileElementsMoveAcrossHalfTheSki
     const double sigma = kSkin / 20;
     const Walk all = walk("opencl-allpairs", precision, 0, steps, sigma);
     const Walk list = walk("opencl-binned", precision, kSkin, steps, sigma);
+    const Walk half = walk("opencl-binned", precision, kSkin, steps, sigma, true);
     const Walk fresh = walk("opencl-binned", precision, 0, steps, sigma);  // bins every step
     ASSERT_EQ(all.forces.size(), list.forces.size());
     long changes = 0;
     for (long t = 0; t < steps; ++t) {
       EXPECT_EQ(list.forces[t], all.forces[t]) << precision << " step " << t;
+      EXPECT_EQ(half.forces[t], all.forces[t]) << precision << " step " << t << " (newton)";
       EXPECT_EQ(fresh.forces[t], all.forces[t]) << precision << " step " << t;
       changes += t > 0 && all.within[t] != all.within[t - 1];
     }
@@ -122,6 +125,8 @@ TEST(NeighbourList, SeesExactlyTheAllPairsPairsWhileElementsMoveAcrossHalfTheSki
     EXPECT_GT(list.list.builds, 2) << precision << ": rebuilt as elements moved";
     EXPECT_LT(list.list.builds, steps / 3) << precision << ": and reused in between";
     EXPECT_EQ(fresh.list.builds, 0);
+    EXPECT_TRUE(half.list.newton);
+    EXPECT_EQ(half.list.builds, list.list.builds) << precision << ": the same rebuilds";
   }
 }
 
@@ -145,7 +150,7 @@ TEST(NeighbourList, AWrongTriggerMissesPairsAndIsCaught) {
 }
 
 // Growth and division change the elements at every cell stage: the list is rebuilt there and the run equals
-// opencl-allpairs and opencl-binned without a list, bit for bit, in both precisions.
+// opencl-allpairs and opencl-binned without a list, bit for bit, in both precisions, with the full and the half list.
 TEST(NeighbourList, RunsWithDivisionsEqualAllPairs) {
   if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
   const std::string yaml = R"(
@@ -164,21 +169,48 @@ effects:
   for (const char* precision : {"double", "float"}) {
     std::map<std::string, State> out;
     long cells0 = 0, builds = 0;
-    for (const std::string v : {"opencl-allpairs", "opencl-binned", "opencl-binned skin"}) {
-      const bool list = v == "opencl-binned skin";
+    for (const std::string v : {"opencl-allpairs", "opencl-binned", "opencl-binned skin", "opencl-binned newton"}) {
+      const bool list = v != "opencl-allpairs" && v != "opencl-binned";
       auto scene =
           scene_from(yaml, {"backend.name=" + v.substr(0, v.find(' ')), std::string("backend.precision=") + precision,
-                            "backend.opencl-binned.skin=" + std::string(list ? "0.5" : "0")});
+                            "backend.opencl-binned.skin=" + std::string(list ? "0.5" : "0"),
+                            "backend.opencl-binned.newton=" + std::string(v == "opencl-binned newton" ? "true" : "false")});
       Simulation sim(scene, make_tissue(scene));
       cells0 = sim.host_state().cells();
       sim.advance(60);
       out[v] = sim.sync();
-      if (list) builds = sim.backend().list_stats().builds;
+      if (v == "opencl-binned skin") builds = sim.backend().list_stats().builds;
     }
     EXPECT_GT(out["opencl-allpairs"].cells(), cells0 + 5) << precision << ": cells divided";
     EXPECT_EQ(out["opencl-binned skin"].hash(), out["opencl-allpairs"].hash()) << precision;
+    EXPECT_EQ(out["opencl-binned newton"].hash(), out["opencl-allpairs"].hash()) << precision;
     EXPECT_EQ(out["opencl-binned"].hash(), out["opencl-allpairs"].hash()) << precision;
     EXPECT_GE(builds, 12) << precision << ": at least one build per cell stage that changed the elements";
+  }
+}
+
+// 600 elements in a 25 um cube (60 cells of 10), up to 172 partners within cutoff + skin: the first builds find more
+// than the 64 stored per element at first, so those slots take the stencil until kmax has grown; forces equal all
+// pairs' throughout, with the full list and the half one (which lists fewer: each pair once).
+TEST(NeighbourList, SlotsOverKmaxTakeTheStencilWithFullAndHalfLists) {
+  if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
+  State dense = testing::random_state(60, 10, 25.0, 3);
+  for (long i = 0; i < dense.elements(); ++i)
+    for (int a = 0; a < 3; ++a) dense.position[3 * i + a] += 60;
+  for (const char* precision : {"double", "float"}) {
+    const Walk all = walk("opencl-allpairs", precision, 0, 12, 0.05, false, dense);
+    long full_max = 0;
+    for (bool newton : {false, true}) {
+      const Walk list = walk("opencl-binned", precision, kSkin, 12, 0.05, newton, dense);
+      for (size_t t = 0; t < all.forces.size(); ++t)
+        EXPECT_EQ(list.forces[t], all.forces[t]) << precision << " newton " << newton << " step " << t;
+      EXPECT_GT(list.list.max_partners, 64) << "over the first kmax, or the stencil path went untested";
+      EXPECT_GE(list.list.kmax, list.list.max_partners) << "and kmax grew to hold them";
+      if (newton)
+        EXPECT_LT(list.list.max_partners, full_max) << "the half list holds each pair once";
+      else
+        full_max = list.list.max_partners;
+    }
   }
 }
 
@@ -192,6 +224,13 @@ TEST(NeighbourList, SkinIsANonNegativeLength) {
   EXPECT_EQ(skin({"backend.name=opencl-binned", "backend.opencl-binned.skin=0.5"}), 0.5);
   EXPECT_EQ(skin({"backend.opencl-binned.skin=0.5"}), 0.0);  // cpu-binned: opencl-binned's map only checked
   EXPECT_EQ(skin({"backend.name=opencl-binned"}), 0.0);      // no list unless a scene asks for one
+  const auto config = [](const std::vector<std::string>& sets) {
+    return backend_settings(scene_from(testing::kMechanicsYaml, sets).backend);
+  };
+  EXPECT_TRUE(config({"backend.name=opencl-binned", "backend.skin=0.5", "backend.newton=true"}).newton);
+  EXPECT_FALSE(config({"backend.name=opencl-binned", "backend.skin=0.5"}).newton);
+  EXPECT_THROW(config({"backend.name=opencl-binned", "backend.newton=true"}), InputError);  // no list to halve
+  EXPECT_THROW(config({"backend.name=opencl-binned", "backend.skin=0.5", "backend.newton=yes"}), InputError);
 }
 
 // What a step launches with the list: its check from the second step on (the first builds unasked), the gated build
