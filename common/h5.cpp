@@ -2,7 +2,9 @@
 #include "h5.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 
 #include "errors.hpp"
@@ -10,8 +12,14 @@
 namespace semlb::h5 {
 namespace {
 
-struct SilenceHdf5 {  // HDF5 prints its own error stack unless told not to; we report errors ourselves
-  SilenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+// HDF5 prints its own error stack unless told not to; we report errors ourselves. Nor does it flush at exit what a
+// failed close left open (a file whose last writes met a full disk: File::write_atomically has removed it, and a
+// second flush at exit would crash): every file of ours is closed by its owner.
+struct SilenceHdf5 {
+  SilenceHdf5() {
+    H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
 };
 const SilenceHdf5 silence;
 
@@ -53,21 +61,34 @@ File File::create(const std::string& path) {
               path);
 }
 
-File File::create_in_memory(const std::string& name) {
-  Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, name + ": H5Pcreate failed");
-  check(H5Pset_fapl_core(fapl.get(), 1 << 20, 0), name, "H5Pset_fapl_core");
-  return File(Id(H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
-                 name + ": cannot create HDF5 file in memory"),
-              name);
-}
-
-std::string File::image() const {
-  check(H5Fflush(id(), H5F_SCOPE_GLOBAL), path_, "H5Fflush");
-  const ssize_t n = H5Fget_file_image(id(), nullptr, 0);
-  check(n < 0 ? -1 : 0, path_, "H5Fget_file_image");
-  std::string bytes(static_cast<size_t>(n), '\0');
-  check(H5Fget_file_image(id(), bytes.data(), bytes.size()) < 0 ? -1 : 0, path_, "H5Fget_file_image");
-  return bytes;
+void File::write_atomically(const std::string& path, const std::function<void(File&)>& fill) {
+  const std::string tmp = path + ".tmp";
+  errno = 0;
+  try {
+    const hid_t id = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (id < 0) throw std::runtime_error(path + ": cannot create " + tmp);
+    File f(Id(id, H5Fclose, path), path);
+    fill(f);
+    check(H5Fclose(f.id_.release()), path, "closing the file (its last writes)");
+  } catch (const std::runtime_error& e) {
+    const int err = errno;  // HDF5 does not say why a write failed; the system call's cause, when it is one of these
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    if (err == ENOSPC || err == EIO || err == EDQUOT || err == EFBIG || err == EROFS)
+      throw std::runtime_error(std::string(e.what()) + ": " + std::strerror(err));
+    throw;
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw;
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw std::runtime_error(path + ": cannot rename " + tmp + " to it: " + ec.message());
+  }
 }
 
 std::vector<std::string> File::list(const std::string& name) const {

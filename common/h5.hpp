@@ -3,6 +3,7 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,12 @@ class Id {
   Id& operator=(Id&&) = delete;
   ~Id();
   hid_t get() const { return id_; }
+  // Gives the identifier up (the caller closes it, checking the result).
+  hid_t release() {
+    const hid_t id = id_;
+    id_ = H5I_INVALID_HID;
+    return id;
+  }
 
  private:
   hid_t id_;
@@ -28,12 +35,12 @@ class Id {
 class File {
  public:
   static File open_read(const std::string& path);  // throws InputError naming the path
-  static File create(const std::string& path);     // truncates
-  // A file in memory only (HDF5's core driver, no backing store): nothing touches the disk; image() is its bytes.
-  // `name` is for messages. Writers save the image with write_file_atomically, so a full disk is one write
-  // error of ours, and HDF5 never holds a half-written file open.
-  static File create_in_memory(const std::string& name);
-  std::string image() const;                        // the whole file as bytes (flushes first)
+  static File create(const std::string& path);  // truncates
+  // Writes PATH whole or not at all: FILL(file) writes into PATH.tmp (HDF5's default driver: each dataset goes from
+  // the caller's buffer to the file, no copy of the file in memory), which is then closed (checked) and renamed over
+  // PATH. Any error (a full disk, a throw in FILL) removes PATH.tmp, leaves PATH as it was and is rethrown; the
+  // writer's errors are std::runtime_error naming PATH ("PATH: HDF5: write /elements/position failed").
+  static void write_atomically(const std::string& path, const std::function<void(File&)>& fill);
   static File open_write(const std::string& path);  // an existing file, read-write (tests, tools)
   const std::string& path() const { return path_; }
   hid_t id() const { return id_.get(); }

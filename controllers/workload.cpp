@@ -145,10 +145,7 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
 
 void write_workload(const std::string& path, const EngineWorkload& w) {
   validate_workload(w, path);
-  std::string image;
-  {
-    auto f =
-        h5::File::create_in_memory(path);  // built in memory, then one checked atomic write (a full disk: one line)
+  h5::File::write_atomically(path, [&](h5::File& f) {  // a full disk: one line, no partial file
     f.set_deflate(6);
     f.write_attr("format", std::string(kFormat));
     const bool measured = has_measured_cost(w), parts = !w.events.front().part_seconds.empty();
@@ -219,9 +216,7 @@ void write_workload(const std::string& path, const EngineWorkload& w) {
       f.write("events/list_builds", {E}, builds);
       f.write("events/list_triggers", {E, S}, bits);
     }
-    image = f.image();
-  }
-  write_file_atomically(path, image);
+  });
 }
 
 EngineWorkload read_workload(const std::string& path) {

@@ -81,10 +81,10 @@ std::optional<DecompositionCheckpoint> read_decomposition(const std::string& pat
 
 void write_state(const std::string& path, const State& state, const std::map<std::string, std::string>& attributes,
                  const DecompositionCheckpoint* decomposition) {
-  std::string image;  // built in memory, then written in one go: a write error leaves no partial file
-  {
-    auto f = h5::File::create_in_memory(path);
-    const State s = state.canonical();  // cells by id: files do not depend on storage order or rank count
+  h5::File::write_atomically(path, [&](h5::File& f) {  // a write error leaves no partial file
+    // cells by id: files do not depend on storage order or rank count (a copy only when not so already)
+    State sorted;
+    const State& s = state.canonical(sorted);
     const hsize_t n = static_cast<hsize_t>(s.elements()), c = static_cast<hsize_t>(s.cells());
     f.write("/elements/position", {n, 3}, s.position);
     std::vector<int64_t> cell(n), type(n);
@@ -110,9 +110,7 @@ void write_state(const std::string& path, const State& state, const std::map<std
     f.write_attr("format", std::string("semlb-state-v1"));
     for (const auto& [k, v] : attributes) f.write_attr(k, v);
     if (decomposition) write_decomposition(f, *decomposition);
-    image = f.image();
-  }
-  write_file_atomically(path, image);
+  });
 }
 
 namespace {

@@ -77,7 +77,8 @@ State State::canonical() const {
 }
 
 uint64_t State::hash() const {
-  const State s = canonical();
+  State sorted;
+  const State& s = canonical(sorted);
   uint64_t h = 1469598103934665603ULL;
   fnv(h, s.position.data(), s.position.size() * sizeof(double));
   fnv(h, s.cell_id.data(), s.cell_id.size() * sizeof(uint64_t));

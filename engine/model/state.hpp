@@ -1,5 +1,6 @@
 // The simulated tissue on the host: elements in canonical (cell, slot) order, cells, effect-owned fields.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <map>
@@ -59,6 +60,15 @@ struct State {
   uint64_t hash() const;
   // The same tissue with cells sorted by id (the order of output files).
   State canonical() const;
+  // Whether the cells are already sorted by id (canonical() would copy the state unchanged).
+  bool is_canonical() const { return std::is_sorted(cell_id.begin(), cell_id.end()); }
+  // This state when canonical, else canonical() kept in `copy`: the canonical tissue without a copy when there is
+  // nothing to sort.
+  const State& canonical(State& copy) const {
+    if (is_canonical()) return *this;
+    copy = canonical();
+    return copy;
+  }
 };
 
 // No cells, with `s`'s step, time and cell-field names (each field empty): where copy_cell gathers a selection of
