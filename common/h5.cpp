@@ -194,6 +194,10 @@ void File::write(const std::string& name, const std::vector<hsize_t>& dims, cons
   write_raw(name, dims, H5T_STD_I64LE, H5T_NATIVE_INT64, data.data());
 }
 
+void File::write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<int32_t>& data) {
+  write_raw(name, dims, H5T_STD_I32LE, H5T_NATIVE_INT32, data.data());
+}
+
 Id File::attr(const std::string& name) const {
   if (H5Aexists(id(), name.c_str()) <= 0) throw InputError(path_ + ": attribute '" + name + "' is missing");
   return Id(H5Aopen(id(), name.c_str(), H5P_DEFAULT), H5Aclose, path_ + ": cannot open attribute " + name);

@@ -51,9 +51,11 @@ class File {
   // Reads a dataset of any floating type as doubles; dims receives its shape. Missing -> InputError.
   std::vector<double> read(const std::string& name, std::vector<hsize_t>& dims) const;
   void write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<double>& data);
-  // Integer datasets (stored as int64); reading refuses a floating-point dataset.
+  // Integer datasets, read as int64 whatever integer type they were stored as; reading refuses a floating-point
+  // dataset. Written as int64, or as int32 from int32 data.
   std::vector<int64_t> read_ints(const std::string& name, std::vector<hsize_t>& dims) const;
   void write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<int64_t>& data);
+  void write(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<int32_t>& data);
   std::string read_text_attr(const std::string& name) const;  // attribute on the root group
   long read_int_attr(const std::string& name) const;
   double read_real_attr(const std::string& name) const;

@@ -1,6 +1,7 @@
 // HDF5 state files and the XDMF index.
 #include "io.hpp"
 
+#include <climits>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -87,16 +88,18 @@ void write_state(const std::string& path, const State& state, const std::map<std
     const State& s = state.canonical(sorted);
     const hsize_t n = static_cast<hsize_t>(s.elements()), c = static_cast<hsize_t>(s.cells());
     f.write("/elements/position", {n, 3}, s.position);
-    std::vector<int64_t> cell(n), type(n);
+    // the viewers' per-element copies (write_xdmf): the cell id as int64, type, slot and vertex as int32
+    if (n > static_cast<hsize_t>(INT32_MAX))
+      throw std::runtime_error(path + ": " + std::to_string(n) + " elements: more than /elements/vertex (int32) numbers");
+    std::vector<int64_t> cell(n);
+    std::vector<int32_t> type(n), slot(n), vertex(n);
     for (long k = 0; k < s.cells(); ++k)
       for (int e = 0; e < s.cell_count[k]; ++e) {
         cell[s.cell_first[k] + e] = static_cast<int64_t>(s.cell_id[k]);
         type[s.cell_first[k] + e] = s.cell_type[k];
+        slot[s.cell_first[k] + e] = e;
       }
-    std::vector<int64_t> slot(n), vertex(n);
-    for (long k = 0; k < s.cells(); ++k)
-      for (int e = 0; e < s.cell_count[k]; ++e) slot[s.cell_first[k] + e] = e;
-    for (hsize_t i = 0; i < n; ++i) vertex[i] = static_cast<int64_t>(i);
+    for (hsize_t i = 0; i < n; ++i) vertex[i] = static_cast<int32_t>(i);
     f.write("/elements/cell", {n}, cell);
     f.write("/elements/type", {n}, type);
     f.write("/elements/slot", {n}, slot);
@@ -242,21 +245,21 @@ void write_xdmf(const std::string& path, const std::vector<Snapshot>& snapshots)
   std::ostringstream x;
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n  <Grid Name=\"tissue\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const auto& s : snapshots) {
-    auto item = [&](const std::string& dims, const char* type, const char* dataset) {
-      x << "     <DataItem Dimensions=\"" << dims << "\" NumberType=\"" << type << "\" Precision=\"8\" Format=\"HDF\">"
-        << s.file << ":/elements/" << dataset << "</DataItem>\n";
+    auto item = [&](const std::string& dims, const char* type, int bytes, const char* dataset) {
+      x << "     <DataItem Dimensions=\"" << dims << "\" NumberType=\"" << type << "\" Precision=\"" << bytes
+        << "\" Format=\"HDF\">" << s.file << ":/elements/" << dataset << "</DataItem>\n";
     };
     const std::string n = std::to_string(s.elements);
     x << "   <Grid Name=\"step_" << s.step << "\" GridType=\"Uniform\">\n    <Time Value=\"" << format_real(s.time)
       << "\"/>\n"
       << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\">\n";
-    item(n, "Int", "vertex");  // one cell per element: without it ParaView's Xdmf3 reader makes no cells
+    item(n, "Int", 4, "vertex");  // one cell per element: without it ParaView's Xdmf3 reader makes no cells
     x << "    </Topology>\n    <Geometry GeometryType=\"XYZ\">\n";
-    item(n + " 3", "Float", "position");
+    item(n + " 3", "Float", 8, "position");
     x << "    </Geometry>\n";
     for (const char* a : {"cell", "type", "slot"}) {
       x << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">\n";
-      item(n, "Int", a);
+      item(n, "Int", a[0] == 'c' ? 8 : 4, a);
       x << "    </Attribute>\n";
     }
     x << "   </Grid>\n";
