@@ -7,7 +7,9 @@
 #   (defaults: all, SKINS "0 0.5 1 1.5 2", DEV_SKINS "1"; BENCH_CELLS: the bench's --cells, default 11000,435661;
 #   PROFILE_SKIN: the skin of the profiled run, default 0.5; DOUBLE_SKINS: default "0 PROFILE_SKIN"; VARIANTS:
 #   ';'-separated PRECISION|BUILD_OPTIONS (e.g. "float|-cl-denorms-are-zero"), each benched at skin 0 and PROFILE_SKIN; DEV_PROFILE_SKINS: the development
-#   runs with SEMLB_OPENCL_PROFILE=1, whose kernels.csv is kept as dev_skinS.kernels.csv)
+#   runs with SEMLB_OPENCL_PROFILE=1, whose kernels.csv is kept as dev_skinS.kernels.csv; DEV_VARIANTS: ';'-separated
+#   extra flags of the development runs, each a row per skin with the flags in its `variant` column, e.g.
+#   "--set backend.opencl-binned.newton=false;--set backend.opencl-binned.newton=true")
 set -uo pipefail
 S=$1; OUT=$2; what=${3:-all}; skins=${4:-"0 0.5 1 1.5 2"}; dev_skins=${5:-"1"}
 here=$(cd "$(dirname "$0")/../.." && pwd)
@@ -31,21 +33,25 @@ fi
 if [ "$what" = dev ] || [ "$what" = all ]; then
   machine=$(nvidia-smi --query-gpu=name --format=csv,noheader | head -1)
   [ -f "$OUT/development_1gpu.csv" ] ||
-    echo "cells_start,cells_end,elements_end,steps,precision,loop_s,mechanics_s,machine,skin,start_s,end_s,wall_s" > "$OUT/development_1gpu.csv"
+    echo "cells_start,cells_end,elements_end,steps,precision,loop_s,mechanics_s,machine,skin,start_s,end_s,wall_s,variant" > "$OUT/development_1gpu.csv"
+  IFS=';' read -ra dev_variants <<< "${DEV_VARIANTS:-}"
+  [ ${#dev_variants[@]} -gt 0 ] || dev_variants=("")
   for s in $dev_skins; do
+  for k in "${!dev_variants[@]}"; do
+    v=${dev_variants[$k]}; tag=$s; [ ${#dev_variants[@]} -eq 1 ] || tag=${s}_v$k
     run=$(mktemp -d)
     prof=; case " ${DEV_PROFILE_SKINS:-} " in *" $s "*) prof=1;; esac
     t0=$(date +%s.%N)
     SEMLB_OPENCL_PROFILE=$prof "$S" sim --scene "$here/scenes/epidermis_development.yaml" --out "$run" --steps 2400 --backend opencl-binned \
       --platform NVIDIA --precision float --quiet --set tissue.cells=435661 --set effects.growth.front.speed=24.8 \
-      --set output.snapshot_every=0 --set output.checkpoint_every=0 --set backend.skin="$s" > "$OUT/dev_skin$s.log" 2>&1
+      --set output.snapshot_every=0 --set output.checkpoint_every=0 --set backend.skin="$s" $v > "$OUT/dev_skin$tag.log" 2>&1
     t1=$(date +%s.%N)
-    cp "$run/run.csv" "$OUT/dev_skin$s.run.csv"
-    [ -f "$run/kernels.csv" ] && cp "$run/kernels.csv" "$OUT/dev_skin$s.kernels.csv"
+    cp "$run/run.csv" "$OUT/dev_skin$tag.run.csv"
+    [ -f "$run/kernels.csv" ] && cp "$run/kernels.csv" "$OUT/dev_skin$tag.kernels.csv"
     # loop_s: the logged wall seconds summed (the time-stepping loop); mechanics_s: the mechanics column summed;
     # start_s, end_s: from semlb sim's last line (process start to the first step, the last step to its exit);
     # wall_s: the process as this script timed it, from its launch to its exit
-    python3 - "$run/run.csv" "$s" "$machine" "$OUT/dev_skin$s.log" "$t0" "$t1" >> "$OUT/development_1gpu.csv" <<'EOF'
+    python3 - "$run/run.csv" "$s" "$machine" "$OUT/dev_skin$tag.log" "$t0" "$t1" "$v" >> "$OUT/development_1gpu.csv" <<'EOF'
 import csv, re, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 loop = sum(float(r["wall_s"]) for r in rows)
@@ -56,8 +62,9 @@ if not m:
     sys.exit(f"neighbour_list.sh: {sys.argv[4]}: the last line gives no start and end: {last}")
 wall = float(sys.argv[6]) - float(sys.argv[5])
 print(f"435661,{rows[-1]['cells']},{rows[-1]['elements']},{rows[-1]['step']},float,{loop:.3f},{mech:.3f},{sys.argv[3]},"
-      f"{sys.argv[2]},{float(m[1]):.3f},{float(m[2]):.3f},{wall:.3f}")
+      f"{sys.argv[2]},{float(m[1]):.3f},{float(m[2]):.3f},{wall:.3f},\"{sys.argv[7]}\"")
 EOF
     rm -rf "$run"
+  done
   done
 fi

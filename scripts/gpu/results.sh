@@ -27,7 +27,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OCL_ICD_FILENAM
 # The GPU variants of the workload library (scripts/gpu/workload_library.sh), one stage each.
 WORKLOADS="dev_v24.8_s1 dev_v24.8_s2 dev_v12.4_s1 dev_v6.2_s1 dev_v3.1_s1 dev_centre_v12.4_s1 epidermis_s1 epidermis_long_s2
 epidermis_long_s3 epidermis_half_s1 epidermis_half3k_s2"
-STAGES="single_device effects_cost accuracy_vs_time development peer_yalla measured_time $(for w in $WORKLOADS; do
+STAGES="single_device effects_cost accuracy_vs_time development force_step peer_yalla measured_time $(for w in $WORKLOADS; do
   printf 'workload:%s ' "$w"; done)controller_eval_engine"
 if [ "${1:-}" = list ]; then printf '%s\n' $STAGES; exit 0; fi
 want=${*:-$STAGES}
@@ -65,6 +65,7 @@ check_stage() {  # STAGE: what CHECK=1 verifies without a GPU
     single_device) sweep "$1" $GPU_ONLY;;
     effects_cost|accuracy_vs_time) sweep "$1";;
     development) [ -f "$here/scripts/gpu/neighbour_list.sh" ];;
+    force_step) [ -f "$here/scripts/gpu/force_step.sh" ];;
     peer_yalla) [ -f "$here/scripts/gpu/peer_yalla/run.sh" ] && [ -f "$here/analysis/peer_yalla.py" ];;
     measured_time) [ -f "$here/scripts/gpu/measured_all.sh" ] || echo "gpu-results: measured_time: no script yet (skipped)";;
     workload:*) grep -q "^  \"${1#workload:}|" "$here/scripts/gpu/workload_library.sh";;
@@ -125,13 +126,20 @@ run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run her
       sweep "$1" && provenance "$OUT/$1" "scripts/gpu/results.sh $1 (semlb sweep experiments/$1.yaml --profile paper)" kernels;;
     development)  # Day 0-5 at the paper's size on one GPU (scripts/gpu/neighbour_list.sh dev): a fresh CSV row
       rm -rf "$OUT/development.tmp"
-      bash "$here/scripts/gpu/neighbour_list.sh" "$S" "$OUT/development.tmp" dev "0 0.5 1 1.5 2" "1"
+      DEV_VARIANTS="--set backend.opencl-binned.newton=false;--set backend.opencl-binned.newton=true" \
+        bash "$here/scripts/gpu/neighbour_list.sh" "$S" "$OUT/development.tmp" dev "0 0.5 1 1.5 2" "1"
       rm -rf "$OUT/development"; mv "$OUT/development.tmp" "$OUT/development"
       provenance "$OUT/development" "scripts/gpu/results.sh development (scripts/gpu/neighbour_list.sh dev)" kernels;;
-    peer_yalla)
+    force_step)  # the full and the half neighbour list, float and double, two interleaved rounds (6.5e6 elements)
+      rm -rf "$OUT/force_step.tmp"
+      bash "$here/scripts/gpu/force_step.sh" "$S" "$OUT/force_step.tmp"
+      rm -rf "$OUT/force_step"; mv "$OUT/force_step.tmp" "$OUT/force_step"
+      provenance "$OUT/force_step" "scripts/gpu/results.sh force_step (scripts/gpu/force_step.sh)" kernels;;
+    peer_yalla)  # semlb with the full and the half neighbour list, each round, against ya||a
       [ -n "${YALLA:-}" ] || { echo "gpu-results: peer_yalla needs YALLA=DIR holding a ya||a clone as DIR/yalla"; return 77; }
       mkdir -p "$OUT/peer_yalla"
-      bash "$here/scripts/gpu/peer_yalla/run.sh" "$S" "$here/scenes/mechanics.yaml" > "$OUT/peer_yalla/peer_yalla.log" 2>&1
+      VARIANTS="--set backend.opencl-binned.newton=false;--set backend.opencl-binned.newton=true" \
+        bash "$here/scripts/gpu/peer_yalla/run.sh" "$S" "$here/scenes/mechanics.yaml" > "$OUT/peer_yalla/peer_yalla.log" 2>&1
       $PY "$here/analysis/peer_yalla.py" --machine "$device" "$OUT/peer_yalla/peer_yalla.log" > "$OUT/peer_yalla/peer_yalla.csv"
       provenance "$OUT/peer_yalla" "scripts/gpu/results.sh peer_yalla (scripts/gpu/peer_yalla/run.sh)" kernels;;
     measured_time)  # the measured end-to-end (docs/measured_time.md): runs under OUT/measured/runs, tables in OUT/measured

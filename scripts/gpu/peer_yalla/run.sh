@@ -7,6 +7,8 @@
 #   git clone https://github.com/germannp/yalla /tmp/peer/yalla
 #   YALLA=/tmp/peer bash scripts/gpu/peer_yalla/run.sh build/cli/semlb scenes/mechanics.yaml [CELLS...]
 #   (default cells: 11000 435661); analysis/peer_yalla.py turns its output into results/gpu/peer_yalla.csv.
+#   VARIANTS: ';'-separated extra flags of semlb's bench, each benched every round (default: one, the scene as it
+#   is), e.g. VARIANTS="--set backend.opencl-binned.newton=false;--set backend.opencl-binned.newton=true".
 set -u
 S=$1; SCENE=$2; shift 2; CELLS=${*:-11000 435661}
 here=$(cd "$(dirname "$0")" && pwd)
@@ -17,7 +19,12 @@ for c in $CELLS; do
       --platform NVIDIA --precision float --quiet >/dev/null 2>&1 || { echo "semlb sim failed at $c cells"; exit 1; }
   python3 "$here/to_bin.py" /tmp/peer_t$c/final.h5 /tmp/peer_t$c.bin >/dev/null || exit 1
 done
+IFS=';' read -ra variants <<< "${VARIANTS:-}"
+[ ${#variants[@]} -gt 0 ] || variants=("")
 for round in 1 2; do
-  "$S" bench engine --platform NVIDIA --backends opencl-binned --cells "${CELLS// /,}" --steps 200 --precision float
+  for v in "${variants[@]}"; do
+    # shellcheck disable=SC2086
+    "$S" bench engine --platform NVIDIA --backends opencl-binned --cells "${CELLS// /,}" --steps 200 --precision float $v
+  done
   for c in $CELLS; do /tmp/peer_yalla /tmp/peer_t$c.bin; done
 done
