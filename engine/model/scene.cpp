@@ -139,6 +139,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   s.log_every = output.integer("log_every", 100, 1, 1L << 40);
   s.checkpoint_every = output.integer("checkpoint_every", 0, 0, 1L << 40);
   s.record_workload = output.boolean("workload", false);
+  s.write_final = output.boolean("final", true);
   output.finish();
   read_backend(top.child("backend"), s.backend);
   s.tissue = std::make_shared<Section>(top.child("tissue"));

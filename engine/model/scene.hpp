@@ -70,6 +70,7 @@ struct Scene {
   double cell_stage_h() const { return dt * static_cast<double>(cell_update_every); }
   long snapshot_every = 0, log_every = 100, checkpoint_every = 0;  // 0 = never (log: every 100)
   bool record_workload = false;  // output.workload: DIR/workload.h5, the per-event workload (controllers/workload.hpp)
+  bool write_final = true;       // output.final: DIR/final.h5 and final.xmf at the end (false: the state stays put)
   BackendConfig backend;
   std::shared_ptr<Section> tissue;
   std::shared_ptr<Section> decomposition;                // read by Decomposition::from_scene (decomposed runs only)

@@ -266,17 +266,20 @@ RunSummary drive(Run& run, const Scene& scene, const RunConfig& config, long fir
     throw;
   }
   const double loop_seconds = seconds_since(t0);
-  const State& all = run.whole();
+  // output.final: false leaves the state on the device(s): no download, no gather, no file
+  const State& all = scene.write_final ? run.whole() : none;
+  const auto [cells, elements] = scene.write_final ? std::pair{all.cells(), all.elements()} : run.totals();
   run.agreed([&] {
     if (!root) return;
-    out->write("final.h5", all);
+    if (scene.write_final) out->write("final.h5", all);
     run.finish(*out, all);
-    status.update(all.step, all.cells(), all.elements(), seconds_since(t0), true);
+    status.update(run.step(), cells, elements, seconds_since(t0), true);
   });
   RunSummary sum;
-  sum.steps = all.step - first;
-  sum.cells = all.cells();
-  sum.elements = all.elements();
+  sum.steps = run.step() - first;
+  sum.cells = cells;
+  sum.elements = elements;
+  sum.wrote_final = scene.write_final;
   sum.device = run.device();
   sum.loop_seconds = loop_seconds;
   sum.start_seconds = started;

@@ -43,6 +43,7 @@ struct RunSummary {
   // and the seconds after the loop that wrote final.h5 and the closing files.
   double start_seconds = 0, closing_seconds = 0;
   std::vector<std::pair<std::string, double>> start_parts;
+  bool wrote_final = true;  // final.h5 written (output.final)
 };
 
 // DIR/rank_times.csv of a decomposed run: one row per rebalancing interval and rank. Columns, written and read

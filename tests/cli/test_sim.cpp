@@ -27,6 +27,38 @@ TEST(CliSim, WritesFinalStateSnapshotsXdmfRunCsvAndSceneCopy) {
     EXPECT_NE(h5.out.find(d), std::string::npos) << h5.out;
 }
 
+// output.final: false writes no final state (nor its index) and says so, on one rank and on two; run.csv's last row
+// still counts the cells and elements, as a run that writes it does.
+TEST(CliSim, OutputFinalFalseWritesNoFinalState) {
+  const auto dir = fresh_dir("cli_sim_no_final");
+  const std::string args = " sim --scene " + source("scenes/epidermis.yaml") + " --steps 40 --set tissue.cells=20 --quiet";
+  const auto with = run(semlb_bin() + args + " --out " + dir + "/with");
+  ASSERT_EQ(with.rc, 0) << with.out;
+  const std::string mpi = SEMLB_MPIEXEC " --oversubscribe -np 2 ";
+  for (const std::string& launcher : {semlb_bin(), mpi + semlb_bin()}) {
+    const std::string out = dir + (launcher == semlb_bin() ? "/one" : "/two");
+    const auto r = run("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + within(120) + launcher + args +
+                       " --set output.final=false --out " + out);
+    ASSERT_EQ(r.rc, 0) << r.out;
+    EXPECT_FALSE(fs::exists(out + "/final.h5")) << out;
+    EXPECT_FALSE(fs::exists(out + "/final.xmf")) << out;
+    EXPECT_NE(r.out.find("semlb sim: 40 steps, "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("; output.final: false"), std::string::npos) << r.out;
+    const auto last_row = [](const std::string& csv) {  // its cells and elements
+      const auto end = csv.rfind('\n', csv.size() - 2) + 1;
+      std::stringstream row(csv.substr(end));
+      std::string step, time, cells, elements;
+      std::getline(row, step, ',');
+      std::getline(row, time, ',');
+      std::getline(row, cells, ',');
+      std::getline(row, elements, ',');
+      return cells + "," + elements;
+    };
+    EXPECT_EQ(last_row(slurp(out + "/run.csv")), last_row(slurp(dir + "/with/run.csv"))) << out;
+  }
+  EXPECT_NE(with.out.find("/with/final.h5"), std::string::npos) << with.out;
+}
+
 // The end of a run, as LAMMPS ends one: the loop time, element-steps per second and a line per phase with its
 // min / avg / max over the ranks, its share of the loop and its imbalance; then the last line. --quiet keeps the last
 // line only. On 2 ranks the ghost exchange and migration get their lines and the ranks' spread shows.
