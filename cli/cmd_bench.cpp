@@ -16,7 +16,7 @@
 #include "controllers/gru.hpp"
 #include "surrogate/rollout.hpp"
 #ifdef SEMLB_WITH_TORCH
-#include "surrogate/train/trainer.hpp"
+#include "experiments/trainer_module.hpp"
 #endif
 
 namespace semlb::cli {
@@ -155,10 +155,11 @@ int bench_cells(const std::string& scene_file, const std::string& backends, cons
 
 #ifdef SEMLB_WITH_TORCH
 int bench_train(long steps, long threads) {
-  auto c = train::load_train_config(std::string(SEMLB_SOURCE_DIR) + "/surrogate/train/default.yaml",
-                                    {"threads=" + std::to_string(threads)});
-  train::time_training_steps(c, 1);  // warm-up: library start-up and first allocations are not timed
-  const auto m = train::time_training_steps(c, steps);
+  const auto& trainer = experiments::trainer();
+  auto c = trainer.load_train_config(std::string(SEMLB_SOURCE_DIR) + "/surrogate/train/default.yaml",
+                                     {"threads=" + std::to_string(threads)});
+  trainer.time_training_steps(c, 1);  // warm-up: library start-up and first allocations are not timed
+  const auto m = trainer.time_training_steps(c, steps);
   const double total = m.episodes + m.forward + m.backward + m.optimiser;
   std::printf("# semlb bench train: %ld steps of the default recipe (batch %ld x %ld events), %ld episode thread(s)\n",
               steps, c.batch, c.events, threads);

@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "commands.hpp"
-#include "surrogate/train/trainer.hpp"
+#include "experiments/trainer_module.hpp"
 
 namespace semlb::cli {
 
@@ -29,14 +29,15 @@ Action add_train(CLI::App& app) {
     if (!*sub) return -1;  // not the chosen subcommand
     auto sets = o->sets;
     if (o->steps >= 0) sets.push_back("steps=" + std::to_string(o->steps));
-    const auto config = train::load_train_config(o->config, sets);
+    const auto& trainer = experiments::trainer();
+    const auto config = trainer.load_train_config(o->config, sets);
     train::TrainOptions opts;
     opts.out = o->out;
     opts.checkpoint = o->checkpoint;
     opts.log = o->log;
     opts.git_revision = SEMLB_GIT_REVISION;
     opts.progress = !o->quiet;
-    const auto sum = train::run_training(config, opts);
+    const auto sum = trainer.run_training(config, opts);
     std::fprintf(stderr,
                  "train: wrote %s after %ld steps in %.1f s; validation imbalance %.3f%% (reactive %.3f%%), "
                  "migration %.1f (reactive %.1f); parity error %.2e\n",

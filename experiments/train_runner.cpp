@@ -9,7 +9,7 @@
 #include "common/errors.hpp"
 #include "common/text_io.hpp"
 #include "runner.hpp"
-#include "surrogate/train/trainer.hpp"
+#include "trainer_module.hpp"
 
 namespace semlb::experiments {
 namespace {
@@ -40,7 +40,7 @@ class TrainRunner final : public Runner {
     static std::once_flag swept;  // the folders of sweeps that died by SIGKILL, once per process
     std::call_once(swept, [&] { remove_stale_run_folders(tmp.string(), "semlb_train_runner_"); });
     const auto dir = tmp / ("semlb_train_runner_" + std::to_string(::getpid()) + "_" +
-                            std::to_string(std::hash<std::string>{}(train::to_yaml(c))));
+                            std::to_string(std::hash<std::string>{}(trainer().to_yaml(c))));
     std::filesystem::create_directories(dir);
     register_cleanup_path(dir.string());  // a signal's cleanup removes it (common/cleanup.hpp)
     struct Remove {                       // and so does every way out of this function
@@ -55,7 +55,7 @@ class TrainRunner final : public Runner {
     o.out = (dir / "weights.h5").string();
     o.log = (dir / "log.csv").string();
     o.progress = false;
-    train::run_training(c, o);
+    trainer().run_training(c, o);
     std::vector<std::vector<std::string>> rows;
     std::ifstream in(o.log);
     std::string line;
@@ -75,7 +75,7 @@ class TrainRunner final : public Runner {
         sets.push_back(k + "=" + s.value);
     }
     try {
-      return train::load_train_config(file, sets);
+      return trainer().load_train_config(file, sets);
     } catch (const InputError& e) {
       throw InputError(manifest + ": " + e.what());
     }

@@ -255,3 +255,9 @@ TrainSummary run_training(const TrainConfig& c, const TrainOptions& o) {
 }
 
 }  // namespace semlb::train
+
+extern "C" const semlb::train::Entry* semlb_train_entry() {
+  static const semlb::train::Entry entry{&semlb::train::load_train_config, &semlb::train::to_yaml,
+                                         &semlb::train::run_training, &semlb::train::time_training_steps};
+  return &entry;
+}

@@ -31,4 +31,17 @@ struct StepTiming {
 };
 StepTiming time_training_steps(const TrainConfig& c, long steps);
 
+// The trainer's functions as one table, for the callers that load this library when they first train
+// (experiments/trainer_module.hpp): a process that does not train then never loads libtorch, whose start-up (dynamic
+// linking and static initialisers) took 0.6 s of every semlb process on the development machine.
+struct Entry {
+  TrainConfig (*load_train_config)(const std::string& path, const std::vector<std::string>& overrides);
+  std::string (*to_yaml)(const TrainConfig& c);
+  TrainSummary (*run_training)(const TrainConfig& c, const TrainOptions& o);
+  StepTiming (*time_training_steps)(const TrainConfig& c, long steps);
+};
+
 }  // namespace semlb::train
+
+// The table, under a C name for dlsym (the types and exceptions are C++: one build, one runtime).
+extern "C" const semlb::train::Entry* semlb_train_entry();
