@@ -86,8 +86,8 @@ void breakdown(const engine::RunSummary& sum, double process) {
   for (size_t k = 0; k < sum.start_parts.size(); ++k)
     line("%s%s %.3g s", k == 0 ? " (" : ", ", sum.start_parts[k].first.c_str(), sum.start_parts[k].second);
   line("%s; end %.3g s (%s the closing files %.3g s); process %.4g s\n", sum.start_parts.empty() ? "" : ")",
-       process - sum.start_seconds - sum.loop_seconds, sum.wrote_final ? "final.h5 and" : "no final.h5:",
-       sum.closing_seconds, process);
+       process - sum.start_seconds - sum.loop_seconds,
+       sum.wrote_final ? "final.h5 and" : "no final.h5:", sum.closing_seconds, process);
   if (sum.list_skin > 0)
     line("Neighbour list: skin %g um, %ld builds over the ranks (in the force phases)\n", sum.list_skin,
          sum.list_builds);
@@ -102,8 +102,8 @@ void report(const engine::RunSummary& sum, const std::string& out, bool quiet) {
   std::snprintf(times, sizeof times, "%.4g s (start %.3g s, loop %.4g s, end %.3g s)", process, sum.start_seconds,
                 sum.loop_seconds, process - sum.start_seconds - sum.loop_seconds);
   std::cerr << "semlb sim: " << sum.steps << " steps, " << sum.cells << " cells, " << sum.elements << " elements in "
-            << times << " on " << sum.device << (sum.wrote_final ? "; wrote " + out + "/final.h5" : "; output.final: false")
-            << "\n";
+            << times << " on " << sum.device
+            << (sum.wrote_final ? "; wrote " + out + "/final.h5" : "; output.final: false") << "\n";
 }
 }  // namespace
 

@@ -35,7 +35,7 @@ class Id {
 class File {
  public:
   static File open_read(const std::string& path);  // throws InputError naming the path
-  static File create(const std::string& path);  // truncates
+  static File create(const std::string& path);     // truncates
   // Writes PATH whole or not at all: FILL(file) writes into PATH.tmp (HDF5's default driver: each dataset goes from
   // the caller's buffer to the file, no copy of the file in memory), which is then closed (checked) and renamed over
   // PATH. Any error (a full disk, a throw in FILL) removes PATH.tmp, leaves PATH as it was and is rethrown; the

@@ -154,10 +154,9 @@ static inline void nl_pair(int i, real4 me, int info, int j, __global const real
    >= cutoff + skin: every partner within the cutoff now was within cutoff + skin then, hence in those bins); with
    SEMLB_NEWTON its pairs with the slots after it alone, as the half list. */
 static inline void nl_stencil(int s, int i, real4 me, __global const real4* sorted_pos, __global const real4* ref,
-                              __global const int* sorted_index, __global const ulong* keys,
-                              __global const int* starts, real4 lo, real4 size, int4 dims,
-                              __constant const SEMLB_REAL* table, SEMLB_REAL cutoff2, long* acc, __global long* force,
-                              __global long* bound) {
+                              __global const int* sorted_index, __global const ulong* keys, __global const int* starts,
+                              real4 lo, real4 size, int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff2,
+                              long* acc, __global long* force, __global long* bound) {
   int4 b = bin3(ref[s], lo, size, dims);
 #ifdef SEMLB_NEWTON
   int info = INFO(me.w);

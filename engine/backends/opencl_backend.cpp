@@ -23,8 +23,7 @@ namespace opencl_impl {
 template <class Real>
 OpenClBackend<Real>::OpenClBackend(const BackendConfig& c, bool binned)
     : binned_(binned),
-      list_(binned ? c.skin : 0.0, binned && c.newton,
-            build_options().find("SEMLB_NL_SPLIT") != std::string::npos) {
+      list_(binned ? c.skin : 0.0, binned && c.newton, build_options().find("SEMLB_NL_SPLIT") != std::string::npos) {
   dev_ = cl::choose_device(c.platform, c.device, c.local_rank);
   cl_device_fp_config fp64 = 0;
   clGetDeviceInfo(dev_.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, nullptr);

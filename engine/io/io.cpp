@@ -90,7 +90,8 @@ void write_state(const std::string& path, const State& state, const std::map<std
     f.write("/elements/position", {n, 3}, s.position);
     // the viewers' per-element copies (write_xdmf): the cell id as int64, type, slot and vertex as int32
     if (n > static_cast<hsize_t>(INT32_MAX))
-      throw std::runtime_error(path + ": " + std::to_string(n) + " elements: more than /elements/vertex (int32) numbers");
+      throw std::runtime_error(path + ": " + std::to_string(n) +
+                               " elements: more than /elements/vertex (int32) numbers");
     std::vector<int64_t> cell(n);
     std::vector<int32_t> type(n), slot(n), vertex(n);
     for (long k = 0; k < s.cells(); ++k)

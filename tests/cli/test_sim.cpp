@@ -31,7 +31,8 @@ TEST(CliSim, WritesFinalStateSnapshotsXdmfRunCsvAndSceneCopy) {
 // still counts the cells and elements, as a run that writes it does.
 TEST(CliSim, OutputFinalFalseWritesNoFinalState) {
   const auto dir = fresh_dir("cli_sim_no_final");
-  const std::string args = " sim --scene " + source("scenes/epidermis.yaml") + " --steps 40 --set tissue.cells=20 --quiet";
+  const std::string args =
+      " sim --scene " + source("scenes/epidermis.yaml") + " --steps 40 --set tissue.cells=20 --quiet";
   const auto with = run(semlb_bin() + args + " --out " + dir + "/with");
   ASSERT_EQ(with.rc, 0) << with.out;
   const std::string mpi = SEMLB_MPIEXEC " --oversubscribe -np 2 ";

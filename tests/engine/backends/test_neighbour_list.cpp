@@ -171,10 +171,10 @@ effects:
     long cells0 = 0, builds = 0;
     for (const std::string v : {"opencl-allpairs", "opencl-binned", "opencl-binned skin", "opencl-binned newton"}) {
       const bool list = v != "opencl-allpairs" && v != "opencl-binned";
-      auto scene =
-          scene_from(yaml, {"backend.name=" + v.substr(0, v.find(' ')), std::string("backend.precision=") + precision,
-                            "backend.opencl-binned.skin=" + std::string(list ? "0.5" : "0"),
-                            "backend.opencl-binned.newton=" + std::string(v == "opencl-binned newton" ? "true" : "false")});
+      auto scene = scene_from(
+          yaml, {"backend.name=" + v.substr(0, v.find(' ')), std::string("backend.precision=") + precision,
+                 "backend.opencl-binned.skin=" + std::string(list ? "0.5" : "0"),
+                 "backend.opencl-binned.newton=" + std::string(v == "opencl-binned newton" ? "true" : "false")});
       Simulation sim(scene, make_tissue(scene));
       cells0 = sim.host_state().cells();
       sim.advance(60);

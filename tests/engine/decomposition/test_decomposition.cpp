@@ -137,14 +137,15 @@ TEST(Decomposition, OpenClRanksMatchOneOpenClDevice) {
   // 2 ranks overlapped and blocking; 4 ranks: the middle ones select both bands in one pass
   // (np*_newton: the half list, each pair once, its force added to both elements atomically)
   const std::string newton = " --set backend.opencl-binned.newton=true";
-  for (const std::string variant : {"np2", "np2_blocking", "np4", "np2_skin", "np4_skin", "np1_newton", "np2_newton",
-                                    "np4_newton"}) {
+  for (const std::string variant :
+       {"np2", "np2_blocking", "np4", "np2_skin", "np4_skin", "np1_newton", "np2_newton", "np4_newton"}) {
     const std::string extra = variant == "np2_blocking" ? " --set decomposition.overlap=false"
                               : variant == "np2_skin"   ? " --set backend.opencl-binned.skin=0.3"  // rebuilt often
                               : variant == "np4_skin"   ? " --set backend.opencl-binned.skin=1"
                               : variant == "np2_newton" ? " --set backend.opencl-binned.skin=0.3" + newton
-                              : variant.find("newton") != std::string::npos ? " --set backend.opencl-binned.skin=1" + newton
-                                                        : "";
+                              : variant.find("newton") != std::string::npos
+                                  ? " --set backend.opencl-binned.skin=1" + newton
+                                  : "";
     const int ranks = variant[2] - '0';
     r = run((ranks == 1 ? semlb_bin() + " sim" : mpirun_sim(ranks)) + args + extra + " --out " + dir + "/" + variant);
     ASSERT_EQ(r.rc, 0) << r.out;
