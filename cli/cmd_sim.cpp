@@ -70,6 +70,12 @@ void loop_table(const engine::RunSummary& sum, Line& line, std::string& text) {
   if (!sum.phases_note.empty()) text += "(" + sum.phases_note + ")\n";
 }
 
+// The seconds from the loop's end to `process` (the process's seconds so far): 0 rather than the few ms below it that
+// the start's clock-tick resolution (/proc, 10 ms) can give.
+double end_seconds(const engine::RunSummary& sum, double process) {
+  return std::max(0.0, process - sum.start_seconds - sum.loop_seconds);
+}
+
 // The end-of-run breakdown, as LAMMPS ends a run: the loop time, element-steps per second, and per phase its seconds
 // (min / avg / max over the ranks), its share of the loop (of the average) and its imbalance (max - min) / avg; then
 // what the user waited for outside the loop: the start (process start to the first step) and the end, of `process`
@@ -86,11 +92,10 @@ void breakdown(const engine::RunSummary& sum, double process) {
   for (size_t k = 0; k < sum.start_parts.size(); ++k)
     line("%s%s %.3g s", k == 0 ? " (" : ", ", sum.start_parts[k].first.c_str(), sum.start_parts[k].second);
   line("%s; end %.3g s (%s the closing files %.3g s); process %.4g s\n", sum.start_parts.empty() ? "" : ")",
-       process - sum.start_seconds - sum.loop_seconds,
-       sum.wrote_final ? "final.h5 and" : "no final.h5:", sum.closing_seconds, process);
+       end_seconds(sum, process), sum.wrote_final ? "final.h5 and" : "no final.h5:", sum.closing_seconds, process);
   if (sum.list_skin > 0)
-    line("Neighbour list: skin %g um, %ld builds over the ranks (in the force phases)\n", sum.list_skin,
-         sum.list_builds);
+    line("Neighbour list: skin %g um%s, %ld builds over the ranks (in the force phases)\n", sum.list_skin,
+         sum.list_newton ? " (half: newton)" : "", sum.list_builds);
   std::fwrite(text.data(), 1, text.size(), stderr);
 }
 
@@ -100,7 +105,7 @@ void report(const engine::RunSummary& sum, const std::string& out, bool quiet) {
   if (!quiet) breakdown(sum, process);
   char times[160];
   std::snprintf(times, sizeof times, "%.4g s (start %.3g s, loop %.4g s, end %.3g s)", process, sum.start_seconds,
-                sum.loop_seconds, process - sum.start_seconds - sum.loop_seconds);
+                sum.loop_seconds, end_seconds(sum, process));
   std::cerr << "semlb sim: " << sum.steps << " steps, " << sum.cells << " cells, " << sum.elements << " elements in "
             << times << " on " << sum.device
             << (sum.wrote_final ? "; wrote " + out + "/final.h5" : "; output.final: false") << "\n";

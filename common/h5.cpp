@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "cleanup.hpp"
 #include "errors.hpp"
 
 namespace semlb::h5 {
@@ -63,32 +64,33 @@ File File::create(const std::string& path) {
 
 void File::write_atomically(const std::string& path, const std::function<void(File&)>& fill) {
   const std::string tmp = path + ".tmp";
+  register_cleanup_path(tmp);  // a signal during the write removes it (common/cleanup.hpp)
+  struct Cleanup {             // and so does every way out
+    std::string tmp;
+    ~Cleanup() {
+      std::error_code ignored;
+      std::filesystem::remove(tmp, ignored);
+      unregister_cleanup_path(tmp);
+    }
+  } cleanup{tmp};
   errno = 0;
   try {
     const hid_t id = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    if (id < 0) throw std::runtime_error(path + ": cannot create " + tmp);
+    if (id < 0) throw std::runtime_error(path + ": cannot create " + tmp + ": " + std::strerror(errno));
     File f(Id(id, H5Fclose, path), path);
     fill(f);
     check(H5Fclose(f.id_.release()), path, "closing the file (its last writes)");
+  } catch (const InputError&) {
+    throw;  // the caller's refusal of its data, as it was
   } catch (const std::runtime_error& e) {
     const int err = errno;  // HDF5 does not say why a write failed; the system call's cause, when it is one of these
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
     if (err == ENOSPC || err == EIO || err == EDQUOT || err == EFBIG || err == EROFS)
       throw std::runtime_error(std::string(e.what()) + ": " + std::strerror(err));
-    throw;
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
     throw;
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw std::runtime_error(path + ": cannot rename " + tmp + " to it: " + ec.message());
-  }
+  if (ec) throw std::runtime_error(path + ": cannot rename " + tmp + " to it: " + ec.message());
 }
 
 std::vector<std::string> File::list(const std::string& name) const {

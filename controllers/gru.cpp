@@ -118,9 +118,7 @@ GruWeights load_gru_weights(const std::string& path) {
 }
 
 void save_gru_weights(const std::string& path, const GruWeights& w, const std::function<void(h5::File&)>& extra) {
-  const std::string tmp = path + ".tmp";
-  {
-    auto f = h5::File::create(tmp);
+  h5::File::write_atomically(path, [&](h5::File& f) {
     f.write_attr("format", std::string("semlb-gru"));
     f.write_attr("version", kGruFormatVersion);
     f.write_attr("feature_set", std::string(feature_set_name(w.features)));
@@ -141,8 +139,7 @@ void save_gru_weights(const std::string& path, const GruWeights& w, const std::f
     put("/head/weight", w.head_w.transpose(), false);
     put("/head/bias", Eigen::VectorXd::Constant(1, w.head_b), true);
     if (extra) extra(f);
-  }
-  std::filesystem::rename(tmp, path);
+  });
 }
 
 double gru_parity_error(const std::string& path) {

@@ -160,15 +160,12 @@ RepartitionParams load_repartition_weights(const std::string& path) {
 
 void save_repartition_weights(const std::string& path, const RepartitionParams& p,
                               const std::map<std::string, std::string>& meta) {
-  const std::string tmp = path + ".tmp";
-  {
-    auto f = h5::File::create(tmp);
+  h5::File::write_atomically(path, [&](h5::File& f) {
     f.write_attr("format", std::string("semlb-learned-repartition"));
     f.write_attr("version", kRepartitionFormatVersion);
     for (const auto& d : repartition_params()) f.write_attr(d.name, p.*d.field);
     for (const auto& [k, v] : meta) f.write_attr(k, v);
-  }
-  std::filesystem::rename(tmp, path);
+  });
 }
 
 std::string default_repartition_weights_path() {

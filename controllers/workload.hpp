@@ -62,7 +62,7 @@ bool has_measured_cost(const EngineWorkload& w);
 // Checks every invariant read_workload checks (shapes, integers, ranges, increasing steps); throws InputError
 // "FILE: field 'NAME': reason" (FILE = `file`).
 void validate_workload(const EngineWorkload& w, const std::string& file);
-// Writes `w` to `path` atomically (built in memory, then write_file_atomically), deflate-compressed; validates first.
+// Writes `w` to `path` atomically (h5::File::write_atomically), deflate-compressed; validates first.
 // Version 4 when the events carry list_triggers (/events/list_builds, /events/list_triggers), 3 when they carry
 // part_seconds (/events/part_seconds, /events/cell_stage_changes), version 2 (with /events/slice_seconds and the
 // cost_regions attribute) when they carry measured seconds only, else 1.

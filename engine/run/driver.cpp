@@ -99,6 +99,8 @@ class RunOutputs {
                           "# semlb " + config.git_revision + ": " + config.command_line + "\n" + scene.text);
     rows_ = earlier_rows(dir_ + "/run.csv", first);
     snapshots_ = earlier_snapshots(dir_, first);
+    if (!scene.write_final)  // output.final: false: no final state in DIR, not even an earlier run's
+      for (const char* f : {"/final.h5", "/final.xmf"}) fs::remove(dir_ + f);
   }
   void log(const std::string& row) {
     rows_.push_back(row);
@@ -354,6 +356,7 @@ class OneDevice final : public Run {
     const ListStats list = sim_.backend().list_stats();
     sum.list_builds = list.builds;
     sum.list_skin = list.skin;
+    sum.list_newton = list.newton;
   }
 
  private:
@@ -459,6 +462,7 @@ class Decomposed final : public Run {
     sum.ranks = mpi_.size();
     sum.list_builds = static_cast<long>(builds[0]);
     sum.list_skin = list.skin;
+    sum.list_newton = list.newton;
   }
 
  private:

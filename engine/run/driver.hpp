@@ -37,6 +37,7 @@ struct RunSummary {
   std::string phases_note;  // what the phases leave out, printed under them (empty: nothing)
   long list_builds = 0;
   double list_skin = 0;
+  bool list_newton = false;  // the half list (backend.opencl-binned.newton)
   // What the user waits for outside the loop: seconds from the process's start to the loop's (common/process.hpp),
   // its known parts ("load", the process up to main: dynamic libraries and static setup; "tissue", making or reading
   // the initial state; "device", the backend's setup with its program build and upload; rank 0's when decomposed),

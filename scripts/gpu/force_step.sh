@@ -10,14 +10,14 @@
 set -uo pipefail
 S=$1; OUT=$2
 here=$(cd "$(dirname "$0")/../.." && pwd)
-export OCL_ICD_FILENAMES=${OCL_ICD_FILENAMES:-libnvidia-opencl.so.1}
+[ "${PLATFORM:-NVIDIA}" != NVIDIA ] || export OCL_ICD_FILENAMES=${OCL_ICD_FILENAMES:-libnvidia-opencl.so.1}
 mkdir -p "$OUT"
 machine=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1)
 bench() {  # PRECISION NEWTON [more flags]
   local p=$1 n=$2; shift 2
   # shellcheck disable=SC2086
   "$S" bench engine --scene "$here/scenes/mechanics.yaml" --platform "${PLATFORM:-NVIDIA}" --backends opencl-binned \
-    --cells "${CELLS:-435661}" --steps 200 --precision "$p" --set backend.skin=0.5 \
+    --cells "${CELLS:-435661}" --steps 200 --warmup 20 --precision "$p" --set backend.skin=0.5 \
     --set backend.opencl-binned.newton="$n" ${SETS:-} "$@"
 }
 echo "precision,newton,round,elements,ms_per_step,machine" > "$OUT/force_step.csv"

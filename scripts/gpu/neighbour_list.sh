@@ -44,7 +44,9 @@ if [ "$what" = dev ] || [ "$what" = all ]; then
     t0=$(date +%s.%N)
     SEMLB_OPENCL_PROFILE=$prof "$S" sim --scene "$here/scenes/epidermis_development.yaml" --out "$run" --steps 2400 --backend opencl-binned \
       --platform NVIDIA --precision float --quiet --set tissue.cells=435661 --set effects.growth.front.speed=24.8 \
-      --set output.snapshot_every=0 --set output.checkpoint_every=0 --set backend.skin="$s" $v > "$OUT/dev_skin$tag.log" 2>&1
+      --set output.snapshot_every=0 --set output.checkpoint_every=0 --set backend.skin="$s" $v > "$OUT/dev_skin$tag.log" 2>&1 ||
+      { echo "neighbour_list.sh: the development run at skin $s ${v:+($v) }failed: $(tail -1 "$OUT/dev_skin$tag.log")" >&2
+        rm -rf "$run"; continue; }
     t1=$(date +%s.%N)
     cp "$run/run.csv" "$OUT/dev_skin$tag.run.csv"
     [ -f "$run/kernels.csv" ] && cp "$run/kernels.csv" "$OUT/dev_skin$tag.kernels.csv"

@@ -27,37 +27,44 @@ TEST(CliSim, WritesFinalStateSnapshotsXdmfRunCsvAndSceneCopy) {
     EXPECT_NE(h5.out.find(d), std::string::npos) << h5.out;
 }
 
-// output.final: false writes no final state (nor its index) and says so, on one rank and on two; run.csv's last row
-// still counts the cells and elements, as a run that writes it does.
+// output.final: false writes no final state (nor its index), removes an earlier run's from DIR, and says so, on one
+// rank and on two; its last line (the ranks' totals) and run.csv's last row count the cells and elements that a run
+// writing final.h5 counts.
 TEST(CliSim, OutputFinalFalseWritesNoFinalState) {
   const auto dir = fresh_dir("cli_sim_no_final");
   const std::string args =
       " sim --scene " + source("scenes/epidermis.yaml") + " --steps 40 --set tissue.cells=20 --quiet";
   const auto with = run(semlb_bin() + args + " --out " + dir + "/with");
   ASSERT_EQ(with.rc, 0) << with.out;
+  EXPECT_NE(with.out.find("/with/final.h5"), std::string::npos) << with.out;
+  const auto counts = [](const std::string& out) {  // "semlb sim: 40 steps, C cells, E elements"
+    const auto at = out.find("semlb sim: 40 steps, ");
+    return at == std::string::npos ? std::string("none") : out.substr(at, out.find(" in ", at) - at);
+  };
+  const auto last_row = [](const std::string& csv) {  // its cells and elements
+    std::stringstream row(csv.substr(csv.rfind('\n', csv.size() - 2) + 1));
+    std::string step, time, cells, elements;
+    std::getline(row, step, ',');
+    std::getline(row, time, ',');
+    std::getline(row, cells, ',');
+    std::getline(row, elements, ',');
+    return cells + "," + elements;
+  };
   const std::string mpi = SEMLB_MPIEXEC " --oversubscribe -np 2 ";
   for (const std::string& launcher : {semlb_bin(), mpi + semlb_bin()}) {
     const std::string out = dir + (launcher == semlb_bin() ? "/one" : "/two");
+    const std::string earlier = " sim --scene " + source("scenes/epidermis.yaml") + " --steps 5 --set tissue.cells=20";
+    ASSERT_EQ(run(semlb_bin() + earlier + " --quiet --out " + out).rc, 0);  // an earlier run's final.h5 in DIR
+    ASSERT_TRUE(fs::exists(out + "/final.h5"));
     const auto r = run("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + within(120) + launcher + args +
                        " --set output.final=false --out " + out);
     ASSERT_EQ(r.rc, 0) << r.out;
     EXPECT_FALSE(fs::exists(out + "/final.h5")) << out;
     EXPECT_FALSE(fs::exists(out + "/final.xmf")) << out;
-    EXPECT_NE(r.out.find("semlb sim: 40 steps, "), std::string::npos) << r.out;
+    EXPECT_EQ(counts(r.out), counts(with.out)) << r.out;
     EXPECT_NE(r.out.find("; output.final: false"), std::string::npos) << r.out;
-    const auto last_row = [](const std::string& csv) {  // its cells and elements
-      const auto end = csv.rfind('\n', csv.size() - 2) + 1;
-      std::stringstream row(csv.substr(end));
-      std::string step, time, cells, elements;
-      std::getline(row, step, ',');
-      std::getline(row, time, ',');
-      std::getline(row, cells, ',');
-      std::getline(row, elements, ',');
-      return cells + "," + elements;
-    };
     EXPECT_EQ(last_row(slurp(out + "/run.csv")), last_row(slurp(dir + "/with/run.csv"))) << out;
   }
-  EXPECT_NE(with.out.find("/with/final.h5"), std::string::npos) << with.out;
 }
 
 // The end of a run, as LAMMPS ends one: the loop time, element-steps per second and a line per phase with its
@@ -179,6 +186,22 @@ TEST(CliSim, NumericalFailureExitsOneNamingStepElementQuantityAndKeepsTheState) 
   EXPECT_NE(r.out.find("displacement exceeds time.max_displacement"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(dir + "/out/failure.h5"));
   EXPECT_FALSE(fs::exists(dir + "/out/final.h5"));
+}
+
+// With a neighbour list the breakdown gives its skin, its builds and whether it is the half list (newton).
+TEST(CliSim, TheBreakdownNamesTheNeighbourListAndItsHalf) {
+  const auto dir = fresh_dir("cli_sim_list");
+  const std::string args = " sim --scene " + source("scenes/mechanics.yaml") +
+                           " --steps 20 --set tissue.cells=20 --backend opencl-binned --set backend.skin=0.5";
+  const auto full = run(semlb_bin() + args + " --out " + dir + "/full");
+  if (full.rc != 0 && full.out.find("OpenCL") != std::string::npos) GTEST_SKIP() << "no OpenCL device: " << full.out;
+  ASSERT_EQ(full.rc, 0) << full.out;
+  EXPECT_TRUE(
+      std::regex_search(full.out, std::regex(R"(\nNeighbour list: skin 0\.5 um, [0-9]+ builds over the ranks)")))
+      << full.out;
+  const auto half = run(semlb_bin() + args + " --set backend.newton=true --out " + dir + "/half");
+  ASSERT_EQ(half.rc, 0) << half.out;
+  EXPECT_NE(half.out.find("\nNeighbour list: skin 0.5 um (half: newton), "), std::string::npos) << half.out;
 }
 
 TEST(CliSim, BenchEnginePrintsElementStepsPerSecond) {

@@ -36,6 +36,7 @@ TEST(CliSimSafety, FullDiskStopsWithOneLineAndLeavesNoPartialFile) {
   EXPECT_EQ(r.rc, 1) << r.out;
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
   EXPECT_NE(r.out.find(mnt + "/o/"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("No space left on device"), std::string::npos) << r.out;  // the cause, not only the file
   for (const auto& e : fs::recursive_directory_iterator(mnt + "/o"))
     if (e.is_regular_file()) {
       EXPECT_EQ(e.path().extension(), e.path().extension() == ".tmp" ? "" : e.path().extension().string()) << e.path();
