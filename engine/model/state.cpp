@@ -64,13 +64,24 @@ State State::canonical() const {
   State out;
   out.step = step;
   out.time = time;
-  for (long c : order) {
-    out.cell_id.push_back(cell_id[c]);
-    out.cell_type.push_back(cell_type[c]);
-    out.cell_count.push_back(cell_count[c]);
-    out.position.insert(out.position.end(), position.begin() + 3 * cell_first[c],
-                        position.begin() + 3 * (cell_first[c] + cell_count[c]));
-    for (const auto& [name, f] : cell_fields) out.cell_fields[name].push_back(f[c]);
+  const size_t n = order.size();
+  out.cell_id.resize(n);
+  out.cell_type.resize(n);
+  out.cell_count.resize(n);
+  out.position.resize(position.size());
+  for (size_t k = 0, at = 0; k < n; ++k) {  // each array filled once in place: no growth, no lookup per cell
+    const long c = order[k];
+    out.cell_id[k] = cell_id[c];
+    out.cell_type[k] = cell_type[c];
+    out.cell_count[k] = cell_count[c];
+    const size_t len = 3 * static_cast<size_t>(cell_count[c]);
+    std::copy_n(position.begin() + 3 * cell_first[c], len, out.position.begin() + static_cast<long>(at));
+    at += len;
+  }
+  for (const auto& [name, f] : cell_fields) {
+    auto& to = out.cell_fields[name];
+    to.resize(n);
+    for (size_t k = 0; k < n; ++k) to[k] = f[order[k]];
   }
   out.reindex();
   return out;
