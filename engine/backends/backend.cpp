@@ -1,6 +1,8 @@
 // The backend registry and the host versions of the backend operations on cells (W_s, migration, removal, fates).
 #include "backend.hpp"
 
+#include <numeric>
+
 #include "common/errors.hpp"
 
 namespace semlb::engine {
@@ -54,16 +56,15 @@ long HostCellOps::remove_cells(State& host, const RemovalCall& r) {
   const RemovalEvaluator removes = evaluator_of(r.removes, "removal rule", r.rule);
   const std::vector<double>& params = r.params;
   download(host);
-  State kept = empty_like(host);
-  long removed = 0;
+  std::vector<long> spared;
   for (long c = 0; c < host.cells(); ++c) {
     const auto ctr = centroid(host, c);
-    if (removes(ctr[0], ctr[1], ctr[2], host.cell_type[c], host.cell_count[c], params.data()))
-      ++removed;
-    else
-      copy_cell(host, c, kept);
+    if (!removes(ctr[0], ctr[1], ctr[2], host.cell_type[c], host.cell_count[c], params.data())) spared.push_back(c);
   }
+  const long removed = host.cells() - static_cast<long>(spared.size());
   if (removed == 0) return 0;  // the backend holds exactly these cells
+  State kept = empty_like(host);
+  copy_cells(host, spared, kept);
   kept.reindex();
   host = std::move(kept);
   upload(host);
@@ -86,7 +87,9 @@ void HostCellOps::cell_fate(State& host, const FateCall& r, int field, double el
 
 void HostCellOps::append_cells(State& host, const State& arrivals) {
   download(host);
-  for (long c = 0; c < arrivals.cells(); ++c) copy_cell(arrivals, c, host);
+  std::vector<long> all(static_cast<size_t>(arrivals.cells()));
+  std::iota(all.begin(), all.end(), 0L);
+  copy_cells(arrivals, all, host);
   host.reindex();
   upload(host);
 }

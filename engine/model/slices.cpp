@@ -56,19 +56,24 @@ int owner_of(int slice, const std::vector<int>& boundaries) {
 
 void split_by_owner(const State& s, const SliceMap& map, const std::vector<int>& boundaries, int rank, State& stay,
                     State* leave, std::vector<int>* owner) {
-  stay = empty_like(s);
-  if (leave) *leave = empty_like(s);
+  std::vector<long> stays, leaves;
   for (long c = 0; c < s.cells(); ++c) {
     const int o = owner_of(map.slice_of(centroid(s, c)[0]), boundaries);
     if (o == rank) {
-      copy_cell(s, c, stay);
+      stays.push_back(c);
     } else if (leave) {
-      copy_cell(s, c, *leave);
+      leaves.push_back(c);
       owner->push_back(o);
     }
   }
+  stay = empty_like(s);
+  copy_cells(s, stays, stay);
   stay.reindex();
-  if (leave) leave->reindex();
+  if (leave) {
+    *leave = empty_like(s);
+    copy_cells(s, leaves, *leave);
+    leave->reindex();
+  }
 }
 
 Grid work_grid(const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cutoff) {

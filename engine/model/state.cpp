@@ -106,16 +106,29 @@ State empty_like(const State& s) {
   return out;
 }
 
-void copy_cell(const State& from, long c, State& to) {
-  to.cell_id.push_back(from.cell_id[c]);
-  to.cell_type.push_back(from.cell_type[c]);
-  to.cell_count.push_back(from.cell_count[c]);
+void copy_cells(const State& from, const std::vector<long>& cells, State& to) {
+  const bool many =
+      cells.size() > 1;  // one cell at a time: push_back's own growth (a reserve each would copy each time)
+  if (many) {
+    size_t elements = 0;
+    for (long c : cells) elements += static_cast<size_t>(from.cell_count[c]);
+    to.cell_id.reserve(to.cell_id.size() + cells.size());
+    to.cell_type.reserve(to.cell_type.size() + cells.size());
+    to.cell_count.reserve(to.cell_count.size() + cells.size());
+    to.position.reserve(to.position.size() + 3 * elements);
+  }
   for (auto& [name, f] : to.cell_fields) {
     const auto source = from.cell_fields.find(name);
-    f.push_back(source == from.cell_fields.end() ? 0.0 : source->second[c]);
+    if (many) f.reserve(f.size() + cells.size());
+    for (long c : cells) f.push_back(source == from.cell_fields.end() ? 0.0 : source->second[c]);
   }
-  to.position.insert(to.position.end(), from.position.begin() + 3 * from.cell_first[c],
-                     from.position.begin() + 3 * (from.cell_first[c] + from.cell_count[c]));
+  for (long c : cells) {
+    to.cell_id.push_back(from.cell_id[c]);
+    to.cell_type.push_back(from.cell_type[c]);
+    to.cell_count.push_back(from.cell_count[c]);
+    to.position.insert(to.position.end(), from.position.begin() + 3 * from.cell_first[c],
+                       from.position.begin() + 3 * (from.cell_first[c] + from.cell_count[c]));
+  }
 }
 
 std::vector<double>* State::cell_field_at(int index) {

@@ -75,9 +75,12 @@ struct State {
 // s's cells (the cells one rank keeps, the leavers, those a removal rule spares, a gather).
 State empty_like(const State& s);
 
-// Appends cell c of `from` (id, type, count, positions) to `to`, with the fields `to` lists (0 where `from` lacks
-// one); call to.reindex() afterwards.
-void copy_cell(const State& from, long c, State& to);
+// Appends the cells `cells` of `from` (indices into it, in that order: id, type, count, positions) to `to`, with the
+// fields `to` lists (0 where `from` lacks one); call to.reindex() afterwards. Each array grows once per call, and each
+// field is looked up once: gather a selection's indices first, then copy them in one call.
+void copy_cells(const State& from, const std::vector<long>& cells, State& to);
+// The same for one cell.
+inline void copy_cell(const State& from, long c, State& to) { copy_cells(from, {c}, to); }
 
 // The mean position of cell `cell`'s elements (um): the cell stage's rule (physics/cells.h), so the host and the device
 // agree on it bit for bit (ownership, W_s, removal rules).

@@ -120,9 +120,11 @@ State make_tissue(Scene& scene, const std::function<State(const std::string& pat
     if (range.size() != 2) t.fail("x_range", "must be [lo, hi] in um");
     const double lo = parse_real(range[0], t.where("x_range")), hi = parse_real(range[1], t.where("x_range"));
     if (!(lo < hi)) t.fail("x_range", "lo must be below hi");
-    State kept = empty_like(s);
+    std::vector<long> inside;
     for (long c = 0; c < s.cells(); ++c)
-      if (const double x = centroid(s, c)[0]; x >= lo && x < hi) copy_cell(s, c, kept);
+      if (const double x = centroid(s, c)[0]; x >= lo && x < hi) inside.push_back(c);
+    State kept = empty_like(s);
+    copy_cells(s, inside, kept);
     if (kept.cells() == 0) t.fail("x_range", "no cell's centroid lies in it");
     kept.reindex();
     kept.step = s.step;
