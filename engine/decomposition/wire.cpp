@@ -19,7 +19,7 @@ void unpack_cells(const std::vector<char>& bytes, State& s) {
     const int n = r.get<int>();
     s.cell_count.push_back(n);
     for (auto& [name, f] : s.cell_fields) f.push_back(r.get<double>());
-    for (int k = 0; k < 3 * n; ++k) s.position.push_back(r.get<double>());
+    r.get(s.position, 3 * static_cast<size_t>(n));
   }
 }
 
@@ -36,9 +36,9 @@ void unpack_band(const std::vector<char>& bytes, Ghosts& g) {
   if (bytes.empty()) return;
   Reader r(bytes);
   const long n = r.get<long>();
-  for (long k = 0; k < 3 * n; ++k) g.position.push_back(r.get<double>());
-  for (long k = 0; k < n; ++k) g.keys.push_back(r.get<uint64_t>());
-  for (long k = 0; k < n; ++k) g.info.push_back(r.get<int>());
+  r.get(g.position, 3 * static_cast<size_t>(n));
+  r.get(g.keys, static_cast<size_t>(n));
+  r.get(g.info, static_cast<size_t>(n));
 }
 
 }  // namespace semlb::engine

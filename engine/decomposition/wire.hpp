@@ -34,6 +34,14 @@ class Reader {
     at_ += sizeof(T);
     return v;
   }
+  // `n` values of type T appended to `to` (one copy).
+  template <class T>
+  void get(std::vector<T>& to, size_t n) {
+    const size_t at = to.size();
+    to.resize(at + n);
+    std::memcpy(to.data() + at, b_.data() + at_, n * sizeof(T));
+    at_ += n * sizeof(T);
+  }
   bool done() const { return at_ >= b_.size(); }
 
  private:
