@@ -93,9 +93,9 @@ void breakdown(const engine::RunSummary& sum, double process) {
     line("%s%s %.3g s", k == 0 ? " (" : ", ", sum.start_parts[k].first.c_str(), sum.start_parts[k].second);
   line("%s; end %.3g s (%s the closing files %.3g s); process %.4g s\n", sum.start_parts.empty() ? "" : ")",
        end_seconds(sum, process), sum.wrote_final ? "final.h5 and" : "no final.h5:", sum.closing_seconds, process);
-  if (sum.list_skin > 0)
-    line("Neighbour list: skin %g um%s, %ld builds over the ranks (in the force phases)\n", sum.list_skin,
-         sum.list_newton ? " (half: newton)" : "", sum.list_builds);
+  if (sum.list.skin > 0)
+    line("Neighbour list: skin %g um%s, %ld builds over the ranks (in the force phases)\n", sum.list.skin,
+         sum.list.newton ? " (half: newton)" : "", sum.list.builds);
   std::fwrite(text.data(), 1, text.size(), stderr);
 }
 

@@ -7,8 +7,8 @@
 #include <cstring>
 #include <filesystem>
 
-#include "cleanup.hpp"
 #include "errors.hpp"
+#include "text_io.hpp"
 
 namespace semlb::h5 {
 namespace {
@@ -63,16 +63,8 @@ File File::create(const std::string& path) {
 }
 
 void File::write_atomically(const std::string& path, const std::function<void(File&)>& fill) {
-  const std::string tmp = path + ".tmp";
-  register_cleanup_path(tmp);  // a signal during the write removes it (common/cleanup.hpp)
-  struct Cleanup {             // and so does every way out
-    std::string tmp;
-    ~Cleanup() {
-      std::error_code ignored;
-      std::filesystem::remove(tmp, ignored);
-      unregister_cleanup_path(tmp);
-    }
-  } cleanup{tmp};
+  PendingFile pending(path);  // removed on every way out but the rename (and by a signal's cleanup)
+  const std::string& tmp = pending.tmp();
   errno = 0;
   try {
     const hid_t id = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
@@ -88,9 +80,7 @@ void File::write_atomically(const std::string& path, const std::function<void(Fi
       throw std::runtime_error(std::string(e.what()) + ": " + std::strerror(err));
     throw;
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error(path + ": cannot rename " + tmp + " to it: " + ec.message());
+  pending.commit();
 }
 
 std::vector<std::string> File::list(const std::string& name) const {

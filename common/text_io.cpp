@@ -13,14 +13,30 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cleanup.hpp"
 #include "errors.hpp"
 
 namespace semlb {
 
+PendingFile::PendingFile(std::string path) : path_(std::move(path)), tmp_(path_ + ".tmp") {
+  register_cleanup_path(tmp_);
+}
+
+PendingFile::~PendingFile() {
+  if (!committed_) ::unlink(tmp_.c_str());  // no temporary file left; the path keeps its earlier contents
+  unregister_cleanup_path(tmp_);
+}
+
+void PendingFile::commit() {
+  if (::rename(tmp_.c_str(), path_.c_str()) != 0)
+    throw std::runtime_error(path_ + ": cannot rename " + tmp_ + " to it: " + std::strerror(errno));
+  committed_ = true;
+}
+
 void write_file_atomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
+  PendingFile pending(path);
+  const std::string& tmp = pending.tmp();
   auto fail = [&](const std::string& what, int err) {
-    ::unlink(tmp.c_str());  // no temporary file left; `path` keeps its earlier contents
     throw std::runtime_error(path + ": " + what + ": " + std::strerror(err));
   };
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
@@ -36,7 +52,7 @@ void write_file_atomically(const std::string& path, const std::string& text) {
     at += static_cast<size_t>(n);
   }
   if (::close(fd) != 0) fail("write failed", errno);
-  if (::rename(tmp.c_str(), path.c_str()) != 0) fail("cannot rename " + tmp + " to it", errno);
+  pending.commit();
 }
 
 std::string read_file(const std::string& path) {

@@ -11,7 +11,24 @@
 
 namespace semlb {
 
-// Writes PATH.tmp and renames it onto PATH, so readers never see a half-written file.
+// PATH.tmp while a writer fills it, renamed onto PATH by commit(): until then a signal's cleanup (common/cleanup.hpp)
+// and every way out of the writer's scope remove it, so PATH is whole or keeps its earlier contents. commit() throws
+// std::runtime_error "PATH: cannot rename PATH.tmp to it: REASON". The one place the atomic writers (text, HDF5) share.
+class PendingFile {
+ public:
+  explicit PendingFile(std::string path);
+  PendingFile(const PendingFile&) = delete;
+  PendingFile& operator=(const PendingFile&) = delete;
+  ~PendingFile();
+  const std::string& tmp() const { return tmp_; }
+  void commit();
+
+ private:
+  std::string path_, tmp_;
+  bool committed_ = false;
+};
+
+// Writes PATH.tmp and renames it onto PATH (PendingFile), so readers never see a half-written file.
 void write_file_atomically(const std::string& path, const std::string& text);
 // The whole file; throws InputError if it cannot be opened.
 std::string read_file(const std::string& path);

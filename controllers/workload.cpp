@@ -50,6 +50,17 @@ void check_seconds(const std::vector<double>& v, size_t n, double interval_s, co
     fail(file, field, at + ": sums to " + format_real(sum) + ", but interval_s is " + format_real(interval_s));
 }
 
+// Bit masks of one event, one per slice: n entries, none with a bit outside `allowed` (the sign bit never is); a
+// failing mask M is reported as "event E: M WHY".
+void check_masks(const std::vector<int64_t>& v, size_t n, int64_t allowed, const std::string& why,
+                 const std::string& file, const std::string& field, long event) {
+  const std::string at = "event " + std::to_string(event);
+  if (v.size() != n)
+    fail(file, field, at + " has " + std::to_string(v.size()) + " entries, expected " + std::to_string(n));
+  for (int64_t m : v)
+    if (m & ~allowed) fail(file, field, at + ": " + std::to_string(m) + " " + why);
+}
+
 }  // namespace
 
 void validate_workload(const EngineWorkload& w, const std::string& file) {
@@ -99,29 +110,16 @@ void validate_workload(const EngineWorkload& w, const std::string& file) {
     }
     if (parts) {
       check_seconds(e.part_seconds, kParts, e.interval_s, file, "part_seconds", i);
-      if (e.cell_stage_changes.size() != S)
-        fail(file, "cell_stage_changes",
-             "event " + std::to_string(i) + " has " + std::to_string(e.cell_stage_changes.size()) +
-                 " entries, expected " + std::to_string(S));
-      for (int64_t m : e.cell_stage_changes)
-        if (m < 0)
-          fail(file, "cell_stage_changes",
-               "event " + std::to_string(i) + ": " + std::to_string(m) + " is negative (bits 0-62 only)");
+      check_masks(e.cell_stage_changes, S, INT64_MAX, "is negative (bits 0-62 only)", file, "cell_stage_changes", i);
     } else if (!e.cell_stage_changes.empty()) {
       fail(file, "cell_stage_changes", "event " + std::to_string(i) + ": present without part_seconds");
     }
     if (e.list_builds < 0) fail(file, "list_builds", "event " + std::to_string(i) + ": negative");
     if (triggers) {
-      if (e.list_triggers.size() != S)
-        fail(file, "list_triggers",
-             "event " + std::to_string(i) + " has " + std::to_string(e.list_triggers.size()) + " entries, expected " +
-                 std::to_string(S));
       const int64_t allowed = e.list_builds >= 31 ? (int64_t{1} << 31) - 1 : (int64_t{1} << e.list_builds) - 1;
-      for (int64_t m : e.list_triggers)
-        if (m < 0 || (m & ~allowed))
-          fail(file, "list_triggers",
-               "event " + std::to_string(i) + ": " + std::to_string(m) + " marks a build beyond the interval's " +
-                   std::to_string(e.list_builds) + " (bits 0-30 only)");
+      check_masks(e.list_triggers, S, allowed,
+                  "marks a build beyond the interval's " + std::to_string(e.list_builds) + " (bits 0-30 only)", file,
+                  "list_triggers", i);
     } else if (e.list_builds != 0) {
       fail(file, "list_builds", "event " + std::to_string(i) + ": present without list_triggers");
     }

@@ -181,16 +181,21 @@ std::vector<double> model_times(const ReplayTrack& t, int event, const std::vect
     const int k = std::popcount(static_cast<uint64_t>(any));
     for (size_t q = 0; q < times.size(); ++q) {
       const int lo = q == 0 ? 0 : b[q - 1], hi = q + 1 < times.size() ? b[q] : t.slices;
+      const bool by_triggers = m.list_by == TimeModel::ListBy::kTriggers;
       int64_t mine = 0, triggered = 0;
       double nq = 0, changed_work = 0, rank_work = 0;
-      for (int s = lo; s < hi; ++s) mine |= bits[s], nq += n[s], changed_work += bits[s] != 0 ? work[s] : 0.0;
+      for (int s = lo; s < hi; ++s) {
+        mine |= bits[s], nq += n[s], rank_work += work[s], changed_work += bits[s] != 0 ? work[s] : 0.0;
+        if (by_triggers) triggered |= t.triggers[event][s];
+      }
       double list = 0;
-      if (m.list_by == TimeModel::ListBy::kTriggers) {
-        for (int s = lo; s < hi; ++s) triggered |= t.triggers[event][s], rank_work += work[s];
-        const long k = t.builds[event];
+      if (by_triggers) {  // the one rank's builds that r's triggers and stages claim, at r's share of W_s
+        const long builds = t.builds[event];
         const long own = std::min<long>(
-            k, std::popcount(static_cast<uint64_t>(triggered)) + std::popcount(static_cast<uint64_t>(mine)));
-        list = k > 0 && all_work > 0 ? t.list_s[event] * static_cast<double>(own) / k * rank_work / all_work : 0.0;
+            builds, std::popcount(static_cast<uint64_t>(triggered)) + std::popcount(static_cast<uint64_t>(mine)));
+        list = builds > 0 && all_work > 0
+                   ? t.list_s[event] * static_cast<double>(own) / static_cast<double>(builds) * rank_work / all_work
+                   : 0.0;
       } else if (m.list_by == TimeModel::ListBy::kWork) {
         list = all_work > 0 ? t.list_s[event] * changed_work / all_work : 0.0;
       } else {

@@ -24,12 +24,12 @@ class NeighbourList {
  public:
   // newton: a half list (each pair once, the kernels built with -DSEMLB_NEWTON; needs skin > 0); split: the kernels
   // were built with -DSEMLB_NL_SPLIT (nl_overflow then visits every slot; else one item).
-  NeighbourList(double skin, bool newton, bool split) : newton_(newton && skin > 0), split_(split) {
+  NeighbourList(double skin, bool newton, bool split) : split_(split) {
     stats_.skin = skin;
-    stats_.newton = newton_;
+    stats_.newton = newton && skin > 0;
   }
   bool on() const { return stats_.skin > 0; }
-  bool newton() const { return newton_; }
+  bool newton() const { return stats_.newton; }
   void invalidate() { valid_ = false; }
   // The device's build count and largest partner count (a blocking read of 8 bytes: benches and tests only).
   template <class B>
@@ -184,7 +184,7 @@ class NeighbourList {
   }
 
   ListStats stats_;
-  bool newton_ = false, split_ = false, valid_ = false;
+  bool split_ = false, valid_ = false;
   long n_ = -1, capacity_ = 0, kmax_ = 64, stored_kmax_ = -1, cap_ = 1L << 40, since_read_ = 0;
   double cutoff_ = -1;
   Grid grid_;

@@ -258,9 +258,9 @@ void write_xdmf(const std::string& path, const std::vector<Snapshot>& snapshots)
     x << "    </Topology>\n    <Geometry GeometryType=\"XYZ\">\n";
     item(n + " 3", "Float", 8, "position");
     x << "    </Geometry>\n";
-    for (const char* a : {"cell", "type", "slot"}) {
+    for (const auto& [a, bytes] : {std::pair{"cell", 8}, {"type", 4}, {"slot", 4}}) {  // as write_state stores them
       x << "    <Attribute Name=\"" << a << "\" AttributeType=\"Scalar\" Center=\"Node\">\n";
-      item(n, "Int", a[0] == 'c' ? 8 : 4, a);
+      item(n, "Int", bytes, a);
       x << "    </Attribute>\n";
     }
     x << "   </Grid>\n";

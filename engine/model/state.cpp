@@ -106,20 +106,27 @@ State empty_like(const State& s) {
   return out;
 }
 
+namespace {
+
+// Room for `extra` more values, growing at least geometrically (a reserve to the exact size at every small append,
+// a cell at a time, would copy the array each time).
+template <class T>
+void make_room(std::vector<T>& v, size_t extra) {
+  if (v.size() + extra > v.capacity()) v.reserve(std::max(v.size() + extra, 2 * v.capacity()));
+}
+
+}  // namespace
+
 void copy_cells(const State& from, const std::vector<long>& cells, State& to) {
-  const bool many =
-      cells.size() > 1;  // one cell at a time: push_back's own growth (a reserve each would copy each time)
-  if (many) {
-    size_t elements = 0;
-    for (long c : cells) elements += static_cast<size_t>(from.cell_count[c]);
-    to.cell_id.reserve(to.cell_id.size() + cells.size());
-    to.cell_type.reserve(to.cell_type.size() + cells.size());
-    to.cell_count.reserve(to.cell_count.size() + cells.size());
-    to.position.reserve(to.position.size() + 3 * elements);
-  }
+  size_t elements = 0;
+  for (long c : cells) elements += static_cast<size_t>(from.cell_count[c]);
+  make_room(to.cell_id, cells.size());
+  make_room(to.cell_type, cells.size());
+  make_room(to.cell_count, cells.size());
+  make_room(to.position, 3 * elements);
   for (auto& [name, f] : to.cell_fields) {
     const auto source = from.cell_fields.find(name);
-    if (many) f.reserve(f.size() + cells.size());
+    make_room(f, cells.size());
     for (long c : cells) f.push_back(source == from.cell_fields.end() ? 0.0 : source->second[c]);
   }
   for (long c : cells) {

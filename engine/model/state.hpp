@@ -71,13 +71,13 @@ struct State {
   }
 };
 
-// No cells, with `s`'s step, time and cell-field names (each field empty): where copy_cell gathers a selection of
+// No cells, with `s`'s step, time and cell-field names (each field empty): where copy_cells gathers a selection of
 // s's cells (the cells one rank keeps, the leavers, those a removal rule spares, a gather).
 State empty_like(const State& s);
 
 // Appends the cells `cells` of `from` (indices into it, in that order: id, type, count, positions) to `to`, with the
-// fields `to` lists (0 where `from` lacks one); call to.reindex() afterwards. Each array grows once per call, and each
-// field is looked up once: gather a selection's indices first, then copy them in one call.
+// fields `to` lists (0 where `from` lacks one); call to.reindex() afterwards. Each array grows at most once per call
+// and each field is looked up once per call: gather a selection's indices first, then copy them in one call.
 void copy_cells(const State& from, const std::vector<long>& cells, State& to);
 // The same for one cell.
 inline void copy_cell(const State& from, long c, State& to) { copy_cells(from, {c}, to); }

@@ -353,10 +353,7 @@ class OneDevice final : public Run {
   void breakdown(RunSummary& sum) override {
     for (size_t p = 0; p < sim_.phases().size(); ++p)
       sum.phases.push_back(spread_of(sim_.phases()[p], {sim_.phase_seconds()[p]}));
-    const ListStats list = sim_.backend().list_stats();
-    sum.list_builds = list.builds;
-    sum.list_skin = list.skin;
-    sum.list_newton = list.newton;
+    sum.list = sim_.backend().list_stats();
   }
 
  private:
@@ -456,13 +453,11 @@ class Decomposed final : public Run {
           "exchange and migration: no rebalancing interval ended (decomposition.rebalance_every); they "
           "count in other";
     }
-    const ListStats list = sim_.local().backend().list_stats();
-    std::vector<double> builds = {static_cast<double>(list.builds)};
+    sum.list = sim_.local().backend().list_stats();
+    std::vector<double> builds = {static_cast<double>(sum.list.builds)};
     mpi_.allreduce_sum(builds);
     sum.ranks = mpi_.size();
-    sum.list_builds = static_cast<long>(builds[0]);
-    sum.list_skin = list.skin;
-    sum.list_newton = list.newton;
+    sum.list.builds = static_cast<long>(builds[0]);
   }
 
  private:

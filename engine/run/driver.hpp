@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "device/backend.hpp"
 #include "model/scene.hpp"
 
 namespace semlb::engine {
@@ -35,9 +36,7 @@ struct RunSummary {
   double loop_seconds = 0, element_steps = 0, output_seconds = 0;
   std::vector<PhaseSpread> phases;
   std::string phases_note;  // what the phases leave out, printed under them (empty: nothing)
-  long list_builds = 0;
-  double list_skin = 0;
-  bool list_newton = false;  // the half list (backend.opencl-binned.newton)
+  ListStats list;           // the neighbour list's: its builds summed over the ranks
   // What the user waits for outside the loop: seconds from the process's start to the loop's (common/process.hpp),
   // its known parts ("load", the process up to main: dynamic libraries and static setup; "tissue", making or reading
   // the initial state; "device", the backend's setup with its program build and upload; rank 0's when decomposed),

@@ -104,12 +104,20 @@ print("hand runs: ok")
 PYEOF
 # A version 3 workload: the list builds go to the ranks by the W_s of their changed slices, as the replay's hand case
 # with list_by=work (tests/surrogate/test_workload_replay.cpp ListBuildsByChangedWorkWithAWeightAndAPerElementCost):
-# list_weight 0.5, element_s 0.1, no ghosts: 2.2 | 6.0, then 4.3 | 2.225
-"$PY" - "$src/analysis" "$work/v3.h5" <<'PYEOF'
-import sys
+# list_weight 0.5, element_s 0.1, no ghosts: 2.2 | 6.0, then 4.3 | 2.225. The same file as version 4: the builds go to
+# the ranks whose triggers and cell stages claim them, as the replay's hand case with list_by=triggers
+# (ListBuildsByTriggersGoToTheRanksThatWouldHaveRebuilt): no ghosts, list_weight 1: 1.9 | 5.7, then 3.95 | 1.9
+"$PY" - "$src/analysis" "$work/v3.h5" "$work/v4.h5" <<'PYEOF'
+import shutil, sys
 import h5py, numpy as np
 sys.path.insert(0, sys.argv[1])
 import measured_time as mt
+def expect(path, model, cases, label):  # per step, the two ranks' predicted seconds (P = 2 at [2])
+    w = mt.Workload(path)
+    for step, want in cases:
+        rows = np.column_stack([w.terms(step, [2]), np.zeros(2)])
+        assert np.allclose(mt.predict(rows, model), want, atol=1e-12), (label, step, mt.predict(rows, model))
+    print(label + ": ok")
 with h5py.File(sys.argv[2], "w") as f:
     f["events/step"] = np.array([10, 20]); f["events/elements"] = np.array([8, 8])
     f["events/slice_seconds"] = np.array([[1.0, 1, 3, 3], [2, 2, 1, 1]])
@@ -118,31 +126,14 @@ with h5py.File(sys.argv[2], "w") as f:
     f["events/band_below"] = np.ones((2, 3), np.int64); f["events/band_above"] = np.ones((2, 3), np.int64)
     f["events/part_seconds"] = np.array([[0.1, 0.8, 0.05, 0.05], [0.1, 0.4, 0.1, 0.4]])
     f["events/cell_stage_changes"] = np.array([[3, 3, 0, 0], [1, 0, 0, 3]], np.int64)
-w = mt.Workload(sys.argv[2])
-model = {"ghost_weight": 0.0, "element_s": 0.1, "list_weight": 0.5, "rank_overhead_s": 0.0}
-for step, want in ((10, (2.2, 6.0)), (20, (4.3, 2.225))):
-    rows = np.column_stack([w.terms(step, [2]), np.zeros(2)])
-    assert np.allclose(mt.predict(rows, model), want, atol=1e-12), (step, mt.predict(rows, model))
-print("version 3: ok")
-PYEOF
-# A version 4 workload: the list builds go to the ranks whose triggers and cell stages claim them, as the replay's hand
-# case with list_by=triggers (tests/surrogate/test_workload_replay.cpp ListBuildsByTriggersGoToTheRanksThatWouldHaveRebuilt):
-# no ghosts, list_weight 1: 1.9 | 5.7, then 3.95 | 1.9
-"$PY" - "$src/analysis" "$work/v3.h5" "$work/v4.h5" <<'PYEOF'
-import shutil, sys
-import h5py, numpy as np
-sys.path.insert(0, sys.argv[1])
-import measured_time as mt
+expect(sys.argv[2], {"ghost_weight": 0.0, "element_s": 0.1, "list_weight": 0.5, "rank_overhead_s": 0.0},
+       ((10, (2.2, 6.0)), (20, (4.3, 2.225))), "version 3")
 shutil.copy(sys.argv[2], sys.argv[3])
 with h5py.File(sys.argv[3], "a") as f:
     f["events/list_builds"] = np.array([4, 2])
     f["events/list_triggers"] = np.array([[0, 1, 4, 0], [0, 0, 0, 0]], np.int64)
-w = mt.Workload(sys.argv[3])
-model = {"ghost_weight": 0.0, "element_s": 0.0, "list_weight": 1.0, "rank_overhead_s": 0.0}
-for step, want in ((10, (1.9, 5.7)), (20, (3.95, 1.9))):
-    rows = np.column_stack([w.terms(step, [2]), np.zeros(2)])
-    assert np.allclose(mt.predict(rows, model), want, atol=1e-12), (step, mt.predict(rows, model))
-print("version 4: ok")
+expect(sys.argv[3], {"ghost_weight": 0.0, "element_s": 0.0, "list_weight": 1.0, "rank_overhead_s": 0.0},
+       ((10, (1.9, 5.7)), (20, (3.95, 1.9))), "version 4")
 PYEOF
 # --check-regions: 4 regions of one slice each, W_s 4 each; even seconds pass, one region at 5x the others exits 1
 # naming the file, the event and the region
