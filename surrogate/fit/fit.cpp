@@ -14,7 +14,6 @@
 #include <sstream>
 #include <thread>
 
-#include "common/cleanup.hpp"
 #include "common/errors.hpp"
 #include "common/settings.hpp"
 #include "common/text_io.hpp"
@@ -193,9 +192,8 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
   }
   const EpisodeSet train(c, false);
   const EpisodeSet valid(c, true);
-  std::ofstream log(log_path + ".tmp");
-  register_cleanup_path(log_path + ".tmp");
-  register_cleanup_path(o.out + ".tmp");
+  PendingFile log_file(log_path);  // the weights' own writer does the same for o.out
+  std::ofstream log(log_file.tmp());
   if (!log) throw InputError(log_path + ": cannot write the fit log");
   log << "evaluation,phase";
   for (const auto& d : repartition_params()) log << "," << d.name;
@@ -285,8 +283,7 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
   for (size_t i = 1; i < res.candidates.size(); ++i)
     if (res.candidates[i].validation < res.candidates[res.chosen].validation) res.chosen = i;
   log.close();
-  std::filesystem::rename(log_path + ".tmp", log_path);
-  unregister_cleanup_path(log_path + ".tmp");
+  log_file.commit();
   const auto& ch = res.candidates[res.chosen];
   std::ostringstream cands;
   for (const auto& cand : res.candidates)
@@ -302,7 +299,6 @@ FitResult run_fit(const FitConfig& c, const FitOptions& o) {
                             {"validation", join(c.validation)},
                             {"evaluations", std::to_string(res.evaluations)},
                             {"free", join(c.free)}});
-  unregister_cleanup_path(o.out + ".tmp");
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return res;
 }

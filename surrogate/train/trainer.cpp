@@ -70,9 +70,9 @@ void save_checkpoint(const std::string& path, Controller& model, torch::optim::A
   root.write("optimizer", o);
   root.write("step", torch::tensor(static_cast<int64_t>(step)));
   root.write("config", torch::tensor(static_cast<int64_t>(std::hash<std::string>{}(config))));
-  const std::string tmp = path + ".tmp";
-  root.save_to(tmp);
-  fs::rename(tmp, path);
+  PendingFile pending(path);  // a failed or interrupted save leaves the last checkpoint as it was
+  root.save_to(pending.tmp());
+  pending.commit();
 }
 
 long load_checkpoint(const std::string& path, Controller& model, torch::optim::Adam& opt, const std::string& config) {
