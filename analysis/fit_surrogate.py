@@ -243,18 +243,8 @@ def kendall_tau_b(x, y):
 
 
 def ranks(values):
-    """1-based ranks, ties sharing the mean rank."""
-    order = sorted(range(len(values)), key=lambda i: values[i])
-    r = [0.0] * len(values)
-    i = 0
-    while i < len(order):
-        j = i
-        while j + 1 < len(order) and values[order[j + 1]] == values[order[i]]:
-            j += 1
-        for k in range(i, j + 1):
-            r[order[k]] = (i + j) / 2 + 1
-        i = j + 1
-    return r
+    """1-based ranks, ties sharing the mean rank (scipy.stats.rankdata)."""
+    return [float(r) for r in _stats.rankdata(values)]
 
 
 def replay_scores(semlb, path, policies):

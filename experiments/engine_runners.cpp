@@ -26,7 +26,7 @@ namespace {
 std::string fmt(double v) { return format_real(v); }  // round-trip text (common/text_io.hpp)
 
 // The scene settings (engine::scene_settings()) these runners take by name; `steps` is theirs (timed steps).
-const std::vector<std::string> kSceneNames = {"cells", "backend", "precision", "platform", "dt", "cutoff"};
+const std::vector<std::string> kSceneNames = {"cells", "backend", "precision", "platform", "pair_exp", "dt", "cutoff"};
 
 // The job's scene (job_scene with kSceneNames); `effects` ("a+b+c" or "all") keeps only those listed.
 engine::Scene engine_scene(const Job& job, const std::string& manifest, const std::string& base_dir) {
@@ -102,11 +102,12 @@ class TimingRunner final : public Runner {
 };
 
 // The job's reference run: the same settings with precision double, dt = reference_dt, cutoff = reference_cutoff
-// (each where the job sets it).
+// and pair_exp libm (each where the job sets it).
 Job reference_job(const Job& job) {
   Job ref = job;
   for (auto& [k, s] : ref.settings) {
     if (k == "precision") s.value = "double";
+    if (k == "pair_exp") s.value = "libm";
     if (k == "dt") s.value = job.text("reference_dt", s.value);
     if (k == "cutoff") s.value = job.text("reference_cutoff", s.value);
   }
@@ -156,10 +157,10 @@ class AccuracyRunner final : public Runner {
       worst = std::max(worst, std::sqrt(d2));
     }
     const double rms = std::sqrt(sum / std::max<size_t>(1, ref.position.size() / 3));
-    return {
-        {scene.backend.precision, job.text("dt", fmt(scene.dt)), job.text("cutoff", fmt(scene.cutoff)),
-         std::to_string(std::lround(hours / scene.dt)), fmt(o.timing ? wall : 0), fmt(rms), fmt(worst),
-         "dt=" + job.text("reference_dt", "?") + " double cutoff=" + job.text("reference_cutoff", fmt(scene.cutoff))}};
+    return {{scene.backend.precision, job.text("dt", fmt(scene.dt)), job.text("cutoff", fmt(scene.cutoff)),
+             std::to_string(std::lround(hours / scene.dt)), fmt(o.timing ? wall : 0), fmt(rms), fmt(worst),
+             "dt=" + job.text("reference_dt", "?") + " double cutoff=" +
+                 job.text("reference_cutoff", fmt(scene.cutoff)) + (job.find("pair_exp") ? " pair_exp=libm" : "")}};
   }
 
  private:

@@ -4,12 +4,19 @@ from collections import OrderedDict
 from .common import Part, md_table, plt as _pyplot, register
 
 
+def variant(r):
+    """A row's precision, with the pair force law's exp when the sweep chose it (column pair_exp: the paper profile)."""
+    return r["precision"] + (f", {r['pair_exp']} exp" if r.get("pair_exp") else "")
+
+
 def accuracy_table(rows):
     out = ["# What accuracy costs in time", "",
            "Final element positions after the same simulated time against the reference run "
-           f"({rows[0]['reference']}); RMS and maximum distance in um.", "",
+           f"({rows[0]['reference']}); RMS and maximum distance in um."
+           + (" The exp is the pair force law's (`backend.pair_exp`, docs/engine.md \"Pair exp\"); at the reference's "
+              "dt and cutoff a row's error is its precision's and exp's alone." if rows[0].get("pair_exp") else ""), "",
            md_table(["precision", "cutoff (um)", "dt (h)", "steps", "wall s", "RMS error (um)", "max error (um)"],
-                    [(r["precision"], r["cutoff"], r["dt"], r["steps"], f"{float(r['wall_s']):.3g}",
+                    [(variant(r), r["cutoff"], r["dt"], r["steps"], f"{float(r['wall_s']):.3g}",
                       f"{float(r['rms_error_um']):.3g}", f"{float(r['max_error_um']):.3g}") for r in rows],
                     align="lrrrrrr")]
     return "\n".join(out) + "\n"
@@ -19,12 +26,13 @@ def accuracy_table(rows):
 def accuracy_figure(rows):
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    for prec, marker in (("double", "o"), ("float", "x")):
+    for name in dict.fromkeys(variant(r) for r in rows):
+        marker = "o" if name.startswith("double") else "x"
         for cutoff in sorted({r["cutoff"] for r in rows}, key=float):
             pts = sorted((float(r["wall_s"]), float(r["rms_error_um"])) for r in rows
-                         if r["precision"] == prec and r["cutoff"] == cutoff and float(r["rms_error_um"]) > 0)
+                         if variant(r) == name and r["cutoff"] == cutoff and float(r["rms_error_um"]) > 0)
             if pts:
-                ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker + "-", label=f"{prec}, cutoff {cutoff} um")
+                ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker + "-", label=f"{name}, cutoff {cutoff} um")
     ax.set_xlabel("wall time (s)")
     ax.set_ylabel("RMS position error (um)")
     ax.grid(alpha=0.3, which="both")

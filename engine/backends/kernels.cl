@@ -19,12 +19,26 @@ typedef float4 real4;
 #define SEMLB_COS cos
 #define SEMLB_FMIN fmin
 #define SEMLB_FMAX fmax
+/* The pair force law's exp (backend.pair_exp, docs/engine.md "Pair exp"): float builds native_exp unless
+   -DSEMLB_PAIR_EXP_LIBM; double builds libm's exp, semlb_exp_ranged (physics/exp.h) with -DSEMLB_PAIR_EXP_RANGED, or
+   float's native_exp with -DSEMLB_PAIR_EXP_NATIVE. */
 #ifndef SEMLB_DOUBLE /* native math in the pair force law of float builds (docs/engine.md: error and gain) */
+#ifndef SEMLB_PAIR_EXP_LIBM
 #define SEMLB_PAIR_EXP native_exp
+#endif
 #define SEMLB_PAIR_RSQRT native_rsqrt
-#elif defined( \
-    SEMLB_DOUBLE_RSQRT) /* a variant: r and 1/r from one double rsqrt (<= 2 ulp) instead of sqrt and a division */
+#else
+#define SEMLB_BITS as_ulong
+#define SEMLB_FROM_BITS as_double
+#include "exp.h"
+#ifdef SEMLB_PAIR_EXP_RANGED
+#define SEMLB_PAIR_EXP semlb_exp_ranged
+#elif defined(SEMLB_PAIR_EXP_NATIVE)
+#define SEMLB_PAIR_EXP(x) ((double)native_exp((float)(x)))
+#endif
+#ifdef SEMLB_DOUBLE_RSQRT /* a variant: r and 1/r from one double rsqrt (<= 2 ulp) instead of sqrt and a division */
 #define SEMLB_PAIR_RSQRT rsqrt
+#endif
 #endif
 #include "evaluator.h"
 

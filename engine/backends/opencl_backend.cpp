@@ -20,10 +20,16 @@ extern const char* const kDivisionRuleOrder;
 
 namespace opencl_impl {
 
+// The pair force law's exp a config names (BackendConfig::pair_exp), or its precision's default.
+std::string pair_exp_of(const std::string& named, bool single) {
+  return !named.empty() ? named : single ? "native" : "libm";
+}
+
 template <class Real>
 OpenClBackend<Real>::OpenClBackend(const BackendConfig& c, bool binned)
     : binned_(binned),
-      list_(binned ? c.skin : 0.0, binned && c.newton, build_options().find("SEMLB_NL_SPLIT") != std::string::npos) {
+      list_(binned ? c.skin : 0.0, binned && c.newton, build_options().find("SEMLB_NL_SPLIT") != std::string::npos),
+      pair_exp_(pair_exp_of(c.pair_exp, std::is_same_v<Real, float>)) {
   dev_ = cl::choose_device(c.platform, c.device, c.local_rank);
   cl_device_fp_config fp64 = 0;
   clGetDeviceInfo(dev_.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, nullptr);
@@ -330,6 +336,10 @@ void OpenClBackend<Real>::build(const std::string& pair_term) {
   cl::check(err, "clCreateProgramWithSource");
   const std::string options = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") +
                               (has_fp64_ ? " -DSEMLB_CELLS" : "") + (list_.newton() ? " -DSEMLB_NEWTON" : "") +
+                              " -DSEMLB_PAIR_EXP_" +
+                              (pair_exp_ == "ranged"   ? "RANGED"
+                               : pair_exp_ == "native" ? "NATIVE"
+                                                       : "LIBM") +
                               " -DSEMLB_PAIR_TERM=semlb_pair_" + pair_term + " " + build_options();
   if (clBuildProgram(program_.get(), 1, &dev_.device, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
     size_t n = 0;
@@ -455,12 +465,19 @@ std::unique_ptr<Backend> make(const BackendConfig& c) {
   if (c.precision == "float") return std::make_unique<OpenClBackend<float>>(c, Binned);
   return std::make_unique<OpenClBackend<double>>(c, Binned);
 }
-// backend: {name: opencl-allpairs | opencl-binned, platform: NAME substring, device: index, skin: um (opencl-binned's
-// neighbour list, 0: none), newton: true | false (opencl-binned's half list; only with skin > 0)}.
+// backend: {name: opencl-allpairs | opencl-binned, platform: NAME substring, device: index, pair_exp: libm | ranged |
+// native (the pair force law's exp; ranged in double only; default native in float, libm in double), skin: um
+// (opencl-binned's neighbour list, 0: none), newton: true | false (opencl-binned's half list; only with skin > 0)}.
 template <bool Binned>
 void read(const Section& s, BackendConfig& c) {
   c.platform = s.text("platform", c.platform);
   c.device = static_cast<int>(s.integer("device", c.device, 0, 1024));
+  const bool single = c.precision == "float";
+  c.pair_exp = s.text("pair_exp", opencl_impl::pair_exp_of(c.pair_exp, single));
+  if (c.pair_exp != "libm" && c.pair_exp != "ranged" && c.pair_exp != "native")
+    s.fail("pair_exp", "'" + c.pair_exp + "' is not libm, ranged or native");
+  if (single && c.pair_exp == "ranged")
+    s.fail("pair_exp", "ranged is a double exp: in float use native (the default) or libm");
   if (!Binned) return;
   c.skin = s.real("skin", c.skin, 0, 1e3);
   c.newton = s.boolean("newton", c.newton);

@@ -476,6 +476,7 @@ class OpenClBackend final : public HostCellOps {
   cl::Queue queue_;
   cl::Program program_;
   std::string pair_term_;  // the pair term the program was built for
+  std::string pair_exp_;   // the pair force law's exp: libm | ranged | native (BackendConfig::pair_exp)
   cl::KernelCapture capture_;
   std::map<std::string, cl::Kernel> kernels_;
   std::map<cl_mem, std::vector<unsigned char>> last_written_;  // write_parameters' last bytes per buffer

@@ -161,6 +161,7 @@ const std::vector<SceneSetting>& scene_settings() {
                                                      {"precision", "backend.precision", T::text},
                                                      {"platform", "backend.platform", T::text},
                                                      {"device", "backend.device", T::integer},
+                                                     {"pair_exp", "backend.pair_exp", T::text},
                                                      {"policy", "decomposition.policy", T::text},
                                                      {"initial", "decomposition.initial", T::text},
                                                      {"rebalance_every", "decomposition.rebalance_every", T::integer},

@@ -1,8 +1,9 @@
 // The evaluator header compiled for the C++ backends, once per precision (Physics<float|double>), and the cell stage's
 // rules on the host's arrays: the ground floor of the engine, which every other part includes and which includes none.
 #pragma once
-#include <cmath>
 #include <array>
+#include <bit>
+#include <cmath>
 #include <cstdint>
 
 #define SEMLB_LONG int64_t
@@ -19,6 +20,10 @@ namespace semlb::engine::phys64 {
 #define SEMLB_REAL double
 #include "evaluator.h"
 #undef SEMLB_REAL
+using std::fma;
+#define SEMLB_BITS(x) std::bit_cast<SEMLB_ULONG>(x)
+#define SEMLB_FROM_BITS(b) std::bit_cast<double>(static_cast<SEMLB_ULONG>(b))
+#include "exp.h"  // semlb_exp_ranged: the OpenCL double builds' `pair_exp: ranged`, here for its test
 }  // namespace semlb::engine::phys64
 
 namespace semlb::engine::phys32 {

@@ -50,14 +50,20 @@ TEST(Model, ElementInfoPacksTheCellIndexAndType) {
 
 // Every named setting reaches the scene field it names, with its value checked against its type.
 TEST(Model, SceneSettingsSetTheirKeysWithTypedValues) {
-  const std::vector<std::pair<std::string, std::string>> given = {
-      {"cells", "40"},        {"steps", "7"},
-      {"dt", "0.005"},        {"cutoff", "9.5"},
-      {"seed", "3"},          {"backend", "opencl-allpairs"},
-      {"precision", "float"}, {"platform", "Portable"},
-      {"device", "2"},        {"policy", "holt"},
-      {"initial", "uniform"}, {"rebalance_every", "25"},
-      {"timing", "modelled"}};
+  const std::vector<std::pair<std::string, std::string>> given = {{"cells", "40"},
+                                                                  {"steps", "7"},
+                                                                  {"dt", "0.005"},
+                                                                  {"cutoff", "9.5"},
+                                                                  {"seed", "3"},
+                                                                  {"backend", "opencl-allpairs"},
+                                                                  {"precision", "float"},
+                                                                  {"platform", "Portable"},
+                                                                  {"device", "2"},
+                                                                  {"pair_exp", "libm"},
+                                                                  {"policy", "holt"},
+                                                                  {"initial", "uniform"},
+                                                                  {"rebalance_every", "25"},
+                                                                  {"timing", "modelled"}};
   ASSERT_EQ(given.size(), scene_settings().size());
   std::vector<std::string> o;
   for (const auto& [name, value] : given) o.push_back(scene_override(name, value, "x: "));
@@ -72,6 +78,7 @@ TEST(Model, SceneSettingsSetTheirKeysWithTypedValues) {
   const BackendConfig backend = backend_settings(s.backend);  // the backend's own keys, read by it
   EXPECT_EQ(backend.platform, "Portable");
   EXPECT_EQ(backend.device, 2);
+  EXPECT_EQ(backend.pair_exp, "libm");
   EXPECT_EQ(s.decomposition->text("policy", ""), "holt");
   EXPECT_EQ(s.decomposition->text("initial", ""), "uniform");
   EXPECT_EQ(s.decomposition->integer("rebalance_every", 0, 0, 1000), 25);
