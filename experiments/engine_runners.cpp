@@ -101,13 +101,19 @@ class TimingRunner final : public Runner {
   }
 };
 
+// Whether `key` sets the OpenCL backends' pair_exp: the named setting, or scene.backend[.NAME].pair_exp.
+bool sets_pair_exp(const std::string& key) {
+  return key == "pair_exp" ||
+         (key.rfind("scene.backend.", 0) == 0 && key.size() > 9 && key.compare(key.size() - 9, 9, ".pair_exp") == 0);
+}
+
 // The job's reference run: the same settings with precision double, dt = reference_dt, cutoff = reference_cutoff
-// and pair_exp libm (each where the job sets it).
+// and the built-in pair exp (each where the job sets it).
 Job reference_job(const Job& job) {
   Job ref = job;
   for (auto& [k, s] : ref.settings) {
     if (k == "precision") s.value = "double";
-    if (k == "pair_exp") s.value = "libm";
+    if (sets_pair_exp(k)) s.value = "builtin";
     if (k == "dt") s.value = job.text("reference_dt", s.value);
     if (k == "cutoff") s.value = job.text("reference_cutoff", s.value);
   }
@@ -159,8 +165,12 @@ class AccuracyRunner final : public Runner {
     const double rms = std::sqrt(sum / std::max<size_t>(1, ref.position.size() / 3));
     return {{scene.backend.precision, job.text("dt", fmt(scene.dt)), job.text("cutoff", fmt(scene.cutoff)),
              std::to_string(std::lround(hours / scene.dt)), fmt(o.timing ? wall : 0), fmt(rms), fmt(worst),
-             "dt=" + job.text("reference_dt", "?") + " double cutoff=" +
-                 job.text("reference_cutoff", fmt(scene.cutoff)) + (job.find("pair_exp") ? " pair_exp=libm" : "")}};
+             "dt=" + job.text("reference_dt", "?") +
+                 " double cutoff=" + job.text("reference_cutoff", fmt(scene.cutoff)) +
+                 (std::any_of(job.settings.begin(), job.settings.end(),
+                              [](const auto& kv) { return sets_pair_exp(kv.first); })
+                      ? " pair_exp=builtin"
+                      : "")}};
   }
 
  private:

@@ -22,11 +22,20 @@ std::string RunOptions::resolve(const std::string& file) const { return resolve_
 std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::string>& names,
                                          const std::string& manifest) {
   std::vector<std::string> o;
+  std::map<std::string, std::string> named;  // scene key -> the job's setting that sets it
   for (const auto& name : names)
-    if (const Setting* s = job.find(name))
+    if (const Setting* s = job.find(name)) {
       o.push_back(engine::scene_override(name, s->value, where_of(*s, manifest, name)));
+      named[o.back().substr(0, o.back().find('='))] = name;
+    }
   for (const auto& [k, s] : job.settings)
-    if (k.rfind("scene.", 0) == 0) o.push_back(k.substr(6) + "=" + s.value);
+    if (k.rfind("scene.", 0) == 0) {
+      // the later override would win in silence, and the CSV's column would still show the named setting's value
+      if (auto it = named.find(k.substr(6)); it != named.end())
+        throw InputError(where_of(s, manifest, k) + "sets " + it->first + ", which the job's '" + it->second +
+                         "' sets too; give it once (as '" + it->second + "')");
+      o.push_back(k.substr(6) + "=" + s.value);
+    }
   return o;
 }
 

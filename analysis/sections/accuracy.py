@@ -4,35 +4,44 @@ from collections import OrderedDict
 from .common import Part, md_table, plt as _pyplot, register
 
 
-def variant(r):
-    """A row's precision, with the pair force law's exp when the sweep chose it (column pair_exp: the paper profile)."""
-    return r["precision"] + (f", {r['pair_exp']} exp" if r.get("pair_exp") else "")
-
-
 def accuracy_table(rows):
     out = ["# What accuracy costs in time", "",
            "Final element positions after the same simulated time against the reference run "
-           f"({rows[0]['reference']}); RMS and maximum distance in um."
-           + (" The exp is the pair force law's (`backend.pair_exp`, docs/engine.md \"Pair exp\"); at the reference's "
-              "dt and cutoff a row's error is its precision's and exp's alone." if rows[0].get("pair_exp") else ""), "",
+           f"({rows[0]['reference']}); RMS and maximum distance in um.", "",
            md_table(["precision", "cutoff (um)", "dt (h)", "steps", "wall s", "RMS error (um)", "max error (um)"],
-                    [(variant(r), r["cutoff"], r["dt"], r["steps"], f"{float(r['wall_s']):.3g}",
+                    [(r["precision"], r["cutoff"], r["dt"], r["steps"], f"{float(r['wall_s']):.3g}",
                       f"{float(r['rms_error_um']):.3g}", f"{float(r['max_error_um']):.3g}") for r in rows],
                     align="lrrrrrr")]
     return "\n".join(out) + "\n"
 
 
 
+def pair_exp_table(rows):
+    """accuracy_vs_time/pair_exp.csv (experiments/accuracy_pair_exp.yaml): per exp of the pair force law and dt, the
+    wall time and the error against the reference run, with the wall time against the built-in exp's at the same dt."""
+    builtin = {r["dt"]: float(r["wall_s"]) for r in rows if r["pair_exp"] == "builtin"}
+    def ratio(r):
+        base = builtin.get(r["dt"], 0.0)
+        return f"{float(r['wall_s']) / base:.3f}" if base > 0 else "-"
+    return "\n".join([
+        "# The pair force law's exp", "",
+        f"{rows[0]['precision']} at cutoff {rows[0]['cutoff']} um, each exp (`backend.pair_exp`, docs/engine.md \"Pair "
+        f"exp\") against the reference run ({rows[0]['reference']}): at the reference's dt the error is the exp's alone.",
+        "", md_table(["pair exp", "dt (h)", "steps", "wall s", "wall / builtin's", "RMS error (um)", "max error (um)"],
+                     [(r["pair_exp"], r["dt"], r["steps"], f"{float(r['wall_s']):.3g}", ratio(r),
+                       f"{float(r['rms_error_um']):.3g}", f"{float(r['max_error_um']):.3g}") for r in rows],
+                     align="lrrrrrr")]) + "\n"
+
+
 def accuracy_figure(rows):
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    for name in dict.fromkeys(variant(r) for r in rows):
-        marker = "o" if name.startswith("double") else "x"
+    for prec, marker in (("double", "o"), ("float", "x")):
         for cutoff in sorted({r["cutoff"] for r in rows}, key=float):
             pts = sorted((float(r["wall_s"]), float(r["rms_error_um"])) for r in rows
-                         if variant(r) == name and r["cutoff"] == cutoff and float(r["rms_error_um"]) > 0)
+                         if r["precision"] == prec and r["cutoff"] == cutoff and float(r["rms_error_um"]) > 0)
             if pts:
-                ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker + "-", label=f"{name}, cutoff {cutoff} um")
+                ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker + "-", label=f"{prec}, cutoff {cutoff} um")
     ax.set_xlabel("wall time (s)")
     ax.set_ylabel("RMS position error (um)")
     ax.grid(alpha=0.3, which="both")
@@ -106,22 +115,29 @@ def development_accuracy_figure(rows, types):
 
 
 CSV = "accuracy_vs_time/accuracy_vs_time.csv"
+EXP = "accuracy_vs_time/pair_exp.csv"
 DEV = "accuracy_vs_time/development.csv"
 GPU = "gpu/accuracy_vs_time/accuracy_vs_time.csv"
+GPU_EXP = "gpu/accuracy_vs_time/pair_exp.csv"
 
 
 def build(ctx):
     runs = []
     rows = ctx.rows(CSV)
+    exp = ctx.rows(EXP)
     if rows:
         runs.append(("This run", ctx.cpu_run(CSV, "1", 1, "-", f"{len(rows)} runs"),
                      ctx.source(CSV) + "\n\n" + ctx.table("accuracy_vs_time", accuracy_table(rows)) + "\n"
-                     + ctx.figure("accuracy_vs_time", accuracy_figure(rows))))
-    gpu = ctx.committed_rows(GPU)
-    if gpu:
+                     + ctx.figure("accuracy_vs_time", accuracy_figure(rows))
+                     + ("\n" + ctx.source(EXP) + "\n\n" + ctx.table("accuracy_pair_exp", pair_exp_table(exp)) if exp else "")))
+    gpu, gpu_exp = ctx.committed_rows(GPU), ctx.committed_rows(GPU_EXP)
+    if gpu or gpu_exp:
         runs.append(("Committed paper profile (GPU)", "profile **paper** · machine: 1 NVIDIA H200 · ranks: 1 · cores: - · "
-                     "launches: 1 per row · intervals: -", "From " + ctx.committed_source(GPU) + ".\n\n"
-                     + ctx.table("accuracy_vs_time_gpu", accuracy_table(gpu))))
+                     "launches: 1 per row · intervals: -",
+                     ("From " + ctx.committed_source(GPU) + ".\n\n" + ctx.table("accuracy_vs_time_gpu", accuracy_table(gpu))
+                      if gpu else "")
+                     + ("\nFrom " + ctx.committed_source(GPU_EXP) + ".\n\n"
+                        + ctx.table("accuracy_pair_exp_gpu", pair_exp_table(gpu_exp)) if gpu_exp else "")))
     if not runs:
         return None
     return Part(runs, "Not in the paper (it states its parameters, not what they cost).",

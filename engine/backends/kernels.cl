@@ -20,10 +20,10 @@ typedef float4 real4;
 #define SEMLB_FMIN fmin
 #define SEMLB_FMAX fmax
 /* The pair force law's exp (backend.pair_exp, docs/engine.md "Pair exp"): float builds native_exp unless
-   -DSEMLB_PAIR_EXP_LIBM; double builds libm's exp, semlb_exp_ranged (physics/exp.h) with -DSEMLB_PAIR_EXP_RANGED, or
-   float's native_exp with -DSEMLB_PAIR_EXP_NATIVE. */
+   -DSEMLB_PAIR_EXP_BUILTIN; double builds the built-in exp, semlb_exp_ranged (physics/exp.h) with
+   -DSEMLB_PAIR_EXP_RANGED, or float's native_exp with -DSEMLB_PAIR_EXP_NATIVE. */
 #ifndef SEMLB_DOUBLE /* native math in the pair force law of float builds (docs/engine.md: error and gain) */
-#ifndef SEMLB_PAIR_EXP_LIBM
+#ifndef SEMLB_PAIR_EXP_BUILTIN
 #define SEMLB_PAIR_EXP native_exp
 #endif
 #define SEMLB_PAIR_RSQRT native_rsqrt

@@ -2,6 +2,8 @@
 // integration, noise, bands) of the OpenCL backends (opencl_backend.hpp), and their registration.
 #include "opencl_backend.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <tuple>
 
 #include "division/division_rule.hpp"
@@ -20,9 +22,12 @@ extern const char* const kDivisionRuleOrder;
 
 namespace opencl_impl {
 
-// The pair force law's exp a config names (BackendConfig::pair_exp), or its precision's default.
 std::string pair_exp_of(const std::string& named, bool single) {
-  return !named.empty() ? named : single ? "native" : "libm";
+  const std::string e = !named.empty() ? named : single ? "native" : "builtin";
+  if (e != "builtin" && e != "ranged" && e != "native")
+    throw InputError("'" + e + "' is not builtin, ranged or native");
+  if (single && e == "ranged") throw InputError("ranged is a double exp: in float use native (the default) or builtin");
+  return e;
 }
 
 template <class Real>
@@ -334,14 +339,12 @@ void OpenClBackend<Real>::build(const std::string& pair_term) {
   const char* text = source.c_str();
   program_ = cl::Program(clCreateProgramWithSource(ctx_.get(), 1, &text, nullptr, &err));
   cl::check(err, "clCreateProgramWithSource");
-  const std::string options = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") +
-                              (has_fp64_ ? " -DSEMLB_CELLS" : "") + (list_.newton() ? " -DSEMLB_NEWTON" : "") +
-                              " -DSEMLB_PAIR_EXP_" +
-                              (pair_exp_ == "ranged"   ? "RANGED"
-                               : pair_exp_ == "native" ? "NATIVE"
-                                                       : "LIBM") +
-                              " -DSEMLB_PAIR_TERM=semlb_pair_" + pair_term + " " + build_options();
-  if (clBuildProgram(program_.get(), 1, &dev_.device, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
+  std::string exp = pair_exp_;
+  std::transform(exp.begin(), exp.end(), exp.begin(), [](unsigned char ch) { return std::toupper(ch); });
+  options_ = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") + (has_fp64_ ? " -DSEMLB_CELLS" : "") +
+             (list_.newton() ? " -DSEMLB_NEWTON" : "") + " -DSEMLB_PAIR_EXP_" + exp + " -DSEMLB_PAIR_TERM=semlb_pair_" +
+             pair_term + " " + build_options();
+  if (clBuildProgram(program_.get(), 1, &dev_.device, options_.c_str(), nullptr, nullptr) != CL_SUCCESS) {
     size_t n = 0;
     clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
     std::string log(n, '\0');
@@ -465,19 +468,20 @@ std::unique_ptr<Backend> make(const BackendConfig& c) {
   if (c.precision == "float") return std::make_unique<OpenClBackend<float>>(c, Binned);
   return std::make_unique<OpenClBackend<double>>(c, Binned);
 }
-// backend: {name: opencl-allpairs | opencl-binned, platform: NAME substring, device: index, pair_exp: libm | ranged |
-// native (the pair force law's exp; ranged in double only; default native in float, libm in double), skin: um
-// (opencl-binned's neighbour list, 0: none), newton: true | false (opencl-binned's half list; only with skin > 0)}.
+// backend: {name: opencl-allpairs | opencl-binned, platform: NAME substring, device: index, pair_exp: builtin | ranged
+// | native (the pair force law's exp; default native in float, builtin in double; ranged in double only, checked where
+// the backend runs: a scene for several backends may name it), skin: um (opencl-binned's neighbour list, 0: none),
+// newton: true | false (opencl-binned's half list; only with skin > 0)}.
 template <bool Binned>
 void read(const Section& s, BackendConfig& c) {
   c.platform = s.text("platform", c.platform);
   c.device = static_cast<int>(s.integer("device", c.device, 0, 1024));
-  const bool single = c.precision == "float";
-  c.pair_exp = s.text("pair_exp", opencl_impl::pair_exp_of(c.pair_exp, single));
-  if (c.pair_exp != "libm" && c.pair_exp != "ranged" && c.pair_exp != "native")
-    s.fail("pair_exp", "'" + c.pair_exp + "' is not libm, ranged or native");
-  if (single && c.pair_exp == "ranged")
-    s.fail("pair_exp", "ranged is a double exp: in float use native (the default) or libm");
+  const bool runs = c.name == (Binned ? "opencl-binned" : "opencl-allpairs");
+  try {
+    c.pair_exp = opencl_impl::pair_exp_of(s.text("pair_exp", c.pair_exp), runs && c.precision == "float");
+  } catch (const InputError& e) {
+    s.fail("pair_exp", e.what());
+  }
   if (!Binned) return;
   c.skin = s.real("skin", c.skin, 0, 1e3);
   c.newton = s.boolean("newton", c.newton);

@@ -30,6 +30,11 @@ struct LocalBytes {  // a __local kernel argument
 
 inline size_t round_up(size_t n, size_t m) { return (n + m - 1) / m * m; }
 
+// The pair force law's exp (BackendConfig::pair_exp; docs/engine.md "Pair exp") that `named` asks for, or the
+// precision's default when empty: native in float (`single`), builtin in double. InputError for a name other than
+// builtin, ranged or native, and for ranged in float (a double exp).
+std::string pair_exp_of(const std::string& named, bool single);
+
 template <class Real>
 class OpenClBackend final : public HostCellOps {
   using Real4 = std::array<Real, 4>;
@@ -135,6 +140,9 @@ class OpenClBackend final : public HostCellOps {
   }
 
   void finish_while(const std::function<void()>& progress) override;
+
+  // The options the program was last built with (-D...: precision, half list, pair exp, pair term, build_options()).
+  const std::string& program_options() const { return options_; }
 
  private:
   cl_int owned() const { return static_cast<cl_int>(owned_); }
@@ -476,7 +484,8 @@ class OpenClBackend final : public HostCellOps {
   cl::Queue queue_;
   cl::Program program_;
   std::string pair_term_;  // the pair term the program was built for
-  std::string pair_exp_;   // the pair force law's exp: libm | ranged | native (BackendConfig::pair_exp)
+  std::string pair_exp_;   // the pair force law's exp: builtin | ranged | native (BackendConfig::pair_exp)
+  std::string options_;    // the program's build options (program_options)
   cl::KernelCapture capture_;
   std::map<std::string, cl::Kernel> kernels_;
   std::map<cl_mem, std::vector<unsigned char>> last_written_;  // write_parameters' last bytes per buffer

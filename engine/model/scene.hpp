@@ -44,8 +44,8 @@ struct BackendConfig {
   int local_rank = 0;    // added to `device` (one device per local MPI rank)
   double skin = 0.0;     // um, opencl-binned's `skin`: its neighbour list (docs/engine.md); 0: none, bins every step
   bool newton = false;   // opencl-binned's `newton`: a half list, each pair once (docs/engine.md); needs skin > 0
-  // The OpenCL backends' `pair_exp`, the pair force law's exp (docs/engine.md "Pair exp"): libm | ranged (double) |
-  // native; read as the precision's default, native in float and libm in double, when the scene leaves it out.
+  // The OpenCL backends' `pair_exp`, the pair force law's exp (docs/engine.md "Pair exp"): builtin | ranged (double) |
+  // native; read as the precision's default, native in float and builtin in double, when the scene leaves it out.
   std::string pair_exp;
   // The scene's `backend` map (null: a config made in code, its fields as set), whose keys beside name and precision
   // the backend reads (backend_settings).

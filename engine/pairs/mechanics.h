@@ -10,7 +10,7 @@
 #define SEMLB_MORSE_INTER(ti, tj) (4 + 4 * ((ti)*SEMLB_MORSE_TYPES + (tj)))
 #define SEMLB_MORSE_TABLE_SIZE (4 + 4 * SEMLB_MORSE_TYPES * SEMLB_MORSE_TYPES)
 
-/* f(r) of one Morse set (SEMLB_PAIR_EXP: the OpenCL float build's native exp, else SEMLB_EXP). */
+/* f(r) of one Morse set (SEMLB_PAIR_EXP: the OpenCL builds' backend.pair_exp, else SEMLB_EXP). */
 static inline semlb_real semlb_morse_magnitude(semlb_real r, SEMLB_CONST const semlb_real* set) {
   return set[0] * SEMLB_PAIR_EXP(-r * set[1]) - set[2] * SEMLB_PAIR_EXP(-r * set[3]);
 }

@@ -5,7 +5,7 @@
  * (IEEE minNum / maxNum: of a NaN and a number, the number). Optional: SEMLB_PAIR_EXP
  * (the exp of the pair force law; default SEMLB_EXP) and SEMLB_PAIR_RSQRT (then r and 1/r of a pair come from
  * one reciprocal square root instead of a sqrt and a division; coincidence is then r^2 < SEMLB_R_MIN^2): the
- * OpenCL float build uses them for native math.
+ * OpenCL builds set them (kernels.cl: backend.pair_exp, and float's native rsqrt).
  * The pair force's loop body over a pair term's law is pairs/pair_force.h, beside the terms' laws (pairs/NAME.h).
  * Equations: docs/engine.md; eq. (1) of the paper is dY/dt = -grad sum V_ele - grad V_ext. */
 

@@ -1,16 +1,17 @@
-/* exp in double for the range the pair force laws reach, without libm's special cases (C99 subset, no include guard):
- * the OpenCL double builds' pair exp with `backend.pair_exp: ranged` (docs/engine.md, "Pair exp"); the C++ test
- * (tests/engine/physics/test_exp.cpp) holds it to libm's exp. A law's argument is -r/xi with r >= 0 and xi > 0,
- * so x <= 0, or NaN. The includer defines SEMLB_BITS and SEMLB_FROM_BITS (a double's bits
- * as an unsigned 64-bit integer, and back) and provides fma.
+/* exp in double for the range the pair force laws reach, without the special-case branches of a library exp (C99
+ * subset, no include guard): the OpenCL double builds' pair exp with `backend.pair_exp: ranged` (docs/engine.md "Pair
+ * exp"); tests/engine/physics/test_exp.cpp holds it to the host's libm exp and finds the same bits in the kernels. A
+ * law's argument is -r/xi with r >= 0 and xi > 0, so x <= 0, or NaN. The includer defines SEMLB_BITS and
+ * SEMLB_FROM_BITS (a double's bits as an unsigned 64-bit integer, and back) and provides fma.
  * Method (Cody and Waite 1980, "Software Manual for the Elementary Functions", ch. 6; Muller 2016, "Elementary
  * Functions", 3rd ed., sec. 11.3): x = k ln2 + r with k = rint(x / ln2) and |r| <= ln2/2, ln2 in two parts; exp(r) =
  * 1 + r + r^2 q(r), q of degree 9 (its Chebyshev interpolant, whose truncation error is at most 0.15 ulp); exp(x) =
- * 2^k exp(r), 2^k built from k's bits. 14 fma, 2 integer operations, a multiply and one select: libdevice's exp adds
- * the scaling branch for |x| > 708 and its overflow/underflow tests.
- * Contract: within 1 ulp of exp(x) on [-708.39, 709] (measured: tests/engine/physics/test_exp.cpp); 0 below -708.39
- * (libm: below 2.24e-308, the smallest normals and the subnormals, which the 2^-32 fixed point of a force truncates to
- * 0 as well); NaN -> NaN; above 709 not defined (a law's argument is never positive). */
+ * 2^k exp(r), 2^k built from k's bits. 14 fma (3 for the reduction, 11 for the polynomial), a subtraction, an integer
+ * add and shift, a multiply, a compare and a select: libdevice's exp adds the scaling branch for |k| >= 1021 and its
+ * overflow, underflow and NaN tests.
+ * Contract: within 1 ulp of the host's libm exp on [-708.39, 709] (test_exp.cpp); 0 below -708.39 (libm: below
+ * 2.24e-308, the smallest normals and the subnormals, which the 2^-32 fixed point of a force truncates to 0 as well);
+ * NaN -> NaN; above 709 not defined (a law's argument is never positive). */
 
 /* 2^k exp(r) for x = k ln2 + r. */
 static inline double semlb_exp_ranged(double x) {

@@ -6,13 +6,20 @@
 # (SEMLB_OPENCL_PROFILE=1: device ms per kernel).
 # Usage: bash scripts/gpu/force_step.sh SEMLB OUT   (ROUNDS, default 2; CELLS, default 435661; SETS: extra flags;
 #   PLATFORM: the OpenCL platform name substring, default NVIDIA; VARIANTS: space-separated PRECISION:NEWTON:PAIR_EXP,
-#   default float and double, full and half list, each precision's default exp, and double's ranged and native exp)
+#   default float and double with the full and the half list at each precision's default exp, double's ranged exp with
+#   both lists and its native exp with the half list; SETS must not set newton or pair_exp, which the CSV records)
 # Writes OUT/force_step.csv (precision, newton, pair_exp, round, elements, ms_per_step, machine), OUT/force_step.txt
 # (the bench tables) and OUT/force_step_profile.txt.
 set -uo pipefail
 S=$1; OUT=$2
 here=$(cd "$(dirname "$0")/../.." && pwd)
 [ "${PLATFORM:-NVIDIA}" != NVIDIA ] || export OCL_ICD_FILENAMES=${OCL_ICD_FILENAMES:-libnvidia-opencl.so.1}
+variants=${VARIANTS:-float:false:native float:true:native double:false:builtin double:true:builtin double:false:ranged
+  double:true:ranged double:true:native}
+for v in $variants; do  # every variant checked before the first bench: a typo does not end the call midway
+  [[ $v =~ ^(float|double):(false|true):(builtin|ranged|native)$ ]] ||
+    { echo "force_step.sh: variant '$v' is not PRECISION:NEWTON:PAIR_EXP (float|double, false|true, builtin|ranged|native)" >&2; exit 2; }
+done
 mkdir -p "$OUT"
 machine=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1)
 bench() {  # PRECISION NEWTON PAIR_EXP [more flags]
@@ -22,8 +29,6 @@ bench() {  # PRECISION NEWTON PAIR_EXP [more flags]
     --cells "${CELLS:-435661}" --steps 200 --warmup 20 --precision "$p" --set backend.skin=0.5 \
     --set backend.opencl-binned.newton="$n" --set backend.pair_exp="$e" ${SETS:-} "$@"
 }
-variants=${VARIANTS:-float:false:native float:true:native double:false:libm double:true:libm double:false:ranged
-  double:true:ranged double:true:native}
 echo "precision,newton,pair_exp,round,elements,ms_per_step,machine" > "$OUT/force_step.csv"
 : > "$OUT/force_step.txt"
 for round in $(seq "${ROUNDS:-2}"); do

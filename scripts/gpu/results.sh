@@ -52,18 +52,18 @@ provenance() {  # DIR [HOW [DEPENDS]]: DIR/provenance.json for what the stage ma
     > "$1/provenance.json.tmp"
   mv "$1/provenance.json.tmp" "$1/provenance.json"
 }
-sweep() {  # MANIFEST [--set ...]: the paper profile on the NVIDIA platform in float, one job at a time (they share one
-           # GPU), results under OUT/NAME/
+sweep() {  # MANIFEST [--set ...]: scripts/gpu_sweep.sh (the paper profile on the NVIDIA platform, in float unless the
+           # manifest chooses), one job at a time (they share one GPU), results under OUT/NAME/
   local m=$1; shift
-  "$S" sweep "$here/experiments/$m.yaml" --profile paper --results "$OUT" --quiet --jobs 1 ${CHECK:+--check} "$@" \
-    --set scene.backend.opencl-allpairs.platform=NVIDIA --set scene.backend.opencl-binned.platform=NVIDIA \
-    --set scene.backend.precision=float
+  BUILD=$BUILD bash "$here/scripts/gpu_sweep.sh" "$here/experiments/$m.yaml" --results "$OUT" --quiet --jobs 1 \
+    ${CHECK:+--check} "$@"
 }
 GPU_ONLY="--set backend=opencl-allpairs,opencl-binned"
 check_stage() {  # STAGE: what CHECK=1 verifies without a GPU
   case $1 in
     single_device) sweep "$1" $GPU_ONLY;;
-    effects_cost|accuracy_vs_time) sweep "$1";;
+    effects_cost) sweep "$1";;
+    accuracy_vs_time) sweep "$1" && sweep accuracy_pair_exp;;
     development) [ -f "$here/scripts/gpu/neighbour_list.sh" ];;
     force_step) [ -f "$here/scripts/gpu/force_step.sh" ];;
     peer_yalla) [ -f "$here/scripts/gpu/peer_yalla/run.sh" ] && [ -f "$here/analysis/peer_yalla.py" ];;
@@ -122,15 +122,18 @@ run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run her
   case $1 in
     single_device)  # the device backends only: serial all-pairs at 2000 cells is 20 min of one host core
       sweep "$1" $GPU_ONLY && provenance "$OUT/$1" "scripts/gpu/results.sh $1 (semlb sweep experiments/$1.yaml --profile paper $GPU_ONLY)" kernels;;
-    effects_cost|accuracy_vs_time)
+    effects_cost)
       sweep "$1" && provenance "$OUT/$1" "scripts/gpu/results.sh $1 (semlb sweep experiments/$1.yaml --profile paper)" kernels;;
+    accuracy_vs_time)  # and the pair force law's exp (experiments/accuracy_pair_exp.yaml: OUT/accuracy_vs_time/pair_exp.csv)
+      sweep "$1" && sweep accuracy_pair_exp && provenance "$OUT/$1" "scripts/gpu/results.sh $1 (semlb sweep \
+experiments/$1.yaml and experiments/accuracy_pair_exp.yaml --profile paper)" kernels;;
     development)  # Day 0-5 at the paper's size on one GPU (scripts/gpu/neighbour_list.sh dev): a fresh CSV row
       rm -rf "$OUT/development.tmp"
       DEV_VARIANTS="--set backend.opencl-binned.newton=false;--set backend.opencl-binned.newton=true" \
         bash "$here/scripts/gpu/neighbour_list.sh" "$S" "$OUT/development.tmp" dev "0 0.5 1 1.5 2" "1"
       rm -rf "$OUT/development"; mv "$OUT/development.tmp" "$OUT/development"
       provenance "$OUT/development" "scripts/gpu/results.sh development (scripts/gpu/neighbour_list.sh dev)" kernels;;
-    force_step)  # the full and the half neighbour list, float and double, two interleaved rounds (6.5e6 elements)
+    force_step)  # the full and the half neighbour list and the pair exps, float and double, two interleaved rounds
       rm -rf "$OUT/force_step.tmp"
       bash "$here/scripts/gpu/force_step.sh" "$S" "$OUT/force_step.tmp"
       rm -rf "$OUT/force_step"; mv "$OUT/force_step.tmp" "$OUT/force_step"

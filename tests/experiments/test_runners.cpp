@@ -81,6 +81,24 @@ TEST(Runners, TheJobsSceneNamesWhereSceneWasSet) {
   EXPECT_EQ(e.rfind("m.yaml:4: field 'cells': ", 0), 0u) << e;
 }
 
+// A scene.KEY setting of a key the job's named setting sets too would win in silence while the CSV's column showed the
+// named value (a GPU script's scene.backend.precision=float once turned accuracy_vs_time's double rows into float
+// runs labelled double): refused, naming both; scene.KEY of another key passes.
+TEST(Runners, SceneKeyBesideTheNamedSettingOfTheSameKeyIsRefused) {
+  const std::string scene = test::source("scenes/mechanics.yaml");
+  EXPECT_EQ(check_error("engine_accuracy",
+                        job_of({{"scene", scene}, {"precision", "double"}, {"scene.backend.precision", "float"}})),
+            "m.yaml:5: field 'scene.backend.precision': sets backend.precision, which the job's 'precision' sets too; "
+            "give it once (as 'precision')");
+  EXPECT_EQ(check_error("engine_timing", job_of({{"scene", scene}, {"cells", "20"}, {"scene.tissue.cells", "30"}})),
+            "m.yaml:5: field 'scene.tissue.cells': sets tissue.cells, which the job's 'cells' sets too; give it once "
+            "(as 'cells')");
+  EXPECT_EQ(
+      check_error("engine_timing",
+                  job_of({{"scene", scene}, {"cells", "20"}, {"scene.backend.precision", "float"}, {"steps", "1"}})),
+      "");
+}
+
 TEST(Runners, JobTextAndKey) {
   const Job j = job_of({{"policy", "gru"}, {"ranks", "4"}});
   EXPECT_EQ(j.text("policy", "static"), "gru");

@@ -59,7 +59,7 @@ TEST(Model, SceneSettingsSetTheirKeysWithTypedValues) {
                                                                   {"precision", "float"},
                                                                   {"platform", "Portable"},
                                                                   {"device", "2"},
-                                                                  {"pair_exp", "libm"},
+                                                                  {"pair_exp", "builtin"},
                                                                   {"policy", "holt"},
                                                                   {"initial", "uniform"},
                                                                   {"rebalance_every", "25"},
@@ -78,7 +78,7 @@ TEST(Model, SceneSettingsSetTheirKeysWithTypedValues) {
   const BackendConfig backend = backend_settings(s.backend);  // the backend's own keys, read by it
   EXPECT_EQ(backend.platform, "Portable");
   EXPECT_EQ(backend.device, 2);
-  EXPECT_EQ(backend.pair_exp, "libm");
+  EXPECT_EQ(backend.pair_exp, "builtin");
   EXPECT_EQ(s.decomposition->text("policy", ""), "holt");
   EXPECT_EQ(s.decomposition->text("initial", ""), "uniform");
   EXPECT_EQ(s.decomposition->integer("rebalance_every", 0, 0, 1000), 25);

@@ -1,5 +1,5 @@
-// physics/exp.h: semlb_exp_ranged against libm's exp (its 1-ulp contract, its edges), and the same bits from an
-// OpenCL double device as from the host, so the bound measured here holds in the kernels.
+// physics/exp.h: semlb_exp_ranged against the host's libm exp (its 1-ulp contract, its edges), and backend.pair_exp in
+// the kernels: each value the exp it names, ranged with the host's bits.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -9,12 +9,11 @@
 #include <random>
 #include <vector>
 
-#include "common/text_io.hpp"
-#include "engine/backends/opencl.hpp"
+#include "engine/backends/opencl_backend.hpp"
 #include "engine/physics/cpu_physics.hpp"
-#include "../../run_command.hpp"
 
 namespace semlb::engine {
+extern const char* const kKernelSource;  // kernels.cl with its parts (engine/CMakeLists.txt)
 namespace {
 
 using phys64::semlb_exp_ranged;
@@ -68,57 +67,85 @@ TEST(Exp, RangedEdges) {
   EXPECT_TRUE(std::isnan(semlb_exp_ranged(std::nan(""))));  // a NaN distance reaches the clamp as NaN, as with libm
 }
 
-TEST(Exp, OpenClDoubleGivesTheHostsBits) {
-  cl::DeviceInfo dev;
-  try {
-    dev = cl::choose_device("", 0);
-  } catch (const std::exception& e) {
-    GTEST_SKIP() << "no OpenCL device: " << e.what();
-  }
-  cl_device_fp_config fp64 = 0;
-  clGetDeviceInfo(dev.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, nullptr);
-  if (!fp64) GTEST_SKIP() << dev.device_name << " has no double precision";
-  // exp.h under kernels.cl's own definitions (backends/kernels.cl: FP_CONTRACT OFF, as_ulong / as_double)
-  const std::string source =
-      "#pragma OPENCL FP_CONTRACT OFF\n#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n"
-      "#define SEMLB_BITS as_ulong\n#define SEMLB_FROM_BITS as_double\n" +
-      read_file(test::source("engine/physics/exp.h")) +
-      "\n__kernel void f(__global const double* x, __global double* y) {\n"
-      "  y[get_global_id(0)] = semlb_exp_ranged(x[get_global_id(0)]);\n}\n";
-  cl_int err = CL_SUCCESS;
-  cl::Context ctx(clCreateContext(nullptr, 1, &dev.device, nullptr, nullptr, &err));
-  cl::check(err, "clCreateContext");
-  cl::Queue queue(clCreateCommandQueue(ctx.get(), dev.device, 0, &err));
-  cl::check(err, "clCreateCommandQueue");
-  const char* text = source.c_str();
-  cl::Program program(clCreateProgramWithSource(ctx.get(), 1, &text, nullptr, &err));
-  cl::check(err, "clCreateProgramWithSource");
-  ASSERT_EQ(clBuildProgram(program.get(), 1, &dev.device, "", nullptr, nullptr), CL_SUCCESS);
-  cl::Kernel kernel(clCreateKernel(program.get(), "f", &err));
-  cl::check(err, "clCreateKernel");
-
+// Each value of backend.pair_exp reaches the kernels as the exp it names: the OpenCL program built with the options an
+// opencl-binned double backend used (its config through kernels.cl's macros) evaluates SEMLB_PAIR_EXP, the pair laws'
+// exp, beside the built-in exp and float's native exp. ranged gives the host's semlb_exp_ranged bit for bit, so the
+// 1-ulp bound measured above holds on the device (a ranged run's positions are mostly the builtin's, which says
+// nothing); builtin and native give theirs.
+TEST(Exp, EachPairExpReachesTheKernelsAndRangedGivesTheHostsBits) {
+  if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL platform";
   std::vector<double> x = arguments();
-  x.resize(200000);
+  x.resize(100000);
   x.insert(x.end(), {0.0, -708.39, -708.5, -kInf, std::nan("")});
-  const size_t n = x.size(), bytes = n * sizeof(double);
-  cl::Mem in(clCreateBuffer(ctx.get(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, x.data(), &err));
-  cl::check(err, "clCreateBuffer");
-  cl::Mem out(clCreateBuffer(ctx.get(), CL_MEM_WRITE_ONLY, bytes, nullptr, &err));
-  cl::check(err, "clCreateBuffer");
-  cl_mem a = in.get(), b = out.get();
-  cl::check(clSetKernelArg(kernel.get(), 0, sizeof a, &a), "clSetKernelArg");
-  cl::check(clSetKernelArg(kernel.get(), 1, sizeof b, &b), "clSetKernelArg");
-  cl::check(clEnqueueNDRangeKernel(queue.get(), kernel.get(), 1, nullptr, &n, nullptr, 0, nullptr, nullptr),
-            "clEnqueueNDRangeKernel");
-  std::vector<double> y(n);
-  cl::check(clEnqueueReadBuffer(queue.get(), out.get(), CL_TRUE, 0, bytes, y.data(), 0, nullptr, nullptr),
-            "clEnqueueReadBuffer");
-  long differ = 0;
-  for (size_t i = 0; i < n; ++i)
-    differ += std::bit_cast<uint64_t>(y[i]) != std::bit_cast<uint64_t>(semlb_exp_ranged(x[i])) &&
-              !(std::isnan(y[i]) && std::isnan(x[i]));
-  EXPECT_EQ(differ, 0) << "of " << n << " on " << dev.device_name;
-  EXPECT_TRUE(std::isnan(y[n - 1]));
+  const size_t n = x.size();
+  for (const std::string exp : {"builtin", "ranged", "native"}) {
+    BackendConfig c;
+    c.name = "opencl-binned";
+    c.pair_exp = exp;
+    std::unique_ptr<Backend> made;
+    try {
+      made = make_backend(c);
+    } catch (const InputError& e) {  // a device without double precision
+      GTEST_SKIP() << e.what();
+    }
+    const auto* backend = dynamic_cast<const opencl_impl::OpenClBackend<double>*>(made.get());
+    ASSERT_NE(backend, nullptr);
+    EXPECT_NE(backend->program_options().find("-DSEMLB_PAIR_EXP_"), std::string::npos);
+    const std::string source = std::string(kKernelSource) +
+                               "\n__kernel void probe(__global const double* x, __global double* y, int which) {\n"
+                               "  const double v = x[get_global_id(0)];\n"
+                               "  y[get_global_id(0)] = which == 0 ? SEMLB_PAIR_EXP(v) : which == 1 ? exp(v)\n"
+                               "                      : (double)native_exp((float)v);\n}\n";
+    const auto device = cl::choose_device(c.platform, c.device);
+    cl_int err = CL_SUCCESS;
+    cl::Context ctx(clCreateContext(nullptr, 1, &device.device, nullptr, nullptr, &err));
+    cl::check(err, "clCreateContext");
+    cl::Queue queue(clCreateCommandQueue(ctx.get(), device.device, 0, &err));
+    cl::check(err, "clCreateCommandQueue");
+    const char* text = source.c_str();
+    cl::Program program(clCreateProgramWithSource(ctx.get(), 1, &text, nullptr, &err));
+    cl::check(err, "clCreateProgramWithSource");
+    ASSERT_EQ(clBuildProgram(program.get(), 1, &device.device, backend->program_options().c_str(), nullptr, nullptr),
+              CL_SUCCESS);
+    cl::Kernel kernel(clCreateKernel(program.get(), "probe", &err));
+    cl::check(err, "clCreateKernel");
+    const size_t bytes = n * sizeof(double);
+    cl::Mem in(clCreateBuffer(ctx.get(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, x.data(), &err));
+    cl::check(err, "clCreateBuffer");
+    cl::Mem out(clCreateBuffer(ctx.get(), CL_MEM_WRITE_ONLY, bytes, nullptr, &err));
+    cl::check(err, "clCreateBuffer");
+    // which: 0 the pair laws' exp, 1 the built-in exp, 2 float's native exp
+    const auto eval = [&](cl_int which) {
+      cl_mem a = in.get(), b = out.get();
+      cl::check(clSetKernelArg(kernel.get(), 0, sizeof a, &a), "clSetKernelArg");
+      cl::check(clSetKernelArg(kernel.get(), 1, sizeof b, &b), "clSetKernelArg");
+      cl::check(clSetKernelArg(kernel.get(), 2, sizeof which, &which), "clSetKernelArg");
+      cl::check(clEnqueueNDRangeKernel(queue.get(), kernel.get(), 1, nullptr, &n, nullptr, 0, nullptr, nullptr),
+                "clEnqueueNDRangeKernel");
+      std::vector<double> y(n);
+      cl::check(clEnqueueReadBuffer(queue.get(), out.get(), CL_TRUE, 0, bytes, y.data(), 0, nullptr, nullptr),
+                "clEnqueueReadBuffer");
+      return y;
+    };
+    // how many of the values differ from `want`, bit for bit (NaN equal to NaN)
+    const auto differ = [&](const std::vector<double>& got, const std::vector<double>& want) {
+      long d = 0;
+      for (size_t i = 0; i < n; ++i)
+        d += std::bit_cast<uint64_t>(got[i]) != std::bit_cast<uint64_t>(want[i]) &&
+             !(std::isnan(got[i]) && std::isnan(want[i]));
+      return d;
+    };
+    const auto pair = eval(0), builtin = eval(1), native = eval(2);
+    ASSERT_GT(differ(builtin, native), 1000) << "the probe cannot tell the builtin from native";
+    if (exp == "ranged") {
+      std::vector<double> host(n);
+      for (size_t i = 0; i < n; ++i) host[i] = semlb_exp_ranged(x[i]);
+      EXPECT_EQ(differ(pair, host), 0) << "of " << n << " on " << device.device_name;
+      EXPECT_TRUE(std::isnan(pair[n - 1]));
+    } else {
+      EXPECT_EQ(differ(pair, exp == "builtin" ? builtin : native), 0) << exp;
+    }
+  }
 }
 
 }  // namespace
