@@ -204,12 +204,45 @@ static inline void nl_slot_forces(int s, __global const real4* sorted_pos, __glo
   nl_add(force, bound, i, acc);
 }
 
+#ifdef SEMLB_NL_GROUP_SORT
+/* A variant (-DSEMLB_NL_GROUP_SORT, to measure; docs/performance.md "Slots grouped by list length"): a warp's loop
+   runs as long as its longest list, so each work-group of NL_SORT_GROUP slots (nl_forces' group: the host's kGroup)
+   hands its slots to its items longest list first, sorted in local memory (bitonic, descending by count, ties by
+   slot). The same slots in the same group, so the list's loads stay within the group's warps; each slot still runs
+   once, and the fixed-point sums make the forces the same bit for bit. Returns the slot of item `lid`. */
+#define NL_SORT_GROUP 128
+static inline int nl_group_sorted_slot(__global const int* nl_count, int n, __local int* key) {
+  int lid = get_local_id(0), first = get_group_id(0) * NL_SORT_GROUP, s = first + lid;
+  /* (count + 1) NL_SORT_GROUP + (NL_SORT_GROUP - 1 - lid): unique, >= 0, an item past n (count -1) last */
+  key[lid] = (s < n ? min(nl_count[s], 1 << 22) + 1 : 0) * NL_SORT_GROUP + (NL_SORT_GROUP - 1 - lid);
+  for (int k = 2; k <= NL_SORT_GROUP; k <<= 1)
+    for (int j = k >> 1; j > 0; j >>= 1) {
+      barrier(CLK_LOCAL_MEM_FENCE);
+      int p = lid ^ j;
+      if (p > lid) {
+        int a = key[lid], b = key[p];
+        if ((lid & k) == 0 ? a < b : a > b) { /* descending where bit k is clear: the whole group descending */
+          key[lid] = b;
+          key[p] = a;
+        }
+      }
+    }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  return first + NL_SORT_GROUP - 1 - key[lid] % NL_SORT_GROUP;
+}
+#endif
+
 /* The local pair forces over the list: one item per sorted slot of the build. */
 __kernel void nl_forces(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
                         __global const ulong* keys, __global const int* nl_count, __global const int* nl, int kmax,
                         __global const int* starts, real4 lo, real4 size, int4 dims, __constant const SEMLB_REAL* table,
                         SEMLB_REAL cutoff, __global long* force, __global long* bound, int n) {
+#ifdef SEMLB_NL_GROUP_SORT
+  __local int key[NL_SORT_GROUP];
+  int s = nl_group_sorted_slot(nl_count, n, key);
+#else
   int s = get_global_id(0);
+#endif
   if (s >= n) return;
   nl_slot_forces(s, sorted_pos, ref, sorted_index, keys, nl_count, nl, kmax, starts, lo, size, dims, table, cutoff,
                  force, bound);

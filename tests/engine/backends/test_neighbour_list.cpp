@@ -130,18 +130,37 @@ TEST(NeighbourList, SeesExactlyTheAllPairsPairsWhileElementsMoveAcrossHalfTheSki
   }
 }
 
+// SEMLB_OPENCL_BUILD_OPTIONS with `extra` appended while it lives (a kernel variant of the backends built meanwhile).
+class ExtraBuildOptions {
+ public:
+  explicit ExtraBuildOptions(const std::string& extra) {
+    const char* before = std::getenv("SEMLB_OPENCL_BUILD_OPTIONS");
+    had_ = before != nullptr;
+    saved_ = had_ ? before : "";
+    setenv("SEMLB_OPENCL_BUILD_OPTIONS", (saved_ + " " + extra).c_str(), 1);
+  }
+  ~ExtraBuildOptions() {
+    if (had_)
+      setenv("SEMLB_OPENCL_BUILD_OPTIONS", saved_.c_str(), 1);
+    else
+      unsetenv("SEMLB_OPENCL_BUILD_OPTIONS");
+  }
+  ExtraBuildOptions(const ExtraBuildOptions&) = delete;
+  ExtraBuildOptions& operator=(const ExtraBuildOptions&) = delete;
+
+ private:
+  bool had_ = false;
+  std::string saved_;
+};
+
 // The same walk with the rebuild trigger at 3 skins instead of 0.49 (a build option of the kernels): pairs that
 // enter the cutoff from beyond cutoff + skin are missed, and the comparison above catches it.
 TEST(NeighbourList, AWrongTriggerMissesPairsAndIsCaught) {
   if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
-  const char* before = std::getenv("SEMLB_OPENCL_BUILD_OPTIONS");
-  const std::string saved = before ? before : "";
-  setenv("SEMLB_OPENCL_BUILD_OPTIONS", (saved + " -DSEMLB_NL_TRIGGER=3.0").c_str(), 1);
-  const Walk list = walk("opencl-binned", "double", kSkin, 80, kSkin / 20);
-  if (before)
-    setenv("SEMLB_OPENCL_BUILD_OPTIONS", saved.c_str(), 1);
-  else
-    unsetenv("SEMLB_OPENCL_BUILD_OPTIONS");
+  const Walk list = [] {
+    const ExtraBuildOptions trigger("-DSEMLB_NL_TRIGGER=3.0");
+    return walk("opencl-binned", "double", kSkin, 80, kSkin / 20);
+  }();
   const Walk all = walk("opencl-allpairs", "double", 0, 80, kSkin / 20);
   long wrong = 0;
   for (size_t t = 0; t < all.forces.size(); ++t) wrong += list.forces[t] != all.forces[t];
@@ -210,6 +229,26 @@ TEST(NeighbourList, SlotsOverKmaxTakeTheStencilWithFullAndHalfLists) {
         EXPECT_LT(list.list.max_partners, full_max) << "the half list holds each pair once";
       else
         full_max = list.list.max_partners;
+    }
+  }
+}
+
+// The variant that hands each work-group's slots to its items longest list first (-DSEMLB_NL_GROUP_SORT, sorted in
+// local memory each launch): every slot still runs once, so the forces equal all pairs' bit for bit, with the full
+// and the half list; 600 elements leave the last group of 128 partly empty, and the densest slots take the stencil.
+TEST(NeighbourList, SlotsSortedByListLengthInTheirGroupGiveTheSameForces) {
+  if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
+  State dense = testing::random_state(60, 10, 25.0, 3);
+  for (long i = 0; i < dense.elements(); ++i)
+    for (int a = 0; a < 3; ++a) dense.position[3 * i + a] += 60;
+  for (const char* precision : {"double", "float"}) {
+    const Walk all = walk("opencl-allpairs", precision, 0, 12, 0.05, false, dense);
+    const ExtraBuildOptions sort("-DSEMLB_NL_GROUP_SORT");
+    for (bool newton : {false, true}) {
+      const Walk list = walk("opencl-binned", precision, kSkin, 12, 0.05, newton, dense);
+      for (size_t t = 0; t < all.forces.size(); ++t)
+        EXPECT_EQ(list.forces[t], all.forces[t]) << precision << " newton " << newton << " step " << t;
+      EXPECT_GT(list.list.max_partners, 64) << "slots over the first kmax took the stencil";
     }
   }
 }
