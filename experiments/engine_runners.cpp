@@ -101,22 +101,32 @@ class TimingRunner final : public Runner {
   }
 };
 
+constexpr const char* kReferenceExp = "builtin";  // the reference run's pair exp (backend.pair_exp)
+
 // Whether `key` sets the OpenCL backends' pair_exp: the named setting, or scene.backend[.NAME].pair_exp.
 bool sets_pair_exp(const std::string& key) {
   return key == "pair_exp" ||
          (key.rfind("scene.backend.", 0) == 0 && key.size() > 9 && key.compare(key.size() - 9, 9, ".pair_exp") == 0);
 }
 
-// The job's reference run: the same settings with precision double, dt = reference_dt, cutoff = reference_cutoff
-// and the built-in pair exp (each where the job sets it).
+// The job's reference run: its settings with precision double, dt = reference_dt and cutoff = reference_cutoff
+// (where given) and the builtin pair exp, in whichever form the job sets each: the named setting or scene.KEY (a
+// GPU script's scene.backend.precision must not make the reference float too); a precision, dt or cutoff the job
+// does not set is added by name.
 Job reference_job(const Job& job) {
   Job ref = job;
-  for (auto& [k, s] : ref.settings) {
-    if (k == "precision") s.value = "double";
-    if (sets_pair_exp(k)) s.value = "builtin";
-    if (k == "dt") s.value = job.text("reference_dt", s.value);
-    if (k == "cutoff") s.value = job.text("reference_cutoff", s.value);
+  std::vector<std::pair<std::string, std::string>> want = {{"precision", "double"}};
+  if (const Setting* s = job.find("reference_dt")) want.emplace_back("dt", s->value);
+  if (const Setting* s = job.find("reference_cutoff")) want.emplace_back("cutoff", s->value);
+  for (const auto& [name, value] : want) {
+    const std::string key = std::string("scene.") + engine::scene_setting(name).key;
+    bool set = false;
+    for (auto& [k, s] : ref.settings)
+      if (k == name || k == key) s.value = value, set = true;
+    if (!set) ref.settings.push_back({name, Setting{value, 0, ""}});
   }
+  for (auto& [k, s] : ref.settings)
+    if (sets_pair_exp(k)) s.value = kReferenceExp;
   return ref;
 }
 
@@ -169,8 +179,8 @@ class AccuracyRunner final : public Runner {
                  " double cutoff=" + job.text("reference_cutoff", fmt(scene.cutoff)) +
                  (std::any_of(job.settings.begin(), job.settings.end(),
                               [](const auto& kv) { return sets_pair_exp(kv.first); })
-                      ? " pair_exp=builtin"
-                      : "")}};
+                      ? std::string(" pair_exp=") + kReferenceExp
+                      : std::string())}};
   }
 
  private:

@@ -26,7 +26,7 @@ std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::
   for (const auto& name : names)
     if (const Setting* s = job.find(name)) {
       o.push_back(engine::scene_override(name, s->value, where_of(*s, manifest, name)));
-      named[o.back().substr(0, o.back().find('='))] = name;
+      named[engine::scene_setting(name).key] = name;
     }
   for (const auto& [k, s] : job.settings)
     if (k.rfind("scene.", 0) == 0) {

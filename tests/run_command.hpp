@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -36,6 +37,30 @@ inline Result run(const std::string& cmd) {
 inline std::string within(int seconds) { return "timeout -k 5 " + std::to_string(seconds) + " "; }
 
 inline std::string semlb_bin() { return SEMLB_BINARY; }
+
+// NAME=VALUE in this process's environment while it lives (e.g. SEMLB_OPENCL_BUILD_OPTIONS for a kernel variant of the
+// backends built meanwhile); the earlier value, or none, afterwards.
+class ScopedEnv {
+ public:
+  ScopedEnv(const std::string& name, const std::string& value) : name_(name) {
+    const char* before = std::getenv(name.c_str());
+    had_ = before != nullptr;
+    saved_ = had_ ? before : "";
+    setenv(name.c_str(), value.c_str(), 1);
+  }
+  ~ScopedEnv() {
+    if (had_)
+      setenv(name_.c_str(), saved_.c_str(), 1);
+    else
+      unsetenv(name_.c_str());
+  }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  std::string name_, saved_;
+  bool had_ = false;
+};
 inline std::string source(const std::string& rel) { return std::string(SEMLB_SOURCE_DIR) + "/" + rel; }
 
 // A scratch folder per test and per build tree (two checkouts running their suites at once do not collide).

@@ -209,7 +209,8 @@ static inline void nl_slot_forces(int s, __global const real4* sorted_pos, __glo
    runs as long as its longest list, so each work-group of NL_SORT_GROUP slots (nl_forces' group: the host's kGroup)
    hands its slots to its items longest list first, sorted in local memory (bitonic, descending by count, ties by
    slot). The same slots in the same group, so the list's loads stay within the group's warps; each slot still runs
-   once, and the fixed-point sums make the forces the same bit for bit. Returns the slot of item `lid`. */
+   once, and the fixed-point sums make the forces the same bit for bit. Returns the slot of item `lid`. nl_forces
+   requires NL_SORT_GROUP items per group (reqd_work_group_size: another launch fails rather than drop slots). */
 #define NL_SORT_GROUP 128
 static inline int nl_group_sorted_slot(__global const int* nl_count, int n, __local int* key) {
   int lid = get_local_id(0), first = get_group_id(0) * NL_SORT_GROUP, s = first + lid;
@@ -230,13 +231,18 @@ static inline int nl_group_sorted_slot(__global const int* nl_count, int n, __lo
   barrier(CLK_LOCAL_MEM_FENCE);
   return first + NL_SORT_GROUP - 1 - key[lid] % NL_SORT_GROUP;
 }
+#define NL_FORCES_GROUP __attribute__((reqd_work_group_size(NL_SORT_GROUP, 1, 1)))
+#else
+#define NL_FORCES_GROUP
 #endif
 
 /* The local pair forces over the list: one item per sorted slot of the build. */
-__kernel void nl_forces(__global const real4* sorted_pos, __global const real4* ref, __global const int* sorted_index,
-                        __global const ulong* keys, __global const int* nl_count, __global const int* nl, int kmax,
-                        __global const int* starts, real4 lo, real4 size, int4 dims, __constant const SEMLB_REAL* table,
-                        SEMLB_REAL cutoff, __global long* force, __global long* bound, int n) {
+__kernel NL_FORCES_GROUP void nl_forces(__global const real4* sorted_pos, __global const real4* ref,
+                                        __global const int* sorted_index, __global const ulong* keys,
+                                        __global const int* nl_count, __global const int* nl, int kmax,
+                                        __global const int* starts, real4 lo, real4 size, int4 dims,
+                                        __constant const SEMLB_REAL* table, SEMLB_REAL cutoff, __global long* force,
+                                        __global long* bound, int n) {
 #ifdef SEMLB_NL_GROUP_SORT
   __local int key[NL_SORT_GROUP];
   int s = nl_group_sorted_slot(nl_count, n, key);

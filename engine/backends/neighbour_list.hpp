@@ -145,7 +145,7 @@ class NeighbourList {
   }
 
  private:
-  static constexpr size_t kGroup = 128;           // work-group size of the list kernels
+  static constexpr size_t kGroup = 128;           // work-group size of the list kernels (nl_forces: NL_SORT_GROUP)
   static constexpr long kStrideItems = 1L << 18;  // work-items of the gated grid-stride kernels
   static constexpr long kReadEvery = 32;          // steps between reads of the largest partner count
   static constexpr long kWarp = 32;               // slots per block of the list (NL_WARP)

@@ -20,7 +20,7 @@
 
 namespace semlb::engine::opencl_impl {
 
-constexpr size_t kGroup = 128;        // work-group size of the element kernels (neighbour_list.cl NL_SORT_GROUP)
+constexpr size_t kGroup = 128;        // work-group size of the element kernels
 constexpr size_t kScanGroup = 256;    // work-group size of the bin scan
 constexpr size_t kExtentGroups = 64;  // work-groups of the x range reduction
 

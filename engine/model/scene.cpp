@@ -169,14 +169,17 @@ const std::vector<SceneSetting>& scene_settings() {
   return settings;
 }
 
-std::string scene_override(const std::string& name, const std::string& value, const std::string& where) {
+const SceneSetting& scene_setting(const std::string& name) {
   for (const auto& s : scene_settings())
-    if (name == s.name) {
-      if (s.type == SceneSetting::Type::integer) parse_integer(value, where);
-      if (s.type == SceneSetting::Type::real) parse_real(value, where);
-      return std::string(s.key) + "=" + value;
-    }
-  throw std::logic_error("scene_override: '" + name + "' is not a scene setting");
+    if (name == s.name) return s;
+  throw std::logic_error("scene_setting: '" + name + "' is not a scene setting");
+}
+
+std::string scene_override(const std::string& name, const std::string& value, const std::string& where) {
+  const SceneSetting& s = scene_setting(name);
+  if (s.type == SceneSetting::Type::integer) parse_integer(value, where);
+  if (s.type == SceneSetting::Type::real) parse_real(value, where);
+  return std::string(s.key) + "=" + value;
 }
 
 Scene load_scene(const std::string& file, const std::vector<std::string>& overrides) {

@@ -90,6 +90,8 @@ struct SceneSetting {
 };
 // The named settings, each written once here; docs/engine.md "Scene format" gives their ranges and defaults.
 const std::vector<SceneSetting>& scene_settings();
+// The named setting `name` (scene_settings()); std::logic_error for a name that is not one (a programming error).
+const SceneSetting& scene_setting(const std::string& name);
 // The override "KEY=VALUE" of the named setting. The value is checked against the setting's type (parsed
 // strictly, common/text_io.hpp; InputError prefixed by `where`), its range when the scene is loaded.
 // std::logic_error for a name that is not in scene_settings() (a programming error).

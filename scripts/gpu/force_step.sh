@@ -33,12 +33,12 @@ bench() {  # PRECISION NEWTON PAIR_EXP SLOTS [more flags]
     --cells "${CELLS:-435661}" --steps 200 --warmup 20 --precision "$p" --set backend.skin=0.5 \
     --set backend.opencl-binned.newton="$n" --set backend.pair_exp="$e" ${SETS:-} "$@"
 }
+split() { IFS=: read -r p n e o <<< "$1"; o=${o:-bins}; }  # VARIANT: p n e o (precision, newton, pair exp, slots)
 echo "precision,newton,pair_exp,slots,round,elements,ms_per_step,machine" > "$OUT/force_step.csv"
 : > "$OUT/force_step.txt"
 for round in $(seq "${ROUNDS:-2}"); do
   for v in $variants; do
-    IFS=: read -r p n e o <<< "$v"
-    o=${o:-bins}
+    split "$v"
     t=$(bench "$p" "$n" "$e" "$o" 2>&1) || { echo "$t" >&2; echo "force_step.sh: bench $v failed" >&2; exit 1; }
     echo "$t" >> "$OUT/force_step.txt"
     # the row: backend precision cells elements seconds elem-steps/s ms/step ...
@@ -48,8 +48,8 @@ for round in $(seq "${ROUNDS:-2}"); do
   done
 done
 for v in $variants; do
-  IFS=: read -r p n e o <<< "$v"
+  split "$v"
   echo "== $v"
-  SEMLB_OPENCL_PROFILE=1 bench "$p" "$n" "$e" "${o:-bins}"
+  SEMLB_OPENCL_PROFILE=1 bench "$p" "$n" "$e" "$o"
 done > "$OUT/force_step_profile.txt" 2>&1
 cat "$OUT/force_step.csv"

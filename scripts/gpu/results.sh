@@ -37,10 +37,7 @@ commit=${SEMLB_COMMIT:-$(git -C "$here" rev-parse HEAD 2>/dev/null || echo unkno
 dirty=; [ -n "${SEMLB_COMMIT:-}" ] || dirty=$(git -C "$here" status --porcelain -- engine controllers cli 2>/dev/null | head -1)
 [ -z "$dirty" ] || echo "gpu-results: the engine or controllers differ from $commit (uncommitted): provenance says so" >&2
 S=$BUILD/cli/semlb
-if [ ! -x "$S" ]; then
-  cmake -S "$here" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DSEMLB_BUILD_TESTS=OFF -DSEMLB_WITH_TORCH=OFF >/dev/null
-  cmake --build "$BUILD" -j"$(nproc)" --target semlb >/dev/null
-fi
+BUILD=$BUILD bash "$here/scripts/gpu/build.sh"
 device=$(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null | head -1 || echo "?")
 
 provenance() {  # DIR [HOW [DEPENDS]]: DIR/provenance.json for what the stage made; DEPENDS=kernels for a result that
@@ -52,8 +49,8 @@ provenance() {  # DIR [HOW [DEPENDS]]: DIR/provenance.json for what the stage ma
     > "$1/provenance.json.tmp"
   mv "$1/provenance.json.tmp" "$1/provenance.json"
 }
-sweep() {  # MANIFEST [--set ...]: scripts/gpu_sweep.sh (the paper profile on the NVIDIA platform, in float unless the
-           # manifest chooses), one job at a time (they share one GPU), results under OUT/NAME/
+sweep() {  # MANIFEST [--set ...]: scripts/gpu_sweep.sh (the paper profile, in its precision, on the NVIDIA platform),
+           # one job at a time (they share one GPU), results under OUT/NAME/
   local m=$1; shift
   BUILD=$BUILD bash "$here/scripts/gpu_sweep.sh" "$here/experiments/$m.yaml" --results "$OUT" --quiet --jobs 1 \
     ${CHECK:+--check} "$@"

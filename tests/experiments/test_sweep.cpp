@@ -238,3 +238,24 @@ TEST(Sweep, ShippedManifestsPassTheirChecksAtEveryProfile) {
   EXPECT_NE(bad.out.find("200 ranks"), std::string::npos) << bad.out;
   EXPECT_FALSE(fs::exists(dir + "/out/w.csv.partial"));
 }
+
+// The accuracy runner's reference is double at reference_dt and reference_cutoff whichever form the job gives its own
+// precision in: with the job in float at the reference's own dt and cutoff, its error is float's, not 0, whether
+// precision is the named setting or scene.backend.precision (a GPU script's form).
+TEST(Sweep, AccuracyReferenceIsDoubleWhicheverFormSetsTheJobsPrecision) {
+  const auto dir = fresh_dir("sweep_reference");
+  const std::string head =
+      "name: ref\nrunner: engine_accuracy\noutput: ref.csv\nset:\n  scene: " + source("scenes/mechanics.yaml") +
+      "\n  effects: mechanics\n  backend: cpu-binned\n  cells: 20\n  hours: 0.1\n  dt: 0.02\n"
+      "  reference_dt: 0.02\n  reference_cutoff: 8.75\n";
+  for (const std::string form : {"precision", "scene.backend.precision"}) {
+    write(dir + "/m.yaml", head + "  " + form + ": float\n");
+    const auto r = run(semlb_bin() + " sweep " + dir + "/m.yaml --no-timing --quiet --results " + dir + "/" + form);
+    ASSERT_EQ(r.rc, 0) << form << ": " << r.out;
+    const auto rows = semlb::csv_rows(dir + "/" + form + "/ref.csv");
+    ASSERT_EQ(rows.size(), 1u) << form;
+    EXPECT_GT(std::stod(rows[0].at("rms_error_um")), 0.0) << form << ": the reference ran in float too";
+    EXPECT_LT(std::stod(rows[0].at("rms_error_um")), 1e-3) << form;
+    EXPECT_EQ(rows[0].at("precision"), "float") << form;
+  }
+}

@@ -466,9 +466,10 @@ TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
     GTEST_SKIP() << "no OpenCL platform";
   const std::string dir = test::fresh_dir("kernel_capture");
   const auto s = random_state(40, 9, 40.0, 21);
-  setenv("SEMLB_OPENCL_CAPTURE", ("forces_binned:" + dir).c_str(), 1);
-  const State out = run("opencl-binned", "float", s, 3, 0, 40, "0");  // the stencil kernel (no neighbour list)
-  unsetenv("SEMLB_OPENCL_CAPTURE");
+  const State out = [&] {
+    const test::ScopedEnv capture("SEMLB_OPENCL_CAPTURE", "forces_binned:" + dir);
+    return run("opencl-binned", "float", s, 3, 0, 40, "0");  // the stencil kernel (no neighbour list)
+  }();
   EXPECT_EQ(out.hash(), run("opencl-binned", "float", s, 3, 0, 40, "0").hash());  // capturing changes nothing
   std::ifstream launch(dir + "/launch.txt");
   std::vector<std::string> lines;
@@ -510,9 +511,10 @@ TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
   EXPECT_EQ(bytes("arg0.bin"), bytes("arg0.after.bin"));
   // KERNEL@N captures the N-th launch instead: the third step's positions, not the first's.
   const std::string third = test::fresh_dir("kernel_capture_3");
-  setenv("SEMLB_OPENCL_CAPTURE", ("forces_binned@3:" + third).c_str(), 1);
-  run("opencl-binned", "float", s, 3, 0, 40, "0");
-  unsetenv("SEMLB_OPENCL_CAPTURE");
+  {
+    const test::ScopedEnv capture("SEMLB_OPENCL_CAPTURE", "forces_binned@3:" + third);
+    run("opencl-binned", "float", s, 3, 0, 40, "0");
+  }
   std::ifstream third_pos(third + "/arg0.bin", std::ios::binary);
   const std::vector<char> pos3((std::istreambuf_iterator<char>(third_pos)), std::istreambuf_iterator<char>());
   ASSERT_EQ(pos3.size(), bytes("arg0.bin").size());
@@ -520,7 +522,7 @@ TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
   for (const std::string& bad :
        std::vector<std::string>{"forces_binned", "no_such_kernel:" + dir + "/x", "forces_binned:/proc/no/such",
                                 "forces_binned@0:" + dir, "forces_binned@2x:" + dir, "@2:" + dir}) {
-    setenv("SEMLB_OPENCL_CAPTURE", bad.c_str(), 1);
+    const test::ScopedEnv capture("SEMLB_OPENCL_CAPTURE", bad);
     try {
       run("opencl-binned", "float", s, 1);
       ADD_FAILURE() << bad << " was accepted";
@@ -528,7 +530,6 @@ TEST(Backends, KernelCaptureWritesOneLaunchForReplay) {
       EXPECT_NE(std::string(e.what()).find("SEMLB_OPENCL_CAPTURE"), std::string::npos) << e.what();
     }
   }
-  unsetenv("SEMLB_OPENCL_CAPTURE");
 }
 
 TEST(Backends, UnknownBackendIsRefusedWithTheKnownOnes) {

@@ -13,6 +13,8 @@
 #include "engine/model/tissue.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "../engine_fixtures.hpp"
+#include "../kernel_program.hpp"
+#include "../../run_command.hpp"
 
 namespace semlb::engine {
 namespace {
@@ -131,26 +133,13 @@ TEST(NeighbourList, SeesExactlyTheAllPairsPairsWhileElementsMoveAcrossHalfTheSki
 }
 
 // SEMLB_OPENCL_BUILD_OPTIONS with `extra` appended while it lives (a kernel variant of the backends built meanwhile).
-class ExtraBuildOptions {
+class ExtraBuildOptions : public test::ScopedEnv {
  public:
-  explicit ExtraBuildOptions(const std::string& extra) {
-    const char* before = std::getenv("SEMLB_OPENCL_BUILD_OPTIONS");
-    had_ = before != nullptr;
-    saved_ = had_ ? before : "";
-    setenv("SEMLB_OPENCL_BUILD_OPTIONS", (saved_ + " " + extra).c_str(), 1);
-  }
-  ~ExtraBuildOptions() {
-    if (had_)
-      setenv("SEMLB_OPENCL_BUILD_OPTIONS", saved_.c_str(), 1);
-    else
-      unsetenv("SEMLB_OPENCL_BUILD_OPTIONS");
-  }
-  ExtraBuildOptions(const ExtraBuildOptions&) = delete;
-  ExtraBuildOptions& operator=(const ExtraBuildOptions&) = delete;
-
- private:
-  bool had_ = false;
-  std::string saved_;
+  explicit ExtraBuildOptions(const std::string& extra)
+      : ScopedEnv(
+            "SEMLB_OPENCL_BUILD_OPTIONS",
+            std::string(std::getenv("SEMLB_OPENCL_BUILD_OPTIONS") ? std::getenv("SEMLB_OPENCL_BUILD_OPTIONS") : "") +
+                " " + extra) {}
 };
 
 // The same walk with the rebuild trigger at 3 skins instead of 0.49 (a build option of the kernels): pairs that
@@ -236,8 +225,25 @@ TEST(NeighbourList, SlotsOverKmaxTakeTheStencilWithFullAndHalfLists) {
 // The variant that hands each work-group's slots to its items longest list first (-DSEMLB_NL_GROUP_SORT, sorted in
 // local memory each launch): every slot still runs once, so the forces equal all pairs' bit for bit, with the full
 // and the half list; 600 elements leave the last group of 128 partly empty, and the densest slots take the stencil.
+// That the option reached the program: its nl_forces requires groups of 128 (reqd_work_group_size), the plain one not.
 TEST(NeighbourList, SlotsSortedByListLengthInTheirGroupGiveTheSameForces) {
   if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
+  const auto compiled_group = [] {
+    BackendConfig c;
+    c.name = "opencl-binned";
+    c.skin = kSkin;
+    const testing::KernelProgram p(c, "");
+    size_t group[3] = {0, 0, 0};
+    cl::check(clGetKernelWorkGroupInfo(p.kernel("nl_forces").get(), p.device.device, CL_KERNEL_COMPILE_WORK_GROUP_SIZE,
+                                       sizeof group, group, nullptr),
+              "clGetKernelWorkGroupInfo");
+    return group[0];
+  };
+  EXPECT_EQ(compiled_group(), 0u);
+  {
+    const ExtraBuildOptions sort("-DSEMLB_NL_GROUP_SORT");
+    EXPECT_EQ(compiled_group(), 128u);
+  }
   State dense = testing::random_state(60, 10, 25.0, 3);
   for (long i = 0; i < dense.elements(); ++i)
     for (int a = 0; a < 3; ++a) dense.position[3 * i + a] += 60;

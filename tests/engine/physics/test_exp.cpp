@@ -9,11 +9,10 @@
 #include <random>
 #include <vector>
 
-#include "engine/backends/opencl_backend.hpp"
+#include "../kernel_program.hpp"
 #include "engine/physics/cpu_physics.hpp"
 
 namespace semlb::engine {
-extern const char* const kKernelSource;  // kernels.cl with its parts (engine/CMakeLists.txt)
 namespace {
 
 using phys64::semlb_exp_ranged;
@@ -82,37 +81,25 @@ TEST(Exp, EachPairExpReachesTheKernelsAndRangedGivesTheHostsBits) {
     BackendConfig c;
     c.name = "opencl-binned";
     c.pair_exp = exp;
-    std::unique_ptr<Backend> made;
+    std::unique_ptr<testing::KernelProgram> built;
     try {
-      made = make_backend(c);
+      built = std::make_unique<testing::KernelProgram>(
+          c,
+          "__kernel void probe(__global const double* x, __global double* y, int which) {\n"
+          "  const double v = x[get_global_id(0)];\n"
+          "  y[get_global_id(0)] = which == 0 ? SEMLB_PAIR_EXP(v) : which == 1 ? exp(v)\n"
+          "                      : (double)native_exp((float)v);\n}\n");
     } catch (const InputError& e) {  // a device without double precision
       GTEST_SKIP() << e.what();
     }
-    const auto* backend = dynamic_cast<const opencl_impl::OpenClBackend<double>*>(made.get());
-    ASSERT_NE(backend, nullptr);
-    EXPECT_NE(backend->program_options().find("-DSEMLB_PAIR_EXP_"), std::string::npos);
-    const std::string source = std::string(kKernelSource) +
-                               "\n__kernel void probe(__global const double* x, __global double* y, int which) {\n"
-                               "  const double v = x[get_global_id(0)];\n"
-                               "  y[get_global_id(0)] = which == 0 ? SEMLB_PAIR_EXP(v) : which == 1 ? exp(v)\n"
-                               "                      : (double)native_exp((float)v);\n}\n";
-    const auto device = cl::choose_device(c.platform, c.device);
+    const testing::KernelProgram& p = *built;
+    EXPECT_NE(p.options.find("-DSEMLB_PAIR_EXP_"), std::string::npos);
+    const cl::Kernel kernel = p.kernel("probe");
     cl_int err = CL_SUCCESS;
-    cl::Context ctx(clCreateContext(nullptr, 1, &device.device, nullptr, nullptr, &err));
-    cl::check(err, "clCreateContext");
-    cl::Queue queue(clCreateCommandQueue(ctx.get(), device.device, 0, &err));
-    cl::check(err, "clCreateCommandQueue");
-    const char* text = source.c_str();
-    cl::Program program(clCreateProgramWithSource(ctx.get(), 1, &text, nullptr, &err));
-    cl::check(err, "clCreateProgramWithSource");
-    ASSERT_EQ(clBuildProgram(program.get(), 1, &device.device, backend->program_options().c_str(), nullptr, nullptr),
-              CL_SUCCESS);
-    cl::Kernel kernel(clCreateKernel(program.get(), "probe", &err));
-    cl::check(err, "clCreateKernel");
     const size_t bytes = n * sizeof(double);
-    cl::Mem in(clCreateBuffer(ctx.get(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, x.data(), &err));
+    cl::Mem in(clCreateBuffer(p.ctx.get(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, x.data(), &err));
     cl::check(err, "clCreateBuffer");
-    cl::Mem out(clCreateBuffer(ctx.get(), CL_MEM_WRITE_ONLY, bytes, nullptr, &err));
+    cl::Mem out(clCreateBuffer(p.ctx.get(), CL_MEM_WRITE_ONLY, bytes, nullptr, &err));
     cl::check(err, "clCreateBuffer");
     // which: 0 the pair laws' exp, 1 the built-in exp, 2 float's native exp
     const auto eval = [&](cl_int which) {
@@ -120,10 +107,10 @@ TEST(Exp, EachPairExpReachesTheKernelsAndRangedGivesTheHostsBits) {
       cl::check(clSetKernelArg(kernel.get(), 0, sizeof a, &a), "clSetKernelArg");
       cl::check(clSetKernelArg(kernel.get(), 1, sizeof b, &b), "clSetKernelArg");
       cl::check(clSetKernelArg(kernel.get(), 2, sizeof which, &which), "clSetKernelArg");
-      cl::check(clEnqueueNDRangeKernel(queue.get(), kernel.get(), 1, nullptr, &n, nullptr, 0, nullptr, nullptr),
+      cl::check(clEnqueueNDRangeKernel(p.queue.get(), kernel.get(), 1, nullptr, &n, nullptr, 0, nullptr, nullptr),
                 "clEnqueueNDRangeKernel");
       std::vector<double> y(n);
-      cl::check(clEnqueueReadBuffer(queue.get(), out.get(), CL_TRUE, 0, bytes, y.data(), 0, nullptr, nullptr),
+      cl::check(clEnqueueReadBuffer(p.queue.get(), out.get(), CL_TRUE, 0, bytes, y.data(), 0, nullptr, nullptr),
                 "clEnqueueReadBuffer");
       return y;
     };
@@ -140,7 +127,7 @@ TEST(Exp, EachPairExpReachesTheKernelsAndRangedGivesTheHostsBits) {
     if (exp == "ranged") {
       std::vector<double> host(n);
       for (size_t i = 0; i < n; ++i) host[i] = semlb_exp_ranged(x[i]);
-      EXPECT_EQ(differ(pair, host), 0) << "of " << n << " on " << device.device_name;
+      EXPECT_EQ(differ(pair, host), 0) << "of " << n << " on " << p.device.device_name;
       EXPECT_TRUE(std::isnan(pair[n - 1]));
     } else {
       EXPECT_EQ(differ(pair, exp == "builtin" ? builtin : native), 0) << exp;
