@@ -179,9 +179,9 @@ std::vector<double> model_times(const ReplayTrack& t, int event, const std::vect
     double total = 0, all_work = 0;
     for (int s = 0; s < t.slices; ++s) any |= bits[s], total += n[s], all_work += work[s];
     const int k = std::popcount(static_cast<uint64_t>(any));
+    const bool by_triggers = m.list_by == TimeModel::ListBy::kTriggers;
     for (size_t q = 0; q < times.size(); ++q) {
       const int lo = q == 0 ? 0 : b[q - 1], hi = q + 1 < times.size() ? b[q] : t.slices;
-      const bool by_triggers = m.list_by == TimeModel::ListBy::kTriggers;
       int64_t mine = 0, triggered = 0;
       double nq = 0, changed_work = 0, rank_work = 0;
       for (int s = lo; s < hi; ++s) {

@@ -524,7 +524,8 @@ State DistributedSimulation::gather() {
   State all = empty_like(s);
   for (const auto& bytes : mpi_->gather(w.bytes, 0)) unpack_cells(bytes, all);
   all.reindex();
-  return all.is_canonical() ? all : all.canonical();  // no copy when the ranks' cells came in id order
+  if (!all.is_canonical()) return all.canonical();
+  return all;  // moved out: no copy when the ranks' cells came in id order
 }
 
 }  // namespace semlb::engine

@@ -61,28 +61,8 @@ State State::canonical() const {
   std::vector<long> order(cells());
   for (long c = 0; c < cells(); ++c) order[c] = c;
   std::sort(order.begin(), order.end(), [&](long a, long b) { return cell_id[a] < cell_id[b]; });
-  State out;
-  out.step = step;
-  out.time = time;
-  const size_t n = order.size();
-  out.cell_id.resize(n);
-  out.cell_type.resize(n);
-  out.cell_count.resize(n);
-  out.position.resize(position.size());
-  for (size_t k = 0, at = 0; k < n; ++k) {  // each array filled once in place: no growth, no lookup per cell
-    const long c = order[k];
-    out.cell_id[k] = cell_id[c];
-    out.cell_type[k] = cell_type[c];
-    out.cell_count[k] = cell_count[c];
-    const size_t len = 3 * static_cast<size_t>(cell_count[c]);
-    std::copy_n(position.begin() + 3 * cell_first[c], len, out.position.begin() + static_cast<long>(at));
-    at += len;
-  }
-  for (const auto& [name, f] : cell_fields) {
-    auto& to = out.cell_fields[name];
-    to.resize(n);
-    for (size_t k = 0; k < n; ++k) to[k] = f[order[k]];
-  }
+  State out = empty_like(*this);
+  copy_cells(*this, order, out);
   out.reindex();
   return out;
 }
