@@ -1,7 +1,9 @@
 // Scene timing and tissue density statistics.
 #include "bench.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "common/errors.hpp"
 #include "physics/stencil.h"
@@ -33,14 +35,22 @@ TissueStats tissue_stats(const State& s, const Grid& g, double cutoff, long samp
     for (long k = first_bin; k <= last_bin; ++k) candidates += count[k];
     t.candidates += static_cast<double>(candidates - 1);
   }
-  long sampled = 0;  // brute force over a sample: independent of the binning under test
-  for (long e = 0; e < n && sampled * n < 4e9; e += std::max(1L, n / sample), ++sampled)
+  // brute force over a sample (independent of the binning under test): every stride-th element while the pairs
+  // stay under 4e9, summed in integers across the threads (the same count on any thread count)
+  const long stride = std::max(1L, n / sample);
+  const long sampled = std::min((n + stride - 1) / stride, static_cast<long>(std::ceil(4e9 / static_cast<double>(n))));
+  long neighbours = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : neighbours)
+  for (long i = 0; i < sampled; ++i) {
+    const long e = i * stride;
     for (long o = 0; o < n; ++o) {
       double r2 = 0;
       for (int d = 0; d < 3; ++d)
         r2 += (s.position[3 * e + d] - s.position[3 * o + d]) * (s.position[3 * e + d] - s.position[3 * o + d]);
-      t.neighbours += o != e && r2 < cutoff * cutoff;
+      neighbours += o != e && r2 < cutoff * cutoff;
     }
+  }
+  t.neighbours = static_cast<double>(neighbours);
   t.per_cutoff_cube /= static_cast<double>(n);
   t.candidates /= static_cast<double>(n);
   t.neighbours /= static_cast<double>(sampled);
