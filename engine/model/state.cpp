@@ -98,23 +98,37 @@ void make_room(std::vector<T>& v, size_t extra) {
 }  // namespace
 
 void copy_cells(const State& from, const std::vector<long>& cells, State& to) {
-  size_t elements = 0;
-  for (long c : cells) elements += static_cast<size_t>(from.cell_count[c]);
+  const long n = static_cast<long>(cells.size());
+  const size_t c0 = to.cell_id.size();
+  std::vector<size_t> at(cells.size() + 1, to.position.size());  // where each copied cell's positions go
+  for (long k = 0; k < n; ++k) at[k + 1] = at[k] + 3 * static_cast<size_t>(from.cell_count[cells[k]]);
   make_room(to.cell_id, cells.size());
   make_room(to.cell_type, cells.size());
   make_room(to.cell_count, cells.size());
-  make_room(to.position, 3 * elements);
+  make_room(to.position, at.back() - to.position.size());
+  to.cell_id.resize(c0 + cells.size());
+  to.cell_type.resize(c0 + cells.size());
+  to.cell_count.resize(c0 + cells.size());
+  to.position.resize(at.back());
+  // each cell's copy is its own: the threads write disjoint ranges (the same state on any thread count)
+#pragma omp parallel for schedule(static) if (n > 16384)
+  for (long k = 0; k < n; ++k) {
+    const long c = cells[k];
+    to.cell_id[c0 + k] = from.cell_id[c];
+    to.cell_type[c0 + k] = from.cell_type[c];
+    to.cell_count[c0 + k] = from.cell_count[c];
+    std::copy(from.position.begin() + 3 * from.cell_first[c],
+              from.position.begin() + 3 * (from.cell_first[c] + from.cell_count[c]), to.position.begin() + at[k]);
+  }
   for (auto& [name, f] : to.cell_fields) {
     const auto source = from.cell_fields.find(name);
+    const size_t f0 = f.size();
     make_room(f, cells.size());
-    for (long c : cells) f.push_back(source == from.cell_fields.end() ? 0.0 : source->second[c]);
-  }
-  for (long c : cells) {
-    to.cell_id.push_back(from.cell_id[c]);
-    to.cell_type.push_back(from.cell_type[c]);
-    to.cell_count.push_back(from.cell_count[c]);
-    to.position.insert(to.position.end(), from.position.begin() + 3 * from.cell_first[c],
-                       from.position.begin() + 3 * (from.cell_first[c] + from.cell_count[c]));
+    f.resize(f0 + cells.size(), 0.0);
+    if (source == from.cell_fields.end()) continue;
+    const std::vector<double>& src = source->second;
+#pragma omp parallel for schedule(static) if (n > 16384)
+    for (long k = 0; k < n; ++k) f[f0 + k] = src[cells[k]];
   }
 }
 

@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <set>
 #include <stdexcept>
 
@@ -147,6 +149,57 @@ TEST(Model, TissueIsTheSameOnAnyThreadCount) {
   EXPECT_EQ(made[0].elements(), elements);
   EXPECT_EQ(made[0].position.size(), static_cast<size_t>(3 * elements));
   for (double x : made[0].position) ASSERT_TRUE(std::isfinite(x));
+}
+
+// copy_cells (and canonical() through it) over more cells than its threads' threshold: each cell's id, type,
+// count, positions and fields where the selection puts them, appended after what `to` held, on any thread count.
+TEST(Model, CopyCellsPutsEachCellWhereTheSelectionSaysOnAnyThreadCount) {
+  const long cells = 20000;
+  State s;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 100);
+  std::vector<uint64_t> ids(cells);
+  for (long c = 0; c < cells; ++c) ids[c] = static_cast<uint64_t>(c) * 7 + 3;
+  std::shuffle(ids.begin(), ids.end(), rng);
+  s.cell_fields["growth.volume"];
+  for (long c = 0; c < cells; ++c) {
+    s.cell_id.push_back(ids[c]);
+    s.cell_type.push_back(static_cast<int>(c % 3));
+    s.cell_count.push_back(1 + static_cast<int>(c % 5));
+    s.cell_fields["growth.volume"].push_back(u(rng));
+    for (int e = 0; e < 3 * s.cell_count.back(); ++e) s.position.push_back(u(rng));
+  }
+  s.reindex();
+  std::vector<long> pick;  // every third cell, backwards
+  for (long c = cells - 1; c >= 0; c -= 3) pick.push_back(c);
+  const int before = omp_get_max_threads();
+  std::vector<State> made;
+  for (int threads : {1, 3}) {
+    omp_set_num_threads(threads);
+    State to = empty_like(s);
+    copy_cells(s, {0, 1}, to);  // something already there
+    copy_cells(s, pick, to);
+    to.reindex();
+    made.push_back(std::move(to));
+  }
+  omp_set_num_threads(before);
+  const State& to = made[0];
+  ASSERT_EQ(to.cells(), static_cast<long>(pick.size()) + 2);
+  for (long k = 0; k < to.cells(); ++k) {
+    const long c = k < 2 ? k : pick[k - 2];
+    ASSERT_EQ(to.cell_id[k], s.cell_id[c]) << k;
+    ASSERT_EQ(to.cell_type[k], s.cell_type[c]) << k;
+    ASSERT_EQ(to.cell_count[k], s.cell_count[c]) << k;
+    ASSERT_EQ(to.cell_fields.at("growth.volume")[k], s.cell_fields.at("growth.volume")[c]) << k;
+    for (int e = 0; e < 3 * s.cell_count[c]; ++e)
+      ASSERT_EQ(to.position[3 * to.cell_first[k] + e], s.position[3 * s.cell_first[c] + e]) << k;
+  }
+  EXPECT_EQ(made[1].position, to.position);
+  EXPECT_EQ(made[1].cell_id, to.cell_id);
+  EXPECT_EQ(made[1].cell_fields, to.cell_fields);
+  const State sorted = s.canonical();
+  EXPECT_TRUE(sorted.is_canonical());
+  EXPECT_EQ(sorted.elements(), s.elements());
 }
 
 // A step count the device kernels cannot count (32 bits) is refused when the scene is read, never met mid-run.
