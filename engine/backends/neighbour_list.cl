@@ -24,6 +24,13 @@
 #define SEMLB_NL_TRIGGER 0.49
 #endif
 
+/* The list's bins: edge >= (cutoff + skin) / SEMLB_NL_REACH, each build and stencil fallback over the
+   (2 SEMLB_NL_REACH + 1)^3 bins around a slot's (opencl-binned's `list_bin_divisions`, LAMMPS's `neigh_modify
+   binsize`: smaller bins test fewer candidates at more rows each). */
+#ifndef SEMLB_NL_REACH
+#define SEMLB_NL_REACH 1
+#endif
+
 /* Where chunk c (partners 8c .. 8c + 7) of sorted slot s is stored: slot s is lane s % 32 of warp block s / 32;
    kmax is a multiple of 8. */
 #define NL_WARP 32
@@ -67,10 +74,9 @@ __kernel void nl_mark(__global const int* gate, __global const int* stats, __glo
 }
 
 /* Gated build: for each sorted slot, the sorted slots within the list radius (r^2 < list2; a NaN distance counts
-   as within, as in semlb_pair_force) among the 27 bins around its own, itself excluded (with SEMLB_NEWTON those
-   after it alone); the first kmax are stored,
-   8 at a time (a chunk gathered in registers, then one 32-byte store). stats[0] = the largest count (atomic_max), read
-   by the host to size kmax. */
+   as within, as in semlb_pair_force) among the (2 SEMLB_NL_REACH + 1)^3 bins around its own, itself excluded (with
+   SEMLB_NEWTON those after it alone); the first kmax are stored, 8 at a time (a chunk gathered in registers, then one
+   32-byte store). stats[0] = the largest count (atomic_max), read by the host to size kmax. */
 __kernel void nl_build(__global const int* gate, __global const real4* sorted_pos, __global const int* starts, real4 lo,
                        real4 size, int4 dims, SEMLB_REAL list2, int n, int kmax, __global int* nl_count,
                        __global int* nl, __global int* stats) {
@@ -81,7 +87,7 @@ __kernel void nl_build(__global const int* gate, __global const real4* sorted_po
     int count = 0;
     const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
     int8 chunk = (int8)(0);
-    SEMLB_STENCIL_ROWS(b.x, b.y, b.z, dims.x, dims.y, dims.z, first_bin, last_bin) {
+    SEMLB_STENCIL_ROWS_REACH(b.x, b.y, b.z, dims.x, dims.y, dims.z, SEMLB_NL_REACH, first_bin, last_bin) {
       int last = starts[last_bin + 1];
 #ifdef SEMLB_NEWTON
       for (int j = max(starts[first_bin], s + 1); j < last; ++j) { /* the half list: partners after s */
@@ -150,9 +156,10 @@ static inline void nl_pair(int i, real4 me, int info, int j, __global const real
 #endif
 }
 
-/* A slot over kmax: the exact stencil of the build's bins around its position at the build, ref[s] (bins of edge
-   >= cutoff + skin: every partner within the cutoff now was within cutoff + skin then, hence in those bins); with
-   SEMLB_NEWTON its pairs with the slots after it alone, as the half list. */
+/* A slot over kmax: the exact stencil (reach SEMLB_NL_REACH) of the build's bins around its position at the build,
+   ref[s] (bins of edge
+   >= (cutoff + skin) / reach: every partner within the cutoff now was within cutoff + skin then, hence in those bins);
+   with SEMLB_NEWTON its pairs with the slots after it alone, as the half list. */
 static inline void nl_stencil(int s, int i, real4 me, __global const real4* sorted_pos, __global const real4* ref,
                               __global const int* sorted_index, __global const ulong* keys, __global const int* starts,
                               real4 lo, real4 size, int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff2,
@@ -160,13 +167,13 @@ static inline void nl_stencil(int s, int i, real4 me, __global const real4* sort
   int4 b = bin3(ref[s], lo, size, dims);
 #ifdef SEMLB_NEWTON
   int info = INFO(me.w);
-  SEMLB_STENCIL_ROWS(b.x, b.y, b.z, dims.x, dims.y, dims.z, first_bin, last_bin) {
+  SEMLB_STENCIL_ROWS_REACH(b.x, b.y, b.z, dims.x, dims.y, dims.z, SEMLB_NL_REACH, first_bin, last_bin) {
     int last = starts[last_bin + 1];
     for (int j = max(starts[first_bin], s + 1); j < last; ++j)
       nl_pair(i, me, info, j, sorted_pos, sorted_index, keys, table, cutoff2, acc, force, bound);
   }
 #else
-  stencil_forces(me, i, s, b, dims, sorted_pos, sorted_index, starts, keys, table, cutoff2, acc);
+  stencil_forces(me, i, s, b, dims, SEMLB_NL_REACH, sorted_pos, sorted_index, starts, keys, table, cutoff2, acc);
 #endif
 }
 

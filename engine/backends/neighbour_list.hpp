@@ -23,13 +23,16 @@ template <class Real>
 class NeighbourList {
  public:
   // newton: a half list (each pair once, the kernels built with -DSEMLB_NEWTON; needs skin > 0); split: the kernels
-  // were built with -DSEMLB_NL_SPLIT (nl_overflow then visits every slot; else one item).
-  NeighbourList(double skin, bool newton, bool split) : split_(split) {
+  // were built with -DSEMLB_NL_SPLIT (nl_overflow then visits every slot; else one item); bin_divisions: the list's
+  // bins of edge (cutoff + skin) / bin_divisions (the kernels built with -DSEMLB_NL_REACH=bin_divisions when > 1).
+  NeighbourList(double skin, bool newton, bool split, int bin_divisions = 1) : split_(split) {
     stats_.skin = skin;
     stats_.newton = newton && skin > 0;
+    stats_.bin_divisions = skin > 0 ? bin_divisions : 1;
   }
   bool on() const { return stats_.skin > 0; }
   bool newton() const { return stats_.newton; }
+  int bin_divisions() const { return stats_.bin_divisions; }
   void invalidate() { valid_ = false; }
   // The device's build count and largest partner count (a blocking read of 8 bytes: benches and tests only).
   template <class B>
@@ -78,7 +81,7 @@ class NeighbourList {
     if (n <= 0) return;
     std::array<double, 3> hi{};
     for (int d = 0; d < 3; ++d) hi[d] = g.lo[d] + g.size[d] * g.dims[d];
-    const Grid lg = Grid::cover(g.lo, hi, cutoff + stats_.skin);
+    const Grid lg = Grid::cover(g.lo, hi, (cutoff + stats_.skin) / stats_.bin_divisions);
     poll();
     bool rebuild =
         !valid_ || n != n_ || cutoff != cutoff_ || lg.lo != grid_.lo || lg.size != grid_.size || lg.dims != grid_.dims;
@@ -104,7 +107,8 @@ class NeighbourList {
                static_cast<Real>(x0_), static_cast<Real>(slices_ > 0 ? 1.0 / width_ : 0.0),
                static_cast<cl_int>(slices_));
     }
-    // the build, gated: bins of edge >= cutoff + skin (the backend's sort, grid-stride: a gated launch costs little)
+    // the build, gated: bins of edge >= (cutoff + skin) / bin_divisions (the backend's sort, grid-stride: a gated
+    // launch costs little)
     b.set_kernel_group("list:");  // the device timers' list part (Backend::device_parts)
     b.sort_into_bins(lg, 0, n, sort_, &gate_, &ref_, kStrideItems);
     const long wide = std::min<long>(n, kStrideItems);

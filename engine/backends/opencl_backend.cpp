@@ -33,7 +33,8 @@ std::string pair_exp_of(const std::string& named, bool single) {
 template <class Real>
 OpenClBackend<Real>::OpenClBackend(const BackendConfig& c, bool binned)
     : binned_(binned),
-      list_(binned ? c.skin : 0.0, binned && c.newton, build_options().find("SEMLB_NL_SPLIT") != std::string::npos),
+      list_(binned ? c.skin : 0.0, binned && c.newton, build_options().find("SEMLB_NL_SPLIT") != std::string::npos,
+            binned ? c.list_bin_divisions : 1),
       pair_exp_(pair_exp_of(c.pair_exp, std::is_same_v<Real, float>)) {
   dev_ = cl::choose_device(c.platform, c.device, c.local_rank);
   cl_device_fp_config fp64 = 0;
@@ -342,8 +343,9 @@ void OpenClBackend<Real>::build(const std::string& pair_term) {
   std::string exp = pair_exp_;
   std::transform(exp.begin(), exp.end(), exp.begin(), [](unsigned char ch) { return std::toupper(ch); });
   options_ = std::string(std::is_same_v<Real, double> ? "-DSEMLB_DOUBLE" : "") + (has_fp64_ ? " -DSEMLB_CELLS" : "") +
-             (list_.newton() ? " -DSEMLB_NEWTON" : "") + " -DSEMLB_PAIR_EXP_" + exp + " -DSEMLB_PAIR_TERM=semlb_pair_" +
-             pair_term + " " + build_options();
+             (list_.newton() ? " -DSEMLB_NEWTON" : "") +
+             (list_.bin_divisions() > 1 ? " -DSEMLB_NL_REACH=" + std::to_string(list_.bin_divisions()) : "") +
+             " -DSEMLB_PAIR_EXP_" + exp + " -DSEMLB_PAIR_TERM=semlb_pair_" + pair_term + " " + build_options();
   if (clBuildProgram(program_.get(), 1, &dev_.device, options_.c_str(), nullptr, nullptr) != CL_SUCCESS) {
     size_t n = 0;
     clGetProgramBuildInfo(program_.get(), dev_.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
@@ -471,7 +473,8 @@ std::unique_ptr<Backend> make(const BackendConfig& c) {
 // backend: {name: opencl-allpairs | opencl-binned, platform: NAME substring, device: index, pair_exp: builtin | ranged
 // | native (the pair force law's exp; default native in float, builtin in double; ranged in double only, checked where
 // the backend runs: a scene for several backends may name it), skin: um (opencl-binned's neighbour list, 0: none),
-// newton: true | false (opencl-binned's half list; only with skin > 0)}.
+// newton: true | false (opencl-binned's half list; only with skin > 0), list_bin_divisions: 1..3 (the list's bins of
+// edge (cutoff + skin) / N; only with skin > 0)}.
 template <bool Binned>
 void read(const Section& s, BackendConfig& c) {
   c.platform = s.text("platform", c.platform);
@@ -486,6 +489,9 @@ void read(const Section& s, BackendConfig& c) {
   c.skin = s.real("skin", c.skin, 0, 1e3);
   c.newton = s.boolean("newton", c.newton);
   if (c.newton && c.skin <= 0) s.fail("newton", "the half list needs the neighbour list: set skin > 0");
+  c.list_bin_divisions = static_cast<int>(s.integer("list_bin_divisions", c.list_bin_divisions, 1, 3));
+  if (c.list_bin_divisions > 1 && c.skin <= 0)
+    s.fail("list_bin_divisions", "the list's bins need the neighbour list: set skin > 0");
 }
 const Registrar<BackendInfo> allpairs("opencl-allpairs", {make<false>, read<false>});
 const Registrar<BackendInfo> binned("opencl-binned", {make<true>, read<true>});

@@ -3,18 +3,19 @@
 /* Candidates taken at a time by the binned pair kernels: the bits of one mask. */
 #define SEMLB_CHUNK 64
 
-/* The forces on element i (at me, in bin b, key keys[i]) of the sorted elements in the 27-bin stencil: 9 rows of
-   3 bins, contiguous in bin order (starts[bin] the first sorted slot of a bin). Sorted slot `self` (i itself,
-   or -1) is skipped. A row's candidates are taken SEMLB_CHUNK at a time: first a bit mask of those within the
-   cutoff (a NaN distance counts as within, as in semlb_pair_force), then the force law on the set bits only, so
-   that the lanes of a warp run the costly part together rather than idling through it for every candidate that
-   one lane alone keeps (docs/engine.md: 1.13x float, 1.31x double on an H200 at 6.5e6 elements). */
-static inline void stencil_forces(real4 me, int i, int self, int4 b, int4 dims, __global const real4* sorted_pos,
-                                  __global const int* sorted_index, __global const int* starts,
-                                  __global const ulong* keys, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff2,
-                                  long* acc) {
+/* The forces on element i (at me, in bin b, key keys[i]) of the sorted elements in the stencil of `reach` bins
+   each way (1: the 27-bin stencil of bins of edge >= the cutoff, 9 rows of 3 bins), rows contiguous in bin order
+   (starts[bin] the first sorted slot of a bin). Sorted slot `self` (i itself, or -1) is skipped. A row's candidates are
+   taken SEMLB_CHUNK at a time: first a bit mask of those within the cutoff (a NaN distance counts as within, as in
+   semlb_pair_force), then the force law on the set bits only, so that the lanes of a warp run the costly part together
+   rather than idling through it for every candidate that one lane alone keeps (docs/engine.md: 1.13x float, 1.31x
+   double on an H200 at 6.5e6 elements). */
+static inline void stencil_forces(real4 me, int i, int self, int4 b, int4 dims, int reach,
+                                  __global const real4* sorted_pos, __global const int* sorted_index,
+                                  __global const int* starts, __global const ulong* keys,
+                                  __constant const SEMLB_REAL* table, SEMLB_REAL cutoff2, long* acc) {
   int info = INFO(me.w);
-  SEMLB_STENCIL_ROWS(b.x, b.y, b.z, dims.x, dims.y, dims.z, first_bin, last_bin) {
+  SEMLB_STENCIL_ROWS_REACH(b.x, b.y, b.z, dims.x, dims.y, dims.z, reach, first_bin, last_bin) {
     int last = starts[last_bin + 1];
     for (int base = starts[first_bin]; base < last; base += SEMLB_CHUNK) {
       int m = min(SEMLB_CHUNK, last - base);
@@ -45,7 +46,7 @@ static inline void binned_slot_forces(int s, __global const real4* sorted_pos, _
   real4 me = sorted_pos[s];
   int i = sorted_index[s];
   long acc[4] = {0, 0, 0, 0};
-  stencil_forces(me, i, s, bin3(me, lo, size, dims), dims, sorted_pos, sorted_index, starts, keys, table,
+  stencil_forces(me, i, s, bin3(me, lo, size, dims), dims, 1, sorted_pos, sorted_index, starts, keys, table,
                  cutoff * cutoff, acc);
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];
@@ -90,7 +91,7 @@ __kernel void forces_nonlocal(__global const real4* pos, __global const ulong* k
   if (i < 0) return;
   real4 me = pos[i];
   long acc[4] = {0, 0, 0, 0};
-  stencil_forces(me, i, -1, bin3(me, lo, size, dims), dims, ghost_pos, ghost_index, ghost_starts, keys, table,
+  stencil_forces(me, i, -1, bin3(me, lo, size, dims), dims, 1, ghost_pos, ghost_index, ghost_starts, keys, table,
                  cutoff * cutoff, acc);
   force[3 * i] += acc[0];
   force[3 * i + 1] += acc[1];

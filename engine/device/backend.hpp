@@ -119,6 +119,7 @@ struct ListStats {
   long max_partners = 0;  // the most partners one element had at a build (within cutoff + skin)
   long kmax = 0;          // partners stored per element; an element with more takes the stencil
   bool newton = false;    // a half list: each pair listed once, its force added to both (max_partners counts it once)
+  int bin_divisions = 1;  // the list's bins of edge (cutoff + skin) / bin_divisions
 };
 
 // Part 1, memory and state: the device's copy of the owned elements (and cells), moved to and from the host State.

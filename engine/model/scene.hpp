@@ -44,6 +44,9 @@ struct BackendConfig {
   int local_rank = 0;    // added to `device` (one device per local MPI rank)
   double skin = 0.0;     // um, opencl-binned's `skin`: its neighbour list (docs/engine.md); 0: none, bins every step
   bool newton = false;   // opencl-binned's `newton`: a half list, each pair once (docs/engine.md); needs skin > 0
+  // opencl-binned's `list_bin_divisions`: the list's bins of edge (cutoff + skin) / N, its build over the (2N + 1)^3
+  // bins around a slot (docs/engine.md "Neighbour list"); 1..3, needs skin > 0
+  int list_bin_divisions = 1;
   // The OpenCL backends' `pair_exp`, the pair force law's exp (docs/engine.md "Pair exp"): builtin | ranged (double) |
   // native; read as the precision's default, native in float and builtin in double, when the scene leaves it out.
   std::string pair_exp;

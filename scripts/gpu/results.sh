@@ -126,7 +126,9 @@ run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run her
 experiments/$1.yaml and experiments/accuracy_pair_exp.yaml --profile paper)" kernels;;
     development)  # Day 0-5 at the paper's size on one GPU (scripts/gpu/neighbour_list.sh dev): a fresh CSV row
       rm -rf "$OUT/development.tmp"
-      DEV_VARIANTS="--set backend.opencl-binned.newton=false;--set backend.opencl-binned.newton=true" \
+      # the full list, the half list, and the half list over bins of half the list radius
+      nl="--set backend.opencl-binned.newton"
+      DEV_VARIANTS="$nl=false;$nl=true;$nl=true --set backend.opencl-binned.list_bin_divisions=2" \
         bash "$here/scripts/gpu/neighbour_list.sh" "$S" "$OUT/development.tmp" dev "0 0.5 1 1.5 2" "1"
       rm -rf "$OUT/development"; mv "$OUT/development.tmp" "$OUT/development"
       provenance "$OUT/development" "scripts/gpu/results.sh development (scripts/gpu/neighbour_list.sh dev)" kernels;;

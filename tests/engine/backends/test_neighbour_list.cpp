@@ -73,12 +73,13 @@ struct Walk {
 
 // `steps` steps of: the pair forces (read back), then Brownian moves of sigma um per coordinate (the noise kernel).
 Walk walk(const std::string& backend, const std::string& precision, double skin, long steps, double sigma,
-          bool newton = false, State s = pair_sites(7)) {
+          bool newton = false, State s = pair_sites(7), int bin_divisions = 1) {
   BackendConfig c;
   c.name = backend;
   c.precision = precision;
   c.skin = skin;
   c.newton = newton;
+  c.list_bin_divisions = bin_divisions;
   auto b = make_backend(c);
   b->upload(s);
   const Grid g = Grid::cover({0, 0, 0}, {200, 200, 140}, kCutoff);
@@ -259,6 +260,50 @@ TEST(NeighbourList, SlotsSortedByListLengthInTheirGroupGiveTheSameForces) {
   }
 }
 
+// The list's bins of edge (cutoff + skin) / 2 and / 3 (`list_bin_divisions`, the build over 125 or 343 bins): the
+// same pairs listed, so the same forces as all pairs bit for bit and the same builds and partner counts as bins of
+// edge cutoff + skin (and, with the full list, the same largest partner count), with the full and the half list; on the
+// walk across the cutoff and on the dense tissue whose slots over kmax take the stencil (over the smaller bins too).
+TEST(NeighbourList, SmallerBinsListTheSamePairs) {
+  if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
+  State dense = testing::random_state(60, 10, 25.0, 3);
+  for (long i = 0; i < dense.elements(); ++i)
+    for (int a = 0; a < 3; ++a) dense.position[3 * i + a] += 60;
+  for (const char* precision : {"double", "float"})
+    for (const State& tissue : {pair_sites(7), dense}) {
+      const long steps = tissue.elements() == dense.elements() ? 12 : 40;
+      const double sigma = tissue.elements() == dense.elements() ? 0.05 : kSkin / 20;
+      const Walk all = walk("opencl-allpairs", precision, 0, steps, sigma, false, tissue);
+      for (bool newton : {false, true}) {
+        const Walk one = walk("opencl-binned", precision, kSkin, steps, sigma, newton, tissue);
+        for (int divisions : {2, 3}) {
+          const Walk small = walk("opencl-binned", precision, kSkin, steps, sigma, newton, tissue, divisions);
+          for (long t = 0; t < steps; ++t)
+            ASSERT_EQ(small.forces[t], all.forces[t])
+                << precision << " newton " << newton << " divisions " << divisions << " step " << t;
+          EXPECT_EQ(small.list.bin_divisions, divisions);
+          EXPECT_EQ(small.list.builds, one.list.builds) << precision << " divisions " << divisions;
+          if (!newton)  // a half list's counts follow the slot order, which the bins set
+            EXPECT_EQ(small.list.max_partners, one.list.max_partners) << precision << " divisions " << divisions;
+        }
+      }
+    }
+}
+
+// A wrong reach (the kernels' stencil of one bin each way over bins of half the list radius) misses partners, and
+// the comparison above catches it.
+TEST(NeighbourList, SmallerBinsWithTooShortAReachMissPairs) {
+  if (!have_opencl()) GTEST_SKIP() << "no OpenCL platform";
+  const Walk all = walk("opencl-allpairs", "double", 0, 10, kSkin / 20);
+  const Walk wrong = [] {
+    const ExtraBuildOptions reach("-DSEMLB_NL_REACH=1");  // after the backend's own =2: the last one holds
+    return walk("opencl-binned", "double", kSkin, 10, kSkin / 20, false, pair_sites(7), 2);
+  }();
+  long differ = 0;
+  for (size_t t = 0; t < all.forces.size(); ++t) differ += wrong.forces[t] != all.forces[t];
+  EXPECT_GT(differ, 0);
+}
+
 TEST(NeighbourList, SkinIsANonNegativeLength) {
   const auto skin = [](const std::vector<std::string>& sets) {
     return backend_settings(scene_from(testing::kMechanicsYaml, sets).backend).skin;
@@ -276,6 +321,13 @@ TEST(NeighbourList, SkinIsANonNegativeLength) {
   EXPECT_FALSE(config({"backend.name=opencl-binned", "backend.skin=0.5"}).newton);
   EXPECT_THROW(config({"backend.name=opencl-binned", "backend.newton=true"}), InputError);  // no list to halve
   EXPECT_THROW(config({"backend.name=opencl-binned", "backend.skin=0.5", "backend.newton=yes"}), InputError);
+  EXPECT_EQ(config({"backend.name=opencl-binned", "backend.skin=0.5"}).list_bin_divisions, 1);
+  EXPECT_EQ(
+      config({"backend.name=opencl-binned", "backend.skin=0.5", "backend.list_bin_divisions=2"}).list_bin_divisions, 2);
+  EXPECT_THROW(config({"backend.name=opencl-binned", "backend.list_bin_divisions=2"}), InputError);  // no list
+  EXPECT_THROW(config({"backend.name=opencl-binned", "backend.skin=0.5", "backend.list_bin_divisions=4"}), InputError);
+  EXPECT_THROW(config({"backend.name=opencl-binned", "backend.skin=0.5", "backend.list_bin_divisions=1.5"}),
+               InputError);
 }
 
 // What a step launches with the list: its check from the second step on (the first builds unasked), the gated build
