@@ -2,6 +2,7 @@
 #include "backend.hpp"
 
 #include <numeric>
+#include <optional>
 
 #include "common/errors.hpp"
 
@@ -12,14 +13,25 @@ BackendConfig backend_settings(const BackendConfig& config) {
   BackendConfig c = config;
   if (!config.settings) return c;
   const Section top = *config.settings;  // a copy: what it marks read is this call's, whichever backend runs next
+  std::optional<Section> chosen_own;
   for (const auto& name : Backends::names()) {
     if (!top.has(name)) continue;
     const Section own = top.child(name);
     BackendConfig checked = c;
-    if (const auto& read = Backends::at(name).read) read(own, name == c.name ? c : checked);
+    const BackendInfo& info = Backends::at(name);
+    if (info.read) info.read(own, name == c.name ? c : checked);
     own.finish("backend '" + name + "' does not use it");
+    if (name == c.name)
+      chosen_own = own;
+    else if (info.check)
+      info.check(checked, [&](const std::string& key, const std::string& why) { own.fail(key, why); });
   }
   if (chosen->read) chosen->read(top, c);
+  if (chosen->check)  // the keys beside the maps override the chosen one's map: a key set there is blamed there
+    chosen->check(c, [&](const std::string& key, const std::string& why) {
+      if (chosen_own && !top.has(key) && chosen_own->has(key)) chosen_own->fail(key, why);
+      top.fail(key, why);
+    });
   for (const auto& key : top.unread()) {
     if (top.find(key)->kind == Settings::Kind::map)
       top.fail(key, "is not a backend (known: " + Backends::known() + ")");

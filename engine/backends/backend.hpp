@@ -47,14 +47,19 @@ struct BackendInfo {
   // Reads the backend's own settings from a section of the scene's `backend` map into the config (each key with the
   // config's value as its fallback); nullptr: it has none. A key it does not read is an error (backend_settings).
   std::function<void(const Section&, BackendConfig&)> read;
+  // Refuses a combination of settings once all of them are read (a key of the backend's own map may need one set
+  // beside it, as `newton` needs `skin`): calls fail(KEY, WHY), which throws naming where KEY was set; nullptr: none.
+  std::function<void(const BackendConfig&, const std::function<void(const std::string&, const std::string&)>& fail)>
+      check;
 };
 using Backends = PluginKind<BackendInfo>;
 // `config` with its backend's settings read from config.settings (the scene's `backend` map; a null one: `config` as
 // it is): first each registered backend NAME's own map `backend.NAME` that the scene has, read by NAME (the chosen
 // one's into the result, another's only checked), then the map's keys beside name, precision and those maps, read by
-// the chosen backend (they override its map: the flags --platform and --device, --set backend.KEY). Every key a
-// backend does not read is an InputError naming the file, line and field ("backend 'cpu-binned' does not use it");
-// an unknown backend is one naming the known ones.
+// the chosen backend (they override its map: the flags --platform and --device, --set backend.KEY); then each
+// backend's check, on the chosen one's settings from both places (another's on its map alone). Every key a backend
+// does not read, and every combination its check refuses, is an InputError naming the file, line and field
+// ("backend 'cpu-binned' does not use it"); an unknown backend is one naming the known ones.
 BackendConfig backend_settings(const BackendConfig& config);
 std::unique_ptr<Backend> make_backend(const BackendConfig& config);  // backend_settings, then the backend's factory
 

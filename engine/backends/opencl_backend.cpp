@@ -488,13 +488,16 @@ void read(const Section& s, BackendConfig& c) {
   if (!Binned) return;
   c.skin = s.real("skin", c.skin, 0, 1e3);
   c.newton = s.boolean("newton", c.newton);
-  if (c.newton && c.skin <= 0) s.fail("newton", "the half list needs the neighbour list: set skin > 0");
   c.list_bin_divisions = static_cast<int>(s.integer("list_bin_divisions", c.list_bin_divisions, 1, 3));
-  if (c.list_bin_divisions > 1 && c.skin <= 0)
-    s.fail("list_bin_divisions", "the list's bins need the neighbour list: set skin > 0");
 }
-const Registrar<BackendInfo> allpairs("opencl-allpairs", {make<false>, read<false>});
-const Registrar<BackendInfo> binned("opencl-binned", {make<true>, read<true>});
+// opencl-binned's list settings need the list, wherever each was set (its map or beside it).
+void check_list(const BackendConfig& c, const std::function<void(const std::string&, const std::string&)>& fail) {
+  if (c.newton && c.skin <= 0) fail("newton", "the half list needs the neighbour list: set skin > 0");
+  if (c.list_bin_divisions > 1 && c.skin <= 0)
+    fail("list_bin_divisions", "the list's bins need the neighbour list: set skin > 0");
+}
+const Registrar<BackendInfo> allpairs("opencl-allpairs", {make<false>, read<false>, nullptr});
+const Registrar<BackendInfo> binned("opencl-binned", {make<true>, read<true>, check_list});
 
 }  // namespace
 }  // namespace semlb::engine

@@ -321,6 +321,16 @@ TEST(NeighbourList, SkinIsANonNegativeLength) {
   EXPECT_FALSE(config({"backend.name=opencl-binned", "backend.skin=0.5"}).newton);
   EXPECT_THROW(config({"backend.name=opencl-binned", "backend.newton=true"}), InputError);  // no list to halve
   EXPECT_THROW(config({"backend.name=opencl-binned", "backend.skin=0.5", "backend.newton=yes"}), InputError);
+  // the list's settings are checked once both places are read: skin beside the map, newton in it, and the reverse
+  EXPECT_TRUE(config({"backend.name=opencl-binned", "backend.skin=0.5", "backend.opencl-binned.newton=true"}).newton);
+  EXPECT_TRUE(config({"backend.name=opencl-binned", "backend.opencl-binned.skin=0.5", "backend.newton=true"}).newton);
+  EXPECT_EQ(config({"backend.name=opencl-binned", "backend.skin=0.5", "backend.opencl-binned.list_bin_divisions=2"})
+                .list_bin_divisions,
+            2);
+  EXPECT_THROW(config({"backend.name=opencl-binned", "backend.skin=0", "backend.opencl-binned.skin=0.5",
+                       "backend.opencl-binned.newton=true"}),
+               InputError);                                                 // beside the map overrides it: no list
+  EXPECT_THROW(config({"backend.opencl-binned.newton=true"}), InputError);  // checked whichever backend runs
   EXPECT_EQ(config({"backend.name=opencl-binned", "backend.skin=0.5"}).list_bin_divisions, 1);
   EXPECT_EQ(
       config({"backend.name=opencl-binned", "backend.skin=0.5", "backend.list_bin_divisions=2"}).list_bin_divisions, 2);
