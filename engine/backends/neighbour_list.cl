@@ -157,9 +157,8 @@ static inline void nl_pair(int i, real4 me, int info, int j, __global const real
 }
 
 /* A slot over kmax: the exact stencil (reach SEMLB_NL_REACH) of the build's bins around its position at the build,
-   ref[s] (bins of edge
-   >= (cutoff + skin) / reach: every partner within the cutoff now was within cutoff + skin then, hence in those bins);
-   with SEMLB_NEWTON its pairs with the slots after it alone, as the half list. */
+   ref[s] (bins of edge >= (cutoff + skin) / reach: every partner within the cutoff now was within cutoff + skin then,
+   hence in those bins); with SEMLB_NEWTON its pairs with the slots after it alone, as the half list. */
 static inline void nl_stencil(int s, int i, real4 me, __global const real4* sorted_pos, __global const real4* ref,
                               __global const int* sorted_index, __global const ulong* keys, __global const int* starts,
                               real4 lo, real4 size, int4 dims, __constant const SEMLB_REAL* table, SEMLB_REAL cutoff2,

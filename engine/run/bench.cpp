@@ -50,10 +50,9 @@ TissueStats tissue_stats(const State& s, const Grid& g, double cutoff, long samp
       neighbours += o != e && r2 < cutoff * cutoff;
     }
   }
-  t.neighbours = static_cast<double>(neighbours);
   t.per_cutoff_cube /= static_cast<double>(n);
   t.candidates /= static_cast<double>(n);
-  t.neighbours /= static_cast<double>(sampled);
+  t.neighbours = static_cast<double>(neighbours) / static_cast<double>(sampled);
   return t;
 }
 

@@ -269,10 +269,14 @@ TEST(NeighbourList, SmallerBinsListTheSamePairs) {
   State dense = testing::random_state(60, 10, 25.0, 3);
   for (long i = 0; i < dense.elements(); ++i)
     for (int a = 0; a < 3; ++a) dense.position[3 * i + a] += 60;
+  struct Case {
+    State tissue;
+    long steps;
+    double sigma;
+  };
+  const Case cases[] = {{pair_sites(7), 40, kSkin / 20}, {dense, 12, 0.05}};
   for (const char* precision : {"double", "float"})
-    for (const State& tissue : {pair_sites(7), dense}) {
-      const long steps = tissue.elements() == dense.elements() ? 12 : 40;
-      const double sigma = tissue.elements() == dense.elements() ? 0.05 : kSkin / 20;
+    for (const auto& [tissue, steps, sigma] : cases) {
       const Walk all = walk("opencl-allpairs", precision, 0, steps, sigma, false, tissue);
       for (bool newton : {false, true}) {
         const Walk one = walk("opencl-binned", precision, kSkin, steps, sigma, newton, tissue);
