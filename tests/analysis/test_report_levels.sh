@@ -22,8 +22,15 @@ run_with() {  # COMMIT -> the REPORT.md of a run whose committed gpu/single_devi
 }
 row() { grep "^| 1 | \[Single-device" "$work/$1/results/REPORT.md" || fail "$1: no summary row 1"; }
 
-# Stale: a commit before the last change under the kernels' and controllers' paths.
-old=$(git -C "$src" log --format=%H -2 -- engine/backends | tail -1)
+# Stale: the newest commit that provenance.py itself calls stale (a commit before the last change under the kernels'
+# and controllers' paths that is more than comments; the commit just before a comment-only change is still current).
+old=$(cd "$src/analysis" && "$PY" -c '
+import subprocess, sys, provenance
+for c in subprocess.run(["git", "-C", sys.argv[1], "log", "--format=%H", "-40", "--", "engine/backends"],
+                        capture_output=True, text=True, check=True).stdout.split():
+    if provenance.status(c)[0] == provenance.STALE:
+        print(c); break' "$src")
+[ -n "$old" ] || fail "no stale commit among the last 40 changes to engine/backends"
 run_with "$old" stale
 r=$(row stale)
 [[ "$r" == *"**stale**"* && "$r" == *"${old:0:7}"* ]] || fail "stale row not marked with its commit: $r"
