@@ -294,6 +294,13 @@ def before(commit, repo=REPO):
     return out
 
 
+def commit_time(commit, repo=REPO):
+    """COMMIT's committer time (seconds since the epoch), to order results made on the same day; 0 when git cannot
+    tell (no history, a commit this clone does not hold)."""
+    out = _git("log", "-1", "--format=%ct", f"{commit}^{{commit}}", repo=repo) if commit else None
+    return int(out.strip()) if out and out.strip().isdigit() else 0
+
+
 def describe(path, repo=REPO):
     """{'commit', 'date', 'status', 'detail', 'before', 'note'} for a committed result (status UNKNOWN and commit ''
     without a record)."""

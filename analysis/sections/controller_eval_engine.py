@@ -9,6 +9,7 @@ from .frontier import DEPLOYABLE, pareto_front
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import engine_eval  # noqa: E402  (analysis/engine_eval.py: the tables and the targets, also a command of its own)
+import provenance  # noqa: E402
 
 CSV = "controller_eval_engine/controller_eval_engine.csv"
 COMMITTED = "gpu/workloads/controller_eval_engine_paper.csv"
@@ -218,37 +219,64 @@ def measured_choice(ctx):
 
 
 def measured_bottom_line(ctx):
-    """The answer first: per scene, from the current (not stale) measured summaries only, the policy with the least
-    mean loop time at each P and its saving against static (± 95% over launches); then how to read what follows.
-    '' when no measured summary is current."""
-    best = {}  # scene -> {P: (saving %, ci %, policy)}
+    """The answer first: per scene and P, the policy with the least mean loop time in the measured summaries and its
+    saving against static (± 95% over launches), from the current (not stale) summaries; a scene that has none shows
+    its newest stale measurement per P instead, marked **stale** with the commit it was made with, so a kernel change
+    leaves the reader the last answer and its age rather than none. At a P where the interval reaches zero the line
+    says to run static. Then how to read what follows. '' when no measured summary is committed."""
+    current, last = {}, {}  # scene -> {P: (saving %, ci %, policy, provenance, commit time, policies measured)}
     for source in MEASURED:
         rows = ctx.committed_rows(source)
-        if not rows or ctx.committed_provenance(source)["status"] != "fresh":
+        if not rows:
             continue
-        for scene, P, _, static, top in measured_points(rows):
+        prov = ctx.committed_provenance(source)
+        fresh = prov["status"] == "fresh"
+        when = provenance.commit_time(prov["commit"])
+        for scene, P, rows_at, static, top in measured_points(rows):
             base = float(static["loop_s"])
+            policies = {r["policy"] for r in rows_at}
             entry = (100 * float(top["static_minus_loop_s"]) / base,
-                     100 * float(top["static_minus_loop_s_ci95"]) / base, top["policy"])
-            if P not in best.setdefault(scene, {}) or entry[0] > best[scene][P][0]:
-                best[scene][P] = entry
-    if not best:
+                     100 * float(top["static_minus_loop_s_ci95"]) / base, top["policy"], prov, when, policies)
+            at = (current if fresh else last).setdefault(scene, {})
+            old = at.get(P)
+            if old is not None and fresh:  # current summaries of one scene pool their policies
+                entry = entry[:5] + (policies | old[5],)
+            if old is None or (entry[0] > old[0] if fresh else (when, entry[0]) > (old[4], old[0])):
+                at[P] = entry
+            elif fresh:
+                at[P] = old[:5] + (entry[5],)
+    if not current and not last:
         return ""
-    lines = ["**Bottom line** (measured on a GPU, current results only):", ""]
-    for scene in sorted(best, key=scene_order):
-        at = best[scene]
-        parts = [f"`{policy}` at P = {P}: {saving:.1f}% (± {ci:.1f}) less loop time than static"
-                 for P, (saving, ci, policy) in sorted(at.items())]
-        none = [P for P, (saving, ci, _) in at.items() if saving - ci <= 0]
-        lines.append(f"- {SCENES.get(scene, scene)}: " + "; ".join(parts) + "." +
-                     (f" At P = {', '.join(str(P) for P in sorted(none))} the interval reaches zero: static does as well."
-                      if none else ""))
+
+    def answer(P, saving, ci, policy, unmeasured):
+        missing = f" ({', '.join(sorted(unmeasured))} not measured at this P)" if unmeasured else ""
+        if saving - ci <= 0:
+            return (f"P = {P}: `static` (the best, `{policy}`, saves {saving:.1f}% (± {ci:.1f}), within the spread "
+                    f"over launches){missing}")
+        return f"P = {P}: `{policy}`, {saving:.1f}% (± {ci:.1f}) less loop time than static{missing}"
+
+    lines = ["**Bottom line** (measured on a GPU; a scene without a current measurement shows its last one, marked "
+             "**stale**):", ""]
+    for scene in sorted(set(current) | set(last), key=scene_order):
+        at = current.get(scene) or last[scene]
+        every = set().union(*(e[5] for e in at.values()))
+        text = "; ".join(answer(P, *e[:3], every - e[5]) for P, e in sorted(at.items())) + "."
+        if scene not in current:
+            made = {}
+            for P, e in sorted(at.items()):
+                made.setdefault((e[3]["commit"][:7], e[3]["date"], e[3]["detail"]), []).append(str(P))
+            text = ("**stale**, last measured with " + ", ".join(
+                f"`{c}` ({d}; P = {', '.join(Ps)})" for (c, d, _), Ps in made.items()) +
+                f"; the kernels or controllers changed since (last: `{next(iter(made))[2]}`): " + text +
+                " Rerun `make gpu-results` for a current answer.")
+        lines.append(f"- {SCENES.get(scene, scene)}: {text}")
     lines += ["",
               "How to read it: P ranks took turns on one H200, so each rank's device time is what a GPU of its own "
               "would take (docs/measured_time.md); the ghost exchange and migration are modelled at NVLink speed, "
               "not measured. Blocks marked **stale** were made with an engine or controllers that have changed "
-              "since: they are history, and no recommendation is drawn from them. Replayed figures are the time "
-              "model's estimates, not measurements. What each policy is: docs/controllers.md, \"The policies\".", ""]
+              "since: history, shown with their commit; a current measurement of a scene replaces them. Replayed "
+              "figures are the time model's estimates, not measurements. What each policy is: docs/controllers.md, "
+              "\"The policies\".", ""]
     return "\n".join(lines)
 
 

@@ -55,24 +55,40 @@ grep -q "staleness \*\*unknown\*\* (commit 0123456 is not in this clone)" "$work
 "$PY" "$src/analysis/provenance.py" --check > "$work/provenance.txt" || { cat "$work/provenance.txt"; fail "a committed GPU result without provenance.json"; }
 grep -q "^gpu/single_device: [0-9a-f]\{7\} 2026-[0-9-]* \(stale\|fresh\)" "$work/provenance.txt" || fail "provenance.py line"
 
-# The bottom line of "which controller" draws from current measured summaries only: a stale scene is left out of it.
-d="$work/bottom"; mkdir -p "$d/results/single_device"  # one section of this run, as report.py needs one
-cp "$src/results/cpu/single_device/single_device.csv" "$src/results/cpu/single_device/single_device.manifest.yaml" \
-  "$d/results/single_device/"
-for scene in epidermis_half epidermis_development; do
-  mkdir -p "$d/committed/gpu/measured/$scene"
-  cp "$src/results/gpu/measured/$scene/end_to_end_summary.csv" "$d/committed/gpu/measured/$scene/"
-done
+# The bottom line of "which controller": a scene's current measured summaries decide its line; a scene with none shows
+# its newest stale one, marked stale with its commit; a stale summary of a scene that has a current one is left out.
+bottom_of() {  # NAME SCENE=COMMIT...: REPORT.md's bottom line with those measured summaries (provenance COMMIT)
+  local d="$work/$1"; shift
+  mkdir -p "$d/results/single_device"  # one section of this run, as report.py needs one
+  cp "$src/results/cpu/single_device/single_device.csv" "$src/results/cpu/single_device/single_device.manifest.yaml" \
+    "$d/results/single_device/"
+  for sc in "$@"; do
+    mkdir -p "$d/committed/gpu/measured/${sc%%=*}"
+    cp "$src/results/gpu/measured/${sc%%=*}/end_to_end_summary.csv" "$d/committed/gpu/measured/${sc%%=*}/"
+    printf '{"semlb_commit": "%s", "date": "2026-01-01", "how": "test"}\n' "${sc#*=}" \
+      > "$d/committed/gpu/measured/${sc%%=*}/provenance.json"
+  done
+  "$PY" "$src/analysis/report.py" --results "$d/results" --committed "$d/committed" --semlb "$semlb" > "$d/log" 2>&1 ||
+    { cat "$d/log"; fail "report.py on $1"; }
+  sed -n '/^\*\*Bottom line\*\*/,/^How to read it/p' "$d/results/REPORT.md"
+}
 head=$(git -C "$src" rev-parse HEAD)
-printf '{"semlb_commit": "%s", "date": "2026-01-01", "how": "test"}\n' "$head" > "$d/committed/gpu/measured/epidermis_half/provenance.json"
-printf '{"semlb_commit": "%s", "date": "2026-01-01", "how": "test"}\n' "$old" > "$d/committed/gpu/measured/epidermis_development/provenance.json"
-"$PY" "$src/analysis/report.py" --results "$d/results" --committed "$d/committed" --semlb "$semlb" > "$d/log" 2>&1 ||
-  { cat "$d/log"; fail "report.py on bottom"; }
-bottom=$(sed -n '/^\*\*Bottom line\*\*/,/^How to read it/p' "$d/results/REPORT.md")
-[[ "$bottom" == *"- the paper's regime"*"at P = 8: "*"less loop time than static"* ]] || fail "no current scene in the bottom line: $bottom"
-[[ "$bottom" != *"proliferative front"* ]] || fail "the bottom line drew from a stale summary: $bottom"
-grep -q "epidermis_development/end_to_end_summary.csv\` (semlb \`${old:0:7}\`, 2026-01-01 · \*\*stale\*\*" "$d/results/REPORT.md" ||
-  fail "the stale summary is not shown as stale"
+bottom=$(bottom_of bottom "epidermis_half=$head" "epidermis_development=$old")
+half=$(grep "^- the paper's regime" <<< "$bottom") || fail "no paper's-regime line in the bottom line: $bottom"
+[[ "$half" == *"P = 8: \`"*"less loop time than static"* && "$half" != *stale* ]] || fail "current scene's line: $half"
+[[ "$half" == *"P = 2: \`static\` (the best, \`persistence\`"*"within the spread over launches)"* ]] ||
+  fail "a P whose interval reaches zero does not say to run static: $half"
+dev=$(grep "^- a proliferative front" <<< "$bottom") || fail "a scene with only a stale summary has no line: $bottom"
+[[ "$dev" == *"**stale**, last measured with \`${old:0:7}\`"*"Rerun \`make gpu-results\`"* ]] ||
+  fail "the stale-only scene is not marked stale with its commit: $dev"
+grep -q "epidermis_development/end_to_end_summary.csv\` (semlb \`${old:0:7}\`, 2026-01-01 · \*\*stale\*\*" \
+  "$work/bottom/results/REPORT.md" || fail "the stale summary is not shown as stale"
+# The development scene current through the learned controller's summary: its stale summary is left out.
+bottom=$(bottom_of bottom2 "epidermis_half=$head" "epidermis_development=$old" "learned_repartition=$head")
+dev=$(grep "^- a proliferative front" <<< "$bottom") || fail "bottom2: no development line: $bottom"
+[[ "$dev" != *stale* && "$dev" == *"P = 4: \`learned_repartition\`"* && "$dev" != *"P = 2"* ]] ||
+  fail "the bottom line drew from a stale summary of a scene that has a current one: $dev"
+[[ "$dev" != *"not measured at this P"* ]] || fail "the policies of the stale summary counted beside the current: $dev"
 
 # The committed results (results/cpu as this run, results/gpu committed): length, links, detail pages.
 cp -r "$src/results/cpu" "$work/full"
