@@ -5,12 +5,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <map>
+#include <set>
 
 #include "common/errors.hpp"
 
 #include "commands.hpp"
 #include "controllers/features.hpp"
 #include "common/text_io.hpp"
+#include "engine/model/tissue.hpp"
 #include "engine/run/bench.hpp"
 #include "surrogate/evaluate.hpp"
 #include "controllers/gru.hpp"
@@ -48,20 +51,33 @@ int bench_policies(int ranks, int events, int repeats, uint64_t seed, const std:
   return 0;
 }
 
-// One row's scene: the file with the flags, the backend and the tissue size; its backend's own keys checked.
+// One row's scene: the file with the flags, the backend and the tissue size; its backend's own keys and its tissue
+// size checked (the tissue is built when the row runs).
 engine::Scene bench_scene(const std::string& scene_file, const std::string& backend, long cells,
                           const SceneFlags& flags) {
-  auto o = scene_overrides(flags);
-  o.push_back(engine::scene_override("backend", backend, "--backends: "));
-  o.push_back(engine::scene_override("cells", std::to_string(cells), "--cells: "));
-  auto scene = engine::load_scene(scene_file, o);
+  auto scene =
+      load_scene(scene_file, flags, {{"backend", backend, "--backends"}, {"cells", std::to_string(cells), "--cells"}});
   engine::backend_settings(scene.backend);
+  if (!scene.tissue->has("file")) engine::sheet_cells(*scene.tissue);
   return scene;
 }
 
+// --backends: registered names, each once.
+std::vector<std::string> bench_backends(const std::string& backends) {
+  const auto known = registered("backends");
+  std::vector<std::string> out;
+  for (const auto& b : split(backends, ',')) {
+    if (std::find(known.begin(), known.end(), b) == known.end())
+      throw InputError("--backends: '" + b + "' is not a backend (known: " + registered_list("backends") + ")");
+    if (std::find(out.begin(), out.end(), b) != out.end()) throw InputError("--backends: '" + b + "' is given twice");
+    out.push_back(b);
+  }
+  return out;
+}
+
 // Prints header(), then runs `fn` on the scene with each backend and tissue size, flushing the table after each. Every
-// row's scene and backend settings are read first, so a bad one prints nothing; --platform and --device apply to the
-// rows whose backend reads them (the OpenCL ones) and are refused only when no row's does.
+// row's scene, backend settings and tissue size are read first, so a bad one prints nothing; --platform and --device
+// apply to the rows whose backend reads them (the OpenCL ones) and are refused only when no row's does.
 void for_each_scene(const std::string& scene_file, const std::string& backends, const std::string& cells,
                     const SceneFlags& flags, const std::function<void()>& header,
                     const std::function<void(engine::Scene&, const std::string&)>& fn) {
@@ -69,10 +85,12 @@ void for_each_scene(const std::string& scene_file, const std::string& backends, 
   host.platform.clear();
   host.device = -1;
   const bool device_flags = host.platform != flags.platform || host.device != flags.device;
+  const auto names = bench_backends(backends);
+  const auto counts = surrogate::parse_int_list(cells, "--cells");
   std::vector<std::pair<engine::Scene, std::string>> rows;
   bool device_used = false;
-  for (const auto& backend : split(backends, ','))
-    for (long n : surrogate::parse_int_list(cells, "--cells")) {
+  for (const auto& backend : names)
+    for (long n : counts) {
       try {
         rows.emplace_back(bench_scene(scene_file, backend, n, flags), backend);
         device_used = true;
@@ -82,7 +100,7 @@ void for_each_scene(const std::string& scene_file, const std::string& backends, 
       }
     }
   if (device_flags && !device_used)  // no row takes --platform/--device: the first row's error says why
-    bench_scene(scene_file, split(backends, ',').front(), surrogate::parse_int_list(cells, "--cells").front(), flags);
+    bench_scene(scene_file, names.front(), counts.front(), flags);
   header();
   for (auto& [scene, backend] : rows) {
     fn(scene, backend);
@@ -99,7 +117,7 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
   std::vector<double> before;
   if (!previous.empty()) {
     for (const auto& f : split(previous, ',')) before.push_back(parse_real(f, "--previous: ", 1e-9));
-    const size_t rows = split(backends, ',').size() * surrogate::parse_int_list(cells, "--cells").size();
+    const size_t rows = bench_backends(backends).size() * surrogate::parse_int_list(cells, "--cells").size();
     if (before.size() != rows)
       throw InputError("--previous: " + std::to_string(before.size()) + " figures for " + std::to_string(rows) +
                        " rows (backends x cells)");
@@ -123,9 +141,8 @@ int bench_engine(const std::string& scene_file, const std::string& backends, con
                 t.list.skin, static_cast<double>(t.list_builds) / static_cast<double>(steps), ratio.c_str(),
                 stats.per_cutoff_cube, stats.candidates, stats.neighbours, t.device.c_str());
     if (t.list.skin > 0)
-      std::printf("    list: skin %.3g um%s, %ld builds in %ld steps, at most %ld partners per element, %ld stored\n",
-                  t.list.skin, t.list.newton ? " (half: newton)" : "", t.list_builds, steps, t.list.max_partners,
-                  t.list.kmax);
+      std::printf("    list: %s, %ld builds in %ld steps, at most %ld partners per element, %ld stored\n",
+                  list_settings(t.list).c_str(), t.list_builds, steps, t.list.max_partners, t.list.kmax);
     for (const auto& [kernel, secs] : t.kernel_seconds)  // with SEMLB_OPENCL_PROFILE=1
       std::printf("    kernel %-20s %10.4f ms/step\n", kernel.c_str(), 1e3 * secs / steps);
   });
@@ -224,6 +241,17 @@ Action add_bench(CLI::App& app) {
   sub->add_option("--weights", o->weights, "GRU weights (default: a random zero-head GRU of the shipped shape)");
   return [o, sub] {
     if (!*sub) return -1;  // not the chosen subcommand
+    static const std::map<std::string, std::set<std::string>> uses = {
+        // the flags each benchmark reads
+        {"policies", {"ranks", "events", "repeats", "seed", "weights"}},
+        {"train", {"steps", "threads"}},
+        {"engine",
+         {"scene", "backends", "cells", "previous", "warmup", "precision", "platform", "device", "set", "steps"}},
+        {"cells", {"scene", "backends", "cells", "precision", "platform", "device", "set", "steps"}}};
+    for (const CLI::Option* opt : sub->get_options())
+      for (const auto& name : opt->get_lnames())
+        if (opt->count() > 0 && name != "help" && !uses.at(o->what).count(name))
+          throw InputError("--" + name + ": bench " + o->what + " does not use it");
     const auto scene = [&](const char* fallback) {
       return o->scene.empty() ? std::string(SEMLB_SOURCE_DIR) + fallback : o->scene;
     };

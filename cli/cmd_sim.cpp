@@ -1,5 +1,6 @@
 // `semlb sim`: run a scene (snapshots, checkpoints, run.csv) on one backend.
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -16,26 +17,42 @@
 
 namespace semlb::cli {
 
-// --backend/--precision/--platform/--device/--steps/--seed become scene overrides (a setting given both ways is an
-// error). Each flag is named after its scene setting (engine::scene_settings()).
-std::vector<std::string> scene_overrides(const SceneFlags& f) {
-  std::vector<std::string> o = f.set;
+// --backend/--precision/--platform/--device/--steps/--seed, and `more` ({setting, value, flag}: a command's own flags,
+// e.g. bench's --cells), become scene overrides. A setting given both ways is an error, also when the --set gives a
+// map that holds it (--set 'backend={name: serial}' with --backend). Each flag is named after its scene setting
+// (engine::scene_settings()).
+SceneOverrides scene_overrides(const SceneFlags& f, const std::vector<std::array<std::string, 3>>& more) {
+  SceneOverrides o{f.set, std::vector<std::string>(f.set.size())};
   auto number = [](long v) { return v >= 0 ? std::to_string(v) : std::string(); };  // -1: not given
-  for (const auto& [name, value] : {std::pair<std::string, std::string>{"backend", f.backend},
-                                    {"precision", f.precision},
-                                    {"platform", f.platform},
-                                    {"device", number(f.device)},
-                                    {"steps", number(f.steps)},
-                                    {"seed", number(f.seed)}})
+  std::vector<std::array<std::string, 3>> flags = {
+      {"backend", f.backend, "--backend"},    {"precision", f.precision, "--precision"},
+      {"platform", f.platform, "--platform"}, {"device", number(f.device), "--device"},
+      {"steps", number(f.steps), "--steps"},  {"seed", number(f.seed), "--seed"}};
+  flags.insert(flags.end(), more.begin(), more.end());
+  for (const auto& [name, value, flag] : flags)
     if (!value.empty()) {
-      const std::string assignment = engine::scene_override(name, value, "--" + name + ": ");
+      const std::string assignment = engine::scene_override(name, value, flag + ": ");
       const std::string key = assignment.substr(0, assignment.find('='));
       for (const auto& s : f.set)  // the flag would hide the --set value unparsed: say so instead
-        if (s.substr(0, s.find('=')) == key)
-          throw InputError("--" + name + ": " + key + " is also given by --set; give it once");
-      o.push_back(assignment);
+        if (const std::string set = s.substr(0, s.find('=')); set == key || key.rfind(set + ".", 0) == 0)
+          throw InputError(flag + ": " + key + " is also given by --set " + set + "; give it once");
+      o.assignments.push_back(assignment);
+      o.flags.push_back(flag);
     }
   return o;
+}
+
+std::string list_settings(const engine::ListStats& list) {
+  char skin[32];
+  std::snprintf(skin, sizeof skin, "%g", list.skin);
+  return "skin " + std::string(skin) + " um" + (list.newton ? " (half: newton)" : "") +
+         (list.bin_divisions > 1 ? ", bins of (cutoff + skin) / " + std::to_string(list.bin_divisions) : "");
+}
+
+engine::Scene load_scene(const std::string& file, const SceneFlags& flags,
+                         const std::vector<std::array<std::string, 3>>& more) {
+  const auto o = scene_overrides(flags, more);
+  return engine::load_scene(file, o.assignments, o.flags);
 }
 
 void add_scene_flags(CLI::App* sub, SceneFlags& f) {
@@ -94,8 +111,8 @@ void breakdown(const engine::RunSummary& sum, double process) {
   line("%s; end %.3g s (%s the closing files %.3g s); process %.4g s\n", sum.start_parts.empty() ? "" : ")",
        end_seconds(sum, process), sum.wrote_final ? "final.h5 and" : "no final.h5:", sum.closing_seconds, process);
   if (sum.list.skin > 0)
-    line("Neighbour list: skin %g um%s, %ld builds over the ranks (in the force phases)\n", sum.list.skin,
-         sum.list.newton ? " (half: newton)" : "", sum.list.builds);
+    line("Neighbour list: %s, %ld builds over the ranks (in the force phases)\n", list_settings(sum.list).c_str(),
+         sum.list.builds);
   std::fwrite(text.data(), 1, text.size(), stderr);
 }
 
@@ -141,13 +158,12 @@ Action add_sim(CLI::App& app) {
     std::unique_ptr<engine::Mpi> mpi;  // under mpirun: decomposed across the ranks
     if (engine::Mpi::launched()) mpi = std::make_unique<engine::Mpi>();
     // output.workload records rebalancing events: one device then runs as a decomposition of one rank
-    if (!mpi && engine::load_scene(o->scene, scene_overrides(o->flags)).record_workload)
-      mpi = std::make_unique<engine::Mpi>();
+    if (!mpi && load_scene(o->scene, o->flags).record_workload) mpi = std::make_unique<engine::Mpi>();
     if (!mpi) {
       // On one device a SIGINT, SIGTERM or SIGHUP removes the --out folder's lock on the way out (common/cleanup.hpp),
       // before the backend starts its threads (they inherit the blocked signals).
       const SignalCleanup cleanup;
-      auto scene = engine::load_scene(o->scene, scene_overrides(o->flags));
+      auto scene = load_scene(o->scene, o->flags);
       engine::RunConfig rc{o->out, o->restart, o->quiet, SEMLB_GIT_REVISION, command_line()};
       rc.wait = o->wait;
       try {
@@ -164,7 +180,7 @@ Action add_sim(CLI::App& app) {
     // the job normally, reported once by rank 0; any other is this rank's alone: name it, abort the job.
     try {
       engine::Scene scene;
-      engine::agree(*mpi, [&] { scene = engine::load_scene(o->scene, scene_overrides(o->flags)); });
+      engine::agree(*mpi, [&] { scene = load_scene(o->scene, o->flags); });
       engine::RunConfig rc{o->out, o->restart, o->quiet, SEMLB_GIT_REVISION, command_line()};
       rc.wait = o->wait;
       const auto sum = engine::run_scene_decomposed(scene, rc, *mpi);

@@ -1,10 +1,17 @@
 // Subcommands of the semlb binary: each adds itself to the CLI11 app and returns its action.
 #pragma once
 #include <CLI/CLI.hpp>
+
+#include <array>
 #include <functional>
 #include <limits>
 #include <string>
 #include <vector>
+
+namespace semlb::engine {
+struct Scene;
+struct ListStats;
+}  // namespace semlb::engine
 
 namespace semlb::cli {
 
@@ -34,7 +41,19 @@ struct SceneFlags {
   std::vector<std::string> set;
 };
 void add_scene_flags(CLI::App* sub, SceneFlags& flags);
-std::vector<std::string> scene_overrides(const SceneFlags& flags);  // only when built with libtorch (SEMLB_WITH_TORCH)
+// Scene overrides (engine::load_scene's KEY=VALUE and the flag each came from, "" for a --set).
+struct SceneOverrides {
+  std::vector<std::string> assignments, flags;
+};
+// The --set ones, then the flags', with `more` ({setting of engine::scene_settings, value or "" when not given, the
+// flag's name}); InputError naming the flag when a --set gives the same setting, or a map that holds it, too.
+SceneOverrides scene_overrides(const SceneFlags& flags, const std::vector<std::array<std::string, 3>>& more = {});
+// "skin 0.5 um (half: newton), bins of (cutoff + skin) / 2": the neighbour list's settings, as sim and bench print
+// them.
+std::string list_settings(const engine::ListStats& list);
+// FILE loaded with scene_overrides(flags, more): engine::load_scene, its errors naming the flag or --set at fault.
+engine::Scene load_scene(const std::string& file, const SceneFlags& flags,
+                         const std::vector<std::array<std::string, 3>>& more = {});
 
 // CLI11 check for an integer option: the whole argument is an integer in [min, max], read by the one strict
 // parser (common/text_io.hpp: no hex, no '+', no trailing text); the message names the value and the range.

@@ -68,7 +68,8 @@ std::vector<long> parse_int_list(const std::string& text, const std::string& fla
     tok.erase(tok.find_last_not_of(' ') + 1);
     const auto ends = split(tok, '-');  // values are non-negative, so '-' only separates a range
     const std::string at = flag + ": '" + tok + "': ";
-    if (ends.size() > 2) throw InputError(at + "is not a non-negative integer or an inclusive range A-B with A <= B");
+    if (ends.size() > 2 || (ends.size() == 2 && (ends[0].empty() || ends[1].empty())))  // "-5", "2-", "1-2-3"
+      throw InputError(at + "is not a non-negative integer or an inclusive range A-B with A <= B");
     const long a = parse_integer(ends[0], at, 0), b = ends.size() == 2 ? parse_integer(ends[1], at, 0) : a;
     if (b < a) throw InputError(at + "is not a non-negative integer or an inclusive range A-B with A <= B");
     if (b - a > 1000000) throw InputError(flag + ": range '" + tok + "' is too long");

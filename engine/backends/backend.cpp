@@ -27,6 +27,13 @@ BackendConfig backend_settings(const BackendConfig& config) {
       info.check(checked, [&](const std::string& key, const std::string& why) { own.fail(key, why); });
   }
   if (chosen->read) chosen->read(top, c);
+  if (chosen_own)  // a --set into the chosen one's map that a key beside it in the file overrides would do nothing
+    for (const auto& key : chosen_own->keys())
+      if (const auto* beside = top.find(key);
+          beside && beside->origin.flag.empty() && !chosen_own->origin(key).flag.empty())
+        chosen_own->fail(key, "has no effect: " + top.field(key) + " (" + beside->origin.file + ":" +
+                                  std::to_string(beside->origin.line) +
+                                  ") overrides the backend's map; set that one instead");
   if (chosen->check)  // the keys beside the maps override the chosen one's map: a key set there is blamed there
     chosen->check(c, [&](const std::string& key, const std::string& why) {
       if (chosen_own && !top.has(key) && chosen_own->has(key)) chosen_own->fail(key, why);

@@ -110,7 +110,7 @@ std::unique_ptr<Backend> make(const BackendConfig& c) {
 void read(const Section& s, BackendConfig& c) {
   c.threads = static_cast<int>(s.integer("threads", c.threads, 0, 4096));
 }
-const Registrar<BackendInfo> registrar("cpu-binned", {make, read});
+const Registrar<BackendInfo> registrar("cpu-binned", {make, read, nullptr});  // no settings that need each other
 
 }  // namespace
 }  // namespace semlb::engine

@@ -42,8 +42,9 @@ expand_plugins(element_terms.cl "${TERMS}" ${TERM_TEMPLATE} @TERM@)
 expand_plugins(removal_rules.cl "${RULES}" ${RULE_TEMPLATE} @RULE@)
 expand_plugins(fate_rules.cl "${FATES}" ${FATE_TEMPLATE} @FATE@)
 
-# The headers of the '|'-separated HEADERS in name order, then TEMPLATE with each line holding @NAME@ repeated per
-# header (@INDEX@: its position), in place of MARKER; the names, comma-separated, into ORDER_VAR.
+# The headers of the '|'-separated HEADERS in name order, then TEMPLATE with each code line holding @NAME@ repeated
+# per header (@INDEX@: its position), in place of MARKER; the names, comma-separated, into ORDER_VAR. A comment line
+# (starting /*, * or //) is written once as it is: repeated, a comment's opening would nest in itself.
 function(expand_choice marker headers template order_var)
   string(REPLACE "|" ";" list "${headers}")
   list(SORT list)  # one folder: the stems' order, that of Registry::names()
@@ -59,7 +60,7 @@ function(expand_choice marker headers template order_var)
     list(APPEND names ${name})
   endforeach()
   foreach(line IN LISTS lines)
-    if(line MATCHES "@NAME@")
+    if(line MATCHES "@NAME@" AND NOT line MATCHES "^[ \t]*(/\\*|\\*|//)")
       set(index 0)
       foreach(name IN LISTS names)
         string(REPLACE "@NAME@" "${name}" one "${line}")

@@ -42,7 +42,7 @@ std::unique_ptr<Backend> make(const BackendConfig& c) {
   if (c.precision == "float") return std::make_unique<SerialBackend<float>>();
   return std::make_unique<SerialBackend<double>>();
 }
-const Registrar<BackendInfo> registrar("serial", {make, nullptr});  // no settings of its own
+const Registrar<BackendInfo> registrar("serial", {make, nullptr, nullptr});  // no settings of its own
 
 }  // namespace
 }  // namespace semlb::engine

@@ -13,14 +13,14 @@ namespace semlb::engine {
 
 namespace {
 
-// Where FIELD's value N came from: the --set that gave it or a map holding it, else N's line of FILE.
-Origin origin_of(const std::string& field, const YAML::Node& n, const std::string& file,
-                 const std::set<std::string>* overridden) {
+// Where FIELD's value N came from: the --set that gave it, or a map holding it, or made the map on its way; else N's
+// line of FILE.
+Origin origin_of(const std::string& field, const YAML::Node& n, const std::string& file, const Overridden* overridden) {
   if (overridden) {  // a key set by --set, or inside a map given by --set (effects.noise={...}), is blamed on it
     std::string prefix;
     for (const auto& part : split(field, '.')) {
       prefix += (prefix.empty() ? "" : ".") + part;
-      if (overridden->count(prefix)) return {"", 0, "--set " + prefix, prefix};
+      if (const auto it = overridden->find(prefix); it != overridden->end()) return it->second;
     }
   }
   return {file, n.IsDefined() ? n.Mark().line + 1 : 0, "", ""};
@@ -28,8 +28,7 @@ Origin origin_of(const std::string& field, const YAML::Node& n, const std::strin
 
 }  // namespace
 
-Section::Section(YAML::Node node, std::string path, std::string file,
-                 std::shared_ptr<const std::set<std::string>> overridden)
+Section::Section(YAML::Node node, std::string path, std::string file, std::shared_ptr<const Overridden> overridden)
     : Settings(path, origin_of(path, node.IsDefined() && !node.IsNull() ? node : YAML::Node(), file, overridden.get())),
       node_(std::move(node)),
       file_(std::move(file)),
@@ -66,30 +65,38 @@ Section Section::child(const std::string& key) const {
 
 namespace {
 
-// Applies `a.b.c=value` to the tree, creating maps on the way; records the dotted path.
-void apply_override(YAML::Node root, const std::string& assignment, std::set<std::string>& overridden) {
+// Applies `a.b.c=value` to the tree, creating maps on the way; records the dotted path, and each map it made on the
+// way, as given by FLAG (empty: "--set a.b.c"), the name its errors carry.
+void apply_override(YAML::Node root, const std::string& assignment, std::string flag, Overridden& overridden) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError("--set " + assignment + ": expected KEY=VALUE");
   const std::string path = assignment.substr(0, eq);
+  if (flag.empty()) flag = "--set " + path;
   YAML::Node value;
   try {
     value = YAML::Load(assignment.substr(eq + 1));
   } catch (const YAML::Exception& e) {
-    throw InputError("--set " + path + ": value is not YAML: " + e.msg);
+    throw InputError(flag + ": value is not YAML: " + e.msg);
   }
-  refuse_duplicate_keys(value, "--set " + path);
+  refuse_duplicate_keys(value, flag);
   std::vector<YAML::Node> chain{root};
   const auto parts = split(path, '.');
+  for (const auto& part : parts)
+    if (part.empty()) throw InputError(flag + ": an empty key in the path (KEY.KEY=VALUE)");
+  std::string made;  // the dotted path so far
   for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    made += (i ? "." : "") + parts[i];
     YAML::Node next = chain.back()[parts[i]];
-    if (!next || next.IsNull())
+    if (!next || next.IsNull()) {
       chain.back()[parts[i]] = YAML::Node(YAML::NodeType::Map);
-    else if (!next.IsMap())
-      throw InputError("--set " + path + ": '" + parts[i] + "' is not a map");
+      overridden.emplace(made, Origin{"", 0, flag, path});  // a key the file lacks: its errors name this flag
+    } else if (!next.IsMap()) {
+      throw InputError(flag + ": '" + parts[i] + "' is not a map");
+    }
     chain.push_back(chain.back()[parts[i]]);
   }
   chain.back()[parts.back()] = value;
-  overridden.insert(path);
+  overridden[path] = Origin{"", 0, flag, path};
 }
 
 // The keys every backend has; the rest of the map is the chosen backend's (backends/backend.hpp backend_settings).
@@ -102,11 +109,13 @@ void read_backend(const Section& s, BackendConfig& b) {
 
 }  // namespace
 
-Scene parse_scene(const std::string& text, const std::string& file, const std::vector<std::string>& overrides) {
+Scene parse_scene(const std::string& text, const std::string& file, const std::vector<std::string>& overrides,
+                  const std::vector<std::string>& flags) {
   YAML::Node root = load_yaml(text, file, "scene");
   if (!root.IsMap()) throw InputError(file + ": a scene is a YAML map");
-  auto overridden = std::make_shared<std::set<std::string>>();
-  for (const auto& o : overrides) apply_override(root, o, *overridden);
+  auto overridden = std::make_shared<Overridden>();
+  for (size_t i = 0; i < overrides.size(); ++i)
+    apply_override(root, overrides[i], i < flags.size() ? flags[i] : "", *overridden);
   const Section top(root, "", file, overridden);
 
   Scene s;
@@ -182,8 +191,9 @@ std::string scene_override(const std::string& name, const std::string& value, co
   return std::string(s.key) + "=" + value;
 }
 
-Scene load_scene(const std::string& file, const std::vector<std::string>& overrides) {
-  return parse_scene(read_file(file), file, overrides);
+Scene load_scene(const std::string& file, const std::vector<std::string>& overrides,
+                 const std::vector<std::string>& flags) {
+  return parse_scene(read_file(file), file, overrides, flags);
 }
 
 }  // namespace semlb::engine

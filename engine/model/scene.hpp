@@ -4,14 +4,18 @@
 #include <yaml-cpp/yaml.h>
 
 #include <array>
+#include <map>
 #include <memory>
-#include <set>
 #include <string>
 #include <vector>
 
 #include "common/settings.hpp"
 
 namespace semlb::engine {
+
+// The dotted keys an override gave, and the maps it made on the way to one, each with its Origin: the flag and the
+// field it set.
+using Overridden = std::map<std::string, Origin>;
 
 // Typed, checked access to one YAML map of a scene: a semlb::Settings (common/settings.hpp: strict typed reads
 // real / integer / text / boolean / texts with ranges, "FILE:LINE: field 'a.b': " errors, finish() refusing keys
@@ -21,7 +25,7 @@ class Section : public Settings {
  public:
   // `node`: a YAML map (or null: empty); `path`: its dotted path ("" at the top); `file`: the scene file;
   // `overridden`: the dotted keys --set gave (may be null).
-  Section(YAML::Node node, std::string path, std::string file, std::shared_ptr<const std::set<std::string>> overridden);
+  Section(YAML::Node node, std::string path, std::string file, std::shared_ptr<const Overridden> overridden);
   // KEY's map as a Section (marks KEY read); an empty section when absent; "must be a map of settings" otherwise.
   Section child(const std::string& key) const;
   const std::string& file() const { return file_; }
@@ -29,7 +33,7 @@ class Section : public Settings {
  private:
   YAML::Node node_;
   std::string file_;
-  std::shared_ptr<const std::set<std::string>> overridden_;
+  std::shared_ptr<const Overridden> overridden_;
 };
 
 // The backend a scene runs on: `backend.name` and `backend.precision`, read with the scene; every other key of the
@@ -100,9 +104,13 @@ const SceneSetting& scene_setting(const std::string& name);
 // std::logic_error for a name that is not in scene_settings() (a programming error).
 std::string scene_override(const std::string& name, const std::string& value, const std::string& where);
 
-// Loads FILE and applies `key.path=value` overrides (the value is YAML). Throws InputError.
-Scene load_scene(const std::string& file, const std::vector<std::string>& overrides);
+// Loads FILE and applies `key.path=value` overrides (the value is YAML), in order. Throws InputError. An error about
+// an override's key, or a key inside a map it gave or made, names flags[i] when given and not empty (the command-line
+// flag it came from, e.g. "--backend"), else "--set key.path".
+Scene load_scene(const std::string& file, const std::vector<std::string>& overrides,
+                 const std::vector<std::string>& flags = {});
 // Same from text (FILE only names the source in messages).
-Scene parse_scene(const std::string& text, const std::string& file, const std::vector<std::string>& overrides);
+Scene parse_scene(const std::string& text, const std::string& file, const std::vector<std::string>& overrides,
+                  const std::vector<std::string>& flags = {});
 
 }  // namespace semlb::engine

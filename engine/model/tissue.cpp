@@ -16,7 +16,7 @@ namespace {
 constexpr uint64_t kTissueStream = 0x7469737375ULL;
 
 State epidermal_sheet(const Section& t, uint64_t seed) {
-  const long cells = t.integer("cells", 60, 1, 1L << kRootIdBits);
+  const long cells = sheet_cells(t);
   const long layers = t.integer("layers", 2, 1, 1000);
   const double radius = t.real("cell_radius", 5.0, 1e-6, 1e6);
   const double spacing = t.real("spacing", 1.8 * radius, 1e-6, 1e6);
@@ -99,6 +99,8 @@ std::pair<std::array<double, 3>, std::array<double, 3>> padded_box(std::array<do
 }
 
 void fit_box(Scene& scene, const State& s) { std::tie(scene.box_lo, scene.box_hi) = tissue_box(s, scene.cutoff); }
+
+long sheet_cells(const Section& tissue) { return tissue.integer("cells", 60, 1, 1L << kRootIdBits); }
 
 State make_tissue(Scene& scene, const std::function<State(const std::string& path)>& read_file) {
   const Section& t = *scene.tissue;

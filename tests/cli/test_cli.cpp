@@ -112,6 +112,28 @@ TEST(Cli, AmbiguousInputIsRefused) {
   expect_bad_input(sim + " --set seed=010", "--set seed: '010' has a leading zero", dir + "/s");
   expect_bad_input(sim + " --steps 010", "--steps: '010' has a leading zero", dir + "/s");
   expect_bad_input(sim + " --steps 5 --set time.steps=abc", "--steps: time.steps is also given by --set", dir + "/s");
+  expect_bad_input(sim + " --backend serial --set 'backend={name: cpu-binned}'",
+                   "--backend: backend.name is also given by --set backend; give it once", dir + "/s");
+  expect_bad_input(sim + " --backend serial --set backend=5", "--backend: backend.name is also given by --set backend",
+                   dir + "/s");
+  // a --set whose path the scene lacks: the maps it makes on the way are blamed on it, not on the scene file
+  expect_bad_input(sim + " --set backend.cpu_binned.threads=1",
+                   "--set backend.cpu_binned.threads: field 'backend.cpu_binned': is not a backend", dir + "/s");
+  expect_bad_input(sim + " --set backend.threads.x=1",
+                   "--set backend.threads.x: field 'backend.threads': ", dir + "/s");
+  expect_bad_input(sim + " --set backend..threads=1", "--set backend..threads: an empty key in the path", dir + "/s");
+  // a --set into the backend's own map that the key beside name (in the file) overrides would do nothing
+  write(dir + "/beside.yaml",
+        std::regex_replace(scene, std::regex("\nbackend:[^\n]*"),
+                           "\nbackend: {name: cpu-binned, threads: 1, cpu-binned: {threads: 2}}"));
+  expect_bad_input(
+      "sim --quiet --scene " + dir + "/beside.yaml --set tissue.cells=20 --out " + dir +
+          "/s --set backend.cpu-binned.threads=3",
+      "--set backend.cpu-binned.threads: has no effect: backend.threads (" + dir + "/beside.yaml:", dir + "/s");
+  ASSERT_EQ(run(semlb_bin() + " sim --quiet --scene " + dir + "/beside.yaml --set tissue.cells=20 --steps 1 --out " +
+                dir + "/b --set backend.threads=3")
+                .rc,
+            0);  // the key beside name: it overrides, as documented
   expect_bad_input(sim + " --set decomposition.polcy=reactive", "--set decomposition.polcy: unknown setting",
                    dir + "/s");
   expect_bad_input(sim + " --set decomposition.policy=warp", "--set decomposition.policy: ", dir + "/s");

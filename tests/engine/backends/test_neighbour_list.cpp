@@ -287,8 +287,9 @@ TEST(NeighbourList, SmallerBinsListTheSamePairs) {
                 << precision << " newton " << newton << " divisions " << divisions << " step " << t;
           EXPECT_EQ(small.list.bin_divisions, divisions);
           EXPECT_EQ(small.list.builds, one.list.builds) << precision << " divisions " << divisions;
-          if (!newton)  // a half list's counts follow the slot order, which the bins set
+          if (!newton) {  // a half list's counts follow the slot order, which the bins set
             EXPECT_EQ(small.list.max_partners, one.list.max_partners) << precision << " divisions " << divisions;
+          }
         }
       }
     }
