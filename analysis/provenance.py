@@ -340,14 +340,23 @@ def main():
     args = ap.parse_args()
     gpu = os.path.join(args.results, "gpu")
     missing = 0
+
+    def show(rel, d):
+        print(f"{rel}: {d['commit'][:7] or '-'} {d['date'] or '-'} {d['status']} {d['detail']}"
+              + (" · before " + ", ".join(d["before"]) if d["before"] else ""))
+
     for name in sorted(os.listdir(gpu)):
         p = os.path.join(gpu, name)
         if name == "provenance.json":
             continue
         d = describe(p)
         missing += not d["commit"]
-        print(f"gpu/{name}: {d['commit'][:7] or '-'} {d['date'] or '-'} {d['status']} {d['detail']}"
-              + (" · before " + ", ".join(d["before"]) if d["before"] else ""))
+        show(f"gpu/{name}", d)
+        if os.path.isdir(p):  # what under it was made with another commit (its own record or `files` entry)
+            for sub in sorted(os.listdir(p)):
+                s = describe(os.path.join(p, sub))
+                if sub != "provenance.json" and s["commit"][:7] != d["commit"][:7]:
+                    show(f"gpu/{name}/{sub}", s)
     return 1 if args.check and missing else 0
 
 

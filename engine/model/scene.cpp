@@ -16,12 +16,14 @@ namespace {
 // Where FIELD's value N came from: the --set that gave it, or a map holding it, or made the map on its way; else N's
 // line of FILE.
 Origin origin_of(const std::string& field, const YAML::Node& n, const std::string& file, const Overridden* overridden) {
-  if (overridden) {  // a key set by --set, or inside a map given by --set (effects.noise={...}), is blamed on it
-    std::string prefix;
+  if (overridden) {      // a key set by --set, or inside a map given by --set (effects.noise={...}), is blamed on it:
+    std::string prefix;  // the longest such path (a key a later --set gave inside a map an earlier one made)
+    const Origin* found = nullptr;
     for (const auto& part : split(field, '.')) {
       prefix += (prefix.empty() ? "" : ".") + part;
-      if (const auto it = overridden->find(prefix); it != overridden->end()) return it->second;
+      if (const auto it = overridden->find(prefix); it != overridden->end()) found = &it->second;
     }
+    if (found) return *found;
   }
   return {file, n.IsDefined() ? n.Mark().line + 1 : 0, "", ""};
 }

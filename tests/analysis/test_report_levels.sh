@@ -54,6 +54,9 @@ grep -q "staleness \*\*unknown\*\* (commit 0123456 is not in this clone)" "$work
 # analysis/provenance.py on its own: every committed GPU folder has a record (--check), stale ones named.
 "$PY" "$src/analysis/provenance.py" --check > "$work/provenance.txt" || { cat "$work/provenance.txt"; fail "a committed GPU result without provenance.json"; }
 grep -q "^gpu/single_device: [0-9a-f]\{7\} 2026-[0-9-]* \(stale\|fresh\)" "$work/provenance.txt" || fail "provenance.py line"
+# a result under a folder made with another commit than the folder's gets its own line
+grep -q "^gpu/measured/learned_repartition: c3e6807 2026-12-03 \(stale\|fresh\)" "$work/provenance.txt" ||
+  fail "provenance.py: no line for a subfolder with its own commit"
 
 # The bottom line of "which controller": a scene's current measured summaries decide its line; a scene with none shows
 # its newest stale one, marked stale with its commit; a stale summary of a scene that has a current one is left out.
