@@ -114,6 +114,9 @@ void for_each_scene(const std::string& scene_file, const std::string& backends, 
 // previous / now (> 1: faster now). Throws InputError when the count or a number is wrong.
 int bench_engine(const std::string& scene_file, const std::string& backends, const std::string& cells, long steps,
                  long warmup, const std::string& previous, const SceneFlags& flags) {
+  for (const auto& s : flags.set)  // the steps timed are --warmup and --steps, not the scene's
+    if (s.substr(0, s.find('=')) == "time.steps")
+      throw InputError("--set time.steps: bench engine times --steps steps after --warmup; give those instead");
   std::vector<double> before;
   if (!previous.empty()) {
     for (const auto& f : split(previous, ',')) before.push_back(parse_real(f, "--previous: ", 1e-9));

@@ -246,6 +246,7 @@ TEST(CliSim, BenchEngineChecksEveryFlagBeforeARowAndNamesIt) {
            {"--backends serial --cells 20 --set tissue.cells=50", "--cells: tissue.cells is also given by --set"},
            {"--backends serial --cells 20 --set 'tissue={cells: 50}'",
             "--cells: tissue.cells is also given by --set tissue; give it once"},
+           {"--backends serial --cells 20 --set time.steps=5", "--set time.steps: bench engine times --steps steps"},
            {"--backends serial --cells 20 --ranks 4", "--ranks: bench engine does not use it"},
            {"--backends serial --cells 20 --weights x.h5", "--weights: bench engine does not use it"},
            {"--backends cpu-binned --cells 20 --platform Portable",
