@@ -17,10 +17,8 @@
 
 namespace semlb::cli {
 
-// --backend/--precision/--platform/--device/--steps/--seed, and `more` ({setting, value, flag}: a command's own flags,
-// e.g. bench's --cells), become scene overrides. A setting given both ways is an error, also when the --set gives a
-// map that holds it (--set 'backend={name: serial}' with --backend). Each flag is named after its scene setting
-// (engine::scene_settings()).
+// --backend/--precision/--platform/--device/--steps/--seed and `more` (e.g. bench's --cells) after the --set ones
+// (commands.hpp); each flag is named after its scene setting (engine::scene_settings()).
 SceneOverrides scene_overrides(const SceneFlags& f, const std::vector<std::array<std::string, 3>>& more) {
   SceneOverrides o{f.set, std::vector<std::string>(f.set.size())};
   auto number = [](long v) { return v >= 0 ? std::to_string(v) : std::string(); };  // -1: not given
