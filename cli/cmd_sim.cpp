@@ -9,6 +9,7 @@
 #include "common/cleanup.hpp"
 #include "common/errors.hpp"
 #include "common/process.hpp"
+#include "common/text_io.hpp"
 #include "engine/decomposition/distributed.hpp"
 #include "engine/run/driver.hpp"
 #include "engine/decomposition/mpi.hpp"
@@ -95,7 +96,7 @@ double end_seconds(const engine::RunSummary& sum, double process) {
 // (min / avg / max over the ranks), its share of the loop (of the average) and its imbalance (max - min) / avg; then
 // what the user waited for outside the loop: the start (process start to the first step) and the end, of `process`
 // seconds in all.
-void breakdown(const engine::RunSummary& sum, double process) {
+std::string breakdown(const engine::RunSummary& sum, double process) {
   std::string text;
   auto line = [&](const char* fmt, auto... a) {
     char buf[256];
@@ -111,19 +112,27 @@ void breakdown(const engine::RunSummary& sum, double process) {
   if (sum.list.skin > 0)
     line("Neighbour list: %s, %ld builds over the ranks (in the force phases)\n", list_settings(sum.list).c_str(),
          sum.list.builds);
-  std::fwrite(text.data(), 1, text.size(), stderr);
+  return text;
 }
 
-// The last line: the process's seconds so far, and its start, loop and end.
+// The breakdown (not with --quiet) and the last line, the process's seconds so far and its start, loop and end, on
+// stderr; both in OUT/log.txt after the command line, also with --quiet (as LAMMPS's log.lammps ends a run). A log
+// that cannot be written is a warning: the run's results are in place.
 void report(const engine::RunSummary& sum, const std::string& out, bool quiet) {
   const double process = process_seconds();
-  if (!quiet) breakdown(sum, process);
+  const std::string text = breakdown(sum, process);
   char times[160];
   std::snprintf(times, sizeof times, "%.4g s (start %.3g s, loop %.4g s, end %.3g s)", process, sum.start_seconds,
                 sum.loop_seconds, end_seconds(sum, process));
-  std::cerr << "semlb sim: " << sum.steps << " steps, " << sum.cells << " cells, " << sum.elements << " elements in "
-            << times << " on " << sum.device
-            << (sum.wrote_final ? "; wrote " + out + "/final.h5" : "; output.final: false") << "\n";
+  const std::string last = "semlb sim: " + std::to_string(sum.steps) + " steps, " + std::to_string(sum.cells) +
+                           " cells, " + std::to_string(sum.elements) + " elements in " + times + " on " + sum.device +
+                           (sum.wrote_final ? "; wrote " + out + "/final.h5" : "; output.final: false") + "\n";
+  std::cerr << (quiet ? "" : text) << last;
+  try {
+    write_file_atomically(out + "/log.txt", "# " + command_line() + "\n" + text + last);
+  } catch (const std::exception& e) {
+    std::cerr << "semlb sim: warning: no log.txt: " << e.what() << "\n";
+  }
 }
 }  // namespace
 

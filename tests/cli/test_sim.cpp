@@ -21,6 +21,13 @@ TEST(CliSim, WritesFinalStateSnapshotsXdmfRunCsvAndSceneCopy) {
                         "snapshots/step_000000000.h5", "snapshots/step_000000050.h5", "snapshots/step_000000100.h5"})
     EXPECT_TRUE(fs::exists(dir + "/out/" + f)) << f;
   EXPECT_EQ(slurp(dir + "/out/run.csv").substr(0, 40), "step,time_h,cells,elements,wall_s,mechan");
+  // the end-of-run breakdown and the last line in log.txt, after the command line, also with --quiet
+  const std::string log = slurp(dir + "/out/log.txt");
+  EXPECT_EQ(log.rfind("# ", 0), 0u) << log;
+  EXPECT_NE(log.find(" sim --scene "), std::string::npos) << log;
+  EXPECT_NE(log.find("\nLoop time of "), std::string::npos) << log;
+  EXPECT_NE(log.find("\nsemlb sim: 100 steps, "), std::string::npos) << log;
+  EXPECT_EQ(r.out.find("Loop time of"), std::string::npos) << "--quiet prints the last line only: " << r.out;
   EXPECT_NE(slurp(dir + "/out/scene.yaml").find("cells: 20"), std::string::npos);
   const auto h5 = run("h5ls -r " + dir + "/out/final.h5");
   for (const char* d : {"/elements/position", "/elements/cell", "/cells/type"})
