@@ -2,8 +2,11 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <string>
+
+#include <yaml-cpp/yaml.h>
 
 #include "commands.hpp"
 #include "common/cleanup.hpp"
@@ -17,6 +20,29 @@
 #include "engine/simulation/simulation.hpp"
 
 namespace semlb::cli {
+
+namespace {
+// Whether `--set SET=VALUE` gives KEY: SET is KEY, or a map above it whose value (YAML) holds the rest of KEY's path or
+// is not a map (--set 'backend={name: serial}' and --set backend=5 give backend.name; --set 'time={dt: 0.01}' does not
+// give time.steps). A value that is not YAML gives nothing here: the scene's parse names that --set.
+bool gives(const std::string& set, const std::string& value, const std::string& key) {
+  if (set == key) return true;
+  if (key.rfind(set + ".", 0) != 0) return false;
+  YAML::Node n;
+  try {
+    n = YAML::Load(value);
+  } catch (const YAML::Exception&) {
+    return false;
+  }
+  for (const auto& part : split(key.substr(set.size() + 1), '.')) {
+    const YAML::Node& here = n;      // const: a missing key is not inserted
+    if (!here.IsMap()) return true;  // a value that is not a map replaces the whole map, KEY with it
+    if (!here[part]) return false;
+    n.reset(here[part]);  // rebinds (operator= would overwrite the node it refers to)
+  }
+  return true;
+}
+}  // namespace
 
 // --backend/--precision/--platform/--device/--steps/--seed and `more` (e.g. bench's --cells) after the --set ones
 // (commands.hpp); each flag is named after its scene setting (engine::scene_settings()).
@@ -33,7 +59,7 @@ SceneOverrides scene_overrides(const SceneFlags& f, const std::vector<std::array
       const std::string assignment = engine::scene_override(name, value, flag + ": ");
       const std::string key = assignment.substr(0, assignment.find('='));
       for (const auto& s : f.set)  // the flag would hide the --set value unparsed: say so instead
-        if (const std::string set = s.substr(0, s.find('=')); set == key || key.rfind(set + ".", 0) == 0)
+        if (const std::string set = s.substr(0, s.find('=')); gives(set, s.substr(set.size() + 1), key))
           throw InputError(flag + ": " + key + " is also given by --set " + set + "; give it once");
       o.assignments.push_back(assignment);
       o.flags.push_back(flag);
@@ -115,10 +141,21 @@ std::string breakdown(const engine::RunSummary& sum, double process) {
   return text;
 }
 
+// OUT/log.txt: the command line and TEXT, after the log already there when APPEND (a run continued by --restart into
+// its own folder, as run.csv continues). A log that cannot be written is a warning: the run's results are in place.
+void write_log(const std::string& out, bool append, const std::string& text) {
+  try {
+    const std::string path = out + "/log.txt";
+    const std::string before = append && std::filesystem::exists(path) ? read_file(path) : "";
+    write_file_atomically(path, before + "# " + command_line() + "\n" + text);
+  } catch (const std::exception& e) {
+    std::cerr << "semlb sim: warning: no log.txt: " << e.what() << "\n";
+  }
+}
+
 // The breakdown (not with --quiet) and the last line, the process's seconds so far and its start, loop and end, on
-// stderr; both in OUT/log.txt after the command line, also with --quiet (as LAMMPS's log.lammps ends a run). A log
-// that cannot be written is a warning: the run's results are in place.
-void report(const engine::RunSummary& sum, const std::string& out, bool quiet) {
+// stderr; both in OUT/log.txt (write_log), also with --quiet (as LAMMPS's log.lammps ends a run).
+void report(const engine::RunSummary& sum, const std::string& out, bool quiet, bool restarted) {
   const double process = process_seconds();
   const std::string text = breakdown(sum, process);
   char times[160];
@@ -128,11 +165,7 @@ void report(const engine::RunSummary& sum, const std::string& out, bool quiet) {
                            " cells, " + std::to_string(sum.elements) + " elements in " + times + " on " + sum.device +
                            (sum.wrote_final ? "; wrote " + out + "/final.h5" : "; output.final: false") + "\n";
   std::cerr << (quiet ? "" : text) << last;
-  try {
-    write_file_atomically(out + "/log.txt", "# " + command_line() + "\n" + text + last);
-  } catch (const std::exception& e) {
-    std::cerr << "semlb sim: warning: no log.txt: " << e.what() << "\n";
-  }
+  write_log(out, restarted, text + last);
 }
 }  // namespace
 
@@ -175,10 +208,12 @@ Action add_sim(CLI::App& app) {
       rc.wait = o->wait;
       try {
         const auto sum = engine::run_scene(scene, rc);
-        report(sum, o->out, o->quiet);
+        report(sum, o->out, o->quiet, !o->restart.empty());
       } catch (const engine::SimulationError& e) {
-        std::cerr << "semlb sim: " << o->scene << ": " << e.what() << " (state written to " << o->out
-                  << "/failure.h5)\n";
+        const std::string line =
+            "semlb sim: " + o->scene + ": " + e.what() + " (state written to " + o->out + "/failure.h5)\n";
+        std::cerr << line;
+        write_log(o->out, !o->restart.empty(), line);
         return 1;
       }
       return 0;
@@ -191,12 +226,13 @@ Action add_sim(CLI::App& app) {
       engine::RunConfig rc{o->out, o->restart, o->quiet, SEMLB_GIT_REVISION, command_line()};
       rc.wait = o->wait;
       const auto sum = engine::run_scene_decomposed(scene, rc, *mpi);
-      if (mpi->rank() == 0) report(sum, o->out, o->quiet);
+      if (mpi->rank() == 0) report(sum, o->out, o->quiet, !o->restart.empty());
     } catch (const engine::AgreedError& e) {
       if (mpi->rank() == 0) {
-        std::cerr << "semlb sim: " << (e.code == 2 ? "" : o->scene + ": ") << e.what();
-        if (e.failed_step >= 0) std::cerr << " (state written to " << o->out << "/failure.h5)";
-        std::cerr << std::endl;
+        const std::string line = "semlb sim: " + (e.code == 2 ? "" : o->scene + ": ") + e.what() +
+                                 (e.failed_step >= 0 ? " (state written to " + o->out + "/failure.h5)" : "") + "\n";
+        std::cerr << line << std::flush;
+        if (e.failed_step >= 0) write_log(o->out, !o->restart.empty(), line);  // bad input writes nothing
       }
       return e.code;
     } catch (const std::exception& e) {

@@ -9,7 +9,11 @@
 namespace semlb::engine {
 BackendConfig backend_settings(const BackendConfig& config) {
   const BackendInfo* chosen = Backends::find(config.name);
-  if (!chosen) throw InputError("backend '" + config.name + "' is unknown (known: " + Backends::known() + ")");
+  if (!chosen) {  // named where the name was given (the scene's line, --backend, --set backend.name)
+    const std::string why = "backend '" + config.name + "' is unknown (known: " + Backends::known() + ")";
+    if (config.settings) config.settings->fail("name", why);
+    throw InputError(why);
+  }
   BackendConfig c = config;
   if (!config.settings) return c;
   const Section top = *config.settings;  // a copy: what it marks read is this call's, whichever backend runs next
@@ -27,13 +31,14 @@ BackendConfig backend_settings(const BackendConfig& config) {
       info.check(checked, [&](const std::string& key, const std::string& why) { own.fail(key, why); });
   }
   if (chosen->read) chosen->read(top, c);
-  if (chosen_own)  // a --set into the chosen one's map that a key beside it in the file overrides would do nothing
+  if (chosen_own)  // a flag into the chosen one's map that a key beside it overrides would do nothing
     for (const auto& key : chosen_own->keys())
-      if (const auto* beside = top.find(key);
-          beside && beside->origin.flag.empty() && !chosen_own->origin(key).flag.empty())
-        chosen_own->fail(key, "has no effect: " + top.field(key) + " (" + beside->origin.file + ":" +
-                                  std::to_string(beside->origin.line) +
+      if (const auto* beside = top.find(key); beside && !chosen_own->origin(key).flag.empty()) {
+        const Origin& o = beside->origin;
+        chosen_own->fail(key, "has no effect: " + top.field(key) + " (" +
+                                  (o.flag.empty() ? o.file + ":" + std::to_string(o.line) : o.flag) +
                                   ") overrides the backend's map; set that one instead");
+      }
   if (chosen->check)  // the keys beside the maps override the chosen one's map: a key set there is blamed there
     chosen->check(c, [&](const std::string& key, const std::string& why) {
       if (chosen_own && !top.has(key) && chosen_own->has(key)) chosen_own->fail(key, why);

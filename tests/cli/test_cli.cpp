@@ -141,6 +141,11 @@ TEST(Cli, AmbiguousInputIsRefused) {
   expect_bad_input("sweep " + dir + "/m.yaml --quiet --results " + dir + "/r",
                    "m.yaml:2: field 'name': duplicate key (first at line 1)", dir + "/r");
   ASSERT_EQ(run(semlb_bin() + " " + sim + " --steps 0 --set decomposition.policy=reactive").rc, 0);  // valid: accepted
+  ASSERT_EQ(run(semlb_bin() + " sim --quiet --scene " + source("scenes/mechanics.yaml") +
+                " --set tissue.cells=20 --out " + dir + "/t --steps 1 --set 'time={dt: 0.01}'")
+                .rc,
+            0)
+      << "--steps beside a --set of a time map that does not hold steps";
 }
 
 // Integer flags go through the one strict parser: hex, '+', negative counts and trailing text are refused.

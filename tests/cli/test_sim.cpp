@@ -193,6 +193,26 @@ TEST(CliSim, NumericalFailureExitsOneNamingStepElementQuantityAndKeepsTheState) 
   EXPECT_NE(r.out.find("displacement exceeds time.max_displacement"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(dir + "/out/failure.h5"));
   EXPECT_FALSE(fs::exists(dir + "/out/final.h5"));
+  const std::string log = slurp(dir + "/out/log.txt");  // the command line and the failure, as on stderr
+  EXPECT_NE(log.find("--set time.dt=5"), std::string::npos) << log;
+  EXPECT_NE(log.find("displacement exceeds time.max_displacement"), std::string::npos) << log;
+}
+
+// A run continued by --restart into its own folder appends to its log.txt (as to run.csv); a fresh run replaces it.
+TEST(CliSim, ARestartIntoItsFolderAppendsToTheLog) {
+  const auto dir = fresh_dir("cli_sim_log_restart");
+  const std::string sim = semlb_bin() + " sim --scene " + source("scenes/mechanics.yaml") + " --out " + dir +
+                          "/out --set tissue.cells=20 --set output.checkpoint_every=10 --quiet";
+  ASSERT_EQ(run(sim + " --steps 10").rc, 0);
+  const auto r = run(sim + " --steps 20 --restart " + dir + "/out/checkpoint.h5");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const std::string log = slurp(dir + "/out/log.txt");
+  const auto first = log.find("\nsemlb sim: 10 steps, "), second = log.find("\nsemlb sim: ", first + 1);
+  ASSERT_NE(first, std::string::npos) << log;
+  ASSERT_NE(second, std::string::npos) << "the restart's part is missing: " << log;
+  EXPECT_NE(log.find("--restart", first), std::string::npos) << log;
+  ASSERT_EQ(run(sim + " --steps 5").rc, 0);
+  EXPECT_EQ(slurp(dir + "/out/log.txt").find("--restart"), std::string::npos) << "a fresh run keeps the old log";
 }
 
 // With a neighbour list the breakdown gives its skin, its builds and whether it is the half list (newton).
