@@ -20,12 +20,18 @@ std::string resolve_path(const std::string& base_dir, const std::string& file) {
 std::string RunOptions::resolve(const std::string& file) const { return resolve_path(base_dir, file); }
 
 std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::string>& names,
-                                         const std::string& manifest) {
+                                         const std::string& manifest, std::vector<std::string>* flags) {
   std::vector<std::string> o;
+  const auto label = [&](const Setting& s, const std::string& key) {  // "m.yaml:7: field 'scene.x'", "--set scene.x"
+    if (!flags) return;
+    std::string w = where_of(s, manifest, key);
+    flags->push_back(w.substr(0, w.size() - 2));  // without the ": " that ends a where
+  };
   std::map<std::string, std::string> named;  // scene key -> the job's setting that sets it
   for (const auto& name : names)
     if (const Setting* s = job.find(name)) {
       o.push_back(engine::scene_override(name, s->value, where_of(*s, manifest, name)));
+      label(*s, name);
       named[engine::scene_setting(name).key] = name;
     }
   for (const auto& [k, s] : job.settings)
@@ -35,6 +41,7 @@ std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::
         throw InputError(where_of(s, manifest, k) + "sets " + it->first + ", which the job's '" + it->second +
                          "' sets too; give it once (as '" + it->second + "')");
       o.push_back(k.substr(6) + "=" + s.value);
+      label(s, k);
     }
   return o;
 }
@@ -43,13 +50,17 @@ engine::Scene job_scene(const Job& job, const std::vector<std::string>& names, c
                         const std::string& base_dir) {
   const Setting* file = job.find("scene");
   if (!file) throw InputError(where(manifest, 0, "scene") + "missing (engine runners need a scene file)");
-  const auto overrides = scene_overrides(job, names, manifest);  // its errors name their own settings
+  std::vector<std::string> flags;  // where each override was set, named by the scene's errors about it
+  const auto overrides = scene_overrides(job, names, manifest, &flags);  // its errors name their own settings
   try {
-    engine::Scene scene = engine::load_scene(resolve_path(base_dir, file->value), overrides);
+    engine::Scene scene = engine::load_scene(resolve_path(base_dir, file->value), overrides, flags);
     (void)engine::backend_settings(scene.backend);  // the backend's own keys, checked before anything runs
     return scene;
   } catch (const InputError& e) {
-    throw InputError(where_of(*file, manifest, "scene") + e.what());
+    const std::string what = e.what();
+    for (const auto& f : flags)  // an error about an override names its setting already
+      if (what.rfind(f + ":", 0) == 0) throw;
+    throw InputError(where_of(*file, manifest, "scene") + what);
   }
 }
 

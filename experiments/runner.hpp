@@ -45,16 +45,18 @@ class Runner {
 
 // Scene overrides ("tissue.cells=400") from a job: each of `names` (engine::scene_settings() names, the
 // runner's choice) that the job sets, its value type-checked (InputError naming its manifest line), then
-// every `scene.KEY` setting as KEY. Shared by the engine runners.
+// every `scene.KEY` setting as KEY. Shared by the engine runners. FLAGS (when given) gets, per override, where it was
+// set ("m.yaml:7: field 'scene.time.dt'", "--set scene.time.dt"): engine::load_scene's names for its errors.
 std::vector<std::string> scene_overrides(const Job& job, const std::vector<std::string>& names,
-                                         const std::string& manifest);
+                                         const std::string& manifest, std::vector<std::string>* flags = nullptr);
 
 // The job's scene, for the runners that run the engine: the file its `scene` setting names (relative to
 // BASE_DIR, the manifest's folder), with scene_overrides(job, names, manifest) applied. InputError "MANIFEST: field
 // 'scene': missing (...)" without a `scene` setting; a mistyped override is scene_overrides' InputError (naming the
-// override's line); an InputError about the file or what an override sets in it is prefixed with where `scene` was
-// set ("m.yaml:7: field 'scene': scene.yaml:3: field 'tiem': unknown setting"), as is a key of the `backend` map the
-// row's backend does not use (engine::backend_settings).
+// override's line), and so is an error about what an override sets ("m.yaml:13: field 'scene.time.dt': ..."); an
+// InputError about the file is prefixed with where `scene` was set ("m.yaml:7: field 'scene': scene.yaml:3: field
+// 'tiem': unknown setting"), as is a key of the file's `backend` map the row's backend does not use
+// (engine::backend_settings).
 engine::Scene job_scene(const Job& job, const std::vector<std::string>& names, const std::string& manifest,
                         const std::string& base_dir);
 

@@ -79,6 +79,12 @@ TEST(Runners, TheJobsSceneNamesWhereSceneWasSet) {
   const std::string e =
       check_error("engine_timing", job_of({{"scene", test::source("scenes/mechanics.yaml")}, {"cells", "many"}}));
   EXPECT_EQ(e.rfind("m.yaml:4: field 'cells': ", 0), 0u) << e;
+  // What an override sets that the scene refuses names the override's line, not `scene`'s (nor a --set)
+  const std::string scene = test::source("scenes/mechanics.yaml");
+  EXPECT_EQ(check_error("engine_timing", job_of({{"scene", scene}, {"scene.effects.mechanics.intra.U0", "x"}})),
+            "m.yaml:4: field 'scene.effects.mechanics.intra.U0': 'x' is not a number");
+  EXPECT_EQ(check_error("engine_timing", job_of({{"scene", scene}, {"scene.backend.cpu-binned.thread", "1"}})),
+            "m.yaml:4: field 'scene.backend.cpu-binned.thread': backend 'cpu-binned' does not use it");
 }
 
 // A scene.KEY setting of a key the job's named setting sets too would win in silence while the CSV's column showed the
