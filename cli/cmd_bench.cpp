@@ -13,8 +13,8 @@
 #include "commands.hpp"
 #include "controllers/features.hpp"
 #include "common/text_io.hpp"
-#include "engine/model/tissue.hpp"
 #include "engine/run/bench.hpp"
+#include "engine/run/driver.hpp"
 #include "surrogate/evaluate.hpp"
 #include "controllers/gru.hpp"
 #include "surrogate/rollout.hpp"
@@ -51,14 +51,13 @@ int bench_policies(int ranks, int events, int repeats, uint64_t seed, const std:
   return 0;
 }
 
-// One row's scene: the file with the flags, the backend and the tissue size; its backend's own keys and its tissue
-// size checked (the tissue is built when the row runs).
+// One row's scene: the file with the flags, the backend and the tissue size; every setting checked
+// (engine::check_scene: the tissue is built and the device set up when the row runs).
 engine::Scene bench_scene(const std::string& scene_file, const std::string& backend, long cells,
                           const SceneFlags& flags) {
   auto scene =
       load_scene(scene_file, flags, {{"backend", backend, "--backends"}, {"cells", std::to_string(cells), "--cells"}});
-  engine::backend_settings(scene.backend);
-  if (!scene.tissue->has("file")) engine::sheet_cells(*scene.tissue);
+  engine::check_scene(scene);
   return scene;
 }
 

@@ -6,8 +6,8 @@
 #include <map>
 
 #include "common/errors.hpp"
-#include "engine/backends/backend.hpp"
 #include "engine/model/scene.hpp"
+#include "engine/run/driver.hpp"
 #include "surrogate/evaluate.hpp"
 
 namespace semlb::experiments {
@@ -54,7 +54,7 @@ engine::Scene job_scene(const Job& job, const std::vector<std::string>& names, c
   const auto overrides = scene_overrides(job, names, manifest, &flags);  // its errors name their own settings
   try {
     engine::Scene scene = engine::load_scene(resolve_path(base_dir, file->value), overrides, flags);
-    (void)engine::backend_settings(scene.backend);  // the backend's own keys, checked before anything runs
+    engine::check_scene(scene);  // every setting a run reads, checked before anything runs
     return scene;
   } catch (const InputError& e) {
     const std::string what = e.what();

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <tuple>
 
 #include "physics/cpu_physics.hpp"
@@ -15,15 +16,29 @@ namespace {
 
 constexpr uint64_t kTissueStream = 0x7469737375ULL;
 
-State epidermal_sheet(const Section& t, uint64_t seed) {
-  const long cells = sheet_cells(t);
-  const long layers = t.integer("layers", 2, 1, 1000);
-  const double radius = t.real("cell_radius", 5.0, 1e-6, 1e6);
-  const double spacing = t.real("spacing", 1.8 * radius, 1e-6, 1e6);
-  const double spread = t.real("spread", 0.6 * radius, 0, 1e6);
-  const int emin = static_cast<int>(t.integer("elements_min", 10, 1, kMaxSlots - 1));
-  const int emax = static_cast<int>(t.integer("elements_max", 20, 1, kMaxSlots - 1));
-  if (emax < emin) t.fail("elements_max", "must be >= elements_min");
+// The epidermal_sheet generator's tissue keys, read and checked.
+struct Sheet {
+  long cells, layers;
+  double radius, spacing, spread;
+  int emin, emax;
+};
+Sheet sheet_settings(const Section& t) {
+  Sheet g;
+  g.cells = t.integer("cells", 60, 1, 1L << kRootIdBits);
+  g.layers = t.integer("layers", 2, 1, 1000);
+  g.radius = t.real("cell_radius", 5.0, 1e-6, 1e6);
+  g.spacing = t.real("spacing", 1.8 * g.radius, 1e-6, 1e6);
+  g.spread = t.real("spread", 0.6 * g.radius, 0, 1e6);
+  g.emin = static_cast<int>(t.integer("elements_min", 10, 1, kMaxSlots - 1));
+  g.emax = static_cast<int>(t.integer("elements_max", 20, 1, kMaxSlots - 1));
+  if (g.emax < g.emin) t.fail("elements_max", "must be >= elements_min");
+  return g;
+}
+
+State epidermal_sheet(const Sheet& g, uint64_t seed) {
+  const long cells = g.cells, layers = g.layers;
+  const double radius = g.radius, spacing = g.spacing, spread = g.spread;
+  const int emin = g.emin, emax = g.emax;
   const long per_layer = (cells + layers - 1) / layers;
   const long nx = static_cast<long>(std::ceil(std::sqrt(static_cast<double>(per_layer))));
   // Each cell's place and each element's offset depend only on (seed, cell, element): two passes, each parallel over
@@ -100,28 +115,53 @@ std::pair<std::array<double, 3>, std::array<double, 3>> padded_box(std::array<do
 
 void fit_box(Scene& scene, const State& s) { std::tie(scene.box_lo, scene.box_hi) = tissue_box(s, scene.cutoff); }
 
-long sheet_cells(const Section& tissue) { return tissue.integer("cells", 60, 1, 1L << kRootIdBits); }
-
-State make_tissue(Scene& scene, const std::function<State(const std::string& path)>& read_file) {
-  const Section& t = *scene.tissue;
-  State s;
-  const std::string file = t.text("file", "");
-  const std::string generator = t.text("generator", file.empty() ? "epidermal_sheet" : "");
-  if (!file.empty()) {
-    const auto path = std::filesystem::path(scene.path).parent_path() / file;
-    s = read_file(std::filesystem::path(file).is_absolute() ? file : path.string());
-  } else if (generator == "epidermal_sheet") {
-    s = epidermal_sheet(t, scene.seed);
-  } else {
-    t.fail("generator", "unknown generator '" + generator + "' (known: epidermal_sheet; or give tissue.file)");
+namespace {
+// A scene's tissue section, read and checked: the file or the generator's keys, and x_range. What make_tissue builds
+// from, and all check_tissue reads.
+struct TissueSpec {
+  std::string file;                              // tissue.file as written (relative to the scene); empty: the generator
+  std::optional<Sheet> sheet;                    // the epidermal_sheet generator's keys
+  std::optional<std::array<double, 2>> x_range;  // um
+};
+TissueSpec tissue_spec(const Section& t) {
+  TissueSpec spec;
+  spec.file = t.text("file", "");
+  const std::string generator = t.text("generator", spec.file.empty() ? "epidermal_sheet" : "");
+  if (spec.file.empty()) {
+    if (generator != "epidermal_sheet")
+      t.fail("generator", "unknown generator '" + generator + "' (known: epidermal_sheet; or give tissue.file)");
+    spec.sheet = sheet_settings(t);
   }
   // tissue.x_range: [lo, hi] keeps the cells whose centroid x lies in [lo, hi) um: one slab of the tissue (e.g. to time
   // a rank's slab alone on the device, docs/measured_time.md)
   if (t.has("x_range")) {
     const auto range = t.texts("x_range", {});
     if (range.size() != 2) t.fail("x_range", "must be [lo, hi] in um");
-    const double lo = parse_real(range[0], t.where("x_range")), hi = parse_real(range[1], t.where("x_range"));
-    if (!(lo < hi)) t.fail("x_range", "lo must be below hi");
+    spec.x_range = {parse_real(range[0], t.where("x_range")), parse_real(range[1], t.where("x_range"))};
+    if (!((*spec.x_range)[0] < (*spec.x_range)[1])) t.fail("x_range", "lo must be below hi");
+  }
+  t.finish();
+  return spec;
+}
+}  // namespace
+
+void check_tissue(const Scene& scene) {
+  const Section t = *scene.tissue;  // a copy: what it marks read is this check's
+  tissue_spec(t);
+}
+
+State make_tissue(Scene& scene, const std::function<State(const std::string& path)>& read_file) {
+  const Section& t = *scene.tissue;
+  const TissueSpec spec = tissue_spec(t);
+  State s;
+  if (spec.sheet) {
+    s = epidermal_sheet(*spec.sheet, scene.seed);
+  } else {
+    const auto path = std::filesystem::path(scene.path).parent_path() / spec.file;
+    s = read_file(std::filesystem::path(spec.file).is_absolute() ? spec.file : path.string());
+  }
+  if (spec.x_range) {
+    const auto [lo, hi] = *spec.x_range;
     std::vector<long> inside;
     for (long c = 0; c < s.cells(); ++c)
       if (const double x = centroid(s, c)[0]; x >= lo && x < hi) inside.push_back(c);
@@ -133,7 +173,6 @@ State make_tissue(Scene& scene, const std::function<State(const std::string& pat
     kept.time = s.time;
     s = std::move(kept);
   }
-  t.finish();
   if (scene.auto_box) fit_box(scene, s);
   return s;
 }

@@ -12,9 +12,9 @@ namespace semlb::engine {
 // Builds the tissue (`tissue.file`, relative to the scene, read by `read_file`) and, for `domain: auto`, sets the
 // scene's box around it. Throws InputError.
 State make_tissue(Scene& scene, const std::function<State(const std::string& path)>& read_file);
-// The epidermal_sheet generator's `tissue.cells` (default 60, in [1, 2^kRootIdBits]), read and checked without
-// building the tissue (InputError naming the key's file and line or flag).
-long sheet_cells(const Section& tissue);
+// The scene's tissue section read and checked as make_tissue reads it (the file or the generator's keys, x_range),
+// without building the tissue or reading the file (InputError naming the key's file and line or flag).
+void check_tissue(const Scene& scene);
 // The elements' bounding box over finite coordinates ({lo, hi} in um; zeros when there are none), as Backend::bounds().
 std::pair<std::array<double, 3>, std::array<double, 3>> element_bounds(const State& state);
 // The box `domain: auto` gives a tissue: its extent plus one cutoff, from z = -cutoff, with headroom above.

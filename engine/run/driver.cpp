@@ -483,6 +483,13 @@ std::vector<std::pair<std::string, double>> start_parts(double tissue, double de
 }
 }  // namespace
 
+void check_scene(const Scene& scene) {
+  check_tissue(scene);
+  (void)backend_settings(scene.backend);
+  (void)make_effects(scene);
+  (void)Decomposition::from_scene(scene, 1);
+}
+
 RunSummary run_scene(Scene& scene, const RunConfig& config) {
   const auto t0 = std::chrono::steady_clock::now();
   State initial = config.restart.empty() ? make_tissue(scene) : read_state(config.restart);

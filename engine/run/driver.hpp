@@ -72,6 +72,11 @@ inline constexpr std::array<const char*, 14> kColumns = {
 // run nothing. DIR is locked (DIR/.semlb.lock) while the run writes it: a second run into DIR is an InputError
 // naming the first (or waits, with config.wait). A write error (a full disk) throws std::runtime_error naming the
 // file; no temporary file is left and earlier files (the last checkpoint) stay whole.
+// Every setting a run of SCENE reads, read and checked without building the tissue or touching a device: the tissue
+// section (check_tissue), the backend's (backend_settings), the effects' (make_effects) and the decomposition's
+// (Decomposition::from_scene at one rank). InputError naming the file and line, or the flag. `semlb bench` and the
+// sweeps' engine runners check every row with it before the first one runs.
+void check_scene(const Scene& scene);
 RunSummary run_scene(Scene& scene, const RunConfig& config);
 // The same across the ranks of `mpi` (docs/engine.md "Decomposition"): rank 0 writes final.h5, run.csv,
 // checkpoints and snapshots (gathered, cells in id order), trace.jsonl (one line per rebalancing event, in
