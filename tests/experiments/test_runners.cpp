@@ -85,6 +85,16 @@ TEST(Runners, TheJobsSceneNamesWhereSceneWasSet) {
             "m.yaml:4: field 'scene.effects.mechanics.intra.U0': 'x' is not a number");
   EXPECT_EQ(check_error("engine_timing", job_of({{"scene", scene}, {"scene.backend.cpu-binned.thread", "1"}})),
             "m.yaml:4: field 'scene.backend.cpu-binned.thread': backend 'cpu-binned' does not use it");
+  // every setting a run reads is checked before anything runs (engine::check_scene): the tissue's, the effects', the
+  // decomposition's, which a run reads only once it starts
+  EXPECT_EQ(check_error("engine_timing", job_of({{"scene", scene}, {"scene.tissue.cels", "1"}})),
+            "m.yaml:4: field 'scene.tissue.cels': unknown setting");
+  EXPECT_EQ(
+      check_error("mpi_sim", job_of({{"scene", scene}, {"ranks", "2"}, {"scene.decomposition.timing", "modeled"}})),
+      "m.yaml:5: field 'scene.decomposition.timing': must be measured, modelled or device");
+  EXPECT_EQ(check_error("engine_timing", job_of({{"scene", scene}, {"scene.effects.mechanics.inter.U0", "-1"}}))
+                .rfind("m.yaml:4: field 'scene.effects.mechanics.inter.U0': ", 0),
+            0u);
 }
 
 // A scene.KEY setting of a key the job's named setting sets too would win in silence while the CSV's column showed the
