@@ -36,7 +36,15 @@ OpenClBackend<Real>::OpenClBackend(const BackendConfig& c, bool binned)
       list_(binned ? c.skin : 0.0, binned && c.newton, build_options().find("SEMLB_NL_SPLIT") != std::string::npos,
             binned ? c.list_bin_divisions : 1),
       pair_exp_(pair_exp_of(c.pair_exp, std::is_same_v<Real, float>)) {
-  dev_ = cl::choose_device(c.platform, c.device, c.local_rank);
+  try {
+    dev_ = cl::choose_device(c.platform, c.device, c.local_rank);
+  } catch (const InputError& e) {  // named where the platform or device was given: the scene's line, --platform, --set
+    const std::string what = e.what();
+    for (const std::string key : {"platform", "device"})
+      if (const std::string prefix = "backend." + key + ": "; c.settings && what.rfind(prefix, 0) == 0)
+        c.settings->fail(key, what.substr(prefix.size()));
+    throw;
+  }
   cl_device_fp_config fp64 = 0;
   clGetDeviceInfo(dev_.device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, nullptr);
   has_fp64_ = fp64 != 0;

@@ -291,6 +291,21 @@ TEST(CliSim, BenchEngineChecksEveryFlagBeforeARowAndNamesIt) {
   EXPECT_NE(policies.out.find("--cells: bench policies does not use it"), std::string::npos) << policies.out;
 }
 
+// A platform or device that is not there is named where it was given.
+TEST(CliSim, AMissingPlatformOrDeviceIsNamedByItsFlag) {
+  const auto dir = fresh_dir("cli_sim_platform");
+  const std::string sim = semlb_bin() + " sim --scene " + source("scenes/mechanics.yaml") +
+                          " --backend opencl-binned --set tissue.cells=20 --steps 1 --quiet --out " + dir + "/o";
+  const auto r = run(sim + " --platform NoSuchPlatform");
+  if (r.out.find("no OpenCL platform found") != std::string::npos) GTEST_SKIP() << r.out;
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_NE(r.out.find("--platform: no platform matches 'NoSuchPlatform' (found: "), std::string::npos) << r.out;
+  const auto d = run(sim + " --platform Portable --device 7");
+  EXPECT_EQ(d.rc, 2) << d.out;
+  EXPECT_NE(d.out.find("--device: index 7 but platform '"), std::string::npos) << d.out;
+  EXPECT_FALSE(fs::exists(dir + "/o"));
+}
+
 // opencl-binned with a neighbour list: the skin and the builds per step beside ms/step, and a line with its figures.
 TEST(CliSim, BenchEnginePrintsTheSkinAndTheListBuilds) {
   const auto r = run(
