@@ -6,8 +6,6 @@
 #include <iostream>
 #include <string>
 
-#include <yaml-cpp/yaml.h>
-
 #include "commands.hpp"
 #include "common/cleanup.hpp"
 #include "common/errors.hpp"
@@ -21,29 +19,6 @@
 
 namespace semlb::cli {
 
-namespace {
-// Whether `--set SET=VALUE` gives KEY: SET is KEY, or a map above it whose value (YAML) holds the rest of KEY's path or
-// is not a map (--set 'backend={name: serial}' and --set backend=5 give backend.name; --set 'time={dt: 0.01}' does not
-// give time.steps). A value that is not YAML gives nothing here: the scene's parse names that --set.
-bool gives(const std::string& set, const std::string& value, const std::string& key) {
-  if (set == key) return true;
-  if (key.rfind(set + ".", 0) != 0) return false;
-  YAML::Node n;
-  try {
-    n = YAML::Load(value);
-  } catch (const YAML::Exception&) {
-    return false;
-  }
-  for (const auto& part : split(key.substr(set.size() + 1), '.')) {
-    const YAML::Node& here = n;      // const: a missing key is not inserted
-    if (!here.IsMap()) return true;  // a value that is not a map replaces the whole map, KEY with it
-    if (!here[part]) return false;
-    n.reset(here[part]);  // rebinds (operator= would overwrite the node it refers to)
-  }
-  return true;
-}
-}  // namespace
-
 // --backend/--precision/--platform/--device/--steps/--seed and `more` (e.g. bench's --cells) after the --set ones
 // (commands.hpp); each flag is named after its scene setting (engine::scene_settings()).
 SceneOverrides scene_overrides(const SceneFlags& f, const std::vector<std::array<std::string, 3>>& more) {
@@ -56,12 +31,8 @@ SceneOverrides scene_overrides(const SceneFlags& f, const std::vector<std::array
   flags.insert(flags.end(), more.begin(), more.end());
   for (const auto& [name, value, flag] : flags)
     if (!value.empty()) {
-      const std::string assignment = engine::scene_override(name, value, flag + ": ");
-      const std::string key = assignment.substr(0, assignment.find('='));
-      for (const auto& s : f.set)  // the flag would hide the --set value unparsed: say so instead
-        if (const std::string set = s.substr(0, s.find('=')); gives(set, s.substr(set.size() + 1), key))
-          throw InputError(flag + ": " + key + " is also given by --set " + set + "; give it once");
-      o.assignments.push_back(assignment);
+      // after the --sets: load_scene refuses a flag whose setting a --set gives too
+      o.assignments.push_back(engine::scene_override(name, value, flag + ": "));
       o.flags.push_back(flag);
     }
   return o;

@@ -46,7 +46,7 @@ struct SceneOverrides {
   std::vector<std::string> assignments, flags;
 };
 // The --set ones, then the flags', with `more` ({setting of engine::scene_settings, value or "" when not given, the
-// flag's name}); InputError naming the flag when a --set gives the same setting, or a map that holds it, too.
+// flag's name}); engine::load_scene refuses a flag whose setting a --set gives too.
 SceneOverrides scene_overrides(const SceneFlags& flags, const std::vector<std::array<std::string, 3>>& more = {});
 // "skin 0.5 um (half: newton), bins of (cutoff + skin) / 2": the neighbour list's settings, as sim and bench print
 // them.

@@ -118,16 +118,15 @@ DeviceInfo choose_device(const std::string& platform, int index, int local_rank)
   std::string known;
   for (const auto& n : names) known += (known.empty() ? "" : "; ") + n;
   if (chosen.empty())
-    throw InputError("backend.platform: " +
-                     (platform.empty() ? std::string("several OpenCL platforms, choose one")
-                                       : "no platform matches '" + platform + "'") +
-                     " (found: " + known + ")");
+    throw DeviceChoiceError("platform", (platform.empty() ? std::string("several OpenCL platforms, choose one")
+                                                          : "no platform matches '" + platform + "'") +
+                                            " (found: " + known + ")");
   std::vector<DeviceInfo> devices;
   for (const auto& d : all)
     if (d.platform_name == chosen) devices.push_back(d);
   if (index < 0 || index >= static_cast<int>(devices.size()))
-    throw InputError("backend.device: index " + std::to_string(index) + " but platform '" + chosen + "' has " +
-                     std::to_string(devices.size()) + " device(s)");
+    throw DeviceChoiceError("device", "index " + std::to_string(index) + " but platform '" + chosen + "' has " +
+                                          std::to_string(devices.size()) + " device(s)");
   const int chosen_index = static_cast<int>((index + local_rank) % devices.size());
   DeviceInfo d = devices[chosen_index];
   d.index = chosen_index;

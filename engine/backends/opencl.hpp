@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "common/errors.hpp"
+
 namespace semlb::engine::cl {
 
 void check(cl_int status, const char* what);  // throws std::runtime_error("OpenCL: WHAT failed (error N)")
@@ -82,7 +84,15 @@ std::vector<DeviceInfo> list_devices();
 // The platform whose name contains `platform` (case-insensitive); empty: the only platform with a GPU,
 // else the only platform. `index` counts devices within that platform; `local_rank` (the rank among the
 // processes of this host) adds to it, wrapping around, so ranks spread over the devices or share them.
+// Throws DeviceChoiceError when none matches.
 DeviceInfo choose_device(const std::string& platform, int index, int local_rank = 0);
+// choose_device's refusal: the setting at fault (`key`: "platform" or "device") and why; what() is "backend.KEY: WHY"
+// for callers without the scene (the backend names where the key was given: Settings::fail).
+struct DeviceChoiceError : InputError {
+  DeviceChoiceError(const std::string& key, const std::string& why)
+      : InputError("backend." + key + ": " + why), key(key), why(why) {}
+  std::string key, why;
+};
 
 // One launch of a named kernel written to a folder, so that tools which cannot profile OpenCL (Nsight
 // Compute) can replay it through the CUDA driver (scripts/gpu/ncu_replay.cpp; docs/performance.md "Profiling

@@ -38,11 +38,8 @@ OpenClBackend<Real>::OpenClBackend(const BackendConfig& c, bool binned)
       pair_exp_(pair_exp_of(c.pair_exp, std::is_same_v<Real, float>)) {
   try {
     dev_ = cl::choose_device(c.platform, c.device, c.local_rank);
-  } catch (const InputError& e) {  // named where the platform or device was given: the scene's line, --platform, --set
-    const std::string what = e.what();
-    for (const std::string key : {"platform", "device"})
-      if (const std::string prefix = "backend." + key + ": "; c.settings && what.rfind(prefix, 0) == 0)
-        c.settings->fail(key, what.substr(prefix.size()));
+  } catch (const cl::DeviceChoiceError& e) {  // named where the key was given: the scene's line, --platform, --set
+    if (c.settings) c.settings->fail(e.key, e.why);
     throw;
   }
   cl_device_fp_config fp64 = 0;

@@ -3,6 +3,7 @@
 
 #include <climits>
 
+#include <set>
 #include <stdexcept>
 
 #include "common/errors.hpp"
@@ -67,13 +68,38 @@ Section Section::child(const std::string& key) const {
 
 namespace {
 
+// Refuses a flag's override of PATH that an earlier --set gave (its key, or a map holding PATH's key, or a value that
+// replaced a map on PATH's way): the flag would hide that --set's value unread. SET: the paths the --sets gave.
+void refuse_given_twice(const YAML::Node& root, const std::string& path, const std::string& flag,
+                        const std::set<std::string>& set) {
+  const auto parts = split(path, '.');
+  std::string at, giver;  // the path so far; the --set at or above it
+  YAML::Node node = root;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    at += (i ? "." : "") + parts[i];
+    if (set.count(at)) giver = at;
+    const YAML::Node& here = node;                 // const: a missing key is not inserted
+    if (!here.IsMap() || !here[parts[i]]) return;  // PATH's key is not in the tree: nothing hidden
+    node.reset(here[parts[i]]);                    // rebinds (operator= would overwrite the node)
+    if (!giver.empty() && (i + 1 == parts.size() || !node.IsMap()))
+      throw InputError(flag + ": " + path + " is also given by --set " + giver + "; give it once");
+  }
+}
+
 // Applies `a.b.c=value` to the tree, creating maps on the way; records the dotted path, and each map it made on the
-// way, as given by FLAG (empty: "--set a.b.c"), the name its errors carry.
-void apply_override(YAML::Node root, const std::string& assignment, std::string flag, Overridden& overridden) {
+// way, as given by FLAG (empty: "--set a.b.c", and the path goes into SET), the name its errors carry. A flag's
+// override of what a --set before it gave is refused (refuse_given_twice).
+void apply_override(YAML::Node root, const std::string& assignment, std::string flag, Overridden& overridden,
+                    std::set<std::string>& set) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError("--set " + assignment + ": expected KEY=VALUE");
   const std::string path = assignment.substr(0, eq);
-  if (flag.empty()) flag = "--set " + path;
+  if (flag.empty()) {
+    flag = "--set " + path;
+    set.insert(path);
+  } else {
+    refuse_given_twice(root, path, flag, set);
+  }
   YAML::Node value;
   try {
     value = YAML::Load(assignment.substr(eq + 1));
@@ -116,8 +142,9 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   YAML::Node root = load_yaml(text, file, "scene");
   if (!root.IsMap()) throw InputError(file + ": a scene is a YAML map");
   auto overridden = std::make_shared<Overridden>();
+  std::set<std::string> set;  // the paths the --sets gave
   for (size_t i = 0; i < overrides.size(); ++i)
-    apply_override(root, overrides[i], i < flags.size() ? flags[i] : "", *overridden);
+    apply_override(root, overrides[i], i < flags.size() ? flags[i] : "", *overridden, set);
   const Section top(root, "", file, overridden);
 
   Scene s;

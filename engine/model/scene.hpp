@@ -106,7 +106,9 @@ std::string scene_override(const std::string& name, const std::string& value, co
 
 // Loads FILE and applies `key.path=value` overrides (the value is YAML), in order. Throws InputError. An error about
 // an override's key, or a key inside a map it gave or made, names flags[i] when given and not empty (the command-line
-// flag it came from, e.g. "--backend"), else "--set key.path".
+// flag it came from, e.g. "--backend"), else "--set key.path". An override named by a flag that would hide what an
+// earlier unnamed one (a --set) gave is refused: "--backend: backend.name is also given by --set backend; give it
+// once" (the --set's key, a map of it holding the flag's key, or a value that is not a map on its way).
 Scene load_scene(const std::string& file, const std::vector<std::string>& overrides,
                  const std::vector<std::string>& flags = {});
 // Same from text (FILE only names the source in messages).
