@@ -7,7 +7,9 @@
 # KERNEL=nl_forces SKIN=0.5 profiles the neighbour list's force kernel instead. LAUNCH=N captures the
 # N-th launch (default 10: past the first steps, where the list's kmax is still growing and slots over it take the
 # stencil). The replay's median is printed beside OpenCL's own ms/step of the kernel in the same bench: a replay
-# that differs by more than 10% is not the launch the bench timed, and the script says so.
+# that differs by more than 10% is not the launch the bench timed, and the script says so. SETS: extra flags of the
+# bench (e.g. "--set backend.opencl-binned.newton=true"), SETS_float and SETS_double those of one precision (e.g.
+# SETS_double="--set backend.pair_exp=ranged"); OUT/sets.txt records them.
 set -euo pipefail
 semlb=$1; out=$2; cells=${3:-435661}; precisions=${4:-"float double"}
 here=$(cd "$(dirname "$0")" && pwd)
@@ -15,11 +17,14 @@ k=${KERNEL:-forces_binned}; skin=${SKIN:-0}; launch=${LAUNCH:-10}
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 mkdir -p "$out"
+printf 'SETS=%s\nSETS_float=%s\nSETS_double=%s\n' "${SETS:-}" "${SETS_float:-}" "${SETS_double:-}" > "$out/sets.txt"
 nvcc -O2 -std=c++17 "$here/ncu_replay.cpp" -lcuda -o "$scratch/ncu_replay"
 for p in $precisions; do
-  cap="$scratch/capture_$p"
+  cap="$scratch/capture_$p"; own="SETS_$p"
+  # shellcheck disable=SC2086
   SEMLB_OPENCL_PROFILE=1 SEMLB_OPENCL_CAPTURE="$k@$launch:$cap" "$semlb" bench engine --platform NVIDIA \
-    --backends opencl-binned --cells "$cells" --steps 20 --warmup 1 --precision "$p" --set backend.skin="$skin" > "$out/bench_$p.txt" 2>&1
+    --backends opencl-binned --cells "$cells" --steps 20 --warmup 1 --precision "$p" --set backend.skin="$skin" \
+    ${SETS:-} ${!own:-} > "$out/bench_$p.txt" 2>&1
   rc=0; "$scratch/ncu_replay" "$cap" 20 > "$out/replay_$p.txt" 2>&1 || rc=$?
   if [ "$rc" != 0 ] && grep -q "did not load" "$out/replay_$p.txt"; then  # JIT refused it: ptxas's cubin instead
     ptxas -arch=sm_90 "$cap/patched.ptx" -o "$cap/patched.cubin"
