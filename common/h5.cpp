@@ -76,8 +76,9 @@ void File::write_atomically(const std::string& path, const std::function<void(Fi
     throw;  // the caller's refusal of its data, as it was
   } catch (const std::runtime_error& e) {
     const int err = errno;  // HDF5 does not say why a write failed; the system call's cause, when it is one of these
-    if (err == ENOSPC || err == EIO || err == EDQUOT || err == EFBIG || err == EROFS)
-      throw std::runtime_error(std::string(e.what()) + ": " + std::strerror(err));
+    const std::string what = e.what(), why = std::strerror(err);
+    if ((err == ENOSPC || err == EIO || err == EDQUOT || err == EFBIG || err == EROFS) && !what.ends_with(why))
+      throw std::runtime_error(what + ": " + why);  // once: a failed create has named it already
     throw;
   }
   pending.commit();

@@ -4,7 +4,11 @@
 
 #include "../run_command.hpp"
 
+#include <unistd.h>
+
+#include <filesystem>
 #include <functional>
+#include <vector>
 
 #include "common/errors.hpp"
 #include "common/h5.hpp"
@@ -78,4 +82,32 @@ TEST(H5, ErrorsNameTheFileAndTheObject) {
   EXPECT_EQ(message([&] { f.read_text_attr("steps"); }), path + ": attribute 'steps' is not text");
   EXPECT_EQ(message([&] { f.read_int_attr("format"); }), path + ": attribute 'format' must be one integer value");
   EXPECT_EQ(message([&] { f.read_text_attr("nope"); }), path + ": attribute 'nope' is missing");
+}
+
+// A file that cannot be written for want of space names the file and the cause once, and leaves nothing of its own
+// behind, whether its create fails (a full tmpfs) or a later write (64 KiB free for 512 KiB of data).
+TEST(H5, AFullDiskNamesTheFileAndItsCauseOnce) {
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root to mount a small tmpfs";
+  const std::string mnt = test::fresh_dir("h5_full") + "/mnt";
+  std::filesystem::create_directories(mnt);
+  const std::vector<double> big(1 << 16, 1.0);  // 512 KiB
+  for (const bool full : {true, false}) {
+    SCOPED_TRACE(full ? "the create fails" : "a write fails");
+    const auto m = test::run("mount -t tmpfs -o size=64k tmpfs " + mnt);
+    if (m.rc != 0) GTEST_SKIP() << "cannot mount a tmpfs here: " << m.out;
+    if (full) test::run("dd if=/dev/zero of=" + mnt + "/filler bs=4k count=100");  // stops when the tmpfs is full
+    std::string message = "no error";
+    try {
+      h5::File::write_atomically(mnt + "/state.h5", [&](h5::File& f) { f.write("x", {big.size()}, big); });
+    } catch (const std::runtime_error& e) {
+      message = e.what();
+    }
+    const std::string why = "No space left on device";
+    EXPECT_EQ(message.rfind(mnt + "/state.h5", 0), 0u) << message;
+    EXPECT_NE(message.find(why), std::string::npos) << message;
+    EXPECT_EQ(message.find(why), message.rfind(why)) << message;
+    EXPECT_FALSE(std::filesystem::exists(mnt + "/state.h5")) << message;
+    EXPECT_FALSE(std::filesystem::exists(mnt + "/state.h5.tmp")) << message;
+    test::run("umount " + mnt);
+  }
 }
