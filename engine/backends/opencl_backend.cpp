@@ -23,7 +23,7 @@ extern const char* const kDivisionRuleOrder;
 namespace opencl_impl {
 
 std::string pair_exp_of(const std::string& named, bool single) {
-  const std::string e = !named.empty() ? named : single ? "native" : "builtin";
+  const std::string e = !named.empty() ? named : single ? "native" : "ranged";
   if (e != "builtin" && e != "ranged" && e != "native")
     throw InputError("'" + e + "' is not builtin, ranged or native");
   if (single && e == "ranged") throw InputError("ranged is a double exp: in float use native (the default) or builtin");
@@ -476,7 +476,7 @@ std::unique_ptr<Backend> make(const BackendConfig& c) {
   return std::make_unique<OpenClBackend<double>>(c, Binned);
 }
 // backend: {name: opencl-allpairs | opencl-binned, platform: NAME substring, device: index, pair_exp: builtin | ranged
-// | native (the pair force law's exp; default native in float, builtin in double; ranged in double only, checked where
+// | native (the pair force law's exp; default native in float, ranged in double; ranged in double only, checked where
 // the backend runs: a scene for several backends may name it), skin: um (opencl-binned's neighbour list, 0: none),
 // newton: true | false (opencl-binned's half list; only with skin > 0), list_bin_divisions: 1..3 (the list's bins of
 // edge (cutoff + skin) / N; only with skin > 0)}.

@@ -31,7 +31,7 @@ struct LocalBytes {  // a __local kernel argument
 inline size_t round_up(size_t n, size_t m) { return (n + m - 1) / m * m; }
 
 // The pair force law's exp (BackendConfig::pair_exp; docs/engine.md "Pair exp") that `named` asks for, or the
-// precision's default when empty: native in float (`single`), builtin in double. InputError for a name other than
+// precision's default when empty: native in float (`single`), ranged in double. InputError for a name other than
 // builtin, ranged or native, and for ranged in float (a double exp).
 std::string pair_exp_of(const std::string& named, bool single);
 

@@ -52,7 +52,7 @@ struct BackendConfig {
   // bins around a slot (docs/engine.md "Neighbour list"); 1..3, needs skin > 0
   int list_bin_divisions = 1;
   // The OpenCL backends' `pair_exp`, the pair force law's exp (docs/engine.md "Pair exp"): builtin | ranged (double) |
-  // native; read as the precision's default, native in float and builtin in double, when the scene leaves it out.
+  // native; read as the precision's default, native in float and ranged in double, when the scene leaves it out.
   std::string pair_exp;
   // The scene's `backend` map (null: a config made in code, its fields as set), whose keys beside name and precision
   // the backend reads (backend_settings).

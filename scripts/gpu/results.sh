@@ -126,22 +126,22 @@ run_stage() {  # STAGE: makes it; returns 0 when done, 77 when it cannot run her
 experiments/$1.yaml and experiments/accuracy_pair_exp.yaml --profile paper)" kernels;;
     development)  # Day 0-5 at the paper's size on one GPU (scripts/gpu/neighbour_list.sh dev): a fresh CSV row
       rm -rf "$OUT/development.tmp"
-      # the full list, the half list, and the half list over bins of half the list radius
-      nl="--set backend.opencl-binned.newton"
-      DEV_VARIANTS="$nl=false;$nl=true;$nl=true --set backend.opencl-binned.list_bin_divisions=2" \
-        bash "$here/scripts/gpu/neighbour_list.sh" "$S" "$OUT/development.tmp" dev "0 0.5 1 1.5 2" "1"
+      # the scene's own settings (DEV_VARIANTS: ';'-separated flag sets, e.g. the half list, as measured in
+      # docs/performance.md "Half list")
+      DEV_VARIANTS=${DEV_VARIANTS:-} bash "$here/scripts/gpu/neighbour_list.sh" "$S" "$OUT/development.tmp" dev "0 0.5 1 1.5 2" "1"
       rm -rf "$OUT/development"; mv "$OUT/development.tmp" "$OUT/development"
       provenance "$OUT/development" "scripts/gpu/results.sh development (scripts/gpu/neighbour_list.sh dev)" kernels;;
-    force_step)  # the full and the half neighbour list and the pair exps, float and double, two interleaved rounds
+    force_step)  # the defaults (full list; float's native, double's ranged exp) beside double's builtin exp and float's
+      # sorted slots, two interleaved rounds (VARIANTS: force_step.sh's, e.g. the half list)
       rm -rf "$OUT/force_step.tmp"
-      bash "$here/scripts/gpu/force_step.sh" "$S" "$OUT/force_step.tmp"
+      VARIANTS=${VARIANTS:-float:false:native double:false:ranged double:false:builtin float:false:native:sorted} \
+        bash "$here/scripts/gpu/force_step.sh" "$S" "$OUT/force_step.tmp"
       rm -rf "$OUT/force_step"; mv "$OUT/force_step.tmp" "$OUT/force_step"
       provenance "$OUT/force_step" "scripts/gpu/results.sh force_step (scripts/gpu/force_step.sh)" kernels;;
-    peer_yalla)  # semlb with the full and the half neighbour list, each round, against ya||a
+    peer_yalla)  # semlb at the scene's settings (PEER_VARIANTS: ';'-separated flag sets), each round, against ya||a
       [ -n "${YALLA:-}" ] || { echo "gpu-results: peer_yalla needs YALLA=DIR holding a ya||a clone as DIR/yalla"; return 77; }
       mkdir -p "$OUT/peer_yalla"
-      VARIANTS="--set backend.opencl-binned.newton=false;--set backend.opencl-binned.newton=true" \
-        bash "$here/scripts/gpu/peer_yalla/run.sh" "$S" "$here/scenes/mechanics.yaml" > "$OUT/peer_yalla/peer_yalla.log" 2>&1
+      VARIANTS=${PEER_VARIANTS:-} bash "$here/scripts/gpu/peer_yalla/run.sh" "$S" "$here/scenes/mechanics.yaml" > "$OUT/peer_yalla/peer_yalla.log" 2>&1
       $PY "$here/analysis/peer_yalla.py" --machine "$device" "$OUT/peer_yalla/peer_yalla.log" > "$OUT/peer_yalla/peer_yalla.csv"
       provenance "$OUT/peer_yalla" "scripts/gpu/results.sh peer_yalla (scripts/gpu/peer_yalla/run.sh)" kernels;;
     measured_time)  # the measured end-to-end (docs/measured_time.md): runs under OUT/measured/runs, tables in OUT/measured

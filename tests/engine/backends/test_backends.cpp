@@ -570,7 +570,7 @@ TEST(Backends, EachBackendReadsItsOwnSettingsAndRefusesTheOthers) {
   EXPECT_EQ(settings("opencl-binned", "skin", "0.5").skin, 0.5);
   // pair_exp: the precision's default, a choice, a bad value, and ranged refused in float where it runs (a scene for
   // several backends may keep it in a backend's map)
-  EXPECT_EQ(settings("opencl-binned", "device", "1").pair_exp, "builtin");
+  EXPECT_EQ(settings("opencl-binned", "device", "1").pair_exp, "ranged");
   EXPECT_EQ(settings("opencl-allpairs", "pair_exp", "ranged").pair_exp, "ranged");
   const auto in_float = [&](const std::string& key, const std::string& value,
                             const std::string& name = "opencl-binned") {
