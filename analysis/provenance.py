@@ -333,6 +333,20 @@ def label(path, repo=REPO):
     return text
 
 
+
+def under(folder, rel, commit, show):
+    """Calls show(REL/SUB, describe(...)) for what under FOLDER, at any depth, was made with another commit than the
+    folder above it (its own provenance.json or a `files` entry): a subfolder's results kept beside the folder's."""
+    for sub in sorted(os.listdir(folder)):
+        if sub == "provenance.json":
+            continue
+        q = os.path.join(folder, sub)
+        s = describe(q)
+        if s["commit"][:7] != commit[:7]:
+            show(f"{rel}/{sub}", s)
+        if os.path.isdir(q):
+            under(q, f"{rel}/{sub}", s["commit"], show)
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--results", default=os.path.join(REPO, "results"), help="results folder (default: the repo's)")
@@ -352,11 +366,8 @@ def main():
         d = describe(p)
         missing += not d["commit"]
         show(f"gpu/{name}", d)
-        if os.path.isdir(p):  # what under it was made with another commit (its own record or `files` entry)
-            for sub in sorted(os.listdir(p)):
-                s = describe(os.path.join(p, sub))
-                if sub != "provenance.json" and s["commit"][:7] != d["commit"][:7]:
-                    show(f"gpu/{name}/{sub}", s)
+        if os.path.isdir(p):
+            under(p, f"gpu/{name}", d["commit"], show)
     return 1 if args.check and missing else 0
 
 

@@ -137,7 +137,8 @@ def build(ctx):
                      body))
     gpu, gpu_exp = ctx.committed_rows(GPU), ctx.committed_rows(GPU_EXP)
     if gpu or gpu_exp:
-        runs.append(("Committed paper profile (GPU)", "profile **paper** · machine: 1 NVIDIA H200 · ranks: 1 · cores: - · "
+        card = ctx.committed_gpu(GPU if gpu else GPU_EXP)
+        runs.append(("Committed paper profile (GPU)", f"profile **paper** · machine: 1 {card} · ranks: 1 · cores: - · "
                      "launches: 1 per row · intervals: -",
                      ("From " + ctx.committed_source(GPU) + ".\n\n" + ctx.table("accuracy_vs_time_gpu", accuracy_table(gpu))
                       if gpu else "")

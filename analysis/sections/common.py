@@ -224,6 +224,13 @@ class Context:
         """provenance.describe of a committed file (commit, date, status fresh/stale/unknown, milestones before)."""
         return provenance.describe(os.path.join(self.committed, rel))
 
+    def committed_gpu(self, rel):
+        """The card a committed result ran on, from its provenance record's `device` ('NVIDIA H100 80GB HBM3, 580.159.04'
+        -> 'NVIDIA H100 80GB HBM3'); 'NVIDIA H200' for the records made before `device` was recorded (every GPU result
+        until 2026-12-03 came from H200s)."""
+        rec = provenance.record(os.path.join(self.committed, rel)) or {}
+        return rec.get("device", "").split(",")[0].strip() or "NVIDIA H200"
+
     def committed_source(self, rel):
         """'`results/rel` (made with semlb abc1234, DATE · **stale** ... )' for a committed file."""
         return f"`results/{rel}` ({provenance.label(os.path.join(self.committed, rel))})"

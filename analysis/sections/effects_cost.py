@@ -82,12 +82,13 @@ def build(ctx):
                      + "\n" + ctx.figure("effects_cost", figure(rows, where))))
     gpu = ctx.committed_rows(GPU)
     if gpu:
-        where = f"one H200: {gpu[0]['backend']}, {gpu[0]['precision']}, {gpu[0]['cells']} cells, {gpu[0]['steps']} steps"
+        card = ctx.committed_gpu(GPU)
+        where = f"one {card}: {gpu[0]['backend']}, {gpu[0]['precision']}, {gpu[0]['cells']} cells, {gpu[0]['steps']} steps"
         runs.append(("Committed paper profile (GPU)",
-                     f"profile **paper** · machine: 1 NVIDIA H200 ({gpu[0].get('device', '?')}) · ranks: 1 · cores: - · "
+                     f"profile **paper** · machine: 1 {card} ({gpu[0].get('device', '?')}) · ranks: 1 · cores: - · "
                      f"launches: 1 per row · intervals: - · {gpu[0]['steps']} timed steps per row",
                      "From " + ctx.committed_source(GPU) + ".\n\n"
-                     + ctx.table("effects_cost_gpu", table(gpu, "What each effect costs, one H200")) + "\n"
+                     + ctx.table("effects_cost_gpu", table(gpu, f"What each effect costs, one {card}")) + "\n"
                      + ctx.figure("effects_cost_gpu", figure(gpu, where))))
     if not runs:
         return None

@@ -103,13 +103,15 @@ def build(ctx):
         runs.append(("This run", ctx.cpu_run(CSV, "1", 1, "-", f"{steps} iterations, scaled to 1000"),
                      ctx.source(CSV) + "\n\n" + ctx.table("single_device", table(small, "Single-device time, this run"))))
         sets.append(("this run", small))
+    card = ctx.committed_gpu(GPU) if gpu else ""
+    short = card.split()[1] if len(card.split()) > 1 else card  # 'NVIDIA H100 80GB HBM3' -> 'H100'
     if gpu:
         runs.append(("Committed paper profile (GPU)",
-                     f"profile **paper** · machine: 1 NVIDIA H200 ({device_of(gpu, 'opencl-binned')}) · ranks: 1 · "
+                     f"profile **paper** · machine: 1 {card} ({device_of(gpu, 'opencl-binned')}) · ranks: 1 · "
                      f"cores: - · launches: 1 · intervals: - · {gpu[0]['steps']} iterations",
                      "From " + ctx.committed_source(GPU) + ".\n\n" +
-                     ctx.table("single_device_gpu", table(gpu, "Single-device time, one H200"))))
-        sets.append(("H200", gpu))
+                     ctx.table("single_device_gpu", table(gpu, f"Single-device time, one {short}"))))
+        sets.append((short, gpu))
     if not sets:
         return None
     runs[-1] = runs[-1][:2] + (runs[-1][2] + "\n" + ctx.figure("single_device", figure(sets)),)
@@ -122,7 +124,7 @@ def build(ctx):
             ratio = b2[0] / b1[0]
             growth = b2[1] / b1[1]
             reading = (f"Agrees in shape, differs in size: binned time grows {ratio:.1f}x for {growth:.0f}x the "
-                       f"elements (paper 35x for 40x), near-linear as in the paper; the H200 is "
+                       f"elements (paper 35x for 40x), near-linear as in the paper; the {short} is "
                        f"{7.2 / b1[0]:.0f}x (1.6e5) and {255 / b2[0]:.0f}x (6.3e6) faster than the paper's L40S")
             if a1:
                 reading += (f"; all-pairs at {a1[1]:,} elements takes {a1[0]:.3g} s, {a1[0] / b1[0]:.0f}x binned "
@@ -134,7 +136,7 @@ def build(ctx):
                           if r["backend"] == "cpu-binned")
             this_run = (f"cpu-binned {mine[0][1]:.3g} s -> {mine[-1][1]:.3g} s per 1000 it. for {mine[-1][0] / mine[0][0]:.0f}x "
                         f"the elements ({mine[0][0]:,} -> {mine[-1][0]:,})" if len(mine) > 1 else "")
-            summary = (f"in shape (near-linear binned); H200 binned {b1[0]:.3g} s / {b2[0]:.3g} s at "
+            summary = (f"in shape (near-linear binned); {short} binned {b1[0]:.3g} s / {b2[0]:.3g} s at "
                        f"{b1[1]:.3g} / {b2[1]:.3g} elements vs L40S 7.2 s / "
                        f"255 s; growth {ratio:.0f}x for {growth:.0f}x elements (paper 35x for 40x)")
             return Part(runs, PAPER_LINE, reading, supported, summary, this_run=this_run)

@@ -10,13 +10,13 @@ rm -rf "$work"; mkdir -p "$work"
 fail() { echo "FAIL: $*"; exit 1; }
 
 # One section (single device) with this run's CPU rows and a committed H200 CSV whose provenance we choose.
-run_with() {  # COMMIT -> the REPORT.md of a run whose committed gpu/single_device was made with COMMIT
-  local c=$1 d="$work/$2"
+run_with() {  # COMMIT NAME [DEVICE] -> the REPORT.md of a run whose committed gpu/single_device was made with COMMIT
+  local c=$1 d="$work/$2" dev=${3:+, \"device\": \"$3\"}
   mkdir -p "$d/results/single_device" "$d/committed/gpu/single_device"
   cp "$src/results/cpu/single_device/single_device.csv" "$src/results/cpu/single_device/single_device.manifest.yaml" \
     "$d/results/single_device/"
   cp "$src/results/gpu/single_device/single_device.csv" "$d/committed/gpu/single_device/"
-  printf '{"semlb_commit": "%s", "date": "2026-01-01", "how": "test"}\n' "$c" > "$d/committed/gpu/single_device/provenance.json"
+  printf '{"semlb_commit": "%s", "date": "2026-01-01", "how": "test"%s}\n' "$c" "$dev" > "$d/committed/gpu/single_device/provenance.json"
   "$PY" "$src/analysis/report.py" --results "$d/results" --committed "$d/committed" --semlb "$semlb" > "$d/log" 2>&1 ||
     { cat "$d/log"; fail "report.py on $2"; }
 }
@@ -43,6 +43,13 @@ grep -q "^\*\*Reading (of stale GPU rows" "$work/stale/results/REPORT.md" || fai
 run_with "$(git -C "$src" rev-parse HEAD)" fresh
 r=$(row fresh)
 [[ "$r" == *"| agrees |" && "$r" == *"current ("* ]] || fail "current row lost its verdict: $r"
+# The card is the record's `device` where it has one (a record without it is from the H200s)
+[[ "$r" == *"H200 binned"* ]] || fail "a record without a device is not labelled H200: $r"
+run_with "$(git -C "$src" rev-parse HEAD)" card "NVIDIA H100 80GB HBM3, 580.159.04"
+r=$(row card)
+[[ "$r" == *"H100 binned"* && "$r" != *"H200"* ]] || fail "the summary does not name the record's card: $r"
+grep -q "machine: 1 NVIDIA H100 80GB HBM3 (" "$work/card/results/report/01-single_device.md" ||
+  fail "the detail page does not name the record's card"
 
 # Unknown: a commit this clone does not hold: no verdict, and it says why.
 run_with 0123456789abcdef0123456789abcdef01234567 unknown
