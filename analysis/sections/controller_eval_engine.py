@@ -249,11 +249,11 @@ def measured_bottom_line(ctx):
         return ""
 
     def answer(P, saving, ci, policy, unmeasured):
-        missing = f" ({', '.join(sorted(unmeasured))} not measured at this P)" if unmeasured else ""
+        missing = f" ({', '.join(sorted(unmeasured))} not in the call this line comes from)" if unmeasured else ""
         if saving - ci <= 0:
-            return (f"P = {P}: `static` (the best, `{policy}`, saves {saving:.1f}% (± {ci:.1f}), within the spread "
+            return (f"P = {P}: `static` (the best, `{policy}`, saves {saving:.1f}% (± {ci:.1f} points), within the spread "
                     f"over launches){missing}")
-        return f"P = {P}: `{policy}`, {saving:.1f}% (± {ci:.1f}) less loop time than static{missing}"
+        return f"P = {P}: `{policy}`, {saving:.1f}% (± {ci:.1f} points) less loop time than static{missing}"
 
     lines = ["**Bottom line** (measured on a GPU; a scene without a current measurement shows its last one, marked "
              "**stale**):", ""]

@@ -98,7 +98,7 @@ bottom=$(bottom_of bottom2 "epidermis_half=$head" "epidermis_development=$old" "
 dev=$(grep "^- a proliferative front" <<< "$bottom") || fail "bottom2: no development line: $bottom"
 [[ "$dev" != *stale* && "$dev" == *"P = 4: \`learned_repartition\`"* && "$dev" != *"P = 2"* ]] ||
   fail "the bottom line drew from a stale summary of a scene that has a current one: $dev"
-[[ "$dev" != *"not measured at this P"* ]] || fail "the policies of the stale summary counted beside the current: $dev"
+[[ "$dev" != *"not in the call this line comes from"* ]] || fail "the policies of the stale summary counted beside the current: $dev"
 
 # The committed results (results/cpu as this run, results/gpu committed): length, links, detail pages.
 cp -r "$src/results/cpu" "$work/full"
