@@ -13,8 +13,8 @@ RUNS is the script's OUT folder (tissue/, cost/, turns/, record/, e2e/); OUT rec
   the ghost work and the per-rank launches), and each slab of the 2-rank run against the same slab alone;
 - time_model_validation.csv: per end-to-end run, the mean absolute relative error of the per-rank interval times that
   the time model predicts from the recorded workload (record/workload.h5: measured seconds per slice) under the
-  run's own boundaries, against its device timers; ghost_weight, element_s, list_weight and rank_overhead_s
-  (surrogate/workload_replay.hpp, list_by=work) are fitted (non-negative least squares) on
+  run's own boundaries, against its device timers; ghost_weight, element_s, list_weight, list_element_weight and
+  rank_overhead_s (surrogate/workload_replay.hpp, list_by=work) are fitted (non-negative least squares) on
   the runs marked fitted (launch 1 of static at every P) and the error of the others is out of sample;
 - policy_order.csv: per P, each policy's mean measured loop seconds and its replayed loop seconds (`semlb replay
   --workload record/workload.h5` with the fitted model, seeds averaged), with both ranks;
@@ -133,8 +133,9 @@ class Workload:
         measured seconds, less the one-rank list builds spread by elements in version 3), sigma G_r (seconds per
         element x ghost elements received), n_r (its elements, version 3) and L Wch_r / W (the list seconds placed by
         the W_s of its slices that changed at a cell stage, version 3; in version 4, list_by=triggers: L b_r / k W_r / W,
-        b_r the builds its slices' triggers and cell stages claim, capped at the one rank's k); the last two are 0 for
-        a version 2 file."""
+        b_r the builds its slices' triggers and cell stages claim, capped at the one rank's k), and L n_r / N (the list
+        seconds by its elements: every slab rank rebuilds at about the one rank's rate); the last three are 0 for a
+        version 2 file."""
         i = self.at[step]
         cuts = [0] + list(boundaries) + [self.seconds.shape[1]]
         sigma = self.seconds[i].sum() / self.elements[i] if self.elements[i] > 0 else 0.0
@@ -157,13 +158,15 @@ class Workload:
                           if k > 0 and total_work > 0 else 0.0)
             else:
                 placed = self.list_s[i] * changed[lo:hi].sum() / total_work if total_work > 0 else 0.0
-            rows.append((seconds[lo:hi].sum(), sigma * g, n[lo:hi].sum(), placed))
+            by_elements = self.list_s[i] * n[lo:hi].sum() / n.sum() if v3 and n.sum() > 0 else 0.0
+            rows.append((seconds[lo:hi].sum(), sigma * g, n[lo:hi].sum(), placed, by_elements))
         return np.array(rows)
 
 
 # The fitted parameters of the time model, in the order of Workload.terms' columns after the first (the constant
-# rank_overhead_s is the third): surrogate/workload_replay.hpp's keys.
-MODEL_KEYS = ("ghost_weight", "element_s", "list_weight", "rank_overhead_s")
+# rank_overhead_s last): surrogate/workload_replay.hpp's keys.
+MODEL_KEYS = ("ghost_weight", "element_s", "list_weight", "list_element_weight", "rank_overhead_s")
+TERMS = len(MODEL_KEYS) - 1  # the columns of Workload.terms after S_r; model_rows appends the measured seconds
 
 
 PARTS = ("pair", "list", "cells")
@@ -222,11 +225,11 @@ def model_rows(workload, run):
 
 def fit_time_model(rows):
     """Non-negative least squares (scipy.optimize.nnls) of T - S_r = ghost_weight sigma G_r + element_s n_r +
-    list_weight L Wch_r / W + rank_overhead_s: {MODEL_KEYS: value}. A column that is 0 throughout (a version 2 file
-    has no elements per slice and no list seconds) is left out and its key set to 0."""
-    columns = np.column_stack([rows[:, 1], rows[:, 2], rows[:, 3], np.ones(len(rows))])
+    list_weight L Wch_r / W + list_element_weight L n_r / N + rank_overhead_s: {MODEL_KEYS: value}. A column that is 0
+    throughout (a version 2 file has no elements per slice and no list seconds) is left out and its key set to 0."""
+    columns = np.column_stack([rows[:, 1:1 + TERMS], np.ones(len(rows))])
     used = [k for k in range(columns.shape[1]) if np.any(columns[:, k] != 0)]
-    coef, _ = optimize.nnls(columns[:, used], rows[:, 4] - rows[:, 0])
+    coef, _ = optimize.nnls(columns[:, used], rows[:, -1] - rows[:, 0])
     out = dict.fromkeys(MODEL_KEYS, 0.0)
     for k, c in zip(used, coef):
         out[MODEL_KEYS[k]] = float(c)
@@ -235,7 +238,7 @@ def fit_time_model(rows):
 
 def predict(rows, model):
     """The time model's seconds of model_rows' rows."""
-    return rows[:, 0] + sum(model[k] * rows[:, j + 1] for j, k in enumerate(MODEL_KEYS[:3])) + model["rank_overhead_s"]
+    return rows[:, 0] + sum(model[k] * rows[:, j + 1] for j, k in enumerate(MODEL_KEYS[:TERMS])) + model["rank_overhead_s"]
 
 
 def interval95(values):
@@ -455,7 +458,7 @@ def main():
     val = []
     for policy, ranks, launch, d in runs:
         rows = model_rows(w, d)
-        err = np.abs(predict(rows, model) - rows[:, 4]) / rows[:, 4]
+        err = np.abs(predict(rows, model) - rows[:, -1]) / rows[:, -1]
         val.append((a.scene, policy, ranks, launch, int((policy, ranks, launch) in fitted), float(err.mean()),
                     float(err.max())) + tuple(model[k] for k in MODEL_KEYS))
     write_csv(os.path.join(a.out, "time_model_validation.csv"),

@@ -42,9 +42,9 @@ std::vector<int64_t> coarse_bits(const std::vector<int64_t>& v, int k, int n) { 
 }  // namespace
 
 const std::vector<std::string>& time_model_keys() {
-  static const std::vector<std::string> keys = {"ghost_weight",     "speed_spread",    "jitter", "migrate_s_per_slice",
-                                                "seconds_per_work", "rank_overhead_s", "truth",  "list_by",
-                                                "list_weight",      "element_s"};
+  static const std::vector<std::string> keys = {
+      "ghost_weight", "speed_spread", "jitter",      "migrate_s_per_slice", "seconds_per_work", "rank_overhead_s",
+      "truth",        "list_by",      "list_weight", "list_element_weight", "element_s"};
   return keys;
 }
 
@@ -66,6 +66,8 @@ void set_time_model(TimeModel& m, const std::string& key, const std::string& val
     m.element_s = parse_real(value, at, 0, 1);
   else if (key == "list_weight")
     m.list_weight = parse_real(value, at, 0, 100);
+  else if (key == "list_element_weight")
+    m.list_element_weight = parse_real(value, at, 0, 100);
   else if (key == "list_by") {
     if (value == "stages")
       m.list_by = TimeModel::ListBy::kStages;
@@ -114,7 +116,7 @@ ReplayTrack replay_track(const EngineWorkload& w, const WorkloadReplay& r, const
                      "(a version 1 workload: record it with decomposition.timing: device)");
   t.measured = has && r.model.truth != TimeModel::Truth::kWork;
   // the list keys act on a version 3 file's list seconds under a measured truth: elsewhere they would do nothing
-  for (const char* key : {"list_by", "list_weight", "element_s"})
+  for (const char* key : {"list_by", "list_weight", "list_element_weight", "element_s"})
     if (r.model.given.count(key)) {
       if (w.events.empty() || w.events.front().part_seconds.empty())
         throw InputError(file + ": time model " + key + ": the file has no list seconds (part_seconds: a version 3 " +
@@ -202,7 +204,8 @@ std::vector<double> model_times(const ReplayTrack& t, int event, const std::vect
         const double share = k > 0 ? static_cast<double>(std::popcount(static_cast<uint64_t>(mine))) / k : 1.0;
         list = total > 0 ? t.list_s[event] * nq / total * share : 0.0;
       }
-      times[q] += m.list_weight * list + m.element_s * nq;
+      const double by_elements = total > 0 ? t.list_s[event] * nq / total : 0.0;
+      times[q] += m.list_weight * list + m.list_element_weight * by_elements + m.element_s * nq;
     }
   }
   // seconds per unit of what `times` holds, and per received ghost element in those units

@@ -39,15 +39,18 @@ namespace semlb::surrogate {
 // which one of its slices changed, b_r = popcount(OR of r's trigger bits) + popcount(OR of r's stage bits), capped at
 // the one rank's k builds, each at its share of the one rank's build cost: list_weight L (b_r / k) (W_r / W), W_r the
 // W_s of r's slices (a rebuild rebuilds the rank's whole list). A version 3 file also adds element_s n_r (the list
-// check and sort launches of every step, per owned element). `truth` chooses: auto (measured when the file has it),
-// work, or measured (an InputError for a file without it). rank_overhead_s (seconds per interval and rank: the fixed
-// cost of a rank's launches) is added under either truth.
+// check and sort launches of every step, per owned element) and list_element_weight L n_r / N (every slab rank
+// rebuilds at about the one rank's rate, each on its own displacements: the list seconds by elements, beside the
+// placed share; docs/measured_time.md "The time model on measured runs"). `truth` chooses: auto (measured when the file
+// has it), work, or measured (an InputError for a file without it). rank_overhead_s (seconds per interval and rank: the
+// fixed cost of a rank's launches) is added under either truth.
 struct TimeModel {
   enum class Truth { kAuto, kWork, kMeasured };
   enum class ListBy { kStages, kWork, kTriggers };
   Truth truth = Truth::kAuto;
   ListBy list_by = ListBy::kStages;      // version 3: where the list builds' seconds go
   double list_weight = 1;                // version 3: the share of the one-rank list seconds the ranks' builds take
+  double list_element_weight = 0;        // version 3: the share of them every rank takes by its elements
   double element_s = 0;                  // version 3: seconds per owned element and interval
   double rank_overhead_s = 0;            // seconds per interval and rank
   double ghost_weight = 0.5;             // a received ghost element's cost relative to an owned element's
@@ -59,10 +62,9 @@ struct TimeModel {
 };
 
 // The TimeModel keys ("ghost_weight", ...), and one "KEY=VALUE" set into `m` (strict numbers, each in its range:
-// ghost_weight and list_weight [0, 100], speed_spread and jitter [0, 0.3], migrate_s_per_slice, seconds_per_work and
-// rank_overhead_s [0, 1e6], element_s [0, 1]; truth one of auto, work, measured; list_by one of stages, work,
-// triggers).
-// InputError prefixed by `where` naming the key. The key joins m.given.
+// ghost_weight, list_weight and list_element_weight [0, 100], speed_spread and jitter [0, 0.3], migrate_s_per_slice,
+// seconds_per_work and rank_overhead_s [0, 1e6], element_s [0, 1]; truth one of auto, work, measured; list_by one of
+// stages, work, triggers). InputError prefixed by `where` naming the key. The key joins m.given.
 const std::vector<std::string>& time_model_keys();
 void set_time_model(TimeModel& m, const std::string& key, const std::string& value, const std::string& where);
 

@@ -62,7 +62,8 @@ def run(name, bounds_per_event):
         g = (below[e][lo - 1] if q > 0 else 0) + (above[e][hi - 1] if q + 2 < len(cuts) else 0)
         own = seconds[e][lo:hi].sum() - L[e] * n[e][lo:hi].sum() / n[e].sum()
         placed = L[e] * (work[e][lo:hi] * (changes[e][lo:hi] != 0)).sum() / work[e].sum()
-        t = own + 2 * sigma * g + 0.01 * n[e][lo:hi].sum() + 0.5 * placed + 0.001
+        by_elements = L[e] * n[e][lo:hi].sum() / n[e].sum()
+        t = own + 2 * sigma * g + 0.01 * n[e][lo:hi].sum() + 0.5 * placed + 0.3 * by_elements + 0.001
         return [t, 0, 0, 0, 0, t, t, 0, 0]
     write_run(root, name, bounds_per_event, row, S)
 run("static_np2_l1", [[2], [2], [2]])
@@ -75,7 +76,8 @@ import csv, sys
 rows = list(csv.DictReader(open(f"{sys.argv[1]}/time_model_validation.csv")))
 assert len(rows) == 3, rows
 for r in rows:
-    for key, want in (("ghost_weight", 2), ("element_s", 0.01), ("list_weight", 0.5), ("rank_overhead_s", 0.001)):
+    for key, want in (("ghost_weight", 2), ("element_s", 0.01), ("list_weight", 0.5), ("list_element_weight", 0.3),
+                      ("rank_overhead_s", 0.001)):
         assert abs(float(r[key]) - want) < 1e-9, (key, r)
     assert float(r["mean_abs_rel_error"]) < 1e-9, r
 PYEOF
@@ -126,14 +128,21 @@ with h5py.File(sys.argv[2], "w") as f:
     f["events/band_below"] = np.ones((2, 3), np.int64); f["events/band_above"] = np.ones((2, 3), np.int64)
     f["events/part_seconds"] = np.array([[0.1, 0.8, 0.05, 0.05], [0.1, 0.4, 0.1, 0.4]])
     f["events/cell_stage_changes"] = np.array([[3, 3, 0, 0], [1, 0, 0, 3]], np.int64)
-expect(sys.argv[2], {"ghost_weight": 0.0, "element_s": 0.1, "list_weight": 0.5, "rank_overhead_s": 0.0},
+expect(sys.argv[2], {"ghost_weight": 0.0, "element_s": 0.1, "list_weight": 0.5, "list_element_weight": 0.0,
+                     "rank_overhead_s": 0.0},
        ((10, (2.2, 6.0)), (20, (4.3, 2.225))), "version 3")
 shutil.copy(sys.argv[2], sys.argv[3])
 with h5py.File(sys.argv[3], "a") as f:
     f["events/list_builds"] = np.array([4, 2])
     f["events/list_triggers"] = np.array([[0, 1, 4, 0], [0, 0, 0, 0]], np.int64)
-expect(sys.argv[3], {"ghost_weight": 0.0, "element_s": 0.0, "list_weight": 1.0, "rank_overhead_s": 0.0},
+expect(sys.argv[3], {"ghost_weight": 0.0, "element_s": 0.0, "list_weight": 1.0, "list_element_weight": 0.0,
+                     "rank_overhead_s": 0.0},
        ((10, (1.9, 5.7)), (20, (3.95, 1.9))), "version 4")
+# list_element_weight 1 adds each rank's element share (4 of 8) of the list seconds, as the replay's hand case:
+# 2.3 | 6.1, then 4.15 | 2.1
+expect(sys.argv[3], {"ghost_weight": 0.0, "element_s": 0.0, "list_weight": 1.0, "list_element_weight": 1.0,
+                     "rank_overhead_s": 0.0},
+       ((10, (2.3, 6.1)), (20, (4.15, 2.1))), "version 4 with list_element_weight")
 PYEOF
 # --check-regions: 4 regions of one slice each, W_s 4 each; even seconds pass, one region at 5x the others exits 1
 # naming the file, the event and the region

@@ -135,7 +135,7 @@ TEST(WorkloadReplay, ListBuildsByChangedWorkWithAWeightAndAPerElementCost) {
   EXPECT_NEAR(r.ideal_s, (2.2 + 6.0) / 2 + (4.3 + 2.225) / 2, 1e-12);
   // a version 2 file has no list seconds and no elements per slice, and truth=work replays W_s: the three keys would
   // change nothing there, and are refused (any one of them), naming the file and the key
-  for (const char* key : {"list_by", "list_weight", "element_s"}) {
+  for (const char* key : {"list_by", "list_weight", "list_element_weight", "element_s"}) {
     auto one = exact(2);
     set_time_model(one.model, key, std::string(key) == "list_by" ? "work" : "0.5", "--time-model ");
     try {
@@ -189,6 +189,14 @@ TEST(WorkloadReplay, ListBuildsByTriggersGoToTheRanksThatWouldHaveRebuilt) {
   w.events[1].cell_stage_changes = {3, 0, 0, 0};
   const auto capped = replay_workload(w, model, *policy, "static", "hand.h5");
   EXPECT_NEAR(capped.ideal_s, (1.9 + 5.7) / 2 + (3.8 + 0.4 * 12.0 / 16 + 1.8) / 2, 1e-12);
+  // list_element_weight 1 adds each rank's element share of the list seconds (4 of 8 elements): 0.4 and 0.2
+  w.events[1] = hand_parts().events[1];
+  w.events[1].list_builds = 2, w.events[1].list_triggers = {0, 0, 0, 0};
+  set_time_model(model.model, "list_element_weight", "1", "--time-model ");
+  const auto both = replay_workload(w, model, *policy, "static", "hand.h5");
+  EXPECT_NEAR(both.compute_s, 6.1 + 4.15, 1e-12);
+  EXPECT_NEAR(both.ideal_s, (2.3 + 6.1) / 2 + (4.15 + 2.1) / 2, 1e-12);
+  model.model.list_element_weight = 0;
   // a version 3 file has no triggers: refused, naming the file and the field
   try {
     replay_workload(hand_parts(), model, *policy, "static", "hand.h5");
