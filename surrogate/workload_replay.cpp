@@ -190,6 +190,7 @@ std::vector<double> model_times(const ReplayTrack& t, int event, const std::vect
         mine |= bits[s], nq += n[s], rank_work += work[s], changed_work += bits[s] != 0 ? work[s] : 0.0;
         if (by_triggers) triggered |= t.triggers[event][s];
       }
+      const double by_elements = total > 0 ? t.list_s[event] * nq / total : 0.0;  // the list seconds by elements
       double list = 0;
       if (by_triggers) {  // the one rank's builds that r's triggers and stages claim, at r's share of W_s
         const long builds = t.builds[event];
@@ -202,9 +203,8 @@ std::vector<double> model_times(const ReplayTrack& t, int event, const std::vect
         list = all_work > 0 ? t.list_s[event] * changed_work / all_work : 0.0;
       } else {
         const double share = k > 0 ? static_cast<double>(std::popcount(static_cast<uint64_t>(mine))) / k : 1.0;
-        list = total > 0 ? t.list_s[event] * nq / total * share : 0.0;
+        list = by_elements * share;
       }
-      const double by_elements = total > 0 ? t.list_s[event] * nq / total : 0.0;
       times[q] += m.list_weight * list + m.list_element_weight * by_elements + m.element_s * nq;
     }
   }
