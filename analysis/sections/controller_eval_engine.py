@@ -285,7 +285,9 @@ def which_controller(ctx):
     measured end-to-end runs (when committed), then this run's replays (else the committed ones)."""
     measured = measured_bottom_line(ctx) + "\n" + measured_choice(ctx)
     text = which_controller_replayed(ctx)
-    return (measured + "\n" + ("**Replayed through the time model** (W_s as the truth):\n\n" + text if text else "")).strip()
+    head = ("**Estimates, not measurements: replayed through the time model** (W_s as the truth; no run on a GPU "
+            "stands behind these numbers):\n\n")
+    return (measured + "\n" + (head + text if text else "")).strip()
 
 
 def which_controller_replayed(ctx):
