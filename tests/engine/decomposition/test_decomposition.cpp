@@ -300,7 +300,9 @@ TEST(Decomposition, CellStageChangesMarkOnlyTheStagesThatRan) {
 }
 
 // A rank whose slabs hold no element launches no force work: its device time is near zero (a domain twice as wide
-// as the tissue, split uniformly and never rebalanced).
+// as the tissue, split uniformly and never rebalanced). Its pair-force, list and cell-stage seconds are exactly 0; what
+// is left is the launch overhead of its empty kernels, which PoCL times as CPU wall: under a loaded test machine that
+// reached 0.7 ms per step (more than the busy rank's 60 cells), so the bound on its total is 5 ms per step.
 TEST(Decomposition, ARankWithoutElementsHasNearZeroDeviceTime) {
   if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL platform";
   const auto dir = fresh_dir("decomposition_device_timing_empty");
@@ -311,15 +313,20 @@ TEST(Decomposition, ARankWithoutElementsHasNearZeroDeviceTime) {
                      " --set decomposition.timing=device --set decomposition.device_sharing=turns --out " +
                      dir + "/out");
   ASSERT_EQ(r.rc, 0) << r.out;
+  int intervals = 0;
   for (const auto& row : rank_time_rows(dir + "/out")) {
-    if (row.at("rank") != "0") continue;
-    const double busy = parse_real(row.at("device_s"), "device_s");
-    EXPECT_GT(busy, 0);
-    for (const auto& other : rank_time_rows(dir + "/out"))
-      if (other.at("rank") == "1" && other.at("step") == row.at("step")) {
-        EXPECT_LT(parse_real(other.at("device_s"), "device_s"), 0.2 * busy) << "step " << row.at("step");
-      }
+    const auto seconds = [&](const char* column) { return parse_real(row.at(column), column); };
+    if (row.at("rank") == "0") {
+      EXPECT_GT(seconds("device_s"), 0) << "step " << row.at("step");
+      EXPECT_GT(seconds("device_pair_s"), 0) << "step " << row.at("step");
+      continue;
+    }
+    ++intervals;
+    for (const char* part : {"device_pair_s", "device_list_s", "device_cells_s"})
+      EXPECT_EQ(seconds(part), 0) << part << ", step " << row.at("step");
+    EXPECT_LT(seconds("device_s"), 20 * 0.005) << "step " << row.at("step");  // 20 steps per interval
   }
+  EXPECT_EQ(intervals, 2);
 }
 
 TEST(Decomposition, DeviceTimersAndTurnsAreRefusedWhereTheyCannotWork) {
