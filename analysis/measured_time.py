@@ -141,8 +141,8 @@ class Workload:
         sigma = self.seconds[i].sum() / self.elements[i] if self.elements[i] > 0 else 0.0
         seconds = self.seconds[i]
         n = self.slice_elements[i] if self.list_s is not None else np.zeros(len(seconds))
-        if n.sum() > 0:
-            seconds = np.maximum(0.0, seconds - self.list_s[i] * n / n.sum())
+        spread = self.list_s[i] * n / n.sum() if n.sum() > 0 else np.zeros(len(seconds))  # the list seconds by elements
+        seconds = np.maximum(0.0, seconds - spread)
         v3 = self.list_s is not None
         changed = self.work[i] * (self.changes[i] != 0) if v3 else np.zeros(len(seconds))
         total_work = self.work[i].sum() if v3 else 0.0
@@ -158,8 +158,7 @@ class Workload:
                           if k > 0 and total_work > 0 else 0.0)
             else:
                 placed = self.list_s[i] * changed[lo:hi].sum() / total_work if total_work > 0 else 0.0
-            by_elements = self.list_s[i] * n[lo:hi].sum() / n.sum() if v3 and n.sum() > 0 else 0.0
-            rows.append((seconds[lo:hi].sum(), sigma * g, n[lo:hi].sum(), placed, by_elements))
+            rows.append((seconds[lo:hi].sum(), sigma * g, n[lo:hi].sum(), placed, spread[lo:hi].sum()))
         return np.array(rows)
 
 

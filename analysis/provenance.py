@@ -333,7 +333,6 @@ def label(path, repo=REPO):
     return text
 
 
-
 def under(folder, rel, commit, show):
     """Calls show(REL/SUB, describe(...)) for what under FOLDER, at any depth, was made with another commit than the
     folder above it (its own provenance.json or a `files` entry): a subfolder's results kept beside the folder's."""
@@ -346,6 +345,7 @@ def under(folder, rel, commit, show):
             show(f"{rel}/{sub}", s)
         if os.path.isdir(q):
             under(q, f"{rel}/{sub}", s["commit"], show)
+
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)

@@ -2,6 +2,7 @@
 #pragma once
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdio>
@@ -11,6 +12,8 @@
 #include <functional>
 #include <sstream>
 #include <string>
+
+#include <gtest/gtest.h>
 
 namespace semlb::test {
 
@@ -63,11 +66,18 @@ class ScopedEnv {
 };
 inline std::string source(const std::string& rel) { return std::string(SEMLB_SOURCE_DIR) + "/" + rel; }
 
-// A scratch folder per test and per build tree (two checkouts running their suites at once do not collide).
+// A scratch folder per build tree and per running test, SUITE.TEST/NAME (two checkouts running their suites at once do
+// not collide, nor do two tests whose shared helper asks for the same NAME while ctest -j runs them side by side).
 inline std::string fresh_dir(const std::string& name) {
   char tree[32];
   std::snprintf(tree, sizeof tree, "%016zx", std::hash<std::string>{}(SEMLB_BINARY));
-  const auto d = std::filesystem::temp_directory_path() / ("semlb_" + std::string(tree)) / name;
+  auto d = std::filesystem::temp_directory_path() / ("semlb_" + std::string(tree));
+  if (const auto* info = ::testing::UnitTest::GetInstance()->current_test_info()) {
+    std::string test = std::string(info->test_suite_name()) + "." + info->name();
+    std::replace(test.begin(), test.end(), '/', '_');  // parameterized tests: Prefix/Suite.Name/3
+    d /= test;
+  }
+  d /= name;
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d.string();

@@ -10,11 +10,8 @@ using namespace semlb;
 using namespace semlb::experiments;
 
 namespace {
-// m.yaml in a folder of the running test's own (ctest -j runs the suite's tests as parallel processes: a shared folder
-// was wiped and rewritten by one while another read it)
 std::string manifest(const std::string& text) {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const auto path = test::fresh_dir(std::string("manifest_") + (info ? info->name() : "none")) + "/m.yaml";
+  const auto path = test::fresh_dir("manifest") + "/m.yaml";
   test::write(path, text);
   return path;
 }
